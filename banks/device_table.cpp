@@ -1,0 +1,213 @@
+#include "banks/device_table.hpp"
+
+#include "banks/bank_id.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include <charconv>
+#include <set>
+
+#include <fmt/format.h>
+
+namespace unima::banks {
+
+std::string_view kind_name(RegisterKind kind) {
+  switch (kind) {
+    case RegisterKind::analog: return "analog";
+    case RegisterKind::bits: return "bits";
+    case RegisterKind::u32_low: return "u32_low";
+    case RegisterKind::u32_high: return "u32_high";
+    case RegisterKind::byte_pair: return "byte_pair";
+    case RegisterKind::ascii_pair: return "ascii_pair";
+    case RegisterKind::reserve: return "reserve";
+  }
+  return "?";
+}
+
+std::uint16_t offline_value(RegisterKind kind) {
+  switch (kind) {
+    case RegisterKind::bits: return 0x0000;
+    case RegisterKind::byte_pair: return 0xFFFF;   // 255 = not measured, in each byte (UIS)
+    case RegisterKind::ascii_pair: return 0x2020;  // two blanks on the NSU2 display
+    case RegisterKind::u32_low: return 0xFFFF;     // the pair reads 0x7FFFFFFF
+    default: return 0x7FFF;
+  }
+}
+
+const RegisterDef* DeviceTable::find(std::string_view register_id) const {
+  for (const auto& reg : registers)
+    if (reg.id == register_id) return &reg;
+  return nullptr;
+}
+
+std::optional<DeviceTable::BitRef> DeviceTable::find_bit(std::string_view field_id) const {
+  for (const auto& reg : registers)
+    for (const auto& field : reg.fields)
+      if (field.id == field_id && field.first_bit == field.last_bit) return BitRef{reg.offset, field.first_bit};
+  return std::nullopt;
+}
+
+namespace {
+
+class Parser {
+ public:
+  explicit Parser(std::string_view origin) : origin_(origin) {}
+
+  [[noreturn]] void fail(const YAML::Node& node, std::string_view message) const {
+    const auto mark = node.Mark();
+    throw TableError(fmt::format("{}:{}:{}: {}", origin_, mark.line + 1, mark.column + 1, message));
+  }
+
+  void only_keys(const YAML::Node& map, std::initializer_list<std::string_view> allowed) const {
+    if (!map.IsMap()) fail(map, "expected a mapping");
+    for (const auto& entry : map) {
+      const auto key = entry.first.as<std::string>();
+      bool known = false;
+      for (auto a : allowed) known = known || a == key;
+      if (!known) fail(entry.first, fmt::format("unknown key '{}'", key));
+    }
+  }
+
+  std::string text(const YAML::Node& map, const char* key, bool required) const {
+    const auto node = map[key];
+    if (!node) {
+      if (required) fail(map, fmt::format("missing key '{}'", key));
+      return {};
+    }
+    if (!node.IsScalar()) fail(node, fmt::format("'{}' must be a string", key));
+    return node.as<std::string>();
+  }
+
+  unsigned long number(const YAML::Node& node, unsigned long max) const {
+    if (!node.IsScalar()) fail(node, "expected a number");
+    const auto s = node.Scalar();
+    unsigned long value = 0;
+    const bool hex = s.size() > 2 && s[0] == '0' && (s[1] == 'x' || s[1] == 'X');
+    const char* begin = s.data() + (hex ? 2 : 0);
+    const auto [end, ec] = std::from_chars(begin, s.data() + s.size(), value, hex ? 16 : 10);
+    if (ec != std::errc{} || end != s.data() + s.size() || value > max)
+      fail(node, fmt::format("'{}' is not a number from 0 to {}", s, max));
+    return value;
+  }
+
+  RegisterKind kind(const YAML::Node& node) const {
+    static constexpr RegisterKind kinds[] = {RegisterKind::analog,    RegisterKind::bits,     RegisterKind::u32_low,
+                                             RegisterKind::u32_high,  RegisterKind::byte_pair, RegisterKind::ascii_pair,
+                                             RegisterKind::reserve};
+    const auto s = node.as<std::string>();
+    for (auto k : kinds)
+      if (kind_name(k) == s) return k;
+    fail(node, fmt::format("unknown kind '{}'", s));
+  }
+
+  Field field(const YAML::Node& node) const {
+    only_keys(node, {"bits", "id", "label", "inferred"});
+    Field f;
+    f.id = text(node, "id", true);
+    f.label = text(node, "label", false);
+    f.inferred = text(node, "inferred", false);
+    const auto bits_node = node["bits"];
+    if (!bits_node) fail(node, "missing key 'bits'");
+    const auto bits = bits_node.as<std::string>();
+    const auto dash = bits.find('-');
+    unsigned first = 0, last = 0;
+    auto parse = [&](std::string_view part, unsigned& out) {
+      const auto [end, ec] = std::from_chars(part.data(), part.data() + part.size(), out);
+      if (ec != std::errc{} || end != part.data() + part.size() || out > 15)
+        fail(bits_node, fmt::format("bits '{}' must be N or N-M with 0 <= N <= M <= 15", bits));
+    };
+    parse(std::string_view(bits).substr(0, dash), first);
+    last = first;
+    if (dash != std::string::npos) parse(std::string_view(bits).substr(dash + 1), last);
+    if (last < first) fail(bits_node, fmt::format("bits '{}' must be N or N-M with N <= M", bits));
+    f.first_bit = static_cast<std::uint8_t>(first);
+    f.last_bit = static_cast<std::uint8_t>(last);
+    return f;
+  }
+
+  RegisterDef reg(const YAML::Node& node) const {
+    only_keys(node, {"offset", "id", "label", "kind", "unit", "scale", "seed_unit", "pair", "fields", "inferred"});
+    RegisterDef r;
+    if (!node["offset"]) fail(node, "missing key 'offset'");
+    r.offset = static_cast<std::uint16_t>(number(node["offset"], max_offset));
+    r.id = text(node, "id", true);
+    r.label = text(node, "label", false);
+    if (!node["kind"]) fail(node, "missing key 'kind'");
+    r.kind = kind(node["kind"]);
+    r.unit = text(node, "unit", false);
+    r.seed_unit = text(node, "seed_unit", false);
+    r.pair = text(node, "pair", false);
+    r.inferred = text(node, "inferred", false);
+    if (const auto scale = node["scale"]) {
+      try {
+        r.scale = scale.as<double>();
+      } catch (const YAML::Exception&) {
+        fail(scale, "scale must be a number");
+      }
+    }
+    if (const auto fields = node["fields"]) {
+      if (!fields.IsSequence()) fail(fields, "fields must be a list");
+      if (r.kind != RegisterKind::bits && r.kind != RegisterKind::byte_pair && r.kind != RegisterKind::ascii_pair)
+        fail(fields, fmt::format("fields are only for kinds bits, byte_pair and ascii_pair, not {}", kind_name(r.kind)));
+      for (const auto& f : fields) r.fields.push_back(field(f));
+    }
+    const bool paired = r.kind == RegisterKind::u32_low || r.kind == RegisterKind::u32_high;
+    if (paired == r.pair.empty()) fail(node, "'pair' is required exactly for kinds u32_low and u32_high");
+    return r;
+  }
+
+  DeviceTable table(const YAML::Node& root) const {
+    only_keys(root, {"id", "aliases", "devices", "seed_chapter", "registers"});
+    DeviceTable t;
+    t.id = text(root, "id", true);
+    t.devices = text(root, "devices", false);
+    t.seed_chapter = text(root, "seed_chapter", false);
+    if (const auto aliases = root["aliases"]) {
+      if (!aliases.IsSequence()) fail(aliases, "aliases must be a list");
+      for (const auto& a : aliases) t.aliases.push_back(a.as<std::string>());
+    }
+    const auto regs = root["registers"];
+    if (!regs || !regs.IsSequence() || regs.size() == 0) fail(root, "'registers' must be a non-empty list");
+    if (regs.size() > max_table_length) fail(regs, fmt::format("a table has at most {} registers", max_table_length));
+    std::set<std::string> ids;
+    for (const auto& node : regs) {
+      auto r = reg(node);
+      if (r.offset != t.registers.size())
+        fail(node, fmt::format("offset 0x{:02X} out of order: expected 0x{:02X}", r.offset, t.registers.size()));
+      if (!ids.insert(r.id).second) fail(node, fmt::format("duplicate identifier '{}'", r.id));
+      for (const auto& f : r.fields)
+        if (f.id != r.id && !ids.insert(f.id).second) fail(node, fmt::format("duplicate identifier '{}'", f.id));
+      t.registers.push_back(std::move(r));
+    }
+    for (std::size_t i = 0; i < t.registers.size(); ++i) {
+      const auto& r = t.registers[i];
+      if (r.kind != RegisterKind::u32_low) continue;
+      if (i + 1 >= t.registers.size() || t.registers[i + 1].kind != RegisterKind::u32_high ||
+          t.registers[i + 1].pair != r.pair)
+        fail(regs[i], fmt::format("u32_low '{}' must be followed by the u32_high of pair '{}'", r.id, r.pair));
+    }
+    return t;
+  }
+
+ private:
+  static constexpr unsigned long max_offset = max_table_length - 1;
+  std::string origin_;
+};
+
+}  // namespace
+
+DeviceTable parse_device_table(std::string_view yaml_text, std::string_view origin) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(std::string(yaml_text));
+  } catch (const YAML::ParserException& e) {
+    throw TableError(fmt::format("{}:{}:{}: {}", origin, e.mark.line + 1, e.mark.column + 1, e.msg));
+  }
+  try {
+    return Parser(origin).table(root);
+  } catch (const YAML::Exception& e) {
+    throw TableError(fmt::format("{}:{}:{}: {}", origin, e.mark.line + 1, e.mark.column + 1, e.msg));
+  }
+}
+
+}  // namespace unima::banks

@@ -1,0 +1,72 @@
+#pragma once
+// Register tables of the UnimaBUS devices (seed 004 §6.2.3–§6.2.5), loaded from the data
+// files in banks/tables/. The files are the single source of truth: the bank sizes, the
+// off-line values, the register map export and docs/registers.md all come from them.
+
+#include <cstdint>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace unima::banks {
+
+enum class RegisterKind : std::uint8_t { analog, bits, u32_low, u32_high, byte_pair, ascii_pair, reserve };
+
+std::string_view kind_name(RegisterKind kind);
+
+/// What a register reads while its device is off-line or before a telegram carried it
+/// (SPEC §1: analog 0x7FFF, bits 0).
+std::uint16_t offline_value(RegisterKind kind);
+
+/// A named bit or bit range of a register (bits "3" or "0-7").
+struct Field {
+  std::uint8_t first_bit = 0;
+  std::uint8_t last_bit = 0;
+  std::string id;
+  std::string label;
+  std::string inferred;
+};
+
+struct RegisterDef {
+  std::uint16_t offset = 0;
+  std::string id;
+  std::string label;  // the seed's Czech text
+  RegisterKind kind = RegisterKind::analog;
+  std::string unit;       // unit of raw * scale
+  double scale = 1.0;
+  std::string seed_unit;  // the seed's unit column as printed
+  std::string pair;       // id of the 32-bit quantity, for u32_low / u32_high
+  std::vector<Field> fields;
+  std::string inferred;   // why the offset was reconstructed, when it was
+};
+
+struct DeviceTable {
+  std::string id;
+  std::vector<std::string> aliases;
+  std::string devices;
+  std::string seed_chapter;
+  std::vector<RegisterDef> registers;  // offsets 0..length-1, in order
+
+  std::uint16_t length() const { return static_cast<std::uint16_t>(registers.size()); }
+  const RegisterDef* find(std::string_view register_id) const;
+
+  struct BitRef {
+    std::uint16_t offset;
+    std::uint8_t bit;
+  };
+  /// A single-bit field by its id, for bit sources like `D1.remote_start`.
+  std::optional<BitRef> find_bit(std::string_view field_id) const;
+};
+
+class TableError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// Parses and validates one table file; `origin` names it in errors.
+/// Throws TableError naming origin, line and column.
+DeviceTable parse_device_table(std::string_view yaml_text, std::string_view origin);
+
+}  // namespace unima::banks

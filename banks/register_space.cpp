@@ -1,0 +1,56 @@
+#include "banks/register_space.hpp"
+
+#include <algorithm>
+
+namespace unima::banks {
+
+bool RegisterSpace::readable(const Window& w) const {
+  if (w.kind != Window::Kind::bank) return false;
+  return !is_write_bank(w.bank) || rules_.readable_write_banks;
+}
+
+template <typename Fn>
+bool RegisterSpace::for_each_window(std::uint16_t first, std::size_t count, Fn&& fn) const {
+  if (count == 0 || first + count > 0x10000) return false;
+  const Window* w = map_.find(first);
+  std::uint32_t address = first;
+  std::size_t done = 0;
+  while (w) {
+    const std::size_t n = std::min<std::size_t>(count - done, w->end() - address);
+    if (!fn(*w, static_cast<std::uint16_t>(address), done, n)) return false;
+    done += n;
+    address += n;
+    if (done == count) return true;
+    w = map_.adjacent_after(*w);
+  }
+  return false;
+}
+
+bool RegisterSpace::read(std::uint16_t first, std::span<std::uint16_t> out) const {
+  // Check the whole range before reading any of it, as the bank reads are cheap but a
+  // partial answer must never leave here.
+  const bool all_readable =
+      for_each_window(first, out.size(), [&](const Window& w, std::uint16_t, std::size_t, std::size_t) {
+        return readable(w);
+      });
+  if (!all_readable) return false;
+  for_each_window(first, out.size(), [&](const Window& w, std::uint16_t address, std::size_t done, std::size_t n) {
+    store_.read(w.bank, static_cast<std::uint16_t>(address - w.first), out.subspan(done, n));
+    return true;
+  });
+  return true;
+}
+
+bool RegisterSpace::write(std::uint16_t first, std::span<const std::uint16_t> values) {
+  const bool all_writable = for_each_window(
+      first, values.size(), [&](const Window& w, std::uint16_t, std::size_t, std::size_t) { return writable(w); });
+  if (!all_writable) return false;
+  for_each_window(first, values.size(), [&](const Window& w, std::uint16_t address, std::size_t done, std::size_t n) {
+    for (std::size_t i = 0; i < n; ++i)
+      store_.write(w.bank, static_cast<std::uint16_t>(address - w.first + i), values[done + i]);
+    return true;
+  });
+  return true;
+}
+
+}  // namespace unima::banks

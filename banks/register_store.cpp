@@ -1,0 +1,109 @@
+#include "banks/register_store.hpp"
+
+#include <algorithm>
+
+namespace unima::banks {
+
+BankShapes standard_shapes(const std::array<const DeviceTable*, 4>& device_tables, const DeviceTable* io_module,
+                           const DeviceTable* bridge_internal) {
+  BankShapes shapes{};
+  shapes[index_of(BankId::A)] = {analog_bank_length, nullptr};
+  shapes[index_of(BankId::B)] = {bit_bank_length, nullptr};
+  shapes[index_of(BankId::C)] = {c_bank_length, bridge_internal};
+  shapes[index_of(BankId::W)] = {analog_bank_length, nullptr};
+  shapes[index_of(BankId::X)] = {bit_bank_length, nullptr};
+  for (unsigned n = 1; n <= 7; ++n) shapes[index_of(module_bank(n))] = {s_bank_length, io_module};
+  for (unsigned n = 1; n <= 4; ++n) {
+    const auto* table = device_tables[n - 1];
+    shapes[index_of(device_bank(n))] = {table ? table->length() : std::uint16_t{0}, table};
+  }
+  return shapes;
+}
+
+RegisterStore::RegisterStore(const BankShapes& shapes) : shapes_(shapes) {
+  for (BankId id : all_banks) {
+    const auto& shape = shapes[index_of(id)];
+    auto& bank = bank_(id);
+    bank.length = shape.length;
+    bank.offline.assign(shape.length, not_measured);
+    if (shape.table)
+      for (const auto& reg : shape.table->registers)
+        if (reg.offset < shape.length) bank.offline[reg.offset] = offline_value(reg.kind);
+    if (id == BankId::B || id == BankId::X) bank.offline.assign(shape.length, 0);
+    bank.raw = bank.offline;
+    bank.carried.assign(shape.length, 0);
+  }
+}
+
+void RegisterStore::read(BankId id, std::uint16_t offset, std::span<std::uint16_t> out) const {
+  const auto& bank = bank_(id);
+  if (is_device_bank(id) || is_module_bank(id)) {
+    for (std::size_t i = 0; i < out.size(); ++i) {
+      const std::size_t r = offset + i;
+      out[i] = bank.online && bank.carried[r] ? bank.raw[r] : bank.offline[r];
+    }
+    return;
+  }
+  std::copy_n(bank.raw.begin() + offset, out.size(), out.begin());
+  if (id == BankId::C) {
+    // +0x10..+0x12 are mapped bits and a reserve (issue #3); +0x13 is computed.
+    for (std::size_t i = 0; i < out.size(); ++i) {
+      const std::size_t r = offset + i;
+      if (r == c_bank::online_bits) out[i] = online_bits();
+      else if (r >= c_bank::user_binary_inputs) out[i] = 0;
+    }
+  }
+}
+
+std::uint16_t RegisterStore::read(BankId bank, std::uint16_t offset) const {
+  std::uint16_t value = 0;
+  read(bank, offset, std::span(&value, 1));
+  return value;
+}
+
+std::size_t RegisterStore::store_telegram(BankId id, std::uint16_t offset, std::span<const std::uint16_t> values) {
+  auto& bank = bank_(id);
+  if (offset >= bank.length) return 0;
+  const std::size_t n = std::min<std::size_t>(values.size(), bank.length - offset);
+  std::copy_n(values.begin(), n, bank.raw.begin() + offset);
+  std::fill_n(bank.carried.begin() + offset, n, std::uint8_t{1});
+  return n;
+}
+
+void RegisterStore::set_online(BankId id, bool online) { bank_(id).online = online; }
+
+void RegisterStore::write(BankId id, std::uint16_t offset, std::uint16_t value) {
+  bank_(id).raw[offset] = value;
+  notify(id, offset, value);
+}
+
+void RegisterStore::set_user_output(unsigned n, std::uint16_t value) {
+  const auto offset = static_cast<std::uint16_t>(c_bank::user_analog_outputs + n - 1);
+  bank_(BankId::C).raw[offset] = value;
+  notify(BankId::C, offset, value);
+}
+
+void RegisterStore::set_modbus_error(bool error) { modbus_error_ = error; }
+
+std::uint16_t RegisterStore::online_bits() const {
+  std::uint16_t bits = 0;
+  for (unsigned n = 1; n <= 4; ++n)
+    if (bank_(device_bank(n)).online) bits |= static_cast<std::uint16_t>(1u << (n - 1));
+  for (unsigned n = 1; n <= 7; ++n)
+    if (bank_(module_bank(n)).online) bits |= static_cast<std::uint16_t>(1u << (7 + n));
+  if (modbus_error_) bits |= 1u << c_bank::modbus_error_bit;
+  return bits;
+}
+
+void RegisterStore::take_state_from(const RegisterStore& old) {
+  for (BankId id : all_banks) {
+    const bool same_shape = shapes_[index_of(id)].table == old.shapes_[index_of(id)].table &&
+                            length(id) == old.length(id);
+    if (!same_shape) continue;
+    if (id == BankId::A || id == BankId::B) continue;  // computed from their sources
+    bank_(id) = old.bank_(id);
+  }
+  modbus_error_ = old.modbus_error_;
+}
+
+}  // namespace unima::banks

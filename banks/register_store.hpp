@@ -1,0 +1,94 @@
+#pragma once
+// The values of all banks, by bank and offset. Knows what an off-line device reads
+// (SPEC §1) and tells a listener about every value the bridge publishes to UnimaBUS.
+// Pure: no clock, no I/O. Presence time-outs are decided outside and set here.
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <span>
+#include <vector>
+
+#include "banks/bank_id.hpp"
+#include "banks/device_table.hpp"
+
+namespace unima::banks {
+
+/// Size and table of one bank in this config; length 0 means the bank does not exist.
+struct BankShape {
+  std::uint16_t length = 0;
+  const DeviceTable* table = nullptr;
+};
+using BankShapes = std::array<BankShape, bank_count>;
+
+/// The shapes of a config: fixed banks A, B, C, S_N, W, X; D_N from their device tables.
+BankShapes standard_shapes(const std::array<const DeviceTable*, 4>& device_tables, const DeviceTable* io_module,
+                           const DeviceTable* bridge_internal);
+
+/// Offsets inside bank C (seed 004 §6.2.3).
+namespace c_bank {
+inline constexpr std::uint16_t user_analog_outputs = 0x00;  // 16 registers
+inline constexpr std::uint16_t user_binary_inputs = 0x10;
+inline constexpr std::uint16_t user_binary_outputs = 0x12;
+inline constexpr std::uint16_t online_bits = 0x13;
+inline constexpr std::uint16_t modbus_error_bit = 15;
+inline constexpr unsigned user_output_count = 16;
+}  // namespace c_bank
+
+class RegisterStore {
+ public:
+  /// A value the bridge publishes to UnimaBUS changed (W, X, C user outputs), or was written.
+  using ChangeListener = std::function<void(BankId bank, std::uint16_t offset, std::uint16_t value)>;
+
+  explicit RegisterStore(const BankShapes& shapes);
+
+  bool exists(BankId bank) const { return bank_(bank).length != 0; }
+  std::uint16_t length(BankId bank) const { return bank_(bank).length; }
+  const DeviceTable* table(BankId bank) const { return shapes_[index_of(bank)].table; }
+
+  /// Registers [offset, offset + out.size()) of a bank, as a Modbus master reads them.
+  /// Precondition: the range lies inside the bank.
+  void read(BankId bank, std::uint16_t offset, std::span<std::uint16_t> out) const;
+  std::uint16_t read(BankId bank, std::uint16_t offset) const;
+
+  /// Values a UnimaBUS telegram carried into a D_N or S_N bank; those past the bank's end
+  /// are not stored. Returns how many were stored.
+  std::size_t store_telegram(BankId bank, std::uint16_t offset, std::span<const std::uint16_t> values);
+  void set_online(BankId bank, bool online);
+  bool online(BankId bank) const { return bank_(bank).online; }
+
+  /// A Modbus write into W or X. Precondition: bank is W or X and offset inside it.
+  void write(BankId bank, std::uint16_t offset, std::uint16_t value);
+  /// User analog output n (1..16) = C+(n-1): the output of a function block (SPEC §4).
+  void set_user_output(unsigned n, std::uint16_t value);
+  /// C+0x13 bit 15; the 2 s hold is kept by the caller, who has the clock.
+  void set_modbus_error(bool error);
+  std::uint16_t online_bits() const;
+
+  void set_change_listener(ChangeListener listener) { listener_ = std::move(listener); }
+
+  /// Carries over what the old config's store held: W, X, the user outputs, and the
+  /// D_N/S_N values of banks whose table did not change (for a SIGHUP reload).
+  void take_state_from(const RegisterStore& old);
+
+ private:
+  struct Bank {
+    std::uint16_t length = 0;
+    std::vector<std::uint16_t> raw;
+    std::vector<std::uint16_t> offline;  // what each register reads while not measured
+    std::vector<std::uint8_t> carried;   // 1 once a telegram carried the register
+    bool online = false;
+  };
+  const Bank& bank_(BankId bank) const { return banks_[index_of(bank)]; }
+  Bank& bank_(BankId bank) { return banks_[index_of(bank)]; }
+  void notify(BankId bank, std::uint16_t offset, std::uint16_t value) const {
+    if (listener_) listener_(bank, offset, value);
+  }
+
+  BankShapes shapes_;
+  std::array<Bank, bank_count> banks_;
+  bool modbus_error_ = false;
+  ChangeListener listener_;
+};
+
+}  // namespace unima::banks

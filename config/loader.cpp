@@ -1,0 +1,213 @@
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+
+#include <fmt/format.h>
+
+#include "banks/table_catalog.hpp"
+#include "config/config.hpp"
+#include "config/yaml_reader.hpp"
+
+namespace unima::config {
+
+namespace {
+
+using banks::BankId;
+
+class Loader {
+ public:
+  explicit Loader(const std::string& origin) : yaml_(origin) { config_.file = origin; }
+
+  Config load(const YAML::Node& root) {
+    if (!root.IsNull() && !root.IsMap()) yaml_.fail(root, "the config must be a mapping of sections");
+    yaml_.expect_keys(root, "the config", {"unimabus", "modbus", "banks", "devices", "log"});
+    for (BankId bank : banks::all_banks) config_.bank_bases[index_of(bank)] = banks::default_base(bank);
+    if (root["unimabus"]) unimabus(root["unimabus"]);
+    if (root["modbus"]) modbus(root["modbus"]);
+    if (root["banks"]) bank_bases(root["banks"]);
+    if (root["devices"]) devices(root["devices"]);
+    if (root["log"]) log(root["log"]);
+    validate_layout(root);
+    return std::move(config_);
+  }
+
+ private:
+  void unimabus(const YAML::Node& node) {
+    yaml_.expect_keys(node, "unimabus", {"address", "transport", "listen", "offline_after", "sim"});
+    auto& u = config_.unimabus;
+    if (node["address"]) u.address = static_cast<std::uint8_t>(yaml_.number(node["address"], 0, 255));
+    if (node["transport"]) {
+      const auto t = yaml_.choice(node["transport"], {"sim", "feed", "replay"});
+      if (t == "replay") yaml_.fail(node["transport"], "the replay transport is not available in this version");
+      u.transport = t == "feed" ? TransportKind::feed : TransportKind::sim;
+    }
+    if (node["listen"]) u.listen = yaml_.text(node["listen"]);
+    if (node["offline_after"]) {
+      u.offline_after = yaml_.duration(node["offline_after"]);
+      if (u.offline_after.count() == 0) yaml_.fail(node["offline_after"], "offline_after must be longer than 0");
+    }
+    if (const auto sim = node["sim"]) {
+      yaml_.expect_keys(sim, "unimabus.sim", {"seed", "period", "io_modules"});
+      if (sim["seed"]) u.sim.seed = static_cast<std::uint32_t>(yaml_.number(sim["seed"], 0, 0xFFFFFFFF));
+      if (sim["period"]) {
+        u.sim.period = yaml_.duration(sim["period"]);
+        if (u.sim.period < Duration(10)) yaml_.fail(sim["period"], "the simulator period must be at least 10ms");
+      }
+      if (const auto modules = sim["io_modules"]) {
+        if (!modules.IsSequence()) yaml_.fail(modules, "io_modules must be a list of slots 1..7");
+        for (const auto& slot : modules) u.sim.io_modules.push_back(static_cast<unsigned>(yaml_.number(slot, 1, 7)));
+      }
+    }
+    if (u.transport == TransportKind::feed) {
+      if (u.listen.empty()) yaml_.fail(node, "the feed transport needs 'listen' (host:port or unix:/path)");
+      check_listen(node["listen"]);
+    } else if (node["listen"]) {
+      yaml_.fail(node["listen"], "'listen' belongs to the feed transport only");
+    }
+  }
+
+  void check_listen(const YAML::Node& node) const {
+    const auto& s = config_.unimabus.listen;
+    if (s.starts_with("unix:")) {
+      if (s.size() <= 5) yaml_.fail(node, "unix: needs a socket path, e.g. unix:/run/unima-bridge/feed.sock");
+      return;
+    }
+    const auto colon = s.rfind(':');
+    if (colon == std::string::npos || colon == 0 || colon + 1 == s.size())
+      yaml_.fail(node, fmt::format("'{}' is not host:port or unix:/path", s));
+    const auto port = s.substr(colon + 1);
+    if (port.find_first_not_of("0123456789") != std::string::npos || port.size() > 5 || std::stoul(port) > 65535)
+      yaml_.fail(node, fmt::format("'{}' has no valid port", s));
+  }
+
+  void modbus(const YAML::Node& node) {
+    yaml_.expect_keys(node, "modbus", {"mode", "address", "tcp", "readable_write_banks", "extensions"});
+    auto& m = config_.modbus;
+    if (node["mode"]) {
+      const auto mode = yaml_.choice(node["mode"], {"slave", "master"});
+      if (mode == "master") yaml_.fail(node["mode"], "master mode is not available in this version");
+    }
+    if (node["address"]) m.address = static_cast<std::uint8_t>(yaml_.number(node["address"], 0, 255));
+    if (node["readable_write_banks"]) m.readable_write_banks = yaml_.boolean(node["readable_write_banks"]);
+    if (const auto ext = node["extensions"]) {
+      yaml_.expect_keys(ext, "modbus.extensions", {"function_3", "function_16", "function_43"});
+      if (ext["function_3"]) m.extensions.function_3 = yaml_.boolean(ext["function_3"]);
+      if (ext["function_16"]) m.extensions.function_16 = yaml_.boolean(ext["function_16"]);
+      if (ext["function_43"]) m.extensions.function_43 = yaml_.boolean(ext["function_43"]);
+    }
+    if (const auto tcp = node["tcp"]) {
+      yaml_.expect_keys(tcp, "modbus.tcp", {"listen", "port", "max_clients", "idle_timeout"});
+      TcpSlaveConfig t;
+      if (tcp["listen"]) t.listen = yaml_.text(tcp["listen"]);
+      if (tcp["port"]) t.port = static_cast<std::uint16_t>(yaml_.number(tcp["port"], 0, 65535));
+      if (tcp["max_clients"]) t.max_clients = static_cast<unsigned>(yaml_.number(tcp["max_clients"], 1, 10000));
+      if (tcp["idle_timeout"]) t.idle_timeout = yaml_.duration(tcp["idle_timeout"]);
+      m.tcp = t;
+    }
+  }
+
+  void bank_bases(const YAML::Node& node) {
+    if (!node.IsMap()) yaml_.fail(node, "banks must map bank names (A, B, C, D1..D4, S1..S7, W, X) to addresses");
+    for (const auto& entry : node) {
+      const auto name = entry.first.Scalar();
+      const auto bank = banks::parse_bank_name(name);
+      if (!bank) yaml_.fail(entry.first, fmt::format("unknown bank '{}' (banks are A, B, C, D1..D4, S1..S7, W, X)", name));
+      config_.bank_bases[index_of(*bank)] = static_cast<std::uint16_t>(yaml_.number(entry.second, 0, 0xFFFF));
+      config_.bank_origins[index_of(*bank)] = yaml_.position(entry.second);
+    }
+  }
+
+  void devices(const YAML::Node& node) {
+    if (!node.IsMap()) yaml_.fail(node, "devices must map D1..D4 to { type, address }");
+    for (const auto& entry : node) {
+      const auto name = entry.first.Scalar();
+      const auto bank = banks::parse_bank_name(name);
+      if (!bank || !banks::is_device_bank(*bank))
+        yaml_.fail(entry.first, fmt::format("unknown device bank '{}' (device banks are D1, D2, D3, D4)", name));
+      const auto& dev = entry.second;
+      yaml_.expect_keys(dev, fmt::format("devices.{}", name), {"type", "address"});
+      if (!dev["type"]) yaml_.fail(dev, fmt::format("devices.{} needs a type", name));
+      if (!dev["address"]) yaml_.fail(dev, fmt::format("devices.{} needs the device's UnimaBUS address", name));
+      DeviceConfig device;
+      const auto type = yaml_.text(dev["type"]);
+      device.table = banks::find_device_type(type);
+      if (!device.table)
+        yaml_.fail(dev["type"], fmt::format("unknown device type '{}' (known: {})", type,
+                                            fmt::join(banks::device_type_ids(), ", ")));
+      device.address = static_cast<std::uint8_t>(yaml_.number(dev["address"], 0, 255));
+      config_.devices[banks::bank_number(*bank) - 1] = device;
+    }
+  }
+
+  void log(const YAML::Node& node) {
+    yaml_.expect_keys(node, "log", {"level"});
+    if (node["level"])
+      config_.log.level = yaml_.choice(node["level"], {"trace", "debug", "info", "warn", "error", "critical", "off"});
+  }
+
+  void validate_layout(const YAML::Node& root) {
+    try {
+      (void)address_map(config_);
+    } catch (const banks::OverlapError& e) {
+      const std::string message = e.what();
+      // The windows the file set carry their position; when none did, point at the file.
+      if (message.starts_with(config_.file + ":")) throw ConfigError(message);
+      throw ConfigError(fmt::format("{}: {}", yaml_.position(root), message));
+    }
+  }
+
+  YamlReader yaml_;
+  Config config_;
+};
+
+}  // namespace
+
+Config load_text(const std::string& text, const std::string& origin) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(text);
+  } catch (const YAML::ParserException& e) {
+    throw ConfigError(fmt::format("{}:{}:{}: {}", origin, e.mark.line + 1, e.mark.column + 1, e.msg));
+  }
+  try {
+    return Loader(origin).load(root);
+  } catch (const YAML::Exception& e) {
+    throw ConfigError(fmt::format("{}:{}:{}: {}", origin, e.mark.line + 1, e.mark.column + 1, e.msg));
+  }
+}
+
+Config load_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw ConfigError(fmt::format("{}: cannot open the config file: {}", path, std::strerror(errno)));
+  std::ostringstream text;
+  text << in.rdbuf();
+  return load_text(text.str(), path);
+}
+
+banks::BankShapes bank_shapes(const Config& config) {
+  std::array<const banks::DeviceTable*, 4> tables{};
+  for (std::size_t i = 0; i < 4; ++i)
+    if (config.devices[i]) tables[i] = config.devices[i]->table;
+  return banks::standard_shapes(tables, banks::io_module_table(), banks::bridge_internal_table());
+}
+
+banks::AddressMap address_map(const Config& config) {
+  const auto shapes = bank_shapes(config);
+  std::vector<banks::Window> windows;
+  for (BankId bank : banks::all_banks) {
+    const auto length = shapes[index_of(bank)].length;
+    if (length == 0) continue;
+    banks::Window w;
+    w.kind = banks::Window::Kind::bank;
+    w.bank = bank;
+    w.first = config.bank_bases[index_of(bank)];
+    w.count = length;
+    w.name = fmt::format("bank {}", banks::bank_name(bank));
+    w.origin = config.bank_origins[index_of(bank)];
+    windows.push_back(std::move(w));
+  }
+  return banks::AddressMap(std::move(windows));
+}
+
+}  // namespace unima::config

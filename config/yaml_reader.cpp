@@ -1,0 +1,84 @@
+#include "config/yaml_reader.hpp"
+
+#include <charconv>
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+namespace unima::config {
+
+std::string YamlReader::position(const YAML::Node& node) const {
+  const auto mark = node.Mark();
+  if (mark.is_null()) return origin_;
+  return fmt::format("{}:{}:{}", origin_, mark.line + 1, mark.column + 1);
+}
+
+void YamlReader::fail(const YAML::Node& node, std::string_view message) const {
+  throw ConfigError(fmt::format("{}: {}", position(node), message));
+}
+
+void YamlReader::expect_keys(const YAML::Node& map, std::string_view what,
+                             std::initializer_list<std::string_view> allowed) const {
+  if (map.IsNull()) return;
+  if (!map.IsMap()) fail(map, fmt::format("{} must be a mapping of keys", what));
+  for (const auto& entry : map) {
+    const auto key = entry.first.Scalar();
+    bool known = false;
+    for (auto a : allowed) known = known || a == key;
+    if (!known) fail(entry.first, fmt::format("unknown key '{}' in {} (known: {})", key, what, fmt::join(allowed, ", ")));
+  }
+}
+
+unsigned long YamlReader::number(const YAML::Node& node, unsigned long min, unsigned long max) const {
+  if (!node.IsScalar()) fail(node, "expected a number");
+  const auto& s = node.Scalar();
+  const bool hex = s.size() > 2 && s[0] == '0' && (s[1] == 'x' || s[1] == 'X');
+  unsigned long value = 0;
+  const char* begin = s.data() + (hex ? 2 : 0);
+  const auto [end, ec] = std::from_chars(begin, s.data() + s.size(), value, hex ? 16 : 10);
+  if (ec != std::errc{} || end != s.data() + s.size() || begin == end)
+    fail(node, fmt::format("'{}' is not a number (write decimal or 0x hex)", s));
+  if (value < min || value > max) {
+    if (hex || max > 255) fail(node, fmt::format("{} is out of range 0x{:X}..0x{:X} ({}..{})", s, min, max, min, max));
+    fail(node, fmt::format("{} is out of range {}..{}", s, min, max));
+  }
+  return value;
+}
+
+bool YamlReader::boolean(const YAML::Node& node) const {
+  const auto s = text(node);
+  if (s == "true" || s == "yes" || s == "on") return true;
+  if (s == "false" || s == "no" || s == "off") return false;
+  fail(node, fmt::format("'{}' is not a boolean (true or false)", s));
+}
+
+std::string YamlReader::text(const YAML::Node& node) const {
+  if (!node.IsScalar()) fail(node, "expected a single value");
+  return node.Scalar();
+}
+
+Duration YamlReader::duration(const YAML::Node& node) const {
+  const auto s = text(node);
+  std::size_t digits = 0;
+  while (digits < s.size() && s[digits] >= '0' && s[digits] <= '9') ++digits;
+  const std::string_view unit = std::string_view(s).substr(digits);
+  unsigned long long value = 0;
+  const auto [end, ec] = std::from_chars(s.data(), s.data() + digits, value);
+  const bool number_ok = digits > 0 && ec == std::errc{} && end == s.data() + digits && value < 1'000'000'000ULL;
+  if (number_ok) {
+    if (unit == "ms") return Duration(value);
+    if (unit == "s") return Duration(value * 1000);
+    if (unit == "m" || unit == "min") return Duration(value * 60'000);
+    if (unit == "h") return Duration(value * 3'600'000);
+  }
+  fail(node, fmt::format("'{}' is not a duration (write e.g. 200ms, 1s, 5m)", s));
+}
+
+std::string YamlReader::choice(const YAML::Node& node, std::initializer_list<std::string_view> choices) const {
+  const auto s = text(node);
+  for (auto c : choices)
+    if (c == s) return s;
+  fail(node, fmt::format("'{}' is not one of: {}", s, fmt::join(choices, ", ")));
+}
+
+}  // namespace unima::config

@@ -1,0 +1,38 @@
+#pragma once
+// Checked reading of YAML nodes: every value goes through here, so every error names the
+// file, line and column of the offending node (yaml-cpp marks are 0-based, ours 1-based).
+
+#include <yaml-cpp/yaml.h>
+
+#include <initializer_list>
+#include <string>
+#include <string_view>
+
+#include "config/config.hpp"
+
+namespace unima::config {
+
+class YamlReader {
+ public:
+  explicit YamlReader(std::string origin) : origin_(std::move(origin)) {}
+
+  std::string position(const YAML::Node& node) const;
+  [[noreturn]] void fail(const YAML::Node& node, std::string_view message) const;
+
+  /// Rejects keys outside `allowed`; a null node counts as an empty mapping.
+  void expect_keys(const YAML::Node& map, std::string_view what, std::initializer_list<std::string_view> allowed) const;
+
+  /// Decimal or 0x hex, within [min, max].
+  unsigned long number(const YAML::Node& node, unsigned long min, unsigned long max) const;
+  bool boolean(const YAML::Node& node) const;
+  std::string text(const YAML::Node& node) const;
+  /// "200ms", "1s", "5m", "1h".
+  Duration duration(const YAML::Node& node) const;
+  /// One of `choices`; the error lists them.
+  std::string choice(const YAML::Node& node, std::initializer_list<std::string_view> choices) const;
+
+ private:
+  std::string origin_;
+};
+
+}  // namespace unima::config

@@ -1,0 +1,248 @@
+#include "daemon/bridge.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include "banks/register_space.hpp"
+#include "banks/table_catalog.hpp"
+#include "daemon/feed_transport.hpp"
+#include "daemon/sim_transport.hpp"
+#include "modbus/bank_model.hpp"
+#include "unimabus/feed_codec.hpp"
+
+namespace unima::daemon {
+
+using banks::BankId;
+
+struct Bridge::Core {
+  config::Config config;
+  std::unique_ptr<banks::RegisterStore> store;
+  std::unique_ptr<banks::RegisterSpace> space;
+  std::unique_ptr<modbus::BankModel> model;
+  std::unique_ptr<unimabus::TelegramRouter> router;
+  std::unique_ptr<unimabus::Presence> presence;
+};
+
+namespace {
+
+std::vector<std::pair<BankId, std::uint8_t>> device_addresses(const config::Config& config) {
+  std::vector<std::pair<BankId, std::uint8_t>> addresses;
+  for (unsigned n = 1; n <= 4; ++n)
+    if (const auto& device = config.devices[n - 1]) addresses.emplace_back(banks::device_bank(n), device->address);
+  return addresses;
+}
+
+std::string describe_bank(const config::Config& config, BankId bank) {
+  if (banks::is_device_bank(bank)) {
+    const auto& device = config.devices[banks::bank_number(bank) - 1];
+    if (device) return fmt::format("{} ({} at UnimaBUS address {})", banks::bank_name(bank), device->table->id, device->address);
+  }
+  if (banks::is_module_bank(bank))
+    return fmt::format("{} (IO module in slot {} at address {})", banks::bank_name(bank), banks::bank_number(bank),
+                       config.unimabus.address);
+  return std::string(banks::bank_name(bank));
+}
+
+}  // namespace
+
+Bridge::Bridge(asio::io_context& io, config::Config config)
+    : io_(io),
+      core_(build_core(std::move(config))),
+      error_hold_(io, [this](bool error) { core_->store->set_modbus_error(error); }),
+      presence_timer_(io) {
+  transport_ = make_transport(core_->config);
+  tcp_ = make_tcp_server(core_->config);
+  core_->store->set_change_listener([this](BankId bank, std::uint16_t offset, std::uint16_t value) {
+    if (transport_) transport_->publish(bank, offset, value);
+  });
+}
+
+Bridge::~Bridge() { stop(); }
+
+const config::Config& Bridge::config() const { return core_->config; }
+
+std::unique_ptr<Bridge::Core> Bridge::build_core(config::Config config) const {
+  auto core = std::make_unique<Core>();
+  core->store = std::make_unique<banks::RegisterStore>(config::bank_shapes(config));
+  core->space = std::make_unique<banks::RegisterSpace>(config::address_map(config), *core->store,
+                                                       banks::AccessRules{config.modbus.readable_write_banks});
+  core->model = std::make_unique<modbus::BankModel>(*core->space);
+  core->router = std::make_unique<unimabus::TelegramRouter>(
+      unimabus::standard_routes(config.unimabus.address, *core->store, device_addresses(config)), *core->store);
+  core->presence = std::make_unique<unimabus::Presence>(config.unimabus.offline_after);
+  core->config = std::move(config);
+  return core;
+}
+
+std::unique_ptr<unimabus::Transport> Bridge::make_transport(const config::Config& config) {
+  auto handler = [this](const unimabus::Telegram& t) { return on_telegram(t); };
+  if (config.unimabus.transport == config::TransportKind::feed)
+    return std::make_unique<FeedTransport>(io_, config.unimabus.listen, handler, [this] { return snapshot(); });
+  std::vector<unimabus::SimDevice> devices;
+  for (unsigned n = 1; n <= 4; ++n)
+    if (const auto& device = config.devices[n - 1])
+      devices.push_back({device->address, 0, device->table->length(), device->table});
+  for (unsigned slot : config.unimabus.sim.io_modules)
+    devices.push_back({config.unimabus.address, static_cast<std::uint8_t>(slot), banks::s_bank_length,
+                       banks::io_module_table()});
+  return std::make_unique<SimTransport>(io_, unimabus::SimGenerator(config.unimabus.sim.seed, std::move(devices)),
+                                        config.unimabus.sim.period, handler);
+}
+
+std::unique_ptr<TcpSlaveServer> Bridge::make_tcp_server(const config::Config& config) const {
+  if (!config.modbus.tcp) return nullptr;
+  const auto& tcp = *config.modbus.tcp;
+  TcpSlaveOptions options{tcp.listen, tcp.port, tcp.max_clients, tcp.idle_timeout};
+  try {
+    return std::make_unique<TcpSlaveServer>(io_, options, slave_context());
+  } catch (const boost::system::system_error& e) {
+    throw std::runtime_error(fmt::format("modbus tcp: cannot listen on {}:{}: {}", tcp.listen, tcp.port, e.code().message()));
+  }
+}
+
+SlaveContext Bridge::slave_context() const {
+  SlaveContext context;
+  context.registers = core_->model.get();
+  context.unit_id = core_->config.modbus.address;
+  const auto& ext = core_->config.modbus.extensions;
+  context.options.max_read_registers = modbus::max_read_registers_tcp;
+  context.options.read_holding_registers = ext.function_3;
+  context.options.write_multiple_registers = ext.function_16;
+  context.options.device_identification = ext.function_43;
+  // The error hold lives as long as the bridge, and the ports never outlive the bridge.
+  auto* hold = const_cast<ErrorHold*>(&error_hold_);
+  context.on_fault = [hold] { hold->fault(); };
+  return context;
+}
+
+void Bridge::start() {
+  started_ = true;
+  spdlog::info("bridge: UnimaBUS address {}, Modbus address {}, {} transport", core_->config.unimabus.address,
+               core_->config.modbus.address,
+               core_->config.unimabus.transport == config::TransportKind::feed ? "feed" : "sim");
+  for (unsigned n = 1; n <= 4; ++n)
+    if (core_->config.devices[n - 1])
+      spdlog::info("bridge: {} at 0x{:04X}, {} registers", describe_bank(core_->config, banks::device_bank(n)),
+                   core_->config.bank_bases[index_of(banks::device_bank(n))], core_->store->length(banks::device_bank(n)));
+  if (transport_) transport_->start();
+  if (tcp_) tcp_->start();
+}
+
+void Bridge::stop() {
+  if (!started_) return;
+  started_ = false;
+  if (tcp_) tcp_->stop();
+  if (transport_) transport_->stop();
+  presence_timer_.cancel();
+  error_hold_.cancel();
+}
+
+namespace {
+bool same_endpoint(const std::optional<config::TcpSlaveConfig>& a, const std::optional<config::TcpSlaveConfig>& b) {
+  if (a.has_value() != b.has_value()) return false;
+  return !a || (a->listen == b->listen && a->port == b->port);
+}
+bool same_feed(const config::UnimabusConfig& a, const config::UnimabusConfig& b) {
+  return a.transport == config::TransportKind::feed && b.transport == config::TransportKind::feed && a.listen == b.listen;
+}
+}  // namespace
+
+void Bridge::reload(config::Config config) {
+  auto core = build_core(std::move(config));
+  const auto& old_config = core_->config;
+  const auto& new_config = core->config;
+
+  // Everything that can fail comes first, while the running ports are untouched.
+  std::unique_ptr<unimabus::Transport> new_transport;
+  if (!same_feed(old_config.unimabus, new_config.unimabus)) new_transport = make_transport(new_config);
+  std::unique_ptr<TcpSlaveServer> new_tcp;
+  const bool same_tcp = same_endpoint(old_config.modbus.tcp, new_config.modbus.tcp);
+  if (!same_tcp) {
+    if (tcp_) tcp_->stop();  // the new server may want the same port on another address
+    try {
+      new_tcp = make_tcp_server(new_config);
+    } catch (...) {
+      if (tcp_) {
+        tcp_ = std::make_unique<TcpSlaveServer>(io_, tcp_->options(), slave_context());
+        tcp_->start();
+      }
+      throw;
+    }
+  }
+
+  // Commit: values and presence carried over, then the ports switched.
+  core->store->take_state_from(*core_->store);
+  const auto now = unimabus::Presence::Clock::now();
+  for (BankId bank : banks::all_banks) {
+    if (core_->presence->online(bank) && core->store->online(bank)) core->presence->heard(bank, now);
+    else core->store->set_online(bank, false);
+  }
+  core_ = std::move(core);
+  core_->store->set_change_listener([this](BankId bank, std::uint16_t offset, std::uint16_t value) {
+    if (transport_) transport_->publish(bank, offset, value);
+  });
+  presence_timer_armed_ = false;
+  presence_timer_.cancel();
+  watch_presence();
+
+  if (new_transport) {
+    if (transport_) transport_->stop();
+    transport_ = std::move(new_transport);
+    transport_->start();
+  }
+  if (!same_tcp) {
+    tcp_ = std::move(new_tcp);
+    if (tcp_) tcp_->start();
+  }
+  if (tcp_) {
+    const auto& tcp = *core_->config.modbus.tcp;
+    tcp_->set_limits(tcp.max_clients, tcp.idle_timeout);
+    tcp_->set_context(slave_context());
+  }
+  spdlog::info("bridge: reloaded {}", core_->config.file);
+}
+
+std::string Bridge::on_telegram(const unimabus::Telegram& telegram) {
+  auto outcome = core_->router->apply(telegram);
+  if (!outcome.updated.empty()) {
+    const auto now = unimabus::Presence::Clock::now();
+    for (BankId bank : outcome.updated)
+      if (core_->presence->heard(bank, now)) set_online(bank, true);
+    watch_presence();
+  }
+  return outcome.error;
+}
+
+void Bridge::set_online(BankId bank, bool online) {
+  core_->store->set_online(bank, online);
+  spdlog::info("unimabus: {} {}", describe_bank(core_->config, bank), online ? "on-line" : "off-line");
+}
+
+// One timer for all devices, armed at the earliest moment one can go off-line. Telegrams
+// only push that moment later, so they never re-arm it; an early wake-up re-arms itself.
+void Bridge::watch_presence() {
+  if (presence_timer_armed_) return;
+  const auto next = core_->presence->next_expiry();
+  if (!next) return;
+  presence_timer_armed_ = true;
+  presence_timer_.expires_at(*next);
+  presence_timer_.async_wait([this](const boost::system::error_code& ec) {
+    if (ec) return;
+    presence_timer_armed_ = false;
+    for (BankId bank : core_->presence->expire(unimabus::Presence::Clock::now())) set_online(bank, false);
+    watch_presence();
+  });
+}
+
+std::string Bridge::snapshot() const {
+  std::string lines;
+  const auto& store = *core_->store;
+  for (std::uint16_t i = 0; i < store.length(BankId::W); ++i)
+    lines += unimabus::format_change(BankId::W, i, store.read(BankId::W, i));
+  for (std::uint16_t i = 0; i < store.length(BankId::X); ++i)
+    lines += unimabus::format_change(BankId::X, i, store.read(BankId::X, i));
+  for (std::uint16_t i = 0; i <= banks::c_bank::user_binary_outputs; ++i)
+    lines += unimabus::format_change(BankId::C, i, store.read(BankId::C, i));
+  return lines;
+}
+
+}  // namespace unima::daemon

@@ -1,0 +1,64 @@
+#pragma once
+// The running bridge: the banks of one config, the UnimaBUS transport feeding them, and
+// the Modbus ports serving them, on one io_context. A reload builds the new config's banks
+// beside the old, carries the values over, and swaps; ports whose settings did not change
+// keep their connections.
+
+#include <memory>
+#include <optional>
+
+#include "config/config.hpp"
+#include "daemon/asio.hpp"
+#include "daemon/error_hold.hpp"
+#include "daemon/slave_context.hpp"
+#include "daemon/tcp_slave_server.hpp"
+#include "unimabus/presence.hpp"
+#include "unimabus/telegram_router.hpp"
+#include "unimabus/transport.hpp"
+
+namespace unima::banks {
+class RegisterSpace;
+}
+namespace unima::modbus {
+class BankModel;
+}
+
+namespace unima::daemon {
+
+class Bridge {
+ public:
+  /// Builds everything and binds the ports; throws (std::exception) when it cannot.
+  Bridge(asio::io_context& io, config::Config config);
+  ~Bridge();
+
+  void start();
+  void stop();
+  /// Switches to `config`; throws, leaving the running config untouched, when it cannot.
+  void reload(config::Config config);
+
+  const config::Config& config() const;
+  /// The bound Modbus TCP port, 0 when there is no TCP slave.
+  std::uint16_t tcp_port() const { return tcp_ ? tcp_->port() : 0; }
+
+ private:
+  struct Core;
+  std::unique_ptr<Core> build_core(config::Config config) const;
+  std::unique_ptr<unimabus::Transport> make_transport(const config::Config& config);
+  std::unique_ptr<TcpSlaveServer> make_tcp_server(const config::Config& config) const;
+  SlaveContext slave_context() const;
+  std::string on_telegram(const unimabus::Telegram& telegram);
+  std::string snapshot() const;
+  void watch_presence();
+  void set_online(banks::BankId bank, bool online);
+
+  asio::io_context& io_;
+  std::unique_ptr<Core> core_;
+  ErrorHold error_hold_;
+  std::unique_ptr<unimabus::Transport> transport_;
+  std::unique_ptr<TcpSlaveServer> tcp_;
+  asio::steady_timer presence_timer_;
+  bool presence_timer_armed_ = false;
+  bool started_ = false;
+};
+
+}  // namespace unima::daemon

@@ -1,0 +1,197 @@
+#include "daemon/tcp_slave_server.hpp"
+
+#include <array>
+#include <cstring>
+#include <vector>
+
+#include <spdlog/spdlog.h>
+
+#include "modbus/mbap.hpp"
+
+namespace unima::daemon {
+
+using asio::ip::tcp;
+using Clock = std::chrono::steady_clock;
+
+class TcpSlaveServer::Connection : public std::enable_shared_from_this<Connection> {
+ public:
+  Connection(TcpSlaveServer& server, tcp::socket socket)
+      : server_(server), socket_(std::move(socket)), idle_timer_(socket_.get_executor()) {
+    boost::system::error_code ec;
+    const auto remote = socket_.remote_endpoint(ec);
+    peer_ = ec ? std::string("?") : remote.address().to_string() + ":" + std::to_string(remote.port());
+    socket_.set_option(tcp::no_delay(true), ec);
+  }
+
+  void start() {
+    last_activity_ = Clock::now();
+    arm_idle_timer(server_.options_.idle_timeout);
+    read();
+  }
+
+  void close() {
+    boost::system::error_code ec;
+    socket_.shutdown(tcp::socket::shutdown_both, ec);
+    socket_.close(ec);
+    idle_timer_.cancel();
+  }
+
+  const std::string& peer() const { return peer_; }
+
+ private:
+  void read() {
+    auto self = shared_from_this();
+    socket_.async_read_some(asio::buffer(in_.data() + in_used_, in_.size() - in_used_),
+                            [this, self](const boost::system::error_code& ec, std::size_t n) {
+                              if (ec) return finish(ec == asio::error::eof ? "closed by the client" : ec.message());
+                              in_used_ += n;
+                              last_activity_ = Clock::now();
+                              if (!process()) return finish("sent a bad MBAP header");
+                              if (out_.empty()) return read();
+                              write();
+                            });
+  }
+
+  // Answers every complete request in the buffer, in order, into out_. False when the
+  // stream is broken beyond re-synchronisation.
+  bool process() {
+    std::size_t at = 0;
+    const auto& context = server_.context_;
+    while (true) {
+      const auto adu = modbus::parse_tcp_adu(std::span(in_.data() + at, in_used_ - at));
+      if (adu.status == modbus::TcpAdu::Status::bad_header) return false;
+      if (adu.status == modbus::TcpAdu::Status::need_more) break;
+      std::array<std::uint8_t, modbus::max_pdu_size> response;
+      std::size_t length = 0;
+      const auto unit = adu.header.unit_id;
+      if (unit == context.unit_id || unit == modbus::unit_id_any || unit == modbus::unit_id_not_used) {
+        length = modbus::handle_request(adu.pdu, response, *context.registers, context.options);
+      } else {
+        // SPEC §3: a unit id that is not ours is Not4Me, answered "gateway target failed".
+        length = modbus::write_exception(adu.pdu[0], modbus::ExceptionCode::gateway_target_failed, response);
+      }
+      if (modbus::exception_of(std::span(response.data(), length)) != modbus::ExceptionCode::none && context.on_fault)
+        context.on_fault();
+      const auto old_size = out_.size();
+      out_.resize(old_size + modbus::mbap_header_size + length);
+      modbus::write_tcp_adu(adu.header.transaction_id, unit, std::span(response.data(), length),
+                            std::span(out_.data() + old_size, out_.size() - old_size));
+      at += adu.size;
+    }
+    if (at > 0) {
+      std::memmove(in_.data(), in_.data() + at, in_used_ - at);
+      in_used_ -= at;
+    }
+    return true;
+  }
+
+  void write() {
+    auto self = shared_from_this();
+    asio::async_write(socket_, asio::buffer(out_), [this, self](const boost::system::error_code& ec, std::size_t) {
+      if (ec) return finish(ec.message());
+      out_.clear();
+      read();
+    });
+  }
+
+  // The timer is not re-armed per request (that would cost a timerfd call each time); on
+  // expiry it looks at the last activity and waits for the remainder.
+  void arm_idle_timer(Clock::duration after) {
+    if (server_.options_.idle_timeout.count() == 0) return;
+    idle_timer_.expires_after(after);
+    std::weak_ptr<Connection> weak = shared_from_this();
+    idle_timer_.async_wait([this, weak](const boost::system::error_code& ec) {
+      const auto self = weak.lock();
+      if (ec || !self || !socket_.is_open() || server_.options_.idle_timeout.count() == 0) return;
+      const auto idle = Clock::now() - last_activity_;
+      if (idle >= server_.options_.idle_timeout) {
+        spdlog::info("modbus tcp: {} idle for {} ms, closing", peer_, server_.options_.idle_timeout.count());
+        close();
+        return;
+      }
+      arm_idle_timer(server_.options_.idle_timeout - idle);
+    });
+  }
+
+  void finish(const std::string& why) {
+    if (finished_) return;
+    finished_ = true;
+    spdlog::debug("modbus tcp: {} disconnected: {}", peer_, why);
+    if (why == "sent a bad MBAP header") {
+      spdlog::warn("modbus tcp: {} sent a bad MBAP header; closing its connection", peer_);
+      if (server_.context_.on_fault) server_.context_.on_fault();
+    }
+    close();
+    server_.forget(this);
+  }
+
+  TcpSlaveServer& server_;
+  tcp::socket socket_;
+  asio::steady_timer idle_timer_;
+  std::string peer_;
+  // A full ADU is at most 260 bytes; room for several pipelined ones per read.
+  std::array<std::uint8_t, 4096> in_{};
+  std::size_t in_used_ = 0;
+  std::vector<std::uint8_t> out_;
+  Clock::time_point last_activity_;
+  bool finished_ = false;
+};
+
+TcpSlaveServer::TcpSlaveServer(asio::io_context& io, const TcpSlaveOptions& options, const SlaveContext& context)
+    : io_(io), options_(options), context_(context), acceptor_(io) {
+  const tcp::endpoint endpoint(asio::ip::make_address(options_.listen), options_.port);
+  acceptor_.open(endpoint.protocol());
+  acceptor_.set_option(tcp::acceptor::reuse_address(true));
+  acceptor_.bind(endpoint);
+  acceptor_.listen(asio::socket_base::max_listen_connections);
+}
+
+TcpSlaveServer::~TcpSlaveServer() { stop(); }
+
+std::uint16_t TcpSlaveServer::port() const {
+  boost::system::error_code ec;
+  return acceptor_.local_endpoint(ec).port();
+}
+
+void TcpSlaveServer::start() {
+  spdlog::info("modbus tcp: serving unit {} on {}:{}", context_.unit_id, options_.listen, port());
+  accept();
+}
+
+void TcpSlaveServer::stop() {
+  if (stopped_) return;
+  stopped_ = true;
+  boost::system::error_code ec;
+  acceptor_.close(ec);
+  auto connections = std::move(connections_);
+  for (const auto& c : connections) c->close();
+}
+
+void TcpSlaveServer::accept() {
+  acceptor_.async_accept([this](const boost::system::error_code& ec, tcp::socket socket) {
+    if (ec == asio::error::operation_aborted || stopped_) return;
+    if (ec) {
+      spdlog::warn("modbus tcp: accept failed: {}", ec.message());
+    } else if (connections_.size() >= options_.max_clients) {
+      spdlog::warn("modbus tcp: refusing a client: {} connections is the limit", options_.max_clients);
+      boost::system::error_code ignored;
+      socket.close(ignored);
+    } else {
+      auto connection = std::make_shared<Connection>(*this, std::move(socket));
+      spdlog::debug("modbus tcp: {} connected", connection->peer());
+      connections_.insert(connection);
+      connection->start();
+    }
+    accept();
+  });
+}
+
+void TcpSlaveServer::forget(Connection* connection) {
+  for (auto it = connections_.begin(); it != connections_.end(); ++it)
+    if (it->get() == connection) {
+      connections_.erase(it);
+      return;
+    }
+}
+
+}  // namespace unima::daemon

@@ -1,0 +1,96 @@
+// unima-bridged: the UnimaBUS / Modbus gateway daemon (SPEC §8). Runs in the foreground;
+// SIGHUP reloads the config, SIGTERM and SIGINT stop it.
+
+#include <systemd/sd-daemon.h>
+
+#include <cstdio>
+#include <cstring>
+#include <string>
+
+#include <spdlog/spdlog.h>
+
+#include "config/config.hpp"
+#include "daemon/asio.hpp"
+#include "daemon/bridge.hpp"
+#include "daemon/logging.hpp"
+
+namespace {
+
+constexpr const char* usage = "usage: unima-bridged --config FILE\n";
+
+void wait_for_signals(unima::asio::signal_set& signals, unima::daemon::Bridge& bridge, unima::asio::io_context& io,
+                      const std::string& config_path) {
+  signals.async_wait([&](const boost::system::error_code& ec, int signal) {
+    if (ec) return;
+    if (signal == SIGHUP) {
+      sd_notify(0, "RELOADING=1");
+      spdlog::info("SIGHUP: reloading {}", config_path);
+      try {
+        auto config = unima::config::load_file(config_path);
+        unima::daemon::set_log_level(config.log.level);
+        bridge.reload(std::move(config));
+      } catch (const std::exception& e) {
+        spdlog::error("reload failed, the running config stays: {}", e.what());
+      }
+      sd_notify(0, "READY=1");
+      wait_for_signals(signals, bridge, io, config_path);
+      return;
+    }
+    spdlog::info("{}: stopping", signal == SIGTERM ? "SIGTERM" : "SIGINT");
+    sd_notify(0, "STOPPING=1");
+    bridge.stop();
+    io.stop();
+  });
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string config_path;
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (arg == "--config" && i + 1 < argc) {
+      config_path = argv[++i];
+    } else if (arg.starts_with("--config=")) {
+      config_path = arg.substr(9);
+    } else if (arg == "--help" || arg == "-h") {
+      std::fputs(usage, stdout);
+      return 0;
+    } else if (arg == "--version") {
+      std::puts("unima-bridged " UNIMA_VERSION);
+      return 0;
+    } else {
+      std::fprintf(stderr, "unima-bridged: unknown argument '%s'\n%s", arg.c_str(), usage);
+      return 2;
+    }
+  }
+  if (config_path.empty()) {
+    std::fputs(usage, stderr);
+    return 2;
+  }
+
+  unima::config::Config config;
+  try {
+    config = unima::config::load_file(config_path);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "unima-bridged: %s\n", e.what());
+    return 1;
+  }
+  unima::daemon::setup_logging(config.log.level);
+
+  try {
+    unima::asio::io_context io(1);
+    unima::asio::signal_set signals(io, SIGTERM, SIGINT, SIGHUP);
+    unima::daemon::Bridge bridge(io, std::move(config));
+    bridge.start();
+    wait_for_signals(signals, bridge, io, config_path);
+    sd_notify(0, "READY=1");
+    spdlog::info("unima-bridged " UNIMA_VERSION " running");
+    io.run();
+  } catch (const std::exception& e) {
+    spdlog::critical("{}", e.what());
+    return 1;
+  }
+  spdlog::info("stopped");
+  return 0;
+}

@@ -1,0 +1,45 @@
+#pragma once
+// Answers one request PDU with one response PDU (seed 004 §5, SPEC §3). Pure: the TCP
+// and RTU adapters frame the PDUs; this decides function, exceptions and data.
+
+#include <cstdint>
+#include <span>
+#include <string>
+
+#include "modbus/protocol.hpp"
+#include "modbus/register_model.hpp"
+
+namespace unima::modbus {
+
+/// Objects of function 43/14 (Read Device Identification), basic and regular categories.
+struct DeviceIdentity {
+  std::string vendor_name = "unima-bridge";
+  std::string product_code = "UNIMA-BRIDGE";
+  std::string revision = "0.1.0";
+  std::string vendor_url;
+  std::string product_name = "Unima Bridge UnimaBUS/Modbus gateway";
+  std::string model_name;
+  std::string user_application_name;
+};
+
+struct HandlerOptions {
+  std::uint16_t max_read_registers = max_read_registers_tcp;
+  /// Extensions beyond the seed's functions 4 and 6 (SPEC §3), each switchable off.
+  bool read_holding_registers = true;    // 3, answered like 4
+  bool write_multiple_registers = true;  // 16
+  bool device_identification = true;     // 43/14
+  DeviceIdentity identity;
+};
+
+/// Writes the response to `request` into `response` (at least max_pdu_size bytes) and
+/// returns its length. A request PDU must hold at least the function code.
+std::size_t handle_request(std::span<const std::uint8_t> request, std::span<std::uint8_t> response,
+                           RegisterModel& registers, const HandlerOptions& options);
+
+/// An exception response PDU: function | 0x80, code. Returns 2.
+std::size_t write_exception(std::uint8_t function, ExceptionCode code, std::span<std::uint8_t> response);
+
+/// The exception code of a response PDU, or ExceptionCode::none for a normal response.
+ExceptionCode exception_of(std::span<const std::uint8_t> response);
+
+}  // namespace unima::modbus

@@ -1,0 +1,123 @@
+// The feed transport of the real daemon (SPEC §6): snapshot on connect, telegrams into
+// D_N and S_N, malformed lines answered and dropped, changes published, presence.
+
+#include "tests/integration/bridge_fixture.hpp"
+
+namespace unima::test {
+namespace {
+
+class Feed : public BridgeTest {};
+
+TEST_F(Feed, SnapshotOnConnectListsWXAndC) {
+  start();
+  auto feed = Socket::tcp(config.feed_port);
+  std::vector<std::string> lines;
+  for (int i = 0; i < 36; ++i) {
+    auto line = feed.read_line();
+    ASSERT_TRUE(line) << "after " << i << " lines";
+    lines.push_back(*line);
+  }
+  EXPECT_EQ(lines[0], R"({"bank":"W","offset":0,"value":32767})");
+  EXPECT_EQ(lines[15], R"({"bank":"W","offset":15,"value":32767})");
+  EXPECT_EQ(lines[16], R"({"bank":"X","offset":0,"value":0})");
+  EXPECT_EQ(lines[17], R"({"bank":"C","offset":0,"value":32767})");
+  EXPECT_EQ(lines[35], R"({"bank":"C","offset":18,"value":0})");
+}
+
+TEST_F(Feed, SnapshotCarriesWhatWasWrittenBefore) {
+  start();
+  ModbusClient client(config.modbus_port);
+  ASSERT_TRUE(client.write(0x0103, 1234));
+  auto feed = Socket::tcp(config.feed_port);
+  EXPECT_TRUE(feed.wait_for_line(R"({"bank":"W","offset":3,"value":1234})"));
+}
+
+TEST_F(Feed, MalformedLinesAreAnsweredAndTheConnectionStays) {
+  start();
+  auto feed = feed_client();
+  feed.send(std::string("this is not json\n"));
+  auto answer = feed.read_line();
+  ASSERT_TRUE(answer);
+  EXPECT_TRUE(answer->starts_with(R"({"error":"not JSON)")) << *answer;
+  feed.send(std::string(R"({"addr":5,"slot":0,"offset":0,"values":[70000]})") + "\n");
+  answer = feed.read_line();
+  ASSERT_TRUE(answer);
+  EXPECT_EQ(*answer, R"({"error":"value 70000 is outside -32768..65535"})");
+  feed.send(std::string(R"({"addr":5,"slot":0,"offset":62,"values":[1,2,3]})") + "\n");
+  answer = feed.read_line();
+  ASSERT_TRUE(answer);
+  EXPECT_TRUE(answer->find("run past the end of bank D1") != std::string::npos) << *answer;
+  // Still connected, and the next good line is applied.
+  feed_and_wait(feed, R"({"addr":5,"slot":0,"offset":5,"values":[321]})", 0x0011 + 5, 321);
+}
+
+TEST_F(Feed, TelegramsOfIoModulesGoToTheirSlotBank) {
+  start();
+  auto feed = feed_client();
+  // S2 at its default base 0x2200; slot 2 at the bridge's own address 5.
+  feed_and_wait(feed, R"({"addr":5,"slot":2,"offset":3,"values":[11,12]})", 0x2204, 12);
+  ModbusClient client(config.modbus_port);
+  const auto online = client.read_input(0x1033, 1);
+  ASSERT_TRUE(online);
+  EXPECT_EQ((*online)[0] & 0x0200, 0x0200);  // bit 9 = S2
+  EXPECT_EQ(client.read_input(0x2200, 1), std::vector<std::uint16_t>{0x7FFF});  // never carried
+}
+
+TEST_F(Feed, TelegramsOfOtherDevicesAreIgnored) {
+  start();
+  auto feed = feed_client();
+  feed.send(std::string(R"({"addr":9,"slot":0,"offset":0,"values":[1]})") + "\n");
+  feed_and_wait(feed, R"({"addr":5,"slot":0,"offset":0,"values":[2]})", 0x0011, 2);
+  ModbusClient client(config.modbus_port);
+  const auto online = client.read_input(0x1033, 1);
+  ASSERT_TRUE(online);
+  EXPECT_EQ((*online)[0], 0x0001);
+}
+
+TEST_F(Feed, SilentDevicesGoOffLine) {
+  config.unimabus_extra = "  offline_after: 300ms\n";
+  start();
+  auto feed = feed_client();
+  // +0x00 is the status bit field, +0x01 the engine speed (analog).
+  feed_and_wait(feed, R"({"addr":5,"slot":0,"offset":0,"values":[80,1500]})", 0x0012, 1500);
+  ModbusClient client(config.modbus_port);
+  ASSERT_TRUE(eventually([&] {
+    const auto v = client.read_input(0x0011, 2);
+    return v == std::vector<std::uint16_t>{0, 0x7FFF};
+  })) << daemon->log();
+  const auto online = client.read_input(0x1033, 1);
+  ASSERT_TRUE(online);
+  EXPECT_EQ((*online)[0] & 0x0001, 0);
+  EXPECT_TRUE(daemon->wait_for_log("D1 (unigen-chp at UnimaBUS address 5) off-line"));
+  // Heard again: on-line with the value it carries.
+  feed_and_wait(feed, R"({"addr":5,"slot":0,"offset":1,"values":[1501]})", 0x0012, 1501);
+}
+
+TEST_F(Feed, BitRegistersOfAnOffLineDeviceReadZero) {
+  start();
+  ModbusClient client(config.modbus_port);
+  // unigen-chp +0x10 are user binary inputs (bits), +0x01 engine speed (analog).
+  EXPECT_EQ(client.read_input(0x0011 + 0x10, 1), std::vector<std::uint16_t>{0});
+  EXPECT_EQ(client.read_input(0x0011 + 0x01, 1), std::vector<std::uint16_t>{0x7FFF});
+}
+
+TEST_F(Feed, EveryFeedClientGetsEveryChange) {
+  start();
+  auto first = feed_client();
+  auto second = feed_client();
+  ModbusClient client(config.modbus_port);
+  ASSERT_TRUE(client.write(0x3010, 0x0005));
+  EXPECT_TRUE(first.wait_for_line(R"({"bank":"X","offset":0,"value":5})"));
+  EXPECT_TRUE(second.wait_for_line(R"({"bank":"X","offset":0,"value":5})"));
+}
+
+TEST_F(Feed, UnixSocketFeed) {
+  config.feed_listen = "unix:" + (dir.path() / "feed.sock").string();
+  start();
+  ASSERT_TRUE(eventually([&] { return Socket::unix_socket(config.feed_listen.substr(5)).valid(); }));
+  auto feed = feed_client();
+  feed_and_wait(feed, R"({"addr":5,"slot":0,"offset":1,"values":[1500]})", 0x0012, 1500);
+}
+
+}  // namespace
+}  // namespace unima::test

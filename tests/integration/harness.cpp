@@ -1,0 +1,253 @@
+#include "tests/integration/harness.hpp"
+
+#include <arpa/inet.h>
+#include <fcntl.h>
+#include <netinet/in.h>
+#include <poll.h>
+#include <signal.h>
+#include <sys/socket.h>
+#include <sys/un.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+#include <thread>
+
+namespace unima::test {
+
+namespace {
+sockaddr_in loopback(std::uint16_t port) {
+  sockaddr_in addr{};
+  addr.sin_family = AF_INET;
+  addr.sin_port = htons(port);
+  addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  return addr;
+}
+}  // namespace
+
+std::uint16_t free_port() {
+  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+  auto addr = loopback(0);
+  if (::bind(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0) throw std::runtime_error("bind");
+  socklen_t len = sizeof addr;
+  ::getsockname(fd, reinterpret_cast<sockaddr*>(&addr), &len);
+  ::close(fd);
+  return ntohs(addr.sin_port);
+}
+
+bool eventually(const std::function<bool()>& condition, std::chrono::milliseconds timeout) {
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  while (true) {
+    if (condition()) return true;
+    if (std::chrono::steady_clock::now() >= deadline) return false;
+    std::this_thread::sleep_for(10ms);
+  }
+}
+
+TempDir::TempDir() {
+  std::string pattern = (std::filesystem::temp_directory_path() / "unima-test-XXXXXX").string();
+  if (!::mkdtemp(pattern.data())) throw std::runtime_error("mkdtemp");
+  path_ = pattern;
+}
+
+TempDir::~TempDir() {
+  std::error_code ec;
+  std::filesystem::remove_all(path_, ec);
+}
+
+Daemon::Daemon(const TempDir& dir, const std::string& config_yaml)
+    : config_path_(dir.path() / "bridge.yaml"), log_path_(dir.path() / "daemon.log") {
+  rewrite_config(config_yaml);
+  pid_ = ::fork();
+  if (pid_ < 0) throw std::runtime_error("fork");
+  if (pid_ == 0) {
+    const int log = ::open(log_path_.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    ::dup2(log, STDOUT_FILENO);
+    ::dup2(log, STDERR_FILENO);
+    ::execl(UNIMA_BRIDGED, UNIMA_BRIDGED, "--config", config_path_.c_str(), static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+}
+
+Daemon::~Daemon() {
+  if (pid_ > 0 && !exit_code_) {
+    ::kill(pid_, SIGKILL);
+    ::waitpid(pid_, nullptr, 0);
+  }
+}
+
+void Daemon::rewrite_config(const std::string& config_yaml) const {
+  // Written beside and renamed, so that a reload never reads half a file.
+  const auto tmp = config_path_.string() + ".tmp";
+  std::ofstream(tmp) << config_yaml;
+  std::filesystem::rename(tmp, config_path_);
+}
+
+void Daemon::signal(int signo) const { ::kill(pid_, signo); }
+
+bool Daemon::running() {
+  if (exit_code_) return false;
+  int status = 0;
+  if (::waitpid(pid_, &status, WNOHANG) == pid_) {
+    exit_code_ = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    return false;
+  }
+  return true;
+}
+
+std::optional<std::chrono::milliseconds> Daemon::terminate(std::chrono::milliseconds timeout) {
+  const auto start = std::chrono::steady_clock::now();
+  signal(SIGTERM);
+  if (!eventually([&] { return !running(); }, timeout)) {
+    ::kill(pid_, SIGKILL);
+    ::waitpid(pid_, nullptr, 0);
+    exit_code_ = -1;
+    return std::nullopt;
+  }
+  return std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - start);
+}
+
+std::string Daemon::log() const {
+  std::ifstream in(log_path_);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+bool Daemon::wait_for_log(const std::string& text, std::chrono::milliseconds timeout) const {
+  return eventually([&] { return log().find(text) != std::string::npos; }, timeout);
+}
+
+bool wait_for_port(std::uint16_t port, std::chrono::milliseconds timeout) {
+  return eventually([&] { return Socket::tcp(port).valid(); }, timeout);
+}
+
+Socket Socket::tcp(std::uint16_t port) {
+  const int fd = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
+  auto addr = loopback(port);
+  if (::connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0) {
+    ::close(fd);
+    return Socket(-1);
+  }
+  return Socket(fd);
+}
+
+Socket Socket::unix_socket(const std::string& path) {
+  const int fd = ::socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
+  sockaddr_un addr{};
+  addr.sun_family = AF_UNIX;
+  std::strncpy(addr.sun_path, path.c_str(), sizeof addr.sun_path - 1);
+  if (::connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0) {
+    ::close(fd);
+    return Socket(-1);
+  }
+  return Socket(fd);
+}
+
+Socket::Socket(Socket&& other) noexcept : fd_(other.fd_), buffered_(std::move(other.buffered_)) { other.fd_ = -1; }
+
+Socket::~Socket() {
+  if (fd_ >= 0) ::close(fd_);
+}
+
+void Socket::send(const Bytes& bytes) const {
+  std::size_t sent = 0;
+  while (sent < bytes.size()) {
+    const auto n = ::send(fd_, bytes.data() + sent, bytes.size() - sent, MSG_NOSIGNAL);
+    if (n <= 0) return;
+    sent += static_cast<std::size_t>(n);
+  }
+}
+
+void Socket::send(const std::string& text) const { send(Bytes(text.begin(), text.end())); }
+
+Bytes Socket::receive(std::size_t n, std::chrono::milliseconds timeout) const {
+  Bytes out;
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  while (out.size() < n) {
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+    if (left.count() <= 0) break;
+    pollfd p{fd_, POLLIN, 0};
+    if (::poll(&p, 1, static_cast<int>(left.count())) <= 0) break;
+    std::uint8_t buf[4096];
+    const auto got = ::recv(fd_, buf, std::min(sizeof buf, n - out.size()), 0);
+    if (got <= 0) break;
+    out.insert(out.end(), buf, buf + got);
+  }
+  return out;
+}
+
+bool Socket::closed_by_peer(std::chrono::milliseconds timeout) const {
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  while (std::chrono::steady_clock::now() < deadline) {
+    pollfd p{fd_, POLLIN, 0};
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+    if (::poll(&p, 1, static_cast<int>(std::max<long>(left.count(), 1))) <= 0) continue;
+    std::uint8_t buf[512];
+    const auto got = ::recv(fd_, buf, sizeof buf, 0);
+    if (got <= 0) return true;  // EOF or reset
+  }
+  return false;
+}
+
+std::optional<std::string> Socket::read_line(std::chrono::milliseconds timeout) {
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  while (true) {
+    const auto newline = buffered_.find('\n');
+    if (newline != std::string::npos) {
+      auto line = buffered_.substr(0, newline);
+      buffered_.erase(0, newline + 1);
+      return line;
+    }
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+    if (left.count() <= 0) return std::nullopt;
+    pollfd p{fd_, POLLIN, 0};
+    if (::poll(&p, 1, static_cast<int>(left.count())) <= 0) return std::nullopt;
+    char buf[4096];
+    const auto got = ::recv(fd_, buf, sizeof buf, 0);
+    if (got <= 0) return std::nullopt;
+    buffered_.append(buf, static_cast<std::size_t>(got));
+  }
+}
+
+bool Socket::wait_for_line(const std::string& line, std::chrono::milliseconds timeout) {
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  while (true) {
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+    if (left.count() <= 0) return false;
+    const auto got = read_line(left);
+    if (!got) return false;
+    if (*got == line) return true;
+  }
+}
+
+Bytes round_trip(std::uint16_t port, const Bytes& query) {
+  auto socket = Socket::tcp(port);
+  if (!socket.valid()) return {};
+  socket.send(query);
+  auto response = socket.receive(6);
+  if (response.size() < 6) return response;
+  const std::size_t length = static_cast<std::size_t>(response[4] << 8 | response[5]);
+  const auto rest = socket.receive(length);
+  response.insert(response.end(), rest.begin(), rest.end());
+  return response;
+}
+
+std::string BridgeConfig::yaml() const {
+  std::ostringstream out;
+  out << "unimabus:\n"
+      << "  address: 5\n"
+      << "  transport: feed\n"
+      << "  listen: " << (feed_listen.empty() ? "127.0.0.1:" + std::to_string(feed_port) : feed_listen) << "\n"
+      << unimabus_extra << "modbus:\n"
+      << "  address: 1\n"
+      << "  tcp: { listen: 127.0.0.1, port: " << modbus_port << tcp_extra << " }\n"
+      << modbus_extra << "banks: " << banks << "\n"
+      << "devices: " << devices << "\n";
+  return out.str();
+}
+
+}  // namespace unima::test

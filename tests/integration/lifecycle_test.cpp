@@ -1,0 +1,116 @@
+// The daemon's life: SIGTERM, SIGHUP reload (good and bad configs), bad start-up configs,
+// and `unima-bridge check`.
+
+#include <signal.h>
+#include <sys/wait.h>
+
+#include <cstdio>
+
+#include "tests/integration/bridge_fixture.hpp"
+
+namespace unima::test {
+namespace {
+
+class Lifecycle : public BridgeTest {};
+
+TEST_F(Lifecycle, StopsWithinASecondOfSigterm) {
+  start();
+  ModbusClient client(config.modbus_port);  // a connected client does not hold it up
+  ASSERT_TRUE(client.read_input(0x0011, 1));
+  auto feed = feed_client();
+  const auto took = daemon->terminate();
+  ASSERT_TRUE(took) << "still running 5 s after SIGTERM";
+  EXPECT_LT(took->count(), 1000);
+  EXPECT_EQ(daemon->exit_code(), 0);
+}
+
+TEST_F(Lifecycle, ReloadAppliesANewConfigAndKeepsConnectionsAndValues) {
+  start();
+  ModbusClient client(config.modbus_port);
+  ASSERT_TRUE(client.write(0x0100, 42));
+  auto feed = feed_client();
+  feed_and_wait(feed, R"({"addr":5,"slot":0,"offset":0,"values":[80]})", 0x0011, 80);
+
+  config.banks = "{ D1: 0x0011, W: 0x0200 }";
+  daemon->rewrite_config(config.yaml());
+  daemon->signal(SIGHUP);
+  ASSERT_TRUE(daemon->wait_for_log("reloaded")) << daemon->log();
+  EXPECT_EQ(client.read_input(0x0200, 1), std::vector<std::uint16_t>{42});  // same connection, W moved
+  EXPECT_FALSE(client.read_input(0x0100, 1));
+  EXPECT_EQ(client.read_input(0x0011, 1), std::vector<std::uint16_t>{80});  // D1 kept its value
+  feed_and_wait(feed, R"({"addr":5,"slot":0,"offset":0,"values":[81]})", 0x0011, 81);  // feed kept
+}
+
+TEST_F(Lifecycle, ABadReloadIsLoggedAndTheOldConfigKeepsServing) {
+  start();
+  ModbusClient client(config.modbus_port);
+  ASSERT_TRUE(client.write(0x0100, 7));
+  daemon->rewrite_config(config.yaml() + "modbus_typo: 1\n");
+  daemon->signal(SIGHUP);
+  ASSERT_TRUE(daemon->wait_for_log("reload failed, the running config stays")) << daemon->log();
+  EXPECT_NE(daemon->log().find("bridge.yaml:10:1: unknown key 'modbus_typo'"), std::string::npos) << daemon->log();
+  EXPECT_EQ(client.read_input(0x0100, 1), std::vector<std::uint16_t>{7});
+  ModbusClient fresh(config.modbus_port);
+  EXPECT_EQ(fresh.read_input(0x0100, 1), std::vector<std::uint16_t>{7});
+  EXPECT_TRUE(daemon->running());
+}
+
+TEST_F(Lifecycle, AReloadToATakenPortKeepsTheOldPort) {
+  start();
+  const auto blocker_port = config.feed_port;  // taken by the daemon's own feed listener
+  auto moved = config;
+  moved.modbus_port = blocker_port;
+  daemon->rewrite_config(moved.yaml());
+  daemon->signal(SIGHUP);
+  ASSERT_TRUE(daemon->wait_for_log("reload failed")) << daemon->log();
+  ModbusClient client(config.modbus_port);
+  EXPECT_TRUE(client.read_input(0x0011, 1));
+}
+
+TEST_F(Lifecycle, ABadConfigAtStartUpExitsNonZeroNamingThePosition) {
+  daemon = std::make_unique<Daemon>(dir, config.yaml() + "banks2: {}\n");
+  ASSERT_TRUE(eventually([&] { return !daemon->running(); }));
+  EXPECT_EQ(daemon->exit_code(), 1);
+  EXPECT_NE(daemon->log().find("bridge.yaml:10:1: unknown key 'banks2'"), std::string::npos) << daemon->log();
+}
+
+struct Run {
+  int status;
+  std::string output;
+};
+Run run(const std::string& command) {
+  Run result{};
+  FILE* pipe = ::popen((command + " 2>&1").c_str(), "r");
+  char buf[4096];
+  while (std::size_t n = std::fread(buf, 1, sizeof buf, pipe)) result.output.append(buf, n);
+  const int status = ::pclose(pipe);
+  result.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return result;
+}
+
+TEST(CheckCommand, AcceptsTheDemoConfig) {
+  const auto r = run(std::string(UNIMA_BRIDGE_CLI) + " check --config " UNIMA_SOURCE_DIR "/config/examples/demo.yaml");
+  EXPECT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("0x1100..0x113F  bank D1"), std::string::npos) << r.output;
+}
+
+TEST(CheckCommand, RejectsOverlapsNamingBothBanks) {
+  TempDir dir;
+  const auto path = dir.path() / "overlap.yaml";
+  std::FILE* f = std::fopen(path.c_str(), "w");
+  std::fputs("devices:\n  D1: { type: unigen-chp, address: 5 }\nbanks: { D1: 0x0011, W: 0x0040 }\n", f);
+  std::fclose(f);
+  const auto r = run(std::string(UNIMA_BRIDGE_CLI) + " check --config " + path.string());
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.output.find("overlap.yaml:3:"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("bank D1 (0x0011..0x0050) overlaps bank W (0x0040..0x004F)"), std::string::npos) << r.output;
+}
+
+TEST(CheckCommand, UsageErrorsExitTwo) {
+  EXPECT_EQ(run(std::string(UNIMA_BRIDGE_CLI)).status, 2);
+  EXPECT_EQ(run(std::string(UNIMA_BRIDGE_CLI) + " frobnicate").status, 2);
+  EXPECT_EQ(run(std::string(UNIMA_BRIDGE_CLI) + " check").status, 2);
+}
+
+}  // namespace
+}  // namespace unima::test

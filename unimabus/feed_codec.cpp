@@ -1,0 +1,66 @@
+#include "unimabus/feed_codec.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <fmt/format.h>
+
+namespace unima::unimabus {
+
+namespace {
+
+// Reads an integer field within [min, max]; returns an error message or "".
+std::string integer(const nlohmann::json& object, const char* key, long min, long max, long& out) {
+  const auto it = object.find(key);
+  if (it == object.end()) return fmt::format("missing \"{}\"", key);
+  if (!it->is_number_integer()) return fmt::format("\"{}\" must be an integer", key);
+  out = it->get<long>();
+  if (out < min || out > max) return fmt::format("\"{}\" must be {}..{}, not {}", key, min, max, out);
+  return {};
+}
+
+}  // namespace
+
+FeedLine parse_feed_line(std::string_view line) {
+  nlohmann::json object;
+  try {
+    object = nlohmann::json::parse(line);
+  } catch (const nlohmann::json::parse_error& e) {
+    return fmt::format("not JSON: {}", e.what());
+  }
+  if (!object.is_object()) return std::string("expected an object like {\"addr\":5,\"slot\":0,\"offset\":33,\"values\":[853]}");
+  for (const auto& [key, value] : object.items()) {
+    (void)value;
+    if (key != "addr" && key != "slot" && key != "offset" && key != "values" && key != "t")
+      return fmt::format("unknown field \"{}\" (fields: addr, slot, offset, values)", key);
+  }
+  long address = 0, slot = 0, offset = 0;
+  for (auto error : {integer(object, "addr", 0, 255, address), integer(object, "slot", 0, 7, slot),
+                     integer(object, "offset", 0, 0xFFFF, offset)})
+    if (!error.empty()) return error;
+  const auto values = object.find("values");
+  if (values == object.end()) return std::string("missing \"values\"");
+  if (!values->is_array() || values->empty()) return std::string("\"values\" must be a non-empty array of integers");
+  if (offset + values->size() > 0x10000) return std::string("\"offset\" + the number of values runs past 0xFFFF");
+  Telegram telegram;
+  telegram.address = static_cast<std::uint8_t>(address);
+  telegram.slot = static_cast<std::uint8_t>(slot);
+  telegram.offset = static_cast<std::uint16_t>(offset);
+  telegram.values.reserve(values->size());
+  for (const auto& v : *values) {
+    if (!v.is_number_integer()) return std::string("\"values\" must hold integers only");
+    const auto n = v.get<long>();
+    if (n < -32768 || n > 65535) return fmt::format("value {} is outside -32768..65535", n);
+    telegram.values.push_back(static_cast<std::uint16_t>(n));
+  }
+  return telegram;
+}
+
+std::string format_change(banks::BankId bank, std::uint16_t offset, std::uint16_t value) {
+  return fmt::format("{{\"bank\":\"{}\",\"offset\":{},\"value\":{}}}\n", banks::bank_name(bank), offset, value);
+}
+
+std::string format_error(std::string_view message) {
+  return nlohmann::json{{"error", message}}.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
+}
+
+}  // namespace unima::unimabus

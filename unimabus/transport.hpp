@@ -1,0 +1,26 @@
+#pragma once
+// The bridge's way to UnimaBUS (SPEC §6). The wire protocol is not public, so every
+// transport (sim, feed, replay) delivers telegrams and takes what the bridge publishes.
+
+#include <cstdint>
+#include <functional>
+#include <string>
+
+#include "banks/bank_id.hpp"
+#include "unimabus/telegram.hpp"
+
+namespace unima::unimabus {
+
+/// Applies a telegram; returns "" or why it was rejected (for the sender to see).
+using TelegramHandler = std::function<std::string(const Telegram&)>;
+
+class Transport {
+ public:
+  virtual ~Transport() = default;
+  virtual void start() = 0;
+  virtual void stop() = 0;
+  /// A value the bridge publishes changed or was written: W, X, C+0x00..0x12.
+  virtual void publish(banks::BankId bank, std::uint16_t offset, std::uint16_t value) = 0;
+};
+
+}  // namespace unima::unimabus
