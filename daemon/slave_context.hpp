@@ -7,6 +7,7 @@
 
 #include "modbus/register_model.hpp"
 #include "modbus/request_handler.hpp"
+#include "modbus/transaction.hpp"
 
 namespace unima::daemon {
 
@@ -16,6 +17,8 @@ struct SlaveContext {
   std::uint8_t unit_id = 1;
   /// Called on every fault a port sees (exception sent, bad frame): C+0x13 bit 15.
   std::function<void()> on_fault;
+  /// Called after every transaction, when set (the monitor, indicators). Must not block.
+  std::function<void(const modbus::Transaction&)> on_transaction;
 };
 
 }  // namespace unima::daemon

@@ -70,12 +70,19 @@ class TcpSlaveServer::Connection : public std::enable_shared_from_this<Connectio
         // SPEC §3: a unit id that is not ours is Not4Me, answered "gateway target failed".
         length = modbus::write_exception(adu.pdu[0], modbus::ExceptionCode::gateway_target_failed, response);
       }
-      if (modbus::exception_of(std::span(response.data(), length)) != modbus::ExceptionCode::none && context.on_fault)
-        context.on_fault();
+      const auto response_pdu = std::span<const std::uint8_t>(response.data(), length);
+      const auto state = modbus::state_of_response(response_pdu);
+      if (state != modbus::TransactionState::done && context.on_fault) context.on_fault();
       const auto old_size = out_.size();
       out_.resize(old_size + modbus::mbap_header_size + length);
-      modbus::write_tcp_adu(adu.header.transaction_id, unit, std::span(response.data(), length),
+      modbus::write_tcp_adu(adu.header.transaction_id, unit, response_pdu,
                             std::span(out_.data() + old_size, out_.size() - old_size));
+      if (context.on_transaction) {
+        context.on_transaction(modbus::Transaction{
+            modbus::PortKind::tcp, peer_, std::chrono::system_clock::now(), state,
+            std::span<const std::uint8_t>(in_.data() + at, adu.size),
+            std::span<const std::uint8_t>(out_.data() + old_size, out_.size() - old_size)});
+      }
       at += adu.size;
     }
     if (at > 0) {

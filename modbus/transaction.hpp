@@ -1,0 +1,47 @@
+#pragma once
+// One Modbus transaction as a port saw it: what the monitor logs (SPEC §5, seed §8) and
+// what capture blocks and indicators listen to. The bytes are the frames as on the wire.
+
+#include <chrono>
+#include <cstdint>
+#include <span>
+#include <string_view>
+
+namespace unima::modbus {
+
+enum class TransactionState : std::uint8_t {
+  done,        // answered normally
+  not_for_me,  // a query for another unit/device ("Not4Me"), with its response when heard
+  err01,       // exception 01 illegal function
+  err02,       // exception 02 illegal data address
+  err03,       // exception 03 illegal data value, also bad length or CRC
+  err04,       // exception 04, also a foreign response shorter than 5 bytes or with the wrong function
+  timeout,     // master: no answer
+};
+
+enum class PortKind : std::uint8_t { tcp, rtu, master };
+
+struct Transaction {
+  PortKind port = PortKind::tcp;
+  std::string_view peer;                  // tcp: "ip:port" of the client; empty otherwise
+  std::chrono::system_clock::time_point time;
+  TransactionState state = TransactionState::done;
+  std::span<const std::uint8_t> query;     // whole ADU: MBAP + PDU, or address + PDU + CRC
+  std::span<const std::uint8_t> response;  // whole ADU as sent or heard; empty when none
+};
+
+/// The state a response PDU implies: done, or the Err code of its exception.
+inline TransactionState state_of_response(std::span<const std::uint8_t> response_pdu) {
+  if (response_pdu.size() >= 2 && (response_pdu[0] & 0x80)) {
+    switch (response_pdu[1]) {
+      case 0x01: return TransactionState::err01;
+      case 0x02: return TransactionState::err02;
+      case 0x03: return TransactionState::err03;
+      case 0x0B: return TransactionState::not_for_me;
+      default: return TransactionState::err04;
+    }
+  }
+  return TransactionState::done;
+}
+
+}  // namespace unima::modbus
