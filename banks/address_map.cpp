@@ -18,7 +18,8 @@ std::string located(const Window& a, const Window* b, const std::string& message
 
 AddressMap::AddressMap(std::vector<Window> windows) : windows_(std::move(windows)) {
   std::erase_if(windows_, [](const Window& w) { return w.count == 0; });
-  std::sort(windows_.begin(), windows_.end(), [](const Window& a, const Window& b) { return a.first < b.first; });
+  // Stable, so that an overlap message names the windows in the order the config gave them.
+  std::stable_sort(windows_.begin(), windows_.end(), [](const Window& a, const Window& b) { return a.first < b.first; });
   for (std::size_t i = 0; i < windows_.size(); ++i) {
     const auto& w = windows_[i];
     if (w.end() > 0x10000)

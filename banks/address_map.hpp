@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "banks/bank_id.hpp"
+#include "banks/source_ref.hpp"
 
 namespace unima::banks {
 
@@ -16,7 +17,8 @@ struct Window {
   enum class Kind : std::uint8_t { bank, read_block, write_block };
   Kind kind = Kind::bank;
   BankId bank = BankId::A;     // for Kind::bank
-  std::uint16_t block = 0;     // index into the config's blocks, for the block kinds
+  SourceRef source;            // for Kind::read_block: the value it reads (seed MBS_RegR)
+  std::uint8_t output = 0;     // for Kind::write_block: user analog output 1..16 (MBS_RegW)
   std::uint16_t first = 0;     // protocol address (0-based)
   std::uint16_t count = 0;
   std::string name;            // "bank D1", "read block 0x0200": used in overlap errors

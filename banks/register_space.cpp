@@ -5,7 +5,8 @@
 namespace unima::banks {
 
 bool RegisterSpace::readable(const Window& w) const {
-  if (w.kind != Window::Kind::bank) return false;
+  if (w.kind == Window::Kind::read_block) return true;
+  if (w.kind != Window::Kind::bank) return false;  // MBS_RegW registers are write-only (seed §7.1)
   return !is_write_bank(w.bank) || rules_.readable_write_banks;
 }
 
@@ -35,7 +36,8 @@ bool RegisterSpace::read(std::uint16_t first, std::span<std::uint16_t> out) cons
       });
   if (!all_readable) return false;
   for_each_window(first, out.size(), [&](const Window& w, std::uint16_t address, std::size_t done, std::size_t n) {
-    store_.read(w.bank, static_cast<std::uint16_t>(address - w.first), out.subspan(done, n));
+    if (w.kind == Window::Kind::read_block) out[done] = store_.read_source(w.source);
+    else store_.read(w.bank, static_cast<std::uint16_t>(address - w.first), out.subspan(done, n));
     return true;
   });
   return true;
@@ -46,6 +48,10 @@ bool RegisterSpace::write(std::uint16_t first, std::span<const std::uint16_t> va
       first, values.size(), [&](const Window& w, std::uint16_t, std::size_t, std::size_t) { return writable(w); });
   if (!all_writable) return false;
   for_each_window(first, values.size(), [&](const Window& w, std::uint16_t address, std::size_t done, std::size_t n) {
+    if (w.kind == Window::Kind::write_block) {
+      store_.set_user_output(w.output, values[done]);
+      return true;
+    }
     for (std::size_t i = 0; i < n; ++i)
       store_.write(w.bank, static_cast<std::uint16_t>(address - w.first + i), values[done + i]);
     return true;

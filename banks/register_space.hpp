@@ -32,7 +32,9 @@ class RegisterSpace {
 
  private:
   bool readable(const Window& w) const;
-  static bool writable(const Window& w) { return w.kind == Window::Kind::bank && is_write_bank(w.bank); }
+  static bool writable(const Window& w) {
+    return w.kind == Window::Kind::write_block || (w.kind == Window::Kind::bank && is_write_bank(w.bank));
+  }
   /// Calls fn(window, first address in it, count) over the range; false at the first gap.
   template <typename Fn>
   bool for_each_window(std::uint16_t first, std::size_t count, Fn&& fn) const;

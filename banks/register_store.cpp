@@ -44,15 +44,46 @@ void RegisterStore::read(BankId id, std::uint16_t offset, std::span<std::uint16_
     }
     return;
   }
-  std::copy_n(bank.raw.begin() + offset, out.size(), out.begin());
-  if (id == BankId::C) {
-    // +0x10..+0x12 are mapped bits and a reserve (issue #3); +0x13 is computed.
-    for (std::size_t i = 0; i < out.size(); ++i) {
-      const std::size_t r = offset + i;
-      if (r == c_bank::online_bits) out[i] = online_bits();
-      else if (r >= c_bank::user_binary_inputs) out[i] = 0;
-    }
+  switch (id) {
+    case BankId::A:
+      for (std::size_t i = 0; i < out.size(); ++i) {
+        const auto& source = mapping_.analog[offset + i];
+        out[i] = source ? read_source(*source) : not_measured;
+      }
+      return;
+    case BankId::B: out[0] = mapped_bits(mapping_.bits); return;
+    case BankId::C:
+      for (std::size_t i = 0; i < out.size(); ++i) {
+        const std::size_t r = offset + i;
+        if (r == c_bank::user_binary_inputs) out[i] = mapped_bits(mapping_.user_inputs);
+        else if (r == c_bank::user_binary_outputs) out[i] = mapped_bits(mapping_.user_outputs);
+        else if (r == c_bank::online_bits) out[i] = online_bits();
+        else if (r > c_bank::user_binary_inputs) out[i] = 0;  // +0x11 reserve
+        else out[i] = bank.raw[r];
+      }
+      return;
+    default: std::copy_n(bank.raw.begin() + offset, out.size(), out.begin());
   }
+}
+
+bool RegisterStore::measured(BankId id, std::uint16_t offset) const {
+  const auto& bank = bank_(id);
+  if (is_device_bank(id) || is_module_bank(id)) return bank.online && bank.carried[offset];
+  if (id == BankId::A) return mapping_.analog[offset] && measured(mapping_.analog[offset]->bank, mapping_.analog[offset]->offset);
+  return true;
+}
+
+std::uint16_t RegisterStore::read_source(const SourceRef& source) const {
+  if (!source.bit) return read(source.bank, source.offset);
+  if (!measured(source.bank, source.offset)) return 0;
+  return (read(source.bank, source.offset) >> *source.bit) & 1u;
+}
+
+std::uint16_t RegisterStore::mapped_bits(const std::array<std::optional<SourceRef>, Mapping::entries>& sources) const {
+  std::uint16_t bits = 0;
+  for (std::size_t n = 0; n < sources.size(); ++n)
+    if (sources[n] && read_source(*sources[n])) bits |= static_cast<std::uint16_t>(1u << n);
+  return bits;
 }
 
 std::uint16_t RegisterStore::read(BankId bank, std::uint16_t offset) const {

@@ -11,6 +11,7 @@
 
 #include "banks/bank_id.hpp"
 #include "banks/device_table.hpp"
+#include "banks/source_ref.hpp"
 
 namespace unima::banks {
 
@@ -61,6 +62,15 @@ class RegisterStore {
   void write(BankId bank, std::uint16_t offset, std::uint16_t value);
   /// User analog output n (1..16) = C+(n-1): the output of a function block (SPEC §4).
   void set_user_output(unsigned n, std::uint16_t value);
+  /// Banks A, B and C+0x10/+0x12 read their sources at every read, so a mapped register
+  /// changes the moment its source does. Sources must not be A, B, C+0x10 or C+0x12.
+  void set_mapping(const Mapping& mapping) { mapping_ = mapping; }
+  /// The value of a source: a register, or 0/1 for a bit source. A bit of a register that
+  /// is not measured reads 0, as bits of an off-line device do (SPEC §1).
+  std::uint16_t read_source(const SourceRef& source) const;
+  /// True when the register holds a value a telegram (or a write) put there.
+  bool measured(BankId bank, std::uint16_t offset) const;
+
   /// C+0x13 bit 15; the 2 s hold is kept by the caller, who has the clock.
   void set_modbus_error(bool error);
   std::uint16_t online_bits() const;
@@ -87,7 +97,10 @@ class RegisterStore {
 
   BankShapes shapes_;
   std::array<Bank, bank_count> banks_;
+  std::uint16_t mapped_bits(const std::array<std::optional<SourceRef>, Mapping::entries>& sources) const;
+
   bool modbus_error_ = false;
+  Mapping mapping_;
   ChangeListener listener_;
 };
 

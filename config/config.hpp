@@ -13,6 +13,7 @@
 #include "banks/bank_id.hpp"
 #include "banks/device_table.hpp"
 #include "banks/register_store.hpp"
+#include "banks/source_ref.hpp"
 
 namespace unima::config {
 
@@ -62,6 +63,22 @@ struct DeviceConfig {
   std::uint8_t address = 0;                   // seed "DevNAddr"
 };
 
+/// A function block (SPEC §4, seed §7.1–§7.2).
+struct Block {
+  enum class Type { read, write, capture, poll, send };
+  Type type = Type::read;
+  std::uint16_t reg = 0;                   // "Registr ModBUS"
+  std::optional<banks::SourceRef> source;  // read, send
+  unsigned output = 0;                     // write, capture, poll: user analog output 1..16
+  std::uint8_t device = 0;                 // capture, poll, send: Modbus address of the foreign device
+  Duration period{0};                      // poll, send
+  std::string origin;                      // "file:line:col" of the block
+
+  bool is_slave_block() const { return type == Type::read || type == Type::write || type == Type::capture; }
+};
+
+std::string_view block_type_name(Block::Type type);
+
 struct LogConfig {
   std::string level = "info";
 };
@@ -73,7 +90,12 @@ struct Config {
   std::array<std::uint16_t, banks::bank_count> bank_bases{};
   std::array<std::string, banks::bank_count> bank_origins;  // "file:line:col" of banks set in the file
   std::array<std::optional<DeviceConfig>, 4> devices;
+  banks::Mapping mapping;
+  std::vector<Block> blocks;
   LogConfig log;
+
+  /// The blocks that act in this mode; the others are ignored (with a warning, SPEC §4).
+  std::vector<const Block*> active_blocks() const;
 };
 
 /// A config problem; what() starts with "file:line:column: " (1-based).
@@ -88,7 +110,12 @@ Config load_text(const std::string& text, const std::string& origin);
 
 /// Bank sizes and tables of this config.
 banks::BankShapes bank_shapes(const Config& config);
-/// Every served window (banks now; block registers with issue #3). Validated by the loader.
+/// Every served window: banks, and the registers of active read and write blocks.
+/// Validated by the loader.
 banks::AddressMap address_map(const Config& config);
+
+/// Things that are allowed but probably not meant, for the log at start-up and for
+/// `unima-bridge check`: blocks ignored in this mode, capture blocks without an RTU port.
+std::vector<std::string> warnings(const Config& config);
 
 }  // namespace unima::config

@@ -7,6 +7,7 @@
 
 #include "banks/table_catalog.hpp"
 #include "config/config.hpp"
+#include "config/source_ref_parser.hpp"
 #include "config/yaml_reader.hpp"
 
 namespace unima::config {
@@ -21,12 +22,15 @@ class Loader {
 
   Config load(const YAML::Node& root) {
     if (!root.IsNull() && !root.IsMap()) yaml_.fail(root, "the config must be a mapping of sections");
-    yaml_.expect_keys(root, "the config", {"unimabus", "modbus", "banks", "devices", "log"});
+    yaml_.expect_keys(root, "the config", {"unimabus", "modbus", "banks", "devices", "mapping", "blocks", "log"});
     for (BankId bank : banks::all_banks) config_.bank_bases[index_of(bank)] = banks::default_base(bank);
     if (root["unimabus"]) unimabus(root["unimabus"]);
     if (root["modbus"]) modbus(root["modbus"]);
     if (root["banks"]) bank_bases(root["banks"]);
     if (root["devices"]) devices(root["devices"]);
+    shapes_ = bank_shapes(config_);
+    if (root["mapping"]) mapping(root["mapping"]);
+    if (root["blocks"]) blocks(root["blocks"]);
     if (root["log"]) log(root["log"]);
     validate_layout(root);
     return std::move(config_);
@@ -140,6 +144,89 @@ class Loader {
     }
   }
 
+  banks::SourceRef source(const YAML::Node& node, SourceUse use) const {
+    auto parsed = parse_source_ref(yaml_.text(node), shapes_, use);
+    if (auto* error = std::get_if<std::string>(&parsed)) yaml_.fail(node, *error);
+    return std::get<banks::SourceRef>(std::move(parsed));
+  }
+
+  void mapping_list(const YAML::Node& node, std::string_view what, SourceUse use,
+                    std::array<std::optional<banks::SourceRef>, banks::Mapping::entries>& entries) const {
+    if (!node.IsSequence()) yaml_.fail(node, fmt::format("mapping.{} must be a list of sources", what));
+    if (node.size() > entries.size())
+      yaml_.fail(node, fmt::format("mapping.{} has {} entries; there are {}", what, node.size(), entries.size()));
+    for (std::size_t n = 0; n < node.size(); ++n)
+      if (!node[n].IsNull()) entries[n] = source(node[n], use);  // ~ leaves an entry unmapped
+  }
+
+  void mapping(const YAML::Node& node) {
+    yaml_.expect_keys(node, "mapping", {"A", "B", "user_inputs", "user_outputs"});
+    auto& m = config_.mapping;
+    if (node["A"]) mapping_list(node["A"], "A", SourceUse::analog, m.analog);
+    if (node["B"]) mapping_list(node["B"], "B", SourceUse::bit, m.bits);
+    if (node["user_inputs"]) mapping_list(node["user_inputs"], "user_inputs", SourceUse::bit, m.user_inputs);
+    if (node["user_outputs"]) mapping_list(node["user_outputs"], "user_outputs", SourceUse::bit, m.user_outputs);
+  }
+
+  void blocks(const YAML::Node& node) {
+    if (!node.IsSequence()) yaml_.fail(node, "blocks must be a list");
+    std::array<const YAML::Node*, banks::c_bank::user_output_count + 1> output_users{};
+    std::vector<YAML::Node> kept;  // output_users points into these
+    kept.reserve(node.size());
+    for (const auto& item : node) {
+      kept.push_back(item);
+      const auto& b = kept.back();
+      if (!b.IsMap() || !b["type"]) yaml_.fail(b, "a block needs a type: read, write, capture, poll or send");
+      const auto type = yaml_.choice(b["type"], {"read", "write", "capture", "poll", "send"});
+      Block block;
+      block.origin = yaml_.position(b);
+      if (type == "read") {
+        block.type = Block::Type::read;
+        yaml_.expect_keys(b, "a read block", {"type", "register", "source"});
+      } else if (type == "write") {
+        block.type = Block::Type::write;
+        yaml_.expect_keys(b, "a write block", {"type", "register", "output"});
+      } else if (type == "capture") {
+        block.type = Block::Type::capture;
+        yaml_.expect_keys(b, "a capture block", {"type", "device", "register", "output"});
+      } else if (type == "poll") {
+        block.type = Block::Type::poll;
+        yaml_.expect_keys(b, "a poll block", {"type", "device", "register", "period", "output"});
+      } else {
+        block.type = Block::Type::send;
+        yaml_.expect_keys(b, "a send block", {"type", "device", "register", "period", "source"});
+      }
+      const auto required = [&](const char* key) {
+        if (!b[key]) yaml_.fail(b, fmt::format("a {} block needs '{}'", type, key));
+        return b[key];
+      };
+      block.reg = static_cast<std::uint16_t>(yaml_.number(required("register"), 0, 0xFFFF));
+      if (block.type == Block::Type::read || block.type == Block::Type::send)
+        block.source = source(required("source"), SourceUse::analog);
+      if (block.type == Block::Type::write || block.type == Block::Type::capture || block.type == Block::Type::poll) {
+        const auto& out = required("output");
+        block.output = static_cast<unsigned>(yaml_.number(out, 1, banks::c_bank::user_output_count));
+        if (const auto* other = output_users[block.output])
+          yaml_.fail(out, fmt::format("user analog output {} is already the output of the block at {}", block.output,
+                                      yaml_.position(*other)));
+        output_users[block.output] = &b;
+      }
+      if (block.type == Block::Type::capture || block.type == Block::Type::poll || block.type == Block::Type::send) {
+        const auto& device = required("device");
+        block.device = static_cast<std::uint8_t>(yaml_.number(device, 1, 247));
+        if (block.type == Block::Type::capture && block.device == config_.modbus.address)
+          yaml_.fail(device, fmt::format("a capture block listens to another device; {} is the bridge's own "
+                                         "Modbus address (modbus.address)", block.device));
+      }
+      if (block.type == Block::Type::poll || block.type == Block::Type::send) {
+        const auto& period = required("period");
+        block.period = yaml_.duration(period);
+        if (block.period.count() == 0) yaml_.fail(period, "the period must be longer than 0");
+      }
+      config_.blocks.push_back(std::move(block));
+    }
+  }
+
   void log(const YAML::Node& node) {
     yaml_.expect_keys(node, "log", {"level"});
     if (node["level"])
@@ -159,6 +246,7 @@ class Loader {
 
   YamlReader yaml_;
   Config config_;
+  banks::BankShapes shapes_{};
 };
 
 }  // namespace
@@ -207,7 +295,52 @@ banks::AddressMap address_map(const Config& config) {
     w.origin = config.bank_origins[index_of(bank)];
     windows.push_back(std::move(w));
   }
+  for (const Block* block : config.active_blocks()) {
+    if (block->type != Block::Type::read && block->type != Block::Type::write) continue;
+    banks::Window w;
+    w.kind = block->type == Block::Type::read ? banks::Window::Kind::read_block : banks::Window::Kind::write_block;
+    w.first = block->reg;
+    w.count = 1;
+    if (block->source) w.source = *block->source;
+    w.output = static_cast<std::uint8_t>(block->output);
+    w.name = fmt::format("{} block 0x{:04X}", block_type_name(block->type), block->reg);
+    w.origin = block->origin;
+    windows.push_back(std::move(w));
+  }
   return banks::AddressMap(std::move(windows));
+}
+
+std::string_view block_type_name(Block::Type type) {
+  switch (type) {
+    case Block::Type::read: return "read";
+    case Block::Type::write: return "write";
+    case Block::Type::capture: return "capture";
+    case Block::Type::poll: return "poll";
+    case Block::Type::send: return "send";
+  }
+  return "?";
+}
+
+std::vector<const Block*> Config::active_blocks() const {
+  std::vector<const Block*> active;
+  for (const auto& block : blocks)
+    if (block.is_slave_block() == (modbus.mode == ModbusMode::slave)) active.push_back(&block);
+  return active;
+}
+
+std::vector<std::string> warnings(const Config& config) {
+  std::vector<std::string> found;
+  const bool slave = config.modbus.mode == ModbusMode::slave;
+  for (const auto& block : config.blocks) {
+    if (block.is_slave_block() != slave)
+      found.push_back(fmt::format("{}: {} block ignored: {} blocks act in {} mode only, this bridge is a {}",
+                                  block.origin, block_type_name(block.type), block_type_name(block.type),
+                                  block.is_slave_block() ? "slave" : "master", slave ? "slave" : "master"));
+    else if (block.type == Block::Type::capture)
+      found.push_back(fmt::format("{}: capture block inactive: capture listens on a Modbus RTU line, and this "
+                                  "version serves Modbus TCP only", block.origin));
+  }
+  return found;
 }
 
 }  // namespace unima::config

@@ -63,6 +63,7 @@ const config::Config& Bridge::config() const { return core_->config; }
 std::unique_ptr<Bridge::Core> Bridge::build_core(config::Config config) const {
   auto core = std::make_unique<Core>();
   core->store = std::make_unique<banks::RegisterStore>(config::bank_shapes(config));
+  core->store->set_mapping(config.mapping);
   core->space = std::make_unique<banks::RegisterSpace>(config::address_map(config), *core->store,
                                                        banks::AccessRules{config.modbus.readable_write_banks});
   core->model = std::make_unique<modbus::BankModel>(*core->space);
@@ -119,6 +120,7 @@ void Bridge::start() {
   spdlog::info("bridge: UnimaBUS address {}, Modbus address {}, {} transport", core_->config.unimabus.address,
                core_->config.modbus.address,
                core_->config.unimabus.transport == config::TransportKind::feed ? "feed" : "sim");
+  for (const auto& warning : config::warnings(core_->config)) spdlog::warn("{}", warning);
   for (unsigned n = 1; n <= 4; ++n)
     if (core_->config.devices[n - 1])
       spdlog::info("bridge: {} at 0x{:04X}, {} registers", describe_bank(core_->config, banks::device_bank(n)),
@@ -198,6 +200,7 @@ void Bridge::reload(config::Config config) {
     tcp_->set_limits(tcp.max_clients, tcp.idle_timeout);
     tcp_->set_context(slave_context());
   }
+  for (const auto& warning : config::warnings(core_->config)) spdlog::warn("{}", warning);
   spdlog::info("bridge: reloaded {}", core_->config.file);
 }
 

@@ -1,25 +1,34 @@
 // unima-bridge: the operator's command line (SPEC §8).
 
 #include <cstdio>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include <fmt/format.h>
 
-#include "banks/bank_id.hpp"
+#include "banks/table_reference.hpp"
 #include "config/config.hpp"
+#include "config/register_map.hpp"
+#include "daemon/register_map_format.hpp"
 
 namespace {
 
 constexpr const char* usage =
     "usage: unima-bridge check --config FILE\n"
+    "       unima-bridge map --config FILE [--format table|csv|json]\n"
+    "       unima-bridge tables\n"
     "\n"
-    "  check   validate a config; exit 0 when it is good, 1 with the errors when not\n";
+    "  check   validate a config; exit 0 when it is good, 1 with the errors when not\n"
+    "  map     every register the config serves: address, bank, offset, identifier,\n"
+    "          label, unit, scale, access\n"
+    "  tables  the reference of every device table, in Markdown (docs/registers.md)\n";
 
 int check(const std::string& path) {
   try {
     const auto config = unima::config::load_file(path);
     const auto map = unima::config::address_map(config);
+    for (const auto& warning : unima::config::warnings(config)) fmt::print(stderr, "warning: {}\n", warning);
     fmt::print("{}: OK\n", path);
     for (const auto& window : map.windows())
       fmt::print("  0x{:04X}..0x{:04X}  {}\n", window.first, window.end() - 1, window.name);
@@ -28,6 +37,49 @@ int check(const std::string& path) {
     fmt::print(stderr, "{}\n", e.what());
     return 1;
   }
+}
+
+int map(const std::string& path, unima::daemon::MapFormat format) {
+  try {
+    const auto config = unima::config::load_file(path);
+    fmt::print("{}", unima::daemon::format_register_map(unima::config::register_map(config), format));
+    return 0;
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "{}\n", e.what());
+    return 1;
+  }
+}
+
+// The options every config-reading command takes: --config FILE, and for map --format.
+struct Options {
+  std::string config;
+  std::optional<unima::daemon::MapFormat> format;
+  std::string error;
+};
+
+Options parse_options(const std::vector<std::string>& args, bool takes_format) {
+  Options options;
+  for (std::size_t i = 1; i < args.size(); ++i) {
+    std::string value;
+    const auto& arg = args[i];
+    const auto take = [&](const std::string& name) {
+      if (arg == name && i + 1 < args.size()) return value = args[++i], true;
+      if (arg.starts_with(name + "=")) return value = arg.substr(name.size() + 1), true;
+      return false;
+    };
+    if (take("--config")) {
+      options.config = value;
+    } else if (takes_format && take("--format")) {
+      if (value == "table") options.format = unima::daemon::MapFormat::table;
+      else if (value == "csv") options.format = unima::daemon::MapFormat::csv;
+      else if (value == "json") options.format = unima::daemon::MapFormat::json;
+      else return options.error = "unknown format '" + value + "' (table, csv or json)", options;
+    } else {
+      return options.error = "unknown argument '" + arg + "'", options;
+    }
+  }
+  if (options.config.empty()) options.error = "--config FILE is required";
+  return options;
 }
 
 }  // namespace
@@ -42,21 +94,19 @@ int main(int argc, char** argv) {
     std::puts("unima-bridge " UNIMA_VERSION);
     return 0;
   }
-  if (args[0] == "check") {
-    std::string path;
-    for (std::size_t i = 1; i < args.size(); ++i) {
-      if (args[i] == "--config" && i + 1 < args.size()) path = args[++i];
-      else if (args[i].starts_with("--config=")) path = args[i].substr(9);
-      else {
-        std::fprintf(stderr, "unima-bridge check: unknown argument '%s'\n%s", args[i].c_str(), usage);
-        return 2;
-      }
-    }
-    if (path.empty()) {
-      std::fputs(usage, stderr);
+  if (args[0] == "check" || args[0] == "map") {
+    const bool is_map = args[0] == "map";
+    const auto options = parse_options(args, is_map);
+    if (!options.error.empty()) {
+      std::fprintf(stderr, "unima-bridge %s: %s\n%s", args[0].c_str(), options.error.c_str(), usage);
       return 2;
     }
-    return check(path);
+    return is_map ? map(options.config, options.format.value_or(unima::daemon::MapFormat::table))
+                  : check(options.config);
+  }
+  if (args[0] == "tables") {
+    fmt::print("{}", unima::banks::tables_markdown());
+    return 0;
   }
   std::fprintf(stderr, "unima-bridge: unknown command '%s'\n%s", args[0].c_str(), usage);
   return 2;

@@ -8,11 +8,18 @@ namespace unima::unimabus {
 
 namespace {
 
+// Non-negative integers parse as unsigned: compare them so, as get<long>() wraps those
+// above LONG_MAX into negatives (2^64-1 would pass as -1).
+bool above(const nlohmann::json& value, long max) {
+  return value.is_number_unsigned() && value.get<std::uint64_t>() > static_cast<std::uint64_t>(max);
+}
+
 // Reads an integer field within [min, max]; returns an error message or "".
 std::string integer(const nlohmann::json& object, const char* key, long min, long max, long& out) {
   const auto it = object.find(key);
   if (it == object.end()) return fmt::format("missing \"{}\"", key);
   if (!it->is_number_integer()) return fmt::format("\"{}\" must be an integer", key);
+  if (above(*it, max)) return fmt::format("\"{}\" must be {}..{}, not {}", key, min, max, it->get<std::uint64_t>());
   out = it->get<long>();
   if (out < min || out > max) return fmt::format("\"{}\" must be {}..{}, not {}", key, min, max, out);
   return {};
@@ -48,6 +55,7 @@ FeedLine parse_feed_line(std::string_view line) {
   telegram.values.reserve(values->size());
   for (const auto& v : *values) {
     if (!v.is_number_integer()) return std::string("\"values\" must hold integers only");
+    if (above(v, 65535)) return fmt::format("value {} is outside -32768..65535", v.get<std::uint64_t>());
     const auto n = v.get<long>();
     if (n < -32768 || n > 65535) return fmt::format("value {} is outside -32768..65535", n);
     telegram.values.push_back(static_cast<std::uint16_t>(n));

@@ -1,0 +1,164 @@
+// Issue #3 end to end: every device type's table served over Modbus from feed telegrams,
+// mapping of A and B, read and write blocks, and `unima-bridge map`.
+
+#include <cstdio>
+#include <sys/wait.h>
+
+#include "banks/table_catalog.hpp"
+#include "tests/integration/bridge_fixture.hpp"
+
+namespace unima::test {
+namespace {
+
+class DeviceType : public BridgeTest, public ::testing::WithParamInterface<std::string> {};
+
+// Register n of the device carries 1000 + n; each named register must read its own value.
+TEST_P(DeviceType, EveryNamedRegisterReadsWhatItsDeviceSent) {
+  const auto* table = banks::find_device_type(GetParam());
+  ASSERT_NE(table, nullptr);
+  config.banks = "{ D1: 0x1100 }";
+  config.devices = "{ D1: { type: " + GetParam() + ", address: 5 } }";
+  start();
+  auto feed = feed_client();
+  std::string values;
+  for (std::uint16_t n = 0; n < table->length(); ++n) values += (n ? "," : "") + std::to_string(1000 + n);
+  feed_and_wait(feed, R"({"addr":5,"slot":0,"offset":0,"values":[)" + values + "]}", 0x1100, 1000);
+  ModbusClient client(config.modbus_port);
+  for (const auto& reg : table->registers) {
+    const auto got = client.read_input(0x1100 + reg.offset, 1);
+    ASSERT_TRUE(got) << reg.id;
+    EXPECT_EQ((*got)[0], 1000 + reg.offset) << GetParam() << "." << reg.id;
+  }
+  const auto whole = client.read_input(0x1100, table->length());
+  ASSERT_TRUE(whole);
+  EXPECT_EQ(whole->back(), 1000 + table->length() - 1);
+  // One past the table is not served.
+  EXPECT_FALSE(client.read_input(0x1100, table->length() + 1));
+  EXPECT_EQ(client.last_error(), EMBXILADD);
+}
+
+INSTANTIATE_TEST_SUITE_P(AllNine, DeviceType,
+                         ::testing::Values("unigen-chp", "unigen-tem", "unigen-mve", "microgen-sync", "nsu2", "uis",
+                                           "uvr", "usc", "bridge-tem"),
+                         [](const auto& info) {
+                           auto name = info.param;
+                           for (auto& c : name) c = c == '-' ? '_' : c;
+                           return name;
+                         });
+
+TEST_F(BridgeTest, UscEndsAt0x27) {
+  config.banks = "{ D1: 0x1100 }";
+  config.devices = "{ D1: { type: usc, address: 5 } }";
+  start();
+  EXPECT_EQ(round_trip(config.modbus_port, {0, 1, 0, 0, 0, 6, 1, 0x04, 0x11, 0x27, 0x00, 0x01}),
+            (Bytes{0, 1, 0, 0, 0, 5, 1, 0x04, 0x02, 0x7F, 0xFF}));
+  EXPECT_EQ(round_trip(config.modbus_port, {0, 1, 0, 0, 0, 6, 1, 0x04, 0x11, 0x27, 0x00, 0x02}),
+            (Bytes{0, 1, 0, 0, 0, 3, 1, 0x84, 0x02}));
+  EXPECT_EQ(round_trip(config.modbus_port, {0, 1, 0, 0, 0, 6, 1, 0x04, 0x11, 0x28, 0x00, 0x01}),
+            (Bytes{0, 1, 0, 0, 0, 3, 1, 0x84, 0x02}));
+}
+
+TEST_F(BridgeTest, AnUnconfiguredDeviceBankDoesNotExist) {
+  start();
+  ModbusClient client(config.modbus_port);
+  EXPECT_FALSE(client.read_input(0x1200, 1));  // D2 at its default base, no device
+  EXPECT_EQ(client.last_error(), EMBXILADD);
+}
+
+class MappingAndBlocks : public BridgeTest {
+ protected:
+  void SetUp() override {
+    BridgeTest::SetUp();
+    config.banks = "{ D1: 0x1100 }";
+    config.modbus_extra = "";
+    config.devices =
+        "{ D1: { type: unigen-chp, address: 5 } }\n"
+        "mapping:\n"
+        "  A: [ D1.oil_temperature, D1+0x01 ]\n"
+        "  B: [ D1+0x11.7, X.2 ]\n"
+        "blocks:\n"
+        "  - { type: read, register: 0x0200, source: D1.engine_speed }\n"
+        "  - { type: write, register: 0x0201, output: 1 }\n"
+        "  - { type: write, register: 0x0202, output: 16 }";
+    start();
+    feed = std::make_unique<Socket>(feed_client());
+  }
+  std::unique_ptr<Socket> feed;
+};
+
+TEST_F(MappingAndBlocks, BankAShowsItsSources) {
+  ModbusClient client(config.modbus_port);
+  EXPECT_EQ(client.read_input(0x1000, 3), (std::vector<std::uint16_t>{0x7FFF, 0x7FFF, 0x7FFF}));
+  feed_and_wait(*feed, R"({"addr":5,"slot":0,"offset":33,"values":[853]})", 0x1000, 853);
+  feed_and_wait(*feed, R"({"addr":5,"slot":0,"offset":1,"values":[1500]})", 0x1001, 1500);
+  EXPECT_EQ(client.read_input(0x1000, 3), (std::vector<std::uint16_t>{853, 1500, 0x7FFF}));
+  // The register changes with its source, read right after the telegram took effect.
+  feed_and_wait(*feed, R"({"addr":5,"slot":0,"offset":33,"values":[854]})", 0x1121, 854);
+  EXPECT_EQ(client.read_input(0x1000, 1), std::vector<std::uint16_t>{854});
+}
+
+TEST_F(MappingAndBlocks, BankBShowsItsSourceBits) {
+  ModbusClient client(config.modbus_port);
+  feed_and_wait(*feed, R"({"addr":5,"slot":0,"offset":17,"values":[128]})", 0x1010, 0x0001);
+  ASSERT_TRUE(client.write(0x3010, 0x0004));  // X bit 2
+  EXPECT_EQ(client.read_input(0x1010, 1), std::vector<std::uint16_t>{0x0003});
+}
+
+TEST_F(MappingAndBlocks, ReadBlockAndWriteBlocks) {
+  ModbusClient client(config.modbus_port);
+  feed_and_wait(*feed, R"({"addr":5,"slot":0,"offset":1,"values":[1480]})", 0x0200, 1480);
+  ASSERT_TRUE(client.write(0x0201, 2345));
+  EXPECT_TRUE(feed->wait_for_line(R"({"bank":"C","offset":0,"value":2345})"));
+  ASSERT_TRUE(client.write(0x0202, 7));
+  EXPECT_TRUE(feed->wait_for_line(R"({"bank":"C","offset":15,"value":7})"));
+  EXPECT_EQ(client.read_input(0x1020, 1), std::vector<std::uint16_t>{2345});  // C+0x00 = UsrAO 1
+  EXPECT_EQ(client.read_input(0x102F, 1), std::vector<std::uint16_t>{7});     // C+0x0F = UsrAO 16
+  EXPECT_FALSE(client.read_input(0x0201, 1));  // write-only
+  EXPECT_EQ(client.last_error(), EMBXILADD);
+  EXPECT_FALSE(client.write(0x0200, 1));  // read-only
+  EXPECT_EQ(client.last_error(), EMBXILADD);
+}
+
+std::string run_output(const std::string& command, int& status) {
+  std::string output;
+  FILE* pipe = ::popen((command + " 2>&1").c_str(), "r");
+  char buf[4096];
+  while (std::size_t n = std::fread(buf, 1, sizeof buf, pipe)) output.append(buf, n);
+  const int raw = ::pclose(pipe);
+  status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+  return output;
+}
+
+TEST(MapCommand, FourDeviceTypesListEveryRegisterWithNamesAndUnits) {
+  int status = 0;
+  const auto csv = run_output(std::string(UNIMA_BRIDGE_CLI) +
+                                  " map --format csv --config " UNIMA_SOURCE_DIR "/config/examples/four-devices.yaml",
+                              status);
+  ASSERT_EQ(status, 0) << csv;
+  EXPECT_NE(csv.find("0x1121,D1,0x21,oil_temperature,Teplota oleje,analog,°C,0.1,R,"), std::string::npos) << csv;
+  const std::vector<std::pair<std::uint16_t, std::string>> devices = {
+      {0x1100, "unigen-chp"}, {0x1200, "uvr"}, {0x1300, "usc"}, {0x1400, "uis"}};
+  for (const auto& [base, type] : devices) {
+    const auto* table = banks::find_device_type(type);
+    ASSERT_NE(table, nullptr);
+    for (const auto& reg : table->registers) {
+      char address[8];
+      std::snprintf(address, sizeof address, "0x%04X", base + reg.offset);
+      const auto row = csv.find(std::string("\n") + address + ",");
+      ASSERT_NE(row, std::string::npos) << type << " " << reg.id;
+      const auto line = csv.substr(row + 1, csv.find('\n', row + 1) - row - 1);
+      EXPECT_NE(line.find("," + reg.id + ","), std::string::npos) << line;
+    }
+  }
+  const auto json = run_output(std::string(UNIMA_BRIDGE_CLI) +
+                                   " map --format json --config " UNIMA_SOURCE_DIR "/config/examples/four-devices.yaml",
+                               status);
+  EXPECT_EQ(status, 0);
+  EXPECT_NE(json.find("\"id\": \"oil_temperature\""), std::string::npos);
+  EXPECT_EQ(run_output(std::string(UNIMA_BRIDGE_CLI) + " map --format xml --config x.yaml", status).find("unknown format"),
+            std::string("unima-bridge map: ").size());
+  EXPECT_EQ(status, 2);
+}
+
+}  // namespace
+}  // namespace unima::test

@@ -1,0 +1,485 @@
+// The YAML configuration (SPEC §7): values, defaults, and errors that name the file, the
+// 1-based line and the 1-based column of the offending node.
+
+#include <gtest/gtest.h>
+
+#include <yaml-cpp/yaml.h>
+
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <functional>
+#include <string>
+
+#include "banks/table_catalog.hpp"
+#include "config/config.hpp"
+#include "config/yaml_reader.hpp"
+
+namespace unima::config {
+namespace {
+
+using namespace std::chrono_literals;
+using banks::BankId;
+
+bool starts_with(const std::string& text, const std::string& prefix) { return text.rfind(prefix, 0) == 0; }
+bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+/// The message of the ConfigError that loading `text` throws, or "(no error)".
+std::string load_error(const std::string& text, const std::string& origin = "cfg.yaml") {
+  try {
+    (void)load_text(text, origin);
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+// The example of SPEC §7, with the sections this version has: unimabus, modbus (tcp),
+// banks, devices, log.
+constexpr const char* spec_example =
+    "unimabus:\n"
+    "  address: 5                 # the bridge's own UnimaBUS address (\"Addr\")\n"
+    "  transport: feed            # sim | feed | replay\n"
+    "  listen: 127.0.0.1:7700     # feed only\n"
+    "  offline_after: 5s\n"
+    "modbus:\n"
+    "  mode: slave                # slave | master\n"
+    "  address: 1                 # \"MBSAddr\"\n"
+    "  tcp: { listen: 127.0.0.1, port: 5020 }\n"
+    "banks: { A: 0x1000, B: 0x1010, C: 0x1020, D1: 0x1100, S1: 0x2100, W: 0x3000, X: 0x3010 }\n"
+    "devices:\n"
+    "  D1: { type: unigen-chp, address: 5 }\n"
+    "log:\n"
+    "  level: debug\n";
+
+TEST(ConfigLoad, SpecExample) {
+  const Config c = load_text(spec_example, "bridge.yaml");
+  EXPECT_EQ(c.file, "bridge.yaml");
+  EXPECT_EQ(c.unimabus.address, 5);
+  EXPECT_EQ(c.unimabus.transport, TransportKind::feed);
+  EXPECT_EQ(c.unimabus.listen, "127.0.0.1:7700");
+  EXPECT_EQ(c.unimabus.offline_after, 5s);
+  EXPECT_EQ(c.modbus.mode, ModbusMode::slave);
+  EXPECT_EQ(c.modbus.address, 1);
+  ASSERT_TRUE(c.modbus.tcp.has_value());
+  EXPECT_EQ(c.modbus.tcp->listen, "127.0.0.1");
+  EXPECT_EQ(c.modbus.tcp->port, 5020);
+  EXPECT_EQ(c.modbus.tcp->max_clients, 128u);
+  EXPECT_TRUE(c.modbus.readable_write_banks);
+  EXPECT_EQ(c.bank_bases[index_of(BankId::A)], 0x1000);
+  EXPECT_EQ(c.bank_bases[index_of(BankId::D1)], 0x1100);
+  EXPECT_EQ(c.bank_bases[index_of(BankId::S1)], 0x2100);
+  EXPECT_EQ(c.bank_bases[index_of(BankId::W)], 0x3000);
+  EXPECT_EQ(c.bank_bases[index_of(BankId::X)], 0x3010);
+  EXPECT_EQ(c.bank_bases[index_of(BankId::S2)], 0x2200);  // not in the file: default
+  // Banks set in the file remember where (line 10); the others do not.
+  EXPECT_EQ(c.bank_origins[index_of(BankId::A)], "bridge.yaml:10:13");
+  EXPECT_TRUE(starts_with(c.bank_origins[index_of(BankId::X)], "bridge.yaml:10:")) << c.bank_origins[index_of(BankId::X)];
+  EXPECT_TRUE(c.bank_origins[index_of(BankId::S2)].empty());
+  ASSERT_TRUE(c.devices[0].has_value());
+  EXPECT_EQ(c.devices[0]->table, banks::find_device_type("unigen-chp"));
+  EXPECT_EQ(c.devices[0]->address, 5);
+  EXPECT_FALSE(c.devices[1].has_value());
+  EXPECT_FALSE(c.devices[2].has_value());
+  EXPECT_FALSE(c.devices[3].has_value());
+  EXPECT_EQ(c.log.level, "debug");
+}
+
+TEST(ConfigLoad, ShapesAndAddressMapOfTheSpecExample) {
+  const Config c = load_text(spec_example, "bridge.yaml");
+  const auto shapes = bank_shapes(c);
+  EXPECT_EQ(shapes[index_of(BankId::D1)].length, 64);
+  EXPECT_EQ(shapes[index_of(BankId::D1)].table, banks::find_device_type("unigen-chp"));
+  EXPECT_EQ(shapes[index_of(BankId::D2)].length, 0);
+  EXPECT_EQ(shapes[index_of(BankId::A)].length, 16);
+  EXPECT_EQ(shapes[index_of(BankId::C)].length, 20);
+  EXPECT_EQ(shapes[index_of(BankId::S7)].length, 20);
+  EXPECT_EQ(shapes[index_of(BankId::W)].length, 16);
+  EXPECT_EQ(shapes[index_of(BankId::X)].length, 1);
+
+  const auto map = address_map(c);
+  EXPECT_EQ(map.windows().size(), 13u);  // A B C D1 S1..S7 W X
+  struct Probe {
+    std::uint16_t address;
+    BankId bank;
+  };
+  for (const auto& p : {Probe{0x1000, BankId::A}, Probe{0x1010, BankId::B}, Probe{0x1033, BankId::C},
+                        Probe{0x1100, BankId::D1}, Probe{0x113F, BankId::D1}, Probe{0x2100, BankId::S1},
+                        Probe{0x2713, BankId::S7}, Probe{0x300F, BankId::W}, Probe{0x3010, BankId::X}}) {
+    const auto* w = map.find(p.address);
+    ASSERT_NE(w, nullptr) << std::hex << p.address;
+    EXPECT_EQ(w->bank, p.bank) << std::hex << p.address;
+  }
+  EXPECT_EQ(map.find(0x1140), nullptr);
+  EXPECT_EQ(map.find(0x1200), nullptr);  // no D2 device: no D2 bank
+  EXPECT_EQ(map.find(0x2714), nullptr);
+}
+
+TEST(ConfigLoad, DefaultsWhenKeysAreMissing) {
+  const Config c = load_text("modbus:\n  tcp: {}\n", "cfg.yaml");
+  EXPECT_EQ(c.modbus.address, 1);
+  EXPECT_EQ(c.modbus.mode, ModbusMode::slave);
+  ASSERT_TRUE(c.modbus.tcp.has_value());
+  EXPECT_EQ(c.modbus.tcp->port, 502);
+  EXPECT_EQ(c.modbus.tcp->max_clients, 128u);
+  EXPECT_EQ(c.modbus.tcp->listen, "0.0.0.0");
+  EXPECT_TRUE(c.modbus.readable_write_banks);
+  EXPECT_TRUE(c.modbus.extensions.function_3);
+  EXPECT_TRUE(c.modbus.extensions.function_16);
+  EXPECT_TRUE(c.modbus.extensions.function_43);
+  EXPECT_EQ(c.unimabus.offline_after, 5s);
+  EXPECT_EQ(c.unimabus.transport, TransportKind::sim);
+  EXPECT_EQ(c.log.level, "info");
+  for (BankId bank : banks::all_banks) {
+    EXPECT_EQ(c.bank_bases[index_of(bank)], banks::default_base(bank)) << banks::bank_name(bank);
+    EXPECT_TRUE(c.bank_origins[index_of(bank)].empty());
+  }
+}
+
+TEST(ConfigLoad, EmptyFileIsAllDefaults) {
+  const Config c = load_text("", "empty.yaml");
+  EXPECT_EQ(c.modbus.address, 1);
+  EXPECT_FALSE(c.modbus.tcp.has_value());
+  EXPECT_EQ(c.unimabus.offline_after, 5s);
+  for (const auto& d : c.devices) EXPECT_FALSE(d.has_value());
+}
+
+TEST(ConfigLoad, Durations) {
+  struct Case {
+    const char* text;
+    Duration expected;
+  };
+  for (const auto& [text, expected] : {Case{"200ms", 200ms}, Case{"1s", 1s}, Case{"2s", 2s}, Case{"60s", 60s},
+                                       Case{"5m", 5min}, Case{"1h", 1h}}) {
+    const Config c = load_text(std::string("unimabus:\n  offline_after: ") + text + "\n", "cfg.yaml");
+    EXPECT_EQ(c.unimabus.offline_after, expected) << text;
+  }
+  const Config c = load_text("modbus:\n  tcp: { idle_timeout: 90s }\n", "cfg.yaml");
+  EXPECT_EQ(c.modbus.tcp->idle_timeout, 90s);
+}
+
+TEST(ConfigLoad, NumbersDecimalAndHex) {
+  const Config c = load_text(
+      "unimabus:\n"
+      "  address: 0x10\n"
+      "modbus:\n"
+      "  address: 247\n"
+      "  tcp: { port: 0x13BA }\n"
+      "banks: { A: 4096, W: 0x4000, X: 0X4010 }\n",
+      "cfg.yaml");
+  EXPECT_EQ(c.unimabus.address, 16);
+  EXPECT_EQ(c.modbus.address, 247);
+  EXPECT_EQ(c.modbus.tcp->port, 5050);
+  EXPECT_EQ(c.bank_bases[index_of(BankId::A)], 0x1000);
+  EXPECT_EQ(c.bank_bases[index_of(BankId::W)], 0x4000);
+  EXPECT_EQ(c.bank_bases[index_of(BankId::X)], 0x4010);
+}
+
+TEST(ConfigLoad, DeviceAliasesAndSeveralDevices) {
+  const Config c = load_text(
+      "devices:\n"
+      "  D1: { type: microgen-chp, address: 5 }\n"
+      "  D4: { type: usc, address: 0x20 }\n",
+      "cfg.yaml");
+  ASSERT_TRUE(c.devices[0] && c.devices[3]);
+  EXPECT_EQ(c.devices[0]->table->id, "unigen-chp");
+  EXPECT_EQ(c.devices[3]->table->id, "usc");
+  EXPECT_EQ(c.devices[3]->address, 0x20);
+  EXPECT_EQ(bank_shapes(c)[index_of(BankId::D4)].length, 0x28);
+}
+
+TEST(ConfigLoad, FalseReadableWriteBanks) {
+  const Config c = load_text("modbus:\n  readable_write_banks: false\n", "cfg.yaml");
+  EXPECT_FALSE(c.modbus.readable_write_banks);
+}
+
+// ---------------------------------------------------------------------------------------
+// Errors and their positions
+
+TEST(ConfigErrors, UnknownTopLevelKey) {
+  const auto m = load_error(
+      "unimabus:\n"
+      "  address: 5\n"
+      "modbsu:\n"
+      "  address: 1\n");
+  EXPECT_TRUE(starts_with(m, "cfg.yaml:3:1: ")) << m;
+  EXPECT_TRUE(contains(m, "modbsu")) << m;
+}
+
+TEST(ConfigErrors, UnknownKeyInModbusTcp) {
+  const auto m = load_error(
+      "modbus:\n"
+      "  tcp:\n"
+      "    port: 5020\n"
+      "    backlog: 4\n");
+  EXPECT_TRUE(starts_with(m, "cfg.yaml:4:5: ")) << m;
+  EXPECT_TRUE(contains(m, "backlog")) << m;
+}
+
+TEST(ConfigErrors, BadNumber) {
+  const auto m = load_error(
+      "modbus:\n"
+      "  address: 12x\n");
+  EXPECT_TRUE(starts_with(m, "cfg.yaml:2:12: ")) << m;
+  EXPECT_TRUE(contains(m, "12x")) << m;
+}
+
+TEST(ConfigErrors, NumberOutOfRange) {
+  const auto m = load_error(
+      "unimabus:\n"
+      "  address: 256\n");
+  EXPECT_TRUE(starts_with(m, "cfg.yaml:2:12: ")) << m;
+  EXPECT_TRUE(contains(m, "256")) << m;
+}
+
+TEST(ConfigErrors, HexOutOfRangeForABankBase) {
+  const auto m = load_error(
+      "banks:\n"
+      "  W: 0x10000\n");
+  EXPECT_TRUE(starts_with(m, "cfg.yaml:2:6: ")) << m;
+  EXPECT_TRUE(contains(m, "0x10000")) << m;
+}
+
+TEST(ConfigErrors, BadDuration) {
+  const auto m = load_error(
+      "unimabus:\n"
+      "  offline_after: 5 sec\n");
+  EXPECT_TRUE(starts_with(m, "cfg.yaml:2:18: ")) << m;
+  EXPECT_TRUE(contains(m, "5 sec")) << m;
+  for (const char* bad : {"5", "ms", "-1s", "1.5s", "5S", "0x5s"}) {
+    const auto e = load_error(std::string("unimabus:\n  offline_after: ") + bad + "\n");
+    EXPECT_TRUE(starts_with(e, "cfg.yaml:2:18: ")) << bad << ": " << e;
+  }
+}
+
+TEST(ConfigErrors, UnknownDeviceTypeListsTheKnownOnes) {
+  const auto m = load_error(
+      "devices:\n"
+      "  D1: { type: unigen-xyz, address: 5 }\n");
+  EXPECT_TRUE(starts_with(m, "cfg.yaml:2:15: ")) << m;
+  EXPECT_TRUE(contains(m, "unigen-xyz")) << m;
+  for (auto id : banks::device_type_ids()) EXPECT_TRUE(contains(m, std::string(id))) << id << ": " << m;
+}
+
+TEST(ConfigErrors, UnknownBankName) {
+  const auto m = load_error(
+      "banks:\n"
+      "  A: 0x1000\n"
+      "  D5: 0x4000\n");
+  EXPECT_TRUE(starts_with(m, "cfg.yaml:3:3: ")) << m;
+  EXPECT_TRUE(contains(m, "D5")) << m;
+}
+
+TEST(ConfigErrors, UnknownDeviceBank) {
+  const auto m = load_error(
+      "devices:\n"
+      "  S1: { type: usc, address: 5 }\n");
+  EXPECT_TRUE(starts_with(m, "cfg.yaml:2:3: ")) << m;
+  EXPECT_TRUE(contains(m, "S1")) << m;
+}
+
+TEST(ConfigErrors, YamlSyntaxError) {
+  // A second ':' in a plain value: reported at that colon.
+  const auto m = load_error(
+      "unimabus:\n"
+      "  address: 5\n"
+      "log:\n"
+      "  level: info: x\n");
+  EXPECT_TRUE(starts_with(m, "cfg.yaml:4:14: ")) << m;
+  // A flow mapping closed with ']': reported at the bracket.
+  const auto m2 = load_error(
+      "unimabus:\n"
+      "  address: 5\n"
+      "modbus: { address: 1 ]\n");
+  EXPECT_TRUE(starts_with(m2, "cfg.yaml:3:22: ")) << m2;
+  // An unclosed flow sequence is found at the end of the text, the line after the last.
+  const auto m3 = load_error(
+      "unimabus:\n"
+      "  address: 5\n"
+      "modbus: [1, 2\n");
+  EXPECT_TRUE(starts_with(m3, "cfg.yaml:4:1: ")) << m3;
+}
+
+TEST(ConfigErrors, FeedTransportWithoutListen) {
+  const auto m = load_error(
+      "unimabus:\n"
+      "  transport: feed\n");
+  EXPECT_TRUE(starts_with(m, "cfg.yaml:2:3: ")) << m;
+  EXPECT_TRUE(contains(m, "listen")) << m;
+}
+
+TEST(ConfigErrors, FeedListenWithoutPort) {
+  const auto m = load_error(
+      "unimabus:\n"
+      "  transport: feed\n"
+      "  listen: 127.0.0.1\n");
+  EXPECT_TRUE(starts_with(m, "cfg.yaml:3:11: ")) << m;
+  EXPECT_NO_THROW(load_text("unimabus: { transport: feed, listen: \"unix:/run/feed.sock\" }\n", "cfg.yaml"));
+}
+
+TEST(ConfigErrors, ListenWithTheSimTransport) {
+  const auto m = load_error(
+      "unimabus:\n"
+      "  transport: sim\n"
+      "  listen: 127.0.0.1:7700\n");
+  EXPECT_TRUE(starts_with(m, "cfg.yaml:3:11: ")) << m;
+  EXPECT_TRUE(contains(m, "listen")) << m;
+}
+
+TEST(ConfigErrors, UnknownChoice) {
+  const auto m = load_error(
+      "log:\n"
+      "  level: loud\n");
+  EXPECT_TRUE(starts_with(m, "cfg.yaml:2:10: ")) << m;
+  EXPECT_TRUE(contains(m, "loud")) << m;
+  EXPECT_TRUE(contains(m, "info")) << m;
+}
+
+TEST(ConfigErrors, BanksOverlap) {
+  const auto m = load_error(
+      "banks: {D1: 0x0011, W: 0x0040}\n"
+      "devices:\n"
+      "  D1: { type: unigen-chp, address: 5 }\n");
+  // The position of one of the two banks the file set: D1's value (1:13) or W's (1:24).
+  EXPECT_TRUE(starts_with(m, "cfg.yaml:1:13: ") || starts_with(m, "cfg.yaml:1:24: ")) << m;
+  EXPECT_TRUE(contains(m, "bank D1")) << m;
+  EXPECT_TRUE(contains(m, "bank W")) << m;
+  EXPECT_TRUE(contains(m, "0x0011")) << m;
+  EXPECT_TRUE(contains(m, "0x0040")) << m;
+}
+
+TEST(ConfigErrors, BankOverlapsADefaultBank) {
+  // Only W was set: the error points at it.
+  const auto m = load_error(
+      "banks:\n"
+      "  W: 0x1130\n"
+      "devices:\n"
+      "  D1: { type: unigen-chp, address: 5 }\n");
+  EXPECT_TRUE(starts_with(m, "cfg.yaml:2:6: ")) << m;
+  EXPECT_TRUE(contains(m, "bank D1")) << m;
+  EXPECT_TRUE(contains(m, "bank W")) << m;
+}
+
+TEST(ConfigErrors, BankPastTheLastAddress) {
+  const auto m = load_error(
+      "banks:\n"
+      "  W: 0xFFF8\n");
+  EXPECT_TRUE(starts_with(m, "cfg.yaml:2:6: ")) << m;
+  EXPECT_TRUE(contains(m, "bank W")) << m;
+}
+
+TEST(ConfigErrors, BankWithoutDeviceDoesNotOverlap) {
+  // D2 has no device, so it has no window and cannot overlap W.
+  EXPECT_NO_THROW(load_text("banks: { D2: 0x3000 }\n", "cfg.yaml"));
+}
+
+TEST(ConfigErrors, ConfigIsNotAMapping) {
+  const auto m = load_error("- a\n- b\n");
+  EXPECT_TRUE(starts_with(m, "cfg.yaml:1:1: ")) << m;
+}
+
+TEST(ConfigFile, LoadFileOfAMissingFileNamesThePath) {
+  const std::string path = ::testing::TempDir() + "no-such-dir-unima/bridge.yaml";
+  try {
+    (void)load_file(path);
+    FAIL() << "expected ConfigError";
+  } catch (const ConfigError& e) {
+    const std::string m = e.what();
+    EXPECT_TRUE(starts_with(m, path)) << m;
+  }
+}
+
+TEST(ConfigFile, LoadFileUsesThePathAsOrigin) {
+  const std::string path = ::testing::TempDir() + "unima_config_test_bridge.yaml";
+  {
+    std::ofstream out(path, std::ios::binary | std::ios::trunc);
+    out << "modbus:\n  address: 7\n";
+  }
+  const Config c = load_file(path);
+  EXPECT_EQ(c.modbus.address, 7);
+  EXPECT_EQ(c.file, path);
+  {
+    std::ofstream out(path, std::ios::binary | std::ios::trunc);
+    out << "modbus:\n  address: 7\n  colour: red\n";
+  }
+  try {
+    (void)load_file(path);
+    ADD_FAILURE() << "expected ConfigError";
+  } catch (const ConfigError& e) {
+    EXPECT_TRUE(starts_with(e.what(), path + ":3:3: ")) << e.what();
+  }
+  std::remove(path.c_str());
+}
+
+// ---------------------------------------------------------------------------------------
+// YamlReader on its own
+
+std::string reader_error(const std::function<void(const YamlReader&, const YAML::Node&)>& use, const std::string& text) {
+  const YamlReader reader("r.yaml");
+  const YAML::Node root = YAML::Load(text);
+  try {
+    use(reader, root);
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+TEST(YamlReader, Numbers) {
+  const YamlReader r("r.yaml");
+  const YAML::Node n = YAML::Load("{ a: 10, b: 0x1F, c: 0XFF, d: 0, e: 4294967295 }");
+  EXPECT_EQ(r.number(n["a"], 0, 100), 10u);
+  EXPECT_EQ(r.number(n["b"], 0, 100), 31u);
+  EXPECT_EQ(r.number(n["c"], 0, 255), 255u);
+  EXPECT_EQ(r.number(n["d"], 0, 1), 0u);
+  EXPECT_EQ(r.number(n["e"], 0, 0xFFFFFFFF), 0xFFFFFFFFu);
+  for (const char* bad : {"x: 12x", "x: -1", "x: 0x", "x: ''", "x: 1.5", "x: 0xG", "x: [1]", "x: +5", "x: ' 5'"}) {
+    const auto m = reader_error([](const YamlReader& rd, const YAML::Node& root) { (void)rd.number(root["x"], 0, 100); }, bad);
+    EXPECT_TRUE(starts_with(m, "r.yaml:1:4: ")) << bad << ": " << m;
+  }
+  const auto m = reader_error([](const YamlReader& rd, const YAML::Node& root) { (void)rd.number(root["x"], 1, 7); }, "x: 0");
+  EXPECT_TRUE(starts_with(m, "r.yaml:1:4: ")) << m;
+}
+
+TEST(YamlReader, BooleansAndChoices) {
+  const YamlReader r("r.yaml");
+  const YAML::Node n = YAML::Load("{ t: true, f: false, y: yes, o: off, bad: maybe, lvl: warn }");
+  EXPECT_TRUE(r.boolean(n["t"]));
+  EXPECT_FALSE(r.boolean(n["f"]));
+  EXPECT_TRUE(r.boolean(n["y"]));
+  EXPECT_FALSE(r.boolean(n["o"]));
+  EXPECT_THROW(r.boolean(n["bad"]), ConfigError);
+  EXPECT_EQ(r.choice(n["lvl"], {"info", "warn"}), "warn");
+  try {
+    (void)r.choice(n["bad"], {"info", "warn"});
+    ADD_FAILURE() << "expected ConfigError";
+  } catch (const ConfigError& e) {
+    const std::string m = e.what();
+    EXPECT_TRUE(contains(m, "info") && contains(m, "warn") && contains(m, "maybe")) << m;
+  }
+}
+
+TEST(YamlReader, Durations) {
+  const YamlReader r("r.yaml");
+  const YAML::Node n = YAML::Load("{ a: 200ms, b: 1s, c: 5m, d: 1h, e: 0s }");
+  EXPECT_EQ(r.duration(n["a"]), 200ms);
+  EXPECT_EQ(r.duration(n["b"]), 1000ms);
+  EXPECT_EQ(r.duration(n["c"]), 300000ms);
+  EXPECT_EQ(r.duration(n["d"]), 3600000ms);
+  EXPECT_EQ(r.duration(n["e"]), 0ms);
+}
+
+TEST(YamlReader, ExpectKeysAndPositions) {
+  const YamlReader r("r.yaml");
+  EXPECT_NO_THROW(r.expect_keys(YAML::Node(), "empty", {"a"}));  // null counts as an empty mapping
+  const auto m = reader_error(
+      [](const YamlReader& rd, const YAML::Node& root) { rd.expect_keys(root["sec"], "sec", {"alpha", "beta"}); },
+      "sec:\n  alpha: 1\n  gamma: 2\n");
+  EXPECT_TRUE(starts_with(m, "r.yaml:3:3: ")) << m;
+  EXPECT_TRUE(contains(m, "gamma") && contains(m, "alpha") && contains(m, "beta")) << m;
+  const YAML::Node n = YAML::Load("a:\n  b: 1\n");
+  EXPECT_EQ(r.position(n["a"]["b"]), "r.yaml:2:6");
+}
+
+}  // namespace
+}  // namespace unima::config
