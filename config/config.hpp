@@ -43,6 +43,19 @@ struct TcpSlaveConfig {
   Duration idle_timeout = std::chrono::seconds(60);  // 0: never
 };
 
+enum class Parity { none, even, odd };
+enum class Rs485Direction { off, kernel, rts };
+
+/// The RS-485 line (seed §4.1: "MBSbr", "MBSpar", "MBSsb").
+struct RtuConfig {
+  std::string device;
+  unsigned baud = 19200;
+  Parity parity = Parity::none;
+  unsigned stop_bits = 1;
+  Rs485Direction rs485 = Rs485Direction::off;  // who switches the transceiver's direction
+  bool low_latency = false;                    // set a USB adapter's latency timer to 1 ms
+};
+
 /// Functions beyond the seed's 4 and 6 (SPEC §3), each on by default.
 struct Extensions {
   bool function_3 = true;
@@ -54,6 +67,7 @@ struct ModbusConfig {
   ModbusMode mode = ModbusMode::slave;
   std::uint8_t address = 1;  // seed "MBSAddr"
   std::optional<TcpSlaveConfig> tcp;
+  std::optional<RtuConfig> rtu;
   bool readable_write_banks = true;
   Extensions extensions;
 };

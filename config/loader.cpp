@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <fstream>
@@ -86,7 +87,7 @@ class Loader {
   }
 
   void modbus(const YAML::Node& node) {
-    yaml_.expect_keys(node, "modbus", {"mode", "address", "tcp", "readable_write_banks", "extensions"});
+    yaml_.expect_keys(node, "modbus", {"mode", "address", "tcp", "rtu", "readable_write_banks", "extensions"});
     auto& m = config_.modbus;
     if (node["mode"]) {
       const auto mode = yaml_.choice(node["mode"], {"slave", "master"});
@@ -109,6 +110,33 @@ class Loader {
       if (tcp["idle_timeout"]) t.idle_timeout = yaml_.duration(tcp["idle_timeout"]);
       m.tcp = t;
     }
+    if (const auto rtu = node["rtu"]) m.rtu = rtu_line(rtu);
+  }
+
+  RtuConfig rtu_line(const YAML::Node& node) const {
+    yaml_.expect_keys(node, "modbus.rtu", {"device", "baud", "parity", "stop_bits", "rs485", "low_latency"});
+    RtuConfig r;
+    if (!node["device"]) yaml_.fail(node, "modbus.rtu needs the serial device, e.g. device: /dev/ttyUSB0");
+    r.device = yaml_.text(node["device"]);
+    if (const auto baud = node["baud"]) {
+      r.baud = static_cast<unsigned>(yaml_.number(baud, 0, 115200));
+      // The seed's rates (4800..19200) and the usual ones above, up to 115200 (SPEC §3).
+      static constexpr unsigned rates[] = {1200, 2400, 4800, 9600, 14400, 19200, 38400, 57600, 115200};
+      if (std::find(std::begin(rates), std::end(rates), r.baud) == std::end(rates))
+        yaml_.fail(baud, fmt::format("{} baud is not supported (1200, 2400, 4800, 9600, 14400, 19200, 38400, "
+                                     "57600, 115200)", r.baud));
+    }
+    if (node["parity"]) {
+      const auto p = yaml_.choice(node["parity"], {"none", "even", "odd"});
+      r.parity = p == "even" ? Parity::even : p == "odd" ? Parity::odd : Parity::none;
+    }
+    if (node["stop_bits"]) r.stop_bits = static_cast<unsigned>(yaml_.number(node["stop_bits"], 1, 2));
+    if (node["rs485"]) {
+      const auto d = yaml_.choice(node["rs485"], {"off", "kernel", "rts"});
+      r.rs485 = d == "kernel" ? Rs485Direction::kernel : d == "rts" ? Rs485Direction::rts : Rs485Direction::off;
+    }
+    if (node["low_latency"]) r.low_latency = yaml_.boolean(node["low_latency"]);
+    return r;
   }
 
   void bank_bases(const YAML::Node& node) {
@@ -331,6 +359,9 @@ std::vector<const Block*> Config::active_blocks() const {
 std::vector<std::string> warnings(const Config& config) {
   std::vector<std::string> found;
   const bool slave = config.modbus.mode == ModbusMode::slave;
+  if (config.modbus.rtu)
+    found.push_back(fmt::format("{}: modbus.rtu is set, but this version serves Modbus TCP only; the serial line "
+                                "stays closed", config.file));
   for (const auto& block : config.blocks) {
     if (block.is_slave_block() != slave)
       found.push_back(fmt::format("{}: {} block ignored: {} blocks act in {} mode only, this bridge is a {}",
