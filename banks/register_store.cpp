@@ -98,14 +98,32 @@ std::size_t RegisterStore::store_telegram(BankId id, std::uint16_t offset, std::
   const std::size_t n = std::min<std::size_t>(values.size(), bank.length - offset);
   std::copy_n(values.begin(), n, bank.raw.begin() + offset);
   std::fill_n(bank.carried.begin() + offset, n, std::uint8_t{1});
+  publish_mapped_bits();
   return n;
 }
 
-void RegisterStore::set_online(BankId id, bool online) { bank_(id).online = online; }
+void RegisterStore::set_online(BankId id, bool online) {
+  bank_(id).online = online;
+  publish_mapped_bits();
+}
 
 void RegisterStore::write(BankId id, std::uint16_t offset, std::uint16_t value) {
   bank_(id).raw[offset] = value;
   notify(id, offset, value);
+  publish_mapped_bits();
+}
+
+void RegisterStore::publish_mapped_bits() {
+  const auto inputs = mapped_bits(mapping_.user_inputs);
+  const auto outputs = mapped_bits(mapping_.user_outputs);
+  if (inputs != published_user_inputs_) {
+    published_user_inputs_ = inputs;
+    notify(BankId::C, c_bank::user_binary_inputs, inputs);
+  }
+  if (outputs != published_user_outputs_) {
+    published_user_outputs_ = outputs;
+    notify(BankId::C, c_bank::user_binary_outputs, outputs);
+  }
 }
 
 void RegisterStore::set_user_output(unsigned n, std::uint16_t value) {
@@ -135,6 +153,7 @@ void RegisterStore::take_state_from(const RegisterStore& old) {
     bank_(id) = old.bank_(id);
   }
   modbus_error_ = old.modbus_error_;
+  publish_mapped_bits();
 }
 
 }  // namespace unima::banks

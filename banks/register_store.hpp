@@ -64,7 +64,10 @@ class RegisterStore {
   void set_user_output(unsigned n, std::uint16_t value);
   /// Banks A, B and C+0x10/+0x12 read their sources at every read, so a mapped register
   /// changes the moment its source does. Sources must not be A, B, C+0x10 or C+0x12.
-  void set_mapping(const Mapping& mapping) { mapping_ = mapping; }
+  void set_mapping(const Mapping& mapping) {
+    mapping_ = mapping;
+    publish_mapped_bits();
+  }
   /// The value of a source: a register, or 0/1 for a bit source. A bit of a register that
   /// is not measured reads 0, as bits of an off-line device do (SPEC §1).
   std::uint16_t read_source(const SourceRef& source) const;
@@ -98,6 +101,11 @@ class RegisterStore {
   BankShapes shapes_;
   std::array<Bank, bank_count> banks_;
   std::uint16_t mapped_bits(const std::array<std::optional<SourceRef>, Mapping::entries>& sources) const;
+  /// C+0x10 and C+0x12 are published like the user analog outputs; they change when their
+  /// sources do, so every change of a source checks them.
+  void publish_mapped_bits();
+  std::uint16_t published_user_inputs_ = 0;
+  std::uint16_t published_user_outputs_ = 0;
 
   bool modbus_error_ = false;
   Mapping mapping_;

@@ -50,8 +50,14 @@ std::uint16_t SimGenerator::value(const SimDevice& device, std::size_t device_in
       const bool on = ((step_ + identity) / (3 + identity % 5)) % 2 != 0;
       return static_cast<std::uint16_t>(on ? stable | (1u << flipping) : stable & ~(1u << flipping));
     }
-    case banks::RegisterKind::u32_low: return static_cast<std::uint16_t>((identity % 40000) + step_);
-    case banks::RegisterKind::u32_high: return static_cast<std::uint16_t>(identity % 50);
+    case banks::RegisterKind::u32_low:
+    case banks::RegisterKind::u32_high: {
+      // A 32-bit counter (operating hours, energy) that only goes up; both halves come
+      // from the pair's low-word offset so they stay consistent.
+      const std::uint16_t low_offset = kind == banks::RegisterKind::u32_low ? offset : offset - 1;
+      const std::uint64_t counter = mix(seed_ ^ mix(device_index * 131 + low_offset)) % 5'000'000 + step_;
+      return static_cast<std::uint16_t>(kind == banks::RegisterKind::u32_low ? counter & 0xFFFF : counter >> 16);
+    }
     case banks::RegisterKind::byte_pair:
       return static_cast<std::uint16_t>(((identity >> 8) % 128) << 8 | ((identity + step_) % 128));
     case banks::RegisterKind::ascii_pair: {

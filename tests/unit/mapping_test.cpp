@@ -155,6 +155,19 @@ TEST_F(Mapped, BankBAndUserBitsComposeTheirSourceBits) {
   EXPECT_EQ(read(0x1020 + 0x10), 0);
 }
 
+TEST_F(Mapped, UserBitsArePublishedWhenTheirSourcesChange) {
+  std::vector<std::tuple<BankId, std::uint16_t, std::uint16_t>> published;
+  store->set_change_listener([&](BankId b, std::uint16_t o, std::uint16_t v) { published.emplace_back(b, o, v); });
+  telegram(BankId::D1, 0x11, 0x0001);  // user_inputs bit 0
+  telegram(BankId::D1, 0x11, 0x0003);  // no change of bit 0: nothing more
+  std::uint16_t x = 0x0002;            // user_outputs bit 1 = X.1
+  ASSERT_TRUE(space->write(0x3010, std::span(&x, 1)));
+  store->set_online(BankId::D1, false);  // its bits read 0 now
+  const std::vector<std::tuple<BankId, std::uint16_t, std::uint16_t>> expected = {
+      {BankId::C, 0x10, 0x0001}, {BankId::X, 0, 0x0002}, {BankId::C, 0x12, 0x0002}, {BankId::C, 0x10, 0x0000}};
+  EXPECT_EQ(published, expected);
+}
+
 TEST_F(Mapped, ReadBlockReadsItsSource) {
   EXPECT_EQ(read(0x0200), 0x7FFF);
   telegram(BankId::D1, 0x01, 1500);

@@ -503,5 +503,22 @@ TEST(SimGenerator, ReserveRegistersAreZero) {
   EXPECT_GT(reserves, 0);
 }
 
+TEST(SimGenerator, ThirtyTwoBitCountersOnlyGoUp) {
+  SimGenerator sim(11, plant());
+  const auto& chp = table("unigen-chp");
+  const auto hours = chp.find("operating_hours_low");
+  ASSERT_NE(hours, nullptr);
+  std::uint32_t previous = 0;
+  for (int step = 0; step < 200; ++step) {
+    const auto telegrams = sim.tick();
+    const auto& values = telegrams[0].values;
+    const std::uint32_t counter = values[hours->offset] | std::uint32_t{values[hours->offset + 1]} << 16;
+    if (step > 0) {
+      EXPECT_EQ(counter, previous + 1);
+    }
+    previous = counter;
+  }
+}
+
 }  // namespace
 }  // namespace unima::unimabus
