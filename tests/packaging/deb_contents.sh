@@ -17,8 +17,8 @@ expect_entry -rw-r--r-- usr/lib/systemd/system/unima-bridge.service
 expect_entry -rw-r--r-- usr/lib/sysusers.d/unima-bridge.conf
 expect_entry -rw-r--r-- usr/lib/tmpfiles.d/unima-bridge.conf
 expect_entry -rw-r--r-- etc/unima-bridge/bridge.yaml
-expect_entry -rw-r--r-- usr/share/man/man8/unima-bridged.8
-expect_entry -rw-r--r-- usr/share/man/man1/unima-bridge.1
+expect_entry -rw-r--r-- usr/share/man/man8/unima-bridged.8.gz
+expect_entry -rw-r--r-- usr/share/man/man1/unima-bridge.1.gz
 for doc in README.md quickstart.md configuration.md operations.md examples/bridge.yaml examples/chp-site.yaml; do
   expect_entry -rw-r--r-- "usr/share/doc/unima-bridge/$doc"
 done
