@@ -1,3 +1,4 @@
+# shellcheck shell=bash
 # Shared by the packaging tests (sourced). CTest sets UNIMA_SOURCE_DIR, UNIMA_BUILD_DIR,
 # UNIMA_BRIDGE_CLI and UNIMA_DEB_DIR.
 set -euo pipefail
