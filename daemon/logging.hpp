@@ -4,8 +4,9 @@
 
 namespace unima::daemon {
 
-/// Logs to stderr; `level` is one of spdlog's names (trace .. off). Under systemd
-/// (JOURNAL_STREAM set) the journal adds the time itself, so the lines carry none.
+/// Logs to stderr; `level` is one of spdlog's names (trace .. off). When stderr is the
+/// journal (systemd's JOURNAL_STREAM names it), each line is "<priority>message": journald
+/// adds the time itself and files the line under that syslog priority.
 void setup_logging(const std::string& level);
 void set_log_level(const std::string& level);
 

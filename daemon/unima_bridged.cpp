@@ -13,31 +13,36 @@
 #include "daemon/asio.hpp"
 #include "daemon/bridge.hpp"
 #include "daemon/logging.hpp"
+#include "daemon/watchdog.hpp"
 
 namespace {
 
 constexpr const char* usage = "usage: unima-bridged --config FILE\n";
 
-void wait_for_signals(unima::asio::signal_set& signals, unima::daemon::Bridge& bridge, unima::asio::io_context& io,
-                      const std::string& config_path) {
+void wait_for_signals(unima::asio::signal_set& signals, unima::daemon::Bridge& bridge,
+                      unima::daemon::Watchdog& watchdog, unima::asio::io_context& io, const std::string& config_path) {
   signals.async_wait([&](const boost::system::error_code& ec, int signal) {
     if (ec) return;
     if (signal == SIGHUP) {
+      // sd_notify(3): systemd shows the unit "reloading" until READY=1 comes back.
       sd_notify(0, "RELOADING=1");
       spdlog::info("SIGHUP: reloading {}", config_path);
+      std::string status = "STATUS=running; reloaded " + config_path;
       try {
         auto config = unima::config::load_file(config_path);
         unima::daemon::set_log_level(config.log.level);
         bridge.reload(std::move(config));
       } catch (const std::exception& e) {
         spdlog::error("reload failed, the running config stays: {}", e.what());
+        status = std::string("STATUS=reload failed, running the previous config: ") + e.what();
       }
-      sd_notify(0, "READY=1");
-      wait_for_signals(signals, bridge, io, config_path);
+      sd_notify(0, ("READY=1\n" + status).c_str());
+      wait_for_signals(signals, bridge, watchdog, io, config_path);
       return;
     }
     spdlog::info("{}: stopping", signal == SIGTERM ? "SIGTERM" : "SIGINT");
     sd_notify(0, "STOPPING=1");
+    watchdog.stop();
     bridge.stop();
     io.stop();
   });
@@ -69,22 +74,25 @@ int main(int argc, char** argv) {
     return 2;
   }
 
+  unima::daemon::setup_logging("info");  // until the config names its level
   unima::config::Config config;
   try {
     config = unima::config::load_file(config_path);
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "unima-bridged: %s\n", e.what());
+    spdlog::error("{}", e.what());
     return 1;
   }
-  unima::daemon::setup_logging(config.log.level);
+  unima::daemon::set_log_level(config.log.level);
 
   try {
     unima::asio::io_context io(1);
     unima::asio::signal_set signals(io, SIGTERM, SIGINT, SIGHUP);
     unima::daemon::Bridge bridge(io, std::move(config));
+    unima::daemon::Watchdog watchdog(io);
     bridge.start();
-    wait_for_signals(signals, bridge, io, config_path);
-    sd_notify(0, "READY=1");
+    wait_for_signals(signals, bridge, watchdog, io, config_path);
+    watchdog.start();
+    sd_notify(0, ("READY=1\nSTATUS=running; config " + config_path).c_str());
     spdlog::info("unima-bridged " UNIMA_VERSION " running");
     io.run();
   } catch (const std::exception& e) {

@@ -8,6 +8,8 @@ packages=(
   libmodbus-dev libboost-dev libyaml-cpp-dev libspdlog-dev libfmt-dev libsystemd-dev
   nlohmann-json3-dev googletest libgtest-dev
   mbpoll socat
+  # packaging tests: systemd-analyze, systemd-sysusers/-tmpfiles, man, dpkg-shlibdeps, shellcheck
+  systemd man-db groff-base dpkg-dev shellcheck
 )
 
 missing=()

@@ -14,6 +14,7 @@
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
+#include <string_view>
 #include <thread>
 
 namespace unima::test {
@@ -58,16 +59,30 @@ TempDir::~TempDir() {
   std::filesystem::remove_all(path_, ec);
 }
 
-Daemon::Daemon(const TempDir& dir, const std::string& config_yaml)
+Daemon::Daemon(const TempDir& dir, const std::string& config_yaml, const std::vector<std::string>& environment)
     : config_path_(dir.path() / "bridge.yaml"), log_path_(dir.path() / "daemon.log") {
   rewrite_config(config_yaml);
+  // Built before fork: the child only calls what is safe between fork and exec.
+  std::vector<std::string> variables;
+  const auto overridden = [&](std::string_view inherited) {
+    for (const auto& v : environment)
+      if (inherited.substr(0, inherited.find('=') + 1) == v.substr(0, v.find('=') + 1)) return true;
+    return false;
+  };
+  for (char** v = environ; *v != nullptr; ++v)
+    if (!overridden(*v)) variables.emplace_back(*v);
+  variables.insert(variables.end(), environment.begin(), environment.end());
+  std::vector<char*> envp;
+  for (auto& v : variables) envp.push_back(v.data());
+  envp.push_back(nullptr);
+  const char* const argv[] = {UNIMA_BRIDGED, "--config", config_path_.c_str(), nullptr};
   pid_ = ::fork();
   if (pid_ < 0) throw std::runtime_error("fork");
   if (pid_ == 0) {
     const int log = ::open(log_path_.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
     ::dup2(log, STDOUT_FILENO);
     ::dup2(log, STDERR_FILENO);
-    ::execl(UNIMA_BRIDGED, UNIMA_BRIDGED, "--config", config_path_.c_str(), static_cast<char*>(nullptr));
+    ::execve(UNIMA_BRIDGED, const_cast<char* const*>(argv), envp.data());
     ::_exit(127);
   }
 }

@@ -37,8 +37,9 @@ class TempDir {
 /// The daemon as a child process; killed when the object goes.
 class Daemon {
  public:
-  /// Writes `config_yaml` to DIR/bridge.yaml and starts unima-bridged on it.
-  Daemon(const TempDir& dir, const std::string& config_yaml);
+  /// Writes `config_yaml` to DIR/bridge.yaml and starts unima-bridged on it; its stdout and
+  /// stderr go to DIR/daemon.log. `environment` ("NAME=value") adds to the inherited one.
+  Daemon(const TempDir& dir, const std::string& config_yaml, const std::vector<std::string>& environment = {});
   ~Daemon();
 
   void rewrite_config(const std::string& config_yaml) const;

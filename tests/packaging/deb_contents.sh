@@ -1,0 +1,49 @@
+#!/usr/bin/env bash
+# What the .deb holds (dpkg-deb -c) and declares (dpkg-deb -I), and that Debian 12's apt
+# can satisfy its dependencies here.
+. "$(dirname "$0")/lib.sh"
+deb=$(ls "$UNIMA_DEB_DIR"/unima-bridge_*.deb)
+version=$(sed -n 's/^CPACK_PACKAGE_VERSION "\(.*\)"$/\1/p; s/^set(CPACK_PACKAGE_VERSION "\(.*\)")$/\1/p' \
+  "$UNIMA_BUILD_DIR/CPackConfig.cmake" | head -n1)
+[ "$(basename "$deb")" = "unima-bridge_${version}_$(dpkg --print-architecture).deb" ] || fail "file name $(basename "$deb")"
+
+dpkg-deb -c "$deb" | awk '{ print $1, $2, $6 }' >"$scratch/contents"
+expect_entry() {  # mode, path
+  grep -qxF -- "$1 root/root ./$2" "$scratch/contents" || { cat "$scratch/contents" >&2; fail "no $1 ./$2 owned by root"; }
+}
+expect_entry -rwxr-xr-x usr/sbin/unima-bridged
+expect_entry -rwxr-xr-x usr/bin/unima-bridge
+expect_entry -rw-r--r-- usr/lib/systemd/system/unima-bridge.service
+expect_entry -rw-r--r-- usr/lib/sysusers.d/unima-bridge.conf
+expect_entry -rw-r--r-- usr/lib/tmpfiles.d/unima-bridge.conf
+expect_entry -rw-r--r-- etc/unima-bridge/bridge.yaml
+expect_entry -rw-r--r-- usr/share/man/man8/unima-bridged.8.gz
+expect_entry -rw-r--r-- usr/share/man/man1/unima-bridge.1.gz
+for doc in README.md quickstart.md configuration.md operations.md examples/bridge.yaml examples/chp-site.yaml; do
+  expect_entry -rw-r--r-- "usr/share/doc/unima-bridge/$doc"
+done
+if grep -q '\./usr/local\|\./tmp\|_CPack' "$scratch/contents"; then fail "stray paths in the package"; fi
+
+dpkg-deb -I "$deb" >"$scratch/info"
+field() { dpkg-deb -f "$deb" "$1"; }
+[ "$(field Package)" = unima-bridge ] || fail "Package: $(field Package)"
+[ "$(field Version)" = "$version" ] || fail "Version: $(field Version)"
+[ "$(field Architecture)" = "$(dpkg --print-architecture)" ] || fail "Architecture: $(field Architecture)"
+[ "$(field Section)" = net ] || fail "Section: $(field Section)"
+[ -n "$(field Maintainer)" ] || fail "no Maintainer"
+depends=$(field Depends)
+for lib in libc6 libstdc++6 libyaml-cpp0.7 libspdlog1.10 libfmt9 libsystemd0 "systemd | systemd-standalone-sysusers"; do
+  grep -qF -- "$lib" <<<"$depends" || fail "Depends lacks $lib: $depends"
+done
+for script in postinst prerm postrm; do
+  grep -qE "^ +[0-9]+ bytes, +[0-9]+ lines +\* +$script +#!/bin/sh" "$scratch/info" || { cat "$scratch/info" >&2; fail "no executable $script"; }
+done
+dpkg-deb --ctrl-tarfile "$deb" | tar -xO ./conffiles >"$scratch/conffiles"
+expect_line "$scratch/conffiles" /etc/unima-bridge/bridge.yaml
+
+# The unit in the package runs the packaged daemon on the packaged config.
+dpkg-deb --fsys-tarfile "$deb" | tar -xO ./usr/lib/systemd/system/unima-bridge.service >"$scratch/unit"
+expect_line "$scratch/unit" "ExecStart=/usr/sbin/unima-bridged --config /etc/unima-bridge/bridge.yaml"
+cmp -s "$scratch/unit" "$UNIMA_SOURCE_DIR/systemd/unima-bridge.service" || fail "the packaged unit differs from systemd/"
+
+apt-get install --simulate "$deb" >"$scratch/apt" 2>&1 || { cat "$scratch/apt" >&2; fail "apt cannot satisfy the dependencies"; }
