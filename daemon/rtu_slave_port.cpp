@@ -86,8 +86,6 @@ void RtuSlavePort::open() {
   spdlog::info("modbus rtu: {}serving unit {} on {} at {} baud, 8{}{}", failing_ ? "line back, " : "",
                context_.unit_id, line_.device, line_.baud, parity_letter(line_.parity), line_.stop_bits);
   failing_ = false;
-  reopen_delay_ = first_reopen_delay;
-  framer_.reset();
   read();
 }
 
@@ -152,6 +150,9 @@ void RtuSlavePort::read() {
   port_.async_read_some(asio::buffer(in_), [this, g = guard()](const boost::system::error_code& ec, std::size_t n) {
     if (!valid(g) || ec == asio::error::operation_aborted) return;
     if (ec) return lost(ec == asio::error::eof ? "end of file" : ec.message());
+    // Only a line that delivers bytes has come back for good: one that opens and fails
+    // at once keeps its back-off growing.
+    reopen_delay_ = first_reopen_delay;
     handle(framer_.feed(std::span<const std::uint8_t>(in_.data(), n), RtuClock::now()));
     arm_silence_timer();
     read();
