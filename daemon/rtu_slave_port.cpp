@@ -75,8 +75,10 @@ void RtuSlavePort::open() {
   } catch (const std::exception& e) {
     boost::system::error_code ignored;
     port_.close(ignored);
-    if (!failing_) spdlog::error("modbus rtu: {}; retrying, every {} s at most", e.what(), longest_reopen_delay.count() / 1000);
-    else spdlog::debug("modbus rtu: {}", e.what());
+    if (!failing_)
+      spdlog::error("modbus rtu: {}; retrying, every {} s at most", e.what(), longest_reopen_delay.count() / 1000);
+    else
+      spdlog::debug("modbus rtu: {}", e.what());
     failing_ = true;
     schedule_reopen();
     return;
@@ -280,14 +282,15 @@ void RtuSlavePort::write_next() {
     return;
   }
   if (line_.rs485 == config::Rs485Direction::rts) set_rts(port_.native_handle(), true);
-  asio::async_write(port_, asio::buffer(next.bytes), [this, g = guard()](const boost::system::error_code& ec, std::size_t) {
-    if (!valid(g) || ec == asio::error::operation_aborted) return;
-    if (ec) return lost(ec.message());
-    if (line_.rs485 == config::Rs485Direction::rts) return release_line_after_sending();
-    out_.pop_front();
-    sending_ = false;
-    write_next();
-  });
+  asio::async_write(port_, asio::buffer(next.bytes),
+                    [this, g = guard()](const boost::system::error_code& ec, std::size_t) {
+                      if (!valid(g) || ec == asio::error::operation_aborted) return;
+                      if (ec) return lost(ec.message());
+                      if (line_.rs485 == config::Rs485Direction::rts) return release_line_after_sending();
+                      out_.pop_front();
+                      sending_ = false;
+                      write_next();
+                    });
 }
 
 // With RTS direction control the driver must stay enabled until the last stop bit has

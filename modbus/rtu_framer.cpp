@@ -200,7 +200,8 @@ void RtuFramer::expect_after(const RtuFrame& frame) {
   if (frame.bytes.size() == 8) {
     const unsigned quantity = static_cast<unsigned>(frame.bytes[4] << 8 | frame.bytes[5]);
     unsigned byte_count = 0;
-    if (e.function == function::read_coils || e.function == function::read_discrete_inputs) byte_count = (quantity + 7) / 8;
+    if (e.function == function::read_coils || e.function == function::read_discrete_inputs)
+      byte_count = (quantity + 7) / 8;
     if (e.function == function::read_holding_registers || e.function == function::read_input_registers)
       byte_count = 2 * quantity;
     // A count a slave must refuse gets an exception, whose length does not depend on it.

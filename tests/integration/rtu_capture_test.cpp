@@ -68,7 +68,16 @@ TEST_F(RtuCapture, OtherDevicesRegistersAndBrokenFramesAreNotCaptured) {
   expect_next_reply_is_to_a_read_of_w(not_measured);
 }
 
-TEST_F(RtuCapture, AFrameSplitAtEveryByteIsCapturedOnce) {
+// 1200 baud (t3.5 = 29 ms): a test process held up between two bytes is no silence.
+class RtuCaptureSlowLine : public RtuCapture {
+ protected:
+  void SetUp() override {
+    baud = 1200;
+    RtuCapture::SetUp();
+  }
+};
+
+TEST_F(RtuCaptureSlowLine, AFrameSplitAtEveryByteIsCapturedOnce) {
   const auto write = rtu_adu(3, {0x06, 0x02, 0x02, 0x01, 0x00});
   for (std::uint8_t b : write) line->write(Bytes{b});
   EXPECT_TRUE(feed->wait_for_line(R"({"bank":"C","offset":1,"value":256})"));

@@ -56,7 +56,13 @@ void PtyLine::close_terminal() {
   master_ = slave_ = -1;
 }
 
-void PtyLine::hang_up() { close_terminal(); }
+// The link goes too, as a device node does: /dev/pts/N is free for the next terminal
+// anyone opens, and the daemon must not find another test's line behind a stale link.
+void PtyLine::hang_up() {
+  close_terminal();
+  std::error_code ec;
+  fs::remove(link_, ec);
+}
 
 void PtyLine::replace() {
   close_terminal();

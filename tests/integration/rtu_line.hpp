@@ -31,7 +31,7 @@ class PtyLine {
   void write(const Bytes& bytes) const;
   /// Exactly n bytes, or fewer at the deadline.
   Bytes read(std::size_t n, std::chrono::milliseconds timeout = 3000ms) const;
-  /// Closes the terminal: the daemon's reads fail and the link points nowhere.
+  /// Closes the terminal and removes the link: the daemon's reads fail, its opens too.
   void hang_up();
   /// A new terminal behind the same link.
   void replace();
