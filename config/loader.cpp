@@ -359,17 +359,14 @@ std::vector<const Block*> Config::active_blocks() const {
 std::vector<std::string> warnings(const Config& config) {
   std::vector<std::string> found;
   const bool slave = config.modbus.mode == ModbusMode::slave;
-  if (config.modbus.rtu)
-    found.push_back(fmt::format("{}: modbus.rtu is set, but this version serves Modbus TCP only; the serial line "
-                                "stays closed", config.file));
   for (const auto& block : config.blocks) {
     if (block.is_slave_block() != slave)
       found.push_back(fmt::format("{}: {} block ignored: {} blocks act in {} mode only, this bridge is a {}",
                                   block.origin, block_type_name(block.type), block_type_name(block.type),
                                   block.is_slave_block() ? "slave" : "master", slave ? "slave" : "master"));
-    else if (block.type == Block::Type::capture)
-      found.push_back(fmt::format("{}: capture block inactive: capture listens on a Modbus RTU line, and this "
-                                  "version serves Modbus TCP only", block.origin));
+    else if (block.type == Block::Type::capture && !config.modbus.rtu)
+      found.push_back(fmt::format("{}: capture block inactive: capture listens on a Modbus RTU line, and "
+                                  "modbus.rtu is not set", block.origin));
   }
   return found;
 }

@@ -7,6 +7,7 @@
 #include "daemon/feed_transport.hpp"
 #include "daemon/sim_transport.hpp"
 #include "modbus/bank_model.hpp"
+#include "modbus/capture.hpp"
 #include "unimabus/feed_codec.hpp"
 
 namespace unima::daemon {
@@ -20,6 +21,7 @@ struct Bridge::Core {
   std::unique_ptr<modbus::BankModel> model;
   std::unique_ptr<unimabus::TelegramRouter> router;
   std::unique_ptr<unimabus::Presence> presence;
+  std::vector<modbus::CaptureRule> capture_rules;
 };
 
 namespace {
@@ -29,6 +31,19 @@ std::vector<std::pair<BankId, std::uint8_t>> device_addresses(const config::Conf
   for (unsigned n = 1; n <= 4; ++n)
     if (const auto& device = config.devices[n - 1]) addresses.emplace_back(banks::device_bank(n), device->address);
   return addresses;
+}
+
+std::vector<modbus::CaptureRule> capture_rules(const config::Config& config) {
+  std::vector<modbus::CaptureRule> rules;
+  for (const auto* block : config.active_blocks())
+    if (block->type == config::Block::Type::capture) rules.push_back({block->device, block->reg, block->output});
+  return rules;
+}
+
+// In master mode the line belongs to the master (SPEC §3).
+std::optional<config::RtuConfig> slave_line(const config::Config& config) {
+  if (config.modbus.mode != config::ModbusMode::slave) return std::nullopt;
+  return config.modbus.rtu;
 }
 
 std::string describe_bank(const config::Config& config, BankId bank) {
@@ -51,6 +66,7 @@ Bridge::Bridge(asio::io_context& io, config::Config config)
       presence_timer_(io) {
   transport_ = make_transport(core_->config);
   tcp_ = make_tcp_server(core_->config);
+  rtu_ = make_rtu_port(core_->config);
   core_->store->set_change_listener([this](BankId bank, std::uint16_t offset, std::uint16_t value) {
     if (transport_) transport_->publish(bank, offset, value);
   });
@@ -70,6 +86,7 @@ std::unique_ptr<Bridge::Core> Bridge::build_core(config::Config config) const {
   core->router = std::make_unique<unimabus::TelegramRouter>(
       unimabus::standard_routes(config.unimabus.address, *core->store, device_addresses(config)), *core->store);
   core->presence = std::make_unique<unimabus::Presence>(config.unimabus.offline_after);
+  core->capture_rules = capture_rules(config);
   core->config = std::move(config);
   return core;
 }
@@ -100,6 +117,36 @@ std::unique_ptr<TcpSlaveServer> Bridge::make_tcp_server(const config::Config& co
   }
 }
 
+std::unique_ptr<RtuSlavePort> Bridge::make_rtu_port(const config::Config& config) {
+  const auto line = slave_line(config);
+  if (!line) return nullptr;
+  auto port = std::make_unique<RtuSlavePort>(io_, *line, rtu_context());
+  port->set_foreign_listener([this](std::span<const std::uint8_t> query, std::span<const std::uint8_t> response) {
+    on_foreign_exchange(query, response);
+  });
+  return port;
+}
+
+SlaveContext Bridge::rtu_context() const {
+  auto context = slave_context();
+  context.options.max_read_registers = modbus::max_read_registers_rtu;
+  return context;
+}
+
+// Capture blocks (SPEC §4): a write is taken from the master's request, a read from the
+// foreign slave's response.
+void Bridge::on_foreign_exchange(std::span<const std::uint8_t> query, std::span<const std::uint8_t> response) {
+  const auto& rules = core_->capture_rules;
+  if (rules.empty()) return;
+  const auto captured = response.empty() ? modbus::captured_writes(rules, query)
+                                         : modbus::captured_reads(rules, query, response);
+  for (const auto& c : captured) {
+    core_->store->set_user_output(c.output, c.value);
+    spdlog::debug("capture: user output {} = {} ({} of device {})", c.output, c.value,
+                  c.via == modbus::Captured::Via::write ? "write" : "read", query[0]);
+  }
+}
+
 SlaveContext Bridge::slave_context() const {
   SlaveContext context;
   context.registers = core_->model.get();
@@ -127,11 +174,13 @@ void Bridge::start() {
                    core_->config.bank_bases[index_of(banks::device_bank(n))], core_->store->length(banks::device_bank(n)));
   if (transport_) transport_->start();
   if (tcp_) tcp_->start();
+  if (rtu_) rtu_->start();
 }
 
 void Bridge::stop() {
   if (!started_) return;
   started_ = false;
+  if (rtu_) rtu_->stop();
   if (tcp_) tcp_->stop();
   if (transport_) transport_->stop();
   presence_timer_.cancel();
@@ -142,6 +191,11 @@ namespace {
 bool same_endpoint(const std::optional<config::TcpSlaveConfig>& a, const std::optional<config::TcpSlaveConfig>& b) {
   if (a.has_value() != b.has_value()) return false;
   return !a || (a->listen == b->listen && a->port == b->port);
+}
+bool same_line(const std::optional<config::RtuConfig>& a, const std::optional<config::RtuConfig>& b) {
+  if (a.has_value() != b.has_value()) return false;
+  return !a || (a->device == b->device && a->baud == b->baud && a->parity == b->parity &&
+                a->stop_bits == b->stop_bits && a->rs485 == b->rs485 && a->low_latency == b->low_latency);
 }
 bool same_feed(const config::UnimabusConfig& a, const config::UnimabusConfig& b) {
   return a.transport == config::TransportKind::feed && b.transport == config::TransportKind::feed && a.listen == b.listen;
@@ -158,6 +212,7 @@ void Bridge::reload(config::Config config) {
   if (!same_feed(old_config.unimabus, new_config.unimabus)) new_transport = make_transport(new_config);
   std::unique_ptr<TcpSlaveServer> new_tcp;
   const bool same_tcp = same_endpoint(old_config.modbus.tcp, new_config.modbus.tcp);
+  const bool same_rtu = same_line(slave_line(old_config), slave_line(new_config));
   if (!same_tcp) {
     if (tcp_) tcp_->stop();  // the new server may want the same port on another address
     try {
@@ -199,6 +254,15 @@ void Bridge::reload(config::Config config) {
     const auto& tcp = *core_->config.modbus.tcp;
     tcp_->set_limits(tcp.max_clients, tcp.idle_timeout);
     tcp_->set_context(slave_context());
+  }
+  // The serial line is reopened only when its settings changed; opening never throws (a
+  // line that cannot be opened is retried), so this comes after the commit.
+  if (!same_rtu) {
+    if (rtu_) rtu_->stop();
+    rtu_ = make_rtu_port(core_->config);
+    if (rtu_) rtu_->start();
+  } else if (rtu_) {
+    rtu_->set_context(rtu_context());
   }
   for (const auto& warning : config::warnings(core_->config)) spdlog::warn("{}", warning);
   spdlog::info("bridge: reloaded {}", core_->config.file);

@@ -10,6 +10,7 @@
 #include "config/config.hpp"
 #include "daemon/asio.hpp"
 #include "daemon/error_hold.hpp"
+#include "daemon/rtu_slave_port.hpp"
 #include "daemon/slave_context.hpp"
 #include "daemon/tcp_slave_server.hpp"
 #include "unimabus/presence.hpp"
@@ -45,7 +46,10 @@ class Bridge {
   std::unique_ptr<Core> build_core(config::Config config) const;
   std::unique_ptr<unimabus::Transport> make_transport(const config::Config& config);
   std::unique_ptr<TcpSlaveServer> make_tcp_server(const config::Config& config) const;
+  std::unique_ptr<RtuSlavePort> make_rtu_port(const config::Config& config);
   SlaveContext slave_context() const;
+  SlaveContext rtu_context() const;
+  void on_foreign_exchange(std::span<const std::uint8_t> query, std::span<const std::uint8_t> response);
   std::string on_telegram(const unimabus::Telegram& telegram);
   std::string snapshot() const;
   void watch_presence();
@@ -56,6 +60,7 @@ class Bridge {
   ErrorHold error_hold_;
   std::unique_ptr<unimabus::Transport> transport_;
   std::unique_ptr<TcpSlaveServer> tcp_;
+  std::unique_ptr<RtuSlavePort> rtu_;
   asio::steady_timer presence_timer_;
   bool presence_timer_armed_ = false;
   bool started_ = false;

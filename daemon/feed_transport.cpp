@@ -178,6 +178,14 @@ std::string describe_peer(const asio::ip::tcp::socket& socket, const std::string
   return ec ? std::string("?") : remote.address().to_string() + ":" + std::to_string(remote.port());
 }
 std::string describe_peer(const asio::local::stream_protocol::socket&, const std::string& listen) { return listen; }
+
+// Changes go out one small line at a time (a captured value, a W write) and a driver waits
+// for each: Nagle's algorithm would hold a line until the previous one is acknowledged.
+void send_at_once(asio::ip::tcp::socket& socket) {
+  boost::system::error_code ec;
+  socket.set_option(asio::ip::tcp::no_delay(true), ec);
+}
+void send_at_once(asio::local::stream_protocol::socket&) {}
 }  // namespace
 
 template <typename Acceptor>
@@ -188,6 +196,7 @@ void FeedTransport::accept(Acceptor& acceptor) {
       spdlog::warn("feed: accept failed: {}", ec.message());
     } else {
       auto peer = describe_peer(socket, listen_);
+      send_at_once(socket);
       spdlog::info("feed: {} connected", peer);
       using SessionType = SocketSession<typename Acceptor::protocol_type::socket>;
       adopt(std::make_shared<SessionType>(std::move(socket), std::move(peer), on_telegram_,

@@ -1,0 +1,88 @@
+// Capture blocks on the RTU line (MBS_RegC, seed 004 §7.1, SPEC §4): the test plays a
+// third-party master and the foreign slave 3 on the same line; the bridge takes the
+// value of register 0x0202 of device 3 into user output 2 (C+0x01), publishes it to
+// UnimaBUS, and never answers.
+
+#include "tests/integration/rtu_fixture.hpp"
+
+namespace unima::test {
+namespace {
+
+constexpr std::uint16_t not_measured = 0x7FFF;
+
+class RtuCapture : public RtuTest {
+ protected:
+  void SetUp() override {
+    RtuTest::SetUp();
+    start_rtu("blocks:\n  - { type: capture, device: 3, register: 0x0202, output: 2 }\n");
+    feed = std::make_unique<Socket>(feed_client());
+  }
+  std::uint16_t user_output_2() {
+    ModbusClient tcp(config.modbus_port);
+    const auto value = tcp.read_input(0x1021, 1);  // C+0x01 at the default base
+    return value ? (*value)[0] : 0;
+  }
+  std::unique_ptr<Socket> feed;
+};
+
+TEST_F(RtuCapture, AForeignWriteIsCapturedAndNotAnswered) {
+  const auto write = rtu_adu(3, {0x06, 0x02, 0x02, 0x00, 0x2A});
+  line->write(write);
+  line->write(write);  // slave 3 echoes it
+  EXPECT_TRUE(feed->wait_for_line(R"({"bank":"C","offset":1,"value":42})"));
+  EXPECT_EQ(user_output_2(), 42);
+  expect_next_reply_is_to_a_read_of_w(not_measured);
+}
+
+TEST_F(RtuCapture, AForeignReadIsCapturedFromTheSlavesResponse) {
+  line->write(rtu_adu(3, {0x04, 0x02, 0x00, 0x00, 0x04}));  // 0x0200..0x0203
+  line->write(rtu_adu(3, {0x04, 0x08, 0x00, 0x01, 0x00, 0x02, 0x01, 0x2C, 0x00, 0x04}));
+  EXPECT_TRUE(feed->wait_for_line(R"({"bank":"C","offset":1,"value":300})"));
+  // Function 3 too (an extension of the seed's function 4).
+  line->write(rtu_adu(3, {0x03, 0x02, 0x02, 0x00, 0x01}));
+  line->write(rtu_adu(3, {0x03, 0x02, 0x01, 0x2D}));
+  EXPECT_TRUE(feed->wait_for_line(R"({"bank":"C","offset":1,"value":301})"));
+  expect_next_reply_is_to_a_read_of_w(not_measured);
+}
+
+TEST_F(RtuCapture, OtherDevicesRegistersAndBrokenFramesAreNotCaptured) {
+  line->write(rtu_adu(4, {0x06, 0x02, 0x02, 0x00, 0x01}));  // another device
+  line->write(rtu_adu(3, {0x06, 0x02, 0x03, 0x00, 0x02}));  // another register
+  auto broken = rtu_adu(3, {0x06, 0x02, 0x02, 0x00, 0x03});
+  broken[5] ^= 0x10;                                        // a bad CRC
+  line->write(broken);
+  line->write(rtu_adu(3, {0x04, 0x02, 0x02, 0x00, 0x01}));  // a read answered with an exception
+  line->write(rtu_adu(3, {0x84, 0x02}));
+  line->write(rtu_adu(3, {0x06, 0x02, 0x02, 0x00, 0x05}));  // and then the one that counts
+  // The first capture the feed client sees is the last write: none of the others set it.
+  std::optional<std::string> first;
+  ASSERT_TRUE(eventually([&] {
+    while (auto line_read = feed->read_line(100ms))
+      if (line_read->starts_with(R"({"bank":"C","offset":1,)")) {
+        first = line_read;
+        return true;
+      }
+    return false;
+  }));
+  EXPECT_EQ(*first, R"({"bank":"C","offset":1,"value":5})");
+  expect_next_reply_is_to_a_read_of_w(not_measured);
+}
+
+// 1200 baud (t3.5 = 29 ms): a test process held up between two bytes is no silence.
+class RtuCaptureSlowLine : public RtuCapture {
+ protected:
+  void SetUp() override {
+    baud = 1200;
+    RtuCapture::SetUp();
+  }
+};
+
+TEST_F(RtuCaptureSlowLine, AFrameSplitAtEveryByteIsCapturedOnce) {
+  const auto write = rtu_adu(3, {0x06, 0x02, 0x02, 0x01, 0x00});
+  for (std::uint8_t b : write) line->write(Bytes{b});
+  EXPECT_TRUE(feed->wait_for_line(R"({"bank":"C","offset":1,"value":256})"));
+  EXPECT_EQ(user_output_2(), 256);
+}
+
+}  // namespace
+}  // namespace unima::test

@@ -1,0 +1,82 @@
+#pragma once
+// The test's side of a Modbus RTU line. A pseudo-terminal whose slave side the daemon
+// opens through a symlink, so that the line can go away and come back at the same path as
+// a USB adapter does; the test holds the master side and plays the rest of the bus: the
+// bus master, foreign slaves, noise. And socat joining two pseudo-terminals, for a
+// libmodbus RTU master on one end and the daemon on the other.
+
+#include <sys/types.h>
+
+#include <modbus/modbus.h>
+
+#include <filesystem>
+#include <optional>
+#include <vector>
+
+#include "tests/integration/harness.hpp"
+
+namespace unima::test {
+
+/// An RTU ADU: address, PDU, CRC low byte first.
+Bytes rtu_adu(std::uint8_t address, const Bytes& pdu);
+
+class PtyLine {
+ public:
+  explicit PtyLine(std::filesystem::path link);
+  ~PtyLine();
+  PtyLine(const PtyLine&) = delete;
+  PtyLine& operator=(const PtyLine&) = delete;
+
+  const std::filesystem::path& link() const { return link_; }
+  void write(const Bytes& bytes) const;
+  /// Exactly n bytes, or fewer at the deadline.
+  Bytes read(std::size_t n, std::chrono::milliseconds timeout = 3000ms) const;
+  /// Closes the terminal and removes the link: the daemon's reads fail, its opens too.
+  void hang_up();
+  /// A new terminal behind the same link.
+  void replace();
+
+ private:
+  void open_terminal();
+  void close_terminal();
+  std::filesystem::path link_;
+  int master_ = -1;
+  int slave_ = -1;  // kept open, so that the master side never sees a hang-up of its own
+};
+
+/// socat joining two pseudo-terminals at `a` and `b`; killed when the object goes.
+class SocatLink {
+ public:
+  SocatLink(const std::filesystem::path& a, const std::filesystem::path& b);
+  ~SocatLink();
+  SocatLink(const SocatLink&) = delete;
+  SocatLink& operator=(const SocatLink&) = delete;
+  bool ready() const { return ready_; }
+
+ private:
+  pid_t pid_ = -1;
+  bool ready_ = false;
+};
+
+/// libmodbus as an RTU master on a serial device.
+class RtuMaster {
+ public:
+  RtuMaster(const std::filesystem::path& device, int baud, int unit = 1);
+  ~RtuMaster();
+  RtuMaster(const RtuMaster&) = delete;
+  RtuMaster& operator=(const RtuMaster&) = delete;
+
+  bool connected() const { return connected_; }
+  std::optional<std::vector<std::uint16_t>> read_input(int address, int count);
+  std::optional<std::vector<std::uint16_t>> read_holding(int address, int count);
+  bool write(int address, std::uint16_t value);
+  bool write_many(int address, const std::vector<std::uint16_t>& values);
+  int last_error() const { return last_error_; }
+
+ private:
+  modbus_t* ctx_ = nullptr;
+  bool connected_ = false;
+  int last_error_ = 0;
+};
+
+}  // namespace unima::test
