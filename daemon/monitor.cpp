@@ -1,5 +1,7 @@
 #include "daemon/monitor.hpp"
 
+#include <spdlog/spdlog.h>
+
 #include "daemon/monitor_sinks.hpp"
 #include "modbus/adu_view.hpp"
 #include "modbus/register_capture.hpp"
@@ -32,6 +34,9 @@ std::unique_ptr<MonitorWriter> Monitor::make_writer(const config::MonitorConfig&
   MonitorWriter::Options options;
   options.format = config.format == config::MonitorFormat::json ? modbus::MonitorFormat::json : modbus::MonitorFormat::text;
   options.capacity = config.queue;
+  spdlog::info("monitor: logging to {}{}{} ({}, filter {})", config.file, !config.file.empty() && config.to_stdout ? " and " : "",
+               config.to_stdout ? "stdout" : "", config.format == config::MonitorFormat::json ? "json" : "text",
+               filter_of(config.filter).describe());
   return std::make_unique<MonitorWriter>(std::move(sinks), options);
 }
 
@@ -42,7 +47,9 @@ bool Monitor::same_log(const config::MonitorConfig& a, const config::MonitorConf
 
 void Monitor::reconfigure(const config::MonitorConfig& config, std::unique_ptr<MonitorWriter> writer) {
   if (!same_log(config_, config)) replace_writer(std::move(writer));
-  filter_ = filter_of(config.filter);
+  const auto filter = filter_of(config.filter);
+  if (writer_ && !(filter == filter_)) spdlog::info("monitor: filter {}", filter.describe());
+  filter_ = filter;
   modbus::CaptureIndicators indicators(indicator_specs(config));
   indicators.take_readings_from(indicators_);
   indicators_ = std::move(indicators);

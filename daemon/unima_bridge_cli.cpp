@@ -8,13 +8,20 @@
 
 #include "banks/bank_id.hpp"
 #include "config/config.hpp"
+#include "daemon/cli_monitor.hpp"
+#include "daemon/cli_status.hpp"
 
 namespace {
 
 constexpr const char* usage =
     "usage: unima-bridge check --config FILE\n"
+    "       unima-bridge status [--watch] [--json] [--socket PATH | --config FILE]\n"
+    "       unima-bridge monitor [--follow] [--filter EXPR] [--json] [--config FILE] [LOG]\n"
     "\n"
-    "  check   validate a config; exit 0 when it is good, 1 with the errors when not\n";
+    "  check    validate a config; exit 0 when it is good, 1 with the errors when not\n"
+    "  status   the front panel of the running daemon: mode, activity, Error, D_N/S_N on-line,\n"
+    "           capture indicators, counters\n"
+    "  monitor  read, filter and follow the monitor log (one line per Modbus transaction)\n";
 
 int check(const std::string& path) {
   try {
@@ -58,6 +65,8 @@ int main(int argc, char** argv) {
     }
     return check(path);
   }
+  if (args[0] == "status") return unima::daemon::status_command({args.begin() + 1, args.end()});
+  if (args[0] == "monitor") return unima::daemon::monitor_command({args.begin() + 1, args.end()});
   std::fprintf(stderr, "unima-bridge: unknown command '%s'\n%s", args[0].c_str(), usage);
   return 2;
 }
