@@ -3,6 +3,8 @@
 
 #include <unistd.h>
 
+#include <algorithm>
+
 #include <nlohmann/json.hpp>
 
 #include "banks/register_space.hpp"
@@ -21,15 +23,18 @@ using banks::BankId;
 // An LED that blinks on traffic reads "active" while the last frame is this recent.
 constexpr auto activity_window = std::chrono::seconds(1);
 
-nlohmann::json activity(const std::optional<SteadyClock::time_point>& last, SteadyClock::time_point now) {
+// How long ago, never negative (the wall clock may have been set back since).
+template <typename Clock>
+std::optional<std::chrono::milliseconds> age(const std::optional<typename Clock::time_point>& last) {
+  if (!last) return std::nullopt;
+  return std::max(std::chrono::milliseconds(0),
+                  std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - *last));
+}
+
+nlohmann::json activity(std::optional<std::chrono::milliseconds> age) {
   nlohmann::json j;
-  if (!last) {
-    j["active"] = false;
-    j["last_ms_ago"] = nullptr;
-    return j;
-  }
-  j["active"] = now - *last <= activity_window;
-  j["last_ms_ago"] = std::chrono::duration_cast<std::chrono::milliseconds>(now - *last).count();
+  j["active"] = age && *age <= activity_window;
+  j["last_ms_ago"] = age ? nlohmann::json(age->count()) : nlohmann::json(nullptr);
   return j;
 }
 
@@ -61,8 +66,8 @@ std::string Bridge::status_document() const {
   doc["unimabus_address"] = config.unimabus.address;
   doc["error"] = (online_bits >> banks::c_bank::modbus_error_bit & 1) != 0;
   doc["online_bits"] = online_bits;
-  doc["modbus"] = activity(monitor_->last_transaction(), now);
-  doc["unimabus"] = activity(last_telegram_, now);
+  doc["modbus"] = activity(age<std::chrono::system_clock>(monitor_->last_transaction()));
+  doc["unimabus"] = activity(age<SteadyClock>(last_telegram_));
   doc["unimabus"]["transport"] = config.unimabus.transport == config::TransportKind::feed ? "feed" : "sim";
 
   doc["devices"] = nlohmann::json::array();

@@ -69,7 +69,7 @@ void Monitor::replace_writer(std::unique_ptr<MonitorWriter> writer) {
 
 void Monitor::observe(const modbus::Transaction& t) {
   counters_[static_cast<std::size_t>(t.port)].count(t.state);
-  last_transaction_ = SteadyClock::now();
+  last_transaction_ = t.time;  // the port read the clock already
   if (!indicators_.empty())
     if (const auto captured = modbus::captured_registers(t)) indicators_.observe(*captured, t.time);
   const auto ix = next_ix_++;  // wraps 255 -> 0 (seed 004 §8)

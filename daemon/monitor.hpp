@@ -22,8 +22,6 @@ namespace unima::daemon {
 
 class Monitor {
  public:
-  using SteadyClock = std::chrono::steady_clock;
-
   /// Throws std::runtime_error when the log file cannot be opened.
   explicit Monitor(const config::MonitorConfig& config);
 
@@ -44,7 +42,8 @@ class Monitor {
   const modbus::TransactionCounters& counters(modbus::PortKind port) const {
     return counters_[static_cast<std::size_t>(port)];
   }
-  std::optional<SteadyClock::time_point> last_transaction() const { return last_transaction_; }
+  /// The port's time stamp of the last transaction (wall clock: the one ports stamp with).
+  std::optional<std::chrono::system_clock::time_point> last_transaction() const { return last_transaction_; }
   bool logging() const { return writer_ != nullptr; }
   std::uint64_t dropped() const { return dropped_before_ + (writer_ ? writer_->dropped() : 0); }
   std::uint64_t written() const { return written_before_ + (writer_ ? writer_->written() : 0); }
@@ -56,7 +55,7 @@ class Monitor {
   modbus::CommandFilter filter_;
   modbus::CaptureIndicators indicators_;
   std::array<modbus::TransactionCounters, 3> counters_{};  // by PortKind
-  std::optional<SteadyClock::time_point> last_transaction_;
+  std::optional<std::chrono::system_clock::time_point> last_transaction_;
   std::uint8_t next_ix_ = 0;
   std::unique_ptr<MonitorWriter> writer_;
   std::uint64_t dropped_before_ = 0;  // by writers replaced on reloads

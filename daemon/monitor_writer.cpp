@@ -38,9 +38,10 @@ bool MonitorWriter::push(const modbus::Transaction& t, std::uint8_t ix) {
   e.state = t.state;
   e.ix = ix;
   e.peer_size = static_cast<std::uint8_t>(std::min(t.peer.size(), sizeof e.peer));
-  std::memcpy(e.peer, t.peer.data(), e.peer_size);
-  std::memcpy(e.query, t.query.data(), e.query_size);
-  std::memcpy(e.response, t.response.data(), e.response_size);
+  // An empty span may have no data pointer, which memcpy must not get even for 0 bytes.
+  if (e.peer_size > 0) std::memcpy(e.peer, t.peer.data(), e.peer_size);
+  if (e.query_size > 0) std::memcpy(e.query, t.query.data(), e.query_size);
+  if (e.response_size > 0) std::memcpy(e.response, t.response.data(), e.response_size);
   ++count_;
   // Only a waiting writer needs the (system-call) wake-up; a batching one is cut short
   // when the queue is half full.

@@ -2,6 +2,7 @@
 
 #include <array>
 #include <charconv>
+#include <cstring>
 
 #include <nlohmann/json.hpp>
 
@@ -15,138 +16,182 @@ constexpr std::array<std::string_view, 7> state_names = {"Done",  "Not4Me", "Err
                                                          "Err03", "Err04",  "Timeout"};
 constexpr char hex_digits[] = "0123456789ABCDEF";
 
-void append_hex_byte(std::string& out, std::uint8_t byte) {
-  out.push_back(hex_digits[byte >> 4]);
-  out.push_back(hex_digits[byte & 0x0F]);
-}
-
-void append_hex16(std::string& out, std::uint16_t value) {
-  append_hex_byte(out, static_cast<std::uint8_t>(value >> 8));
-  append_hex_byte(out, static_cast<std::uint8_t>(value));
-}
-
-// "04 00 11", or "-" for nothing.
-void append_hex_bytes(std::string& out, std::span<const std::uint8_t> bytes) {
-  if (bytes.empty()) {
-    out.push_back('-');
-    return;
+// Writes a line through a raw pointer into space reserved for its bound, so that no
+// character is checked against the string's capacity: the writer thread formats one line
+// per transaction, and per-character appends were most of its cost.
+class LineWriter {
+ public:
+  LineWriter(std::string& out, std::size_t bound) : out_(out) {
+    const auto start = out_.size();
+    out_.resize(start + bound);
+    p_ = out_.data() + start;
   }
-  for (std::size_t i = 0; i < bytes.size(); ++i) {
-    if (i > 0) out.push_back(' ');
-    append_hex_byte(out, bytes[i]);
+  ~LineWriter() { out_.resize(static_cast<std::size_t>(p_ - out_.data())); }
+  LineWriter(const LineWriter&) = delete;
+  LineWriter& operator=(const LineWriter&) = delete;
+
+  void put(char c) { *p_++ = c; }
+  void put(std::string_view text) {
+    std::memcpy(p_, text.data(), text.size());
+    p_ += text.size();
   }
-}
-
-void append_decimal(std::string& out, std::uint64_t value) {
-  char buffer[20];
-  const auto [end, ec] = std::to_chars(buffer, buffer + sizeof buffer, value);
-  out.append(buffer, end);
-}
-
-void append_digits(std::string& out, unsigned value, int width) {
-  char buffer[10];
-  for (int i = width - 1; i >= 0; --i) {
-    buffer[i] = static_cast<char>('0' + value % 10);
-    value /= 10;
+  void hex_byte(std::uint8_t byte) {
+    *p_++ = hex_digits[byte >> 4];
+    *p_++ = hex_digits[byte & 0x0F];
   }
-  out.append(buffer, static_cast<std::size_t>(width));
-}
-
-// Port names and hex strings never hold characters JSON must escape, but a port name is
-// the peer's text, so escaping keeps a line valid whatever it holds.
-void append_json_string(std::string& out, std::string_view text) {
-  out.push_back('"');
-  for (const char c : text) {
-    if (c == '"' || c == '\\') {
-      out.push_back('\\');
-      out.push_back(c);
-    } else if (static_cast<unsigned char>(c) < 0x20) {
-      out += "\\u00";
-      append_hex_byte(out, static_cast<std::uint8_t>(c));
-    } else {
-      out.push_back(c);
+  void hex16(std::uint16_t value) {
+    hex_byte(static_cast<std::uint8_t>(value >> 8));
+    hex_byte(static_cast<std::uint8_t>(value));
+  }
+  // "04 00 11", or "-" for nothing.
+  void hex_bytes(std::span<const std::uint8_t> bytes) {
+    if (bytes.empty()) {
+      put('-');
+      return;
+    }
+    hex_byte(bytes[0]);
+    for (std::size_t i = 1; i < bytes.size(); ++i) {
+      *p_++ = ' ';
+      hex_byte(bytes[i]);
     }
   }
-  out.push_back('"');
-}
+  void decimal(std::uint64_t value) { p_ = std::to_chars(p_, p_ + 20, value).ptr; }
+  void digits(unsigned value, int width) {
+    for (int i = width - 1; i >= 0; --i) {
+      p_[i] = static_cast<char>('0' + value % 10);
+      value /= 10;
+    }
+    p_ += width;
+  }
+  // Port names and hex strings never hold characters JSON must escape, but a port name
+  // is the peer's text, so escaping keeps a line valid whatever it holds.
+  void json_string(std::string_view text) {
+    put('"');
+    for (const char c : text) {
+      if (c == '"' || c == '\\') {
+        put('\\');
+        put(c);
+      } else if (static_cast<unsigned char>(c) < 0x20) {
+        put("\\u00");
+        hex_byte(static_cast<std::uint8_t>(c));
+      } else {
+        put(c);
+      }
+    }
+    put('"');
+  }
+  void utc_time(Clock::time_point time) {
+    using namespace std::chrono;
+    const auto micros = floor<microseconds>(time);
+    const auto day = floor<days>(micros);
+    const year_month_day date{day};
+    const hh_mm_ss clock{micros - day};
+    digits(static_cast<unsigned>(static_cast<int>(date.year())), 4);
+    put('-');
+    digits(static_cast<unsigned>(date.month()), 2);
+    put('-');
+    digits(static_cast<unsigned>(date.day()), 2);
+    put('T');
+    digits(static_cast<unsigned>(clock.hours().count()), 2);
+    put(':');
+    digits(static_cast<unsigned>(clock.minutes().count()), 2);
+    put(':');
+    digits(static_cast<unsigned>(clock.seconds().count()), 2);
+    put('.');
+    digits(static_cast<unsigned>(clock.subseconds().count()), 6);
+    put('Z');
+  }
+
+  /// Room for a line of these fields: fixed text, the port escaped at worst, three
+  /// characters a byte.
+  static std::size_t bound(const MonitorFields& f) {
+    return 256 + 6 * f.port.size() + 3 * (f.query.pdu.size() + f.response.size());
+  }
+
+ private:
+  std::string& out_;
+  char* p_;
+};
 
 void append_text(std::string& out, const MonitorFields& f) {
-  append_utc_time(out, f.time);
-  out.push_back(' ');
-  out += f.port;
-  out += " Ix=";
-  append_decimal(out, f.ix);
-  out += " Rc=";
-  append_decimal(out, f.rc);
-  out += " State=";
-  out += state_name(f.state);
+  LineWriter w(out, LineWriter::bound(f));
+  w.utc_time(f.time);
+  w.put(' ');
+  w.put(f.port);
+  w.put(" Ix=");
+  w.decimal(f.ix);
+  w.put(" Rc=");
+  w.decimal(f.rc);
+  w.put(" State=");
+  w.put(state_name(f.state));
   if (f.query.mbap) {
-    out += " TrID=";
-    append_hex16(out, f.query.mbap->transaction_id);
-    out += " PtID=";
-    append_hex16(out, f.query.mbap->protocol_id);
-    out += " Len=";
-    append_hex16(out, f.query.mbap->length);
+    w.put(" TrID=");
+    w.hex16(f.query.mbap->transaction_id);
+    w.put(" PtID=");
+    w.hex16(f.query.mbap->protocol_id);
+    w.put(" Len=");
+    w.hex16(f.query.mbap->length);
   }
-  out += " Ad=";
-  if (f.query.address) append_decimal(out, *f.query.address);
-  else out.push_back('-');
-  out += " PDU=";
-  append_hex_bytes(out, f.query.pdu);
+  w.put(" Ad=");
+  if (f.query.address) w.decimal(*f.query.address);
+  else w.put('-');
+  w.put(" PDU=");
+  w.hex_bytes(f.query.pdu);
   if (f.query.crc_on_wire) {
-    out += " CRC=";
-    append_hex16(out, *f.query.crc_on_wire);
+    w.put(" CRC=");
+    w.hex16(*f.query.crc_on_wire);
   }
-  out += " Response=";
-  append_hex_bytes(out, f.response);
-  out.push_back('\n');
+  w.put(" Response=");
+  w.hex_bytes(f.response);
+  w.put('\n');
 }
 
 void append_json(std::string& out, const MonitorFields& f) {
-  out += "{\"time\":\"";
-  append_utc_time(out, f.time);
-  out += "\",\"port\":";
-  append_json_string(out, f.port);
-  out += ",\"ix\":";
-  append_decimal(out, f.ix);
-  out += ",\"rc\":";
-  append_decimal(out, f.rc);
-  out += ",\"state\":\"";
-  out += state_name(f.state);
-  out += '"';
+  LineWriter w(out, LineWriter::bound(f));
+  w.put("{\"time\":\"");
+  w.utc_time(f.time);
+  w.put("\",\"port\":");
+  w.json_string(f.port);
+  w.put(",\"ix\":");
+  w.decimal(f.ix);
+  w.put(",\"rc\":");
+  w.decimal(f.rc);
+  w.put(",\"state\":\"");
+  w.put(state_name(f.state));
+  w.put('"');
   if (f.query.mbap) {
-    out += ",\"trid\":";
-    append_decimal(out, f.query.mbap->transaction_id);
-    out += ",\"ptid\":";
-    append_decimal(out, f.query.mbap->protocol_id);
-    out += ",\"len\":";
-    append_decimal(out, f.query.mbap->length);
+    w.put(",\"trid\":");
+    w.decimal(f.query.mbap->transaction_id);
+    w.put(",\"ptid\":");
+    w.decimal(f.query.mbap->protocol_id);
+    w.put(",\"len\":");
+    w.decimal(f.query.mbap->length);
   }
-  out += ",\"ad\":";
-  if (f.query.address) append_decimal(out, *f.query.address);
-  else out += "null";
-  out += ",\"pdu\":";
+  w.put(",\"ad\":");
+  if (f.query.address) w.decimal(*f.query.address);
+  else w.put("null");
+  w.put(",\"pdu\":");
   if (f.query.pdu.empty()) {
-    out += "null";
+    w.put("null");
   } else {
-    out.push_back('"');
-    append_hex_bytes(out, f.query.pdu);
-    out.push_back('"');
+    w.put('"');
+    w.hex_bytes(f.query.pdu);
+    w.put('"');
   }
   if (f.query.crc_on_wire) {
-    out += ",\"crc\":\"";
-    append_hex16(out, *f.query.crc_on_wire);
-    out.push_back('"');
+    w.put(",\"crc\":\"");
+    w.hex16(*f.query.crc_on_wire);
+    w.put('"');
   }
-  out += ",\"response\":";
+  w.put(",\"response\":");
   if (f.response.empty()) {
-    out += "null";
+    w.put("null");
   } else {
-    out.push_back('"');
-    append_hex_bytes(out, f.response);
-    out.push_back('"');
+    w.put('"');
+    w.hex_bytes(f.response);
+    w.put('"');
   }
-  out += "}\n";
+  w.put("}\n");
 }
 
 std::optional<std::uint64_t> parse_unsigned(std::string_view text, int base, std::uint64_t max) {
@@ -405,40 +450,24 @@ void append_monitor_line(std::string& out, const MonitorFields& fields, MonitorF
 }
 
 void append_drop_notice(std::string& out, Clock::time_point time, std::uint64_t dropped, MonitorFormat format) {
+  LineWriter w(out, 128);
   if (format == MonitorFormat::json) {
-    out += "{\"time\":\"";
-    append_utc_time(out, time);
-    out += "\",\"port\":\"monitor\",\"dropped\":";
-    append_decimal(out, dropped);
-    out += "}\n";
+    w.put("{\"time\":\"");
+    w.utc_time(time);
+    w.put("\",\"port\":\"monitor\",\"dropped\":");
+    w.decimal(dropped);
+    w.put("}\n");
   } else {
-    append_utc_time(out, time);
-    out += " monitor Dropped=";
-    append_decimal(out, dropped);
-    out.push_back('\n');
+    w.utc_time(time);
+    w.put(" monitor Dropped=");
+    w.decimal(dropped);
+    w.put('\n');
   }
 }
 
 void append_utc_time(std::string& out, Clock::time_point time) {
-  using namespace std::chrono;
-  const auto micros = floor<microseconds>(time);
-  const auto day = floor<days>(micros);
-  const year_month_day date{day};
-  const hh_mm_ss clock{micros - day};
-  append_digits(out, static_cast<unsigned>(static_cast<int>(date.year())), 4);
-  out.push_back('-');
-  append_digits(out, static_cast<unsigned>(date.month()), 2);
-  out.push_back('-');
-  append_digits(out, static_cast<unsigned>(date.day()), 2);
-  out.push_back('T');
-  append_digits(out, static_cast<unsigned>(clock.hours().count()), 2);
-  out.push_back(':');
-  append_digits(out, static_cast<unsigned>(clock.minutes().count()), 2);
-  out.push_back(':');
-  append_digits(out, static_cast<unsigned>(clock.seconds().count()), 2);
-  out.push_back('.');
-  append_digits(out, static_cast<unsigned>(clock.subseconds().count()), 6);
-  out.push_back('Z');
+  LineWriter w(out, 32);
+  w.utc_time(time);
 }
 
 std::optional<Clock::time_point> parse_utc_time(std::string_view text) {
