@@ -1,5 +1,6 @@
 #include "daemon/control_socket.hpp"
 
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <filesystem>
@@ -36,6 +37,9 @@ ControlSocket::ControlSocket(asio::io_context& io, std::string path, DocumentFn 
   if (!ec) acceptor_.bind(stream_protocol::endpoint(path_), ec);
   if (!ec) acceptor_.listen(asio::socket_base::max_listen_connections, ec);
   if (ec) throw std::runtime_error("status: cannot listen on " + path_ + ": " + ec.message());
+  // Asking needs write permission on the socket: the daemon's user and group may ask (as
+  // for the monitor log, 0640), whatever the umask.
+  ::chmod(path_.c_str(), 0660);
 }
 
 ControlSocket::~ControlSocket() { stop(); }

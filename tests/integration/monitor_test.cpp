@@ -252,6 +252,32 @@ TEST_F(Monitor, StatusShowsAFaultAndTwoSecondsLaterNot) {
   EXPECT_NE(cleared.output.find("Error     [ ]"), std::string::npos) << cleared.output;
 }
 
+TEST_F(Monitor, AReloadSwitchesTheLogAndTheFilterAndKeepsTheIndicators) {
+  start_with("  indicators: [ { address: 1, register: 0x0100 } ]\n");
+  ModbusClient client(config.modbus_port);
+  ASSERT_TRUE(client.write(0x0100, 0x0101));
+  ASSERT_TRUE(log_has("PDU=06 01 00 01 01")) << read_file(log);
+
+  const auto other_log = dir.path() / "other.log";
+  auto reloaded = config;
+  reloaded.monitor_section = "monitor:\n  file: " + other_log.string() +
+                             "\n  filter: { function: 6 }\n  indicators: [ { address: 1, register: 0x0100 } ]\n";
+  daemon->rewrite_config(reloaded.yaml());
+  daemon->signal(SIGHUP);
+  ASSERT_TRUE(daemon->wait_for_log("bridge: reloaded")) << daemon->log();
+  ASSERT_TRUE(client.read_input(0x0011, 1));  // hidden by the new filter
+  ASSERT_TRUE(client.write(0x0100, 0x0202));
+  ASSERT_TRUE(eventually([&] { return read_file(other_log).find("PDU=06 01 00 02 02") != std::string::npos; }))
+      << read_file(other_log) << daemon->log();
+  EXPECT_EQ(read_file(other_log).find("PDU=04"), std::string::npos) << read_file(other_log);
+  EXPECT_EQ(read_file(log).find("PDU=06 01 00 02 02"), std::string::npos) << read_file(log);
+  const auto s = status();
+  EXPECT_EQ(s["indicators"][0]["value"], 0x0202);
+  EXPECT_EQ(s["monitor"]["file"], other_log.string());
+  EXPECT_EQ(s["monitor"]["filter"], "ad=xx fn=6 from=0x0000 to=0xFFFF");
+  EXPECT_GE(s["ports"][0]["Done"].get<int>(), 3);  // counters go on across the reload
+}
+
 TEST(StatusCommand, ADaemonThatDoesNotAnswerIsAnErrorNamingTheSocket) {
   const auto r = run(std::string(UNIMA_BRIDGE_CLI) + " status --socket /nonexistent/control.sock");
   EXPECT_EQ(r.status, 1);
