@@ -23,7 +23,8 @@ class Loader {
 
   Config load(const YAML::Node& root) {
     if (!root.IsNull() && !root.IsMap()) yaml_.fail(root, "the config must be a mapping of sections");
-    yaml_.expect_keys(root, "the config", {"unimabus", "modbus", "banks", "devices", "mapping", "blocks", "log"});
+    yaml_.expect_keys(root, "the config",
+                      {"unimabus", "modbus", "banks", "devices", "mapping", "blocks", "log", "monitor", "status"});
     for (BankId bank : banks::all_banks) config_.bank_bases[index_of(bank)] = banks::default_base(bank);
     if (root["unimabus"]) unimabus(root["unimabus"]);
     if (root["modbus"]) modbus(root["modbus"]);
@@ -33,6 +34,8 @@ class Loader {
     if (root["mapping"]) mapping(root["mapping"]);
     if (root["blocks"]) blocks(root["blocks"]);
     if (root["log"]) log(root["log"]);
+    if (root["monitor"]) monitor(root["monitor"]);
+    if (root["status"]) status(root["status"]);
     validate_layout(root);
     return std::move(config_);
   }
@@ -259,6 +262,56 @@ class Loader {
     yaml_.expect_keys(node, "log", {"level"});
     if (node["level"])
       config_.log.level = yaml_.choice(node["level"], {"trace", "debug", "info", "warn", "error", "critical", "off"});
+  }
+
+  void monitor(const YAML::Node& node) {
+    yaml_.expect_keys(node, "monitor",
+                      {"file", "stdout", "format", "max_size", "max_files", "queue", "filter", "indicators"});
+    auto& m = config_.monitor;
+    if (node["file"]) {
+      m.file = yaml_.text(node["file"]);
+      if (m.file.empty()) yaml_.fail(node["file"], "monitor.file must name a file");
+    }
+    if (node["stdout"]) m.to_stdout = yaml_.boolean(node["stdout"]);
+    if (node["format"]) m.format = yaml_.choice(node["format"], {"text", "json"}) == "json" ? MonitorFormat::json : MonitorFormat::text;
+    if (node["max_size"]) m.max_size = yaml_.byte_size(node["max_size"], 4096, 1ull << 40);
+    if (node["max_files"]) m.max_files = static_cast<unsigned>(yaml_.number(node["max_files"], 1, 100));
+    if (node["queue"]) m.queue = static_cast<unsigned>(yaml_.number(node["queue"], 16, 1'000'000));
+    if (const auto filter = node["filter"]) {
+      yaml_.expect_keys(filter, "monitor.filter", {"address", "function", "from", "to"});
+      const auto any_or_byte = [&](const YAML::Node& value) -> std::optional<std::uint8_t> {
+        if (value.IsScalar() && (value.Scalar() == "xx" || value.Scalar() == "XX")) return std::nullopt;
+        return static_cast<std::uint8_t>(yaml_.number(value, 0, 255));
+      };
+      if (filter["address"]) m.filter.address = any_or_byte(filter["address"]);
+      if (filter["function"]) m.filter.function = any_or_byte(filter["function"]);
+      if (filter["from"]) m.filter.from = static_cast<std::uint16_t>(yaml_.number(filter["from"], 0, 0xFFFF));
+      if (filter["to"]) m.filter.to = static_cast<std::uint16_t>(yaml_.number(filter["to"], 0, 0xFFFF));
+      if (m.filter.from > m.filter.to)
+        yaml_.fail(filter["to"] ? filter["to"] : filter["from"],
+                   fmt::format("monitor.filter: 'to' (0x{:04X}) is before 'from' (0x{:04X})", m.filter.to, m.filter.from));
+    }
+    if (const auto indicators = node["indicators"]) {
+      if (!indicators.IsSequence()) yaml_.fail(indicators, "indicators must be a list of { address, register }");
+      for (const auto& entry : indicators) {
+        if (m.indicators.size() == 4) yaml_.fail(entry, "at most 4 capture indicators (seed 004 §8)");
+        yaml_.expect_keys(entry, "an indicator", {"address", "register"});
+        if (!entry["address"] || !entry["register"]) yaml_.fail(entry, "an indicator needs an address and a register");
+        m.indicators.push_back({static_cast<std::uint8_t>(yaml_.number(entry["address"], 0, 255)),
+                                static_cast<std::uint16_t>(yaml_.number(entry["register"], 0, 0xFFFF))});
+      }
+    }
+  }
+
+  void status(const YAML::Node& node) {
+    yaml_.expect_keys(node, "status", {"socket"});
+    if (node["socket"]) {
+      auto& socket = config_.status.socket;
+      socket = yaml_.text(node["socket"]);
+      // sockaddr_un holds 108 bytes with the terminating zero.
+      if (socket.empty() || socket.size() > 107)
+        yaml_.fail(node["socket"], "status.socket must be a path of 1..107 characters (a unix socket's limit)");
+    }
   }
 
   void validate_layout(const YAML::Node& root) {

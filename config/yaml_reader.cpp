@@ -74,6 +74,26 @@ Duration YamlReader::duration(const YAML::Node& node) const {
   fail(node, fmt::format("'{}' is not a duration (write e.g. 200ms, 1s, 5m)", s));
 }
 
+std::uint64_t YamlReader::byte_size(const YAML::Node& node, std::uint64_t min, std::uint64_t max) const {
+  const auto s = text(node);
+  std::size_t digits = 0;
+  while (digits < s.size() && s[digits] >= '0' && s[digits] <= '9') ++digits;
+  const std::string_view unit = std::string_view(s).substr(digits);
+  std::uint64_t value = 0;
+  const auto [end, ec] = std::from_chars(s.data(), s.data() + digits, value);
+  unsigned shift = 64;
+  if (unit.empty() || unit == "B") shift = 0;
+  else if (unit == "k" || unit == "K" || unit == "kB" || unit == "KB" || unit == "KiB") shift = 10;
+  else if (unit == "M" || unit == "MB" || unit == "MiB") shift = 20;
+  else if (unit == "G" || unit == "GB" || unit == "GiB") shift = 30;
+  if (digits == 0 || ec != std::errc{} || end != s.data() + digits || shift == 64)
+    fail(node, fmt::format("'{}' is not a size (write e.g. 65536, 64k, 10MB)", s));
+  if (value > (max >> shift) || (value << shift) < min)
+    fail(node, fmt::format("{} is out of range {}..{} bytes", s, min, max));
+  value <<= shift;
+  return value;
+}
+
 std::string YamlReader::choice(const YAML::Node& node, std::initializer_list<std::string_view> choices) const {
   const auto s = text(node);
   for (auto c : choices)

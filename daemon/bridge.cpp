@@ -4,6 +4,7 @@
 
 #include "banks/register_space.hpp"
 #include "banks/table_catalog.hpp"
+#include "daemon/bridge_core.hpp"
 #include "daemon/feed_transport.hpp"
 #include "daemon/sim_transport.hpp"
 #include "modbus/bank_model.hpp"
@@ -13,16 +14,6 @@
 namespace unima::daemon {
 
 using banks::BankId;
-
-struct Bridge::Core {
-  config::Config config;
-  std::unique_ptr<banks::RegisterStore> store;
-  std::unique_ptr<banks::RegisterSpace> space;
-  std::unique_ptr<modbus::BankModel> model;
-  std::unique_ptr<unimabus::TelegramRouter> router;
-  std::unique_ptr<unimabus::Presence> presence;
-  std::vector<modbus::CaptureRule> capture_rules;
-};
 
 namespace {
 
@@ -64,6 +55,7 @@ Bridge::Bridge(asio::io_context& io, config::Config config)
       core_(build_core(std::move(config))),
       error_hold_(io, [this](bool error) { core_->store->set_modbus_error(error); }),
       presence_timer_(io) {
+  monitor_ = std::make_unique<Monitor>(core_->config.monitor);
   transport_ = make_transport(core_->config);
   tcp_ = make_tcp_server(core_->config);
   rtu_ = make_rtu_port(core_->config);
@@ -159,6 +151,7 @@ SlaveContext Bridge::slave_context() const {
   // The error hold lives as long as the bridge, and the ports never outlive the bridge.
   auto* hold = const_cast<ErrorHold*>(&error_hold_);
   context.on_fault = [hold] { hold->fault(); };
+  context.on_transaction = [monitor = monitor_.get()](const modbus::Transaction& t) { monitor->observe(t); };
   return context;
 }
 
@@ -175,6 +168,20 @@ void Bridge::start() {
   if (transport_) transport_->start();
   if (tcp_) tcp_->start();
   if (rtu_) rtu_->start();
+  control_ = make_control_socket(core_->config.status.socket);
+}
+
+// The status socket is the operator's window, not part of the bridge's service: when it
+// cannot listen (no /run/unima-bridge outside systemd, say) the bridge serves on.
+std::unique_ptr<ControlSocket> Bridge::make_control_socket(const std::string& path) {
+  try {
+    auto control = std::make_unique<ControlSocket>(io_, path, [this] { return status_document(); });
+    control->start();
+    return control;
+  } catch (const std::exception& e) {
+    spdlog::warn("{}; `unima-bridge status` will not answer", e.what());
+    return nullptr;
+  }
 }
 
 void Bridge::stop() {
@@ -183,6 +190,7 @@ void Bridge::stop() {
   if (rtu_) rtu_->stop();
   if (tcp_) tcp_->stop();
   if (transport_) transport_->stop();
+  if (control_) control_->stop();
   presence_timer_.cancel();
   error_hold_.cancel();
 }
@@ -208,6 +216,9 @@ void Bridge::reload(config::Config config) {
   const auto& new_config = core->config;
 
   // Everything that can fail comes first, while the running ports are untouched.
+  const bool same_monitor_log = Monitor::same_log(old_config.monitor, new_config.monitor);
+  std::unique_ptr<MonitorWriter> new_monitor_writer;
+  if (!same_monitor_log) new_monitor_writer = Monitor::make_writer(new_config.monitor);
   std::unique_ptr<unimabus::Transport> new_transport;
   if (!same_feed(old_config.unimabus, new_config.unimabus)) new_transport = make_transport(new_config);
   std::unique_ptr<TcpSlaveServer> new_tcp;
@@ -233,7 +244,15 @@ void Bridge::reload(config::Config config) {
     if (core_->presence->online(bank) && core->store->online(bank)) core->presence->heard(bank, now);
     else core->store->set_online(bank, false);
   }
+  const bool same_status_socket = old_config.status.socket == new_config.status.socket;
   core_ = std::move(core);
+  monitor_->reconfigure(core_->config.monitor, std::move(new_monitor_writer));
+  if (!same_status_socket || !control_) {
+    if (auto control = make_control_socket(core_->config.status.socket)) {
+      if (control_) control_->stop();
+      control_ = std::move(control);
+    }
+  }
   core_->store->set_change_listener([this](BankId bank, std::uint16_t offset, std::uint16_t value) {
     if (transport_) transport_->publish(bank, offset, value);
   });
@@ -270,6 +289,7 @@ void Bridge::reload(config::Config config) {
 
 std::string Bridge::on_telegram(const unimabus::Telegram& telegram) {
   auto outcome = core_->router->apply(telegram);
+  last_telegram_ = std::chrono::steady_clock::now();
   if (!outcome.updated.empty()) {
     const auto now = unimabus::Presence::Clock::now();
     for (BankId bank : outcome.updated)

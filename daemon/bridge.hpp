@@ -4,12 +4,16 @@
 // beside the old, carries the values over, and swaps; ports whose settings did not change
 // keep their connections.
 
+#include <chrono>
 #include <memory>
 #include <optional>
+#include <string>
 
 #include "config/config.hpp"
 #include "daemon/asio.hpp"
+#include "daemon/control_socket.hpp"
 #include "daemon/error_hold.hpp"
+#include "daemon/monitor.hpp"
 #include "daemon/rtu_slave_port.hpp"
 #include "daemon/slave_context.hpp"
 #include "daemon/tcp_slave_server.hpp"
@@ -40,6 +44,9 @@ class Bridge {
   const config::Config& config() const;
   /// The bound Modbus TCP port, 0 when there is no TCP slave.
   std::uint16_t tcp_port() const { return tcp_ ? tcp_->port() : 0; }
+  /// The front panel and counters as one JSON document (`unima-bridge status`);
+  /// daemon/bridge_status.cpp.
+  std::string status_document() const;
 
  private:
   struct Core;
@@ -54,16 +61,21 @@ class Bridge {
   std::string snapshot() const;
   void watch_presence();
   void set_online(banks::BankId bank, bool online);
+  std::unique_ptr<ControlSocket> make_control_socket(const std::string& path);
 
   asio::io_context& io_;
   std::unique_ptr<Core> core_;
   ErrorHold error_hold_;
+  std::unique_ptr<Monitor> monitor_;  // before the ports, whose hook points at it
   std::unique_ptr<unimabus::Transport> transport_;
   std::unique_ptr<TcpSlaveServer> tcp_;
   std::unique_ptr<RtuSlavePort> rtu_;
   asio::steady_timer presence_timer_;
   bool presence_timer_armed_ = false;
   bool started_ = false;
+  std::unique_ptr<ControlSocket> control_;
+  std::chrono::steady_clock::time_point started_at_ = std::chrono::steady_clock::now();
+  std::optional<std::chrono::steady_clock::time_point> last_telegram_;
 };
 
 }  // namespace unima::daemon

@@ -1,5 +1,6 @@
 #include "daemon/tcp_slave_server.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cstring>
 #include <vector>
@@ -59,7 +60,14 @@ class TcpSlaveServer::Connection : public std::enable_shared_from_this<Connectio
     const auto& context = server_.context_;
     while (true) {
       const auto adu = modbus::parse_tcp_adu(std::span(in_.data() + at, in_used_ - at));
-      if (adu.status == modbus::TcpAdu::Status::bad_header) return false;
+      if (adu.status == modbus::TcpAdu::Status::bad_header) {
+        // Seed §5.3 note 2: a bad length is Err03; the monitor shows what came, unanswered.
+        if (context.on_transaction)
+          context.on_transaction(modbus::Transaction{
+              modbus::PortKind::tcp, peer_, std::chrono::system_clock::now(), modbus::TransactionState::err03,
+              std::span<const std::uint8_t>(in_.data() + at, std::min(in_used_ - at, modbus::max_tcp_adu_size)), {}});
+        return false;
+      }
       if (adu.status == modbus::TcpAdu::Status::need_more) break;
       std::array<std::uint8_t, modbus::max_pdu_size> response;
       std::size_t length = 0;

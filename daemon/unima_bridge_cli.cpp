@@ -11,6 +11,8 @@
 #include "config/config.hpp"
 #include "config/register_map.hpp"
 #include "daemon/register_map_format.hpp"
+#include "daemon/cli_monitor.hpp"
+#include "daemon/cli_status.hpp"
 
 namespace {
 
@@ -18,11 +20,16 @@ constexpr const char* usage =
     "usage: unima-bridge check --config FILE\n"
     "       unima-bridge map --config FILE [--format table|csv|json]\n"
     "       unima-bridge tables\n"
+    "       unima-bridge status [--watch] [--json] [--socket PATH | --config FILE]\n"
+    "       unima-bridge monitor [--follow] [--filter EXPR] [--json] [--config FILE] [LOG]\n"
     "\n"
-    "  check   validate a config; exit 0 when it is good, 1 with the errors when not\n"
-    "  map     every register the config serves: address, bank, offset, identifier,\n"
-    "          label, unit, scale, access\n"
-    "  tables  the reference of every device table, in Markdown (docs/registers.md)\n";
+    "  check    validate a config; exit 0 when it is good, 1 with the errors when not\n"
+    "  map      every register the config serves: address, bank, offset, identifier,\n"
+    "           label, unit, scale, access\n"
+    "  tables   the reference of every device table, in Markdown (docs/registers.md)\n"
+    "  status   the front panel of the running daemon: mode, activity, Error, D_N/S_N on-line,\n"
+    "           capture indicators, counters\n"
+    "  monitor  read, filter and follow the monitor log (one line per Modbus transaction)\n";
 
 int check(const std::string& path) {
   try {
@@ -108,6 +115,8 @@ int main(int argc, char** argv) {
     fmt::print("{}", unima::banks::tables_markdown());
     return 0;
   }
+  if (args[0] == "status") return unima::daemon::status_command({args.begin() + 1, args.end()});
+  if (args[0] == "monitor") return unima::daemon::monitor_command({args.begin() + 1, args.end()});
   std::fprintf(stderr, "unima-bridge: unknown command '%s'\n%s", args[0].c_str(), usage);
   return 2;
 }

@@ -38,6 +38,7 @@ class BridgeTest : public ::testing::Test {
   void SetUp() override {
     config.modbus_port = free_port();
     config.feed_port = free_port();
+    config.status_socket = (dir.path() / "control.sock").string();
   }
   /// Starts the daemon on `config` and waits until its ports accept connections.
   void start();

@@ -262,6 +262,8 @@ std::string BridgeConfig::yaml() const {
       << "  tcp: { listen: 127.0.0.1, port: " << modbus_port << tcp_extra << " }\n"
       << modbus_extra << "banks: " << banks << "\n"
       << "devices: " << devices << "\n";
+  if (!status_socket.empty()) out << "status: { socket: " << status_socket << " }\n";
+  out << monitor_section;
   return out.str();
 }
 

@@ -105,6 +105,8 @@ struct BridgeConfig {
   std::string tcp_extra;
   std::string unimabus_extra;
   std::string modbus_extra;
+  std::string status_socket;   // status: { socket: ... } when set
+  std::string monitor_section;  // "monitor:\n  file: ...\n" when set
   std::string yaml() const;
 };
 

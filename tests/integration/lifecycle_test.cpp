@@ -4,6 +4,7 @@
 #include <signal.h>
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <cstdio>
 
 #include "tests/integration/bridge_fixture.hpp"
@@ -12,6 +13,9 @@ namespace unima::test {
 namespace {
 
 class Lifecycle : public BridgeTest {};
+
+// The line number of a line appended to `yaml`.
+std::string next_line(const std::string& yaml) { return std::to_string(std::count(yaml.begin(), yaml.end(), '\n') + 1); }
 
 TEST_F(Lifecycle, StopsWithinASecondOfSigterm) {
   start();
@@ -45,10 +49,12 @@ TEST_F(Lifecycle, ABadReloadIsLoggedAndTheOldConfigKeepsServing) {
   start();
   ModbusClient client(config.modbus_port);
   ASSERT_TRUE(client.write(0x0100, 7));
-  daemon->rewrite_config(config.yaml() + "modbus_typo: 1\n");
+  const auto good = config.yaml();
+  daemon->rewrite_config(good + "modbus_typo: 1\n");
   daemon->signal(SIGHUP);
   ASSERT_TRUE(daemon->wait_for_log("reload failed, the running config stays")) << daemon->log();
-  EXPECT_NE(daemon->log().find("bridge.yaml:10:1: unknown key 'modbus_typo'"), std::string::npos) << daemon->log();
+  EXPECT_NE(daemon->log().find("bridge.yaml:" + next_line(good) + ":1: unknown key 'modbus_typo'"), std::string::npos)
+      << daemon->log();
   EXPECT_EQ(client.read_input(0x0100, 1), std::vector<std::uint16_t>{7});
   ModbusClient fresh(config.modbus_port);
   EXPECT_EQ(fresh.read_input(0x0100, 1), std::vector<std::uint16_t>{7});
@@ -68,10 +74,12 @@ TEST_F(Lifecycle, AReloadToATakenPortKeepsTheOldPort) {
 }
 
 TEST_F(Lifecycle, ABadConfigAtStartUpExitsNonZeroNamingThePosition) {
-  daemon = std::make_unique<Daemon>(dir, config.yaml() + "banks2: {}\n");
+  const auto good = config.yaml();
+  daemon = std::make_unique<Daemon>(dir, good + "banks2: {}\n");
   ASSERT_TRUE(eventually([&] { return !daemon->running(); }));
   EXPECT_EQ(daemon->exit_code(), 1);
-  EXPECT_NE(daemon->log().find("bridge.yaml:10:1: unknown key 'banks2'"), std::string::npos) << daemon->log();
+  EXPECT_NE(daemon->log().find("bridge.yaml:" + next_line(good) + ":1: unknown key 'banks2'"), std::string::npos)
+      << daemon->log();
 }
 
 struct Run {

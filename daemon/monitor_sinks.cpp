@@ -1,0 +1,106 @@
+#include "daemon/monitor_sinks.hpp"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <stdexcept>
+
+#include <spdlog/spdlog.h>
+
+namespace unima::daemon {
+
+namespace {
+
+// False on an error other than EINTR; errno tells which.
+bool write_all(int fd, std::string_view bytes) {
+  while (!bytes.empty()) {
+    const auto n = ::write(fd, bytes.data(), bytes.size());
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      return false;
+    }
+    bytes.remove_prefix(static_cast<std::size_t>(n));
+  }
+  return true;
+}
+
+}  // namespace
+
+RotatingFileSink::RotatingFileSink(std::string path, std::uint64_t max_size, unsigned max_files)
+    : path_(std::move(path)), max_size_(max_size), max_files_(max_files) {
+  const auto directory = std::filesystem::path(path_).parent_path();
+  std::error_code ignored;  // open() says what went wrong
+  if (!directory.empty()) std::filesystem::create_directories(directory, ignored);
+  if (!open()) throw std::runtime_error("monitor: cannot open " + path_ + ": " + std::strerror(errno));
+}
+
+RotatingFileSink::~RotatingFileSink() {
+  if (fd_ >= 0) ::close(fd_);
+}
+
+bool RotatingFileSink::open() {
+  fd_ = ::open(path_.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0640);
+  if (fd_ < 0) return false;
+  struct stat st{};
+  size_ = ::fstat(fd_, &st) == 0 ? static_cast<std::uint64_t>(st.st_size) : 0;
+  return true;
+}
+
+void RotatingFileSink::rotate() {
+  if (fd_ >= 0) ::close(fd_);
+  fd_ = -1;
+  for (unsigned i = max_files_; i > 1; --i)
+    ::rename((path_ + "." + std::to_string(i - 1)).c_str(), (path_ + "." + std::to_string(i)).c_str());
+  ::rename(path_.c_str(), (path_ + ".1").c_str());
+  if (!open() && !failing_) {
+    failing_ = true;
+    spdlog::error("monitor: cannot reopen {} after rotating it: {}", path_, std::strerror(errno));
+  }
+}
+
+void RotatingFileSink::append(std::string_view bytes) {
+  if (bytes.empty()) return;
+  if (fd_ < 0 && !open()) return;  // still failing; logged once
+  if (write_all(fd_, bytes)) {
+    size_ += bytes.size();
+    if (failing_) spdlog::info("monitor: writing {} again", path_);
+    failing_ = false;
+    return;
+  }
+  if (!failing_) spdlog::error("monitor: cannot write {}: {}; lines are lost until it works again", path_,
+                               std::strerror(errno));
+  failing_ = true;
+}
+
+void RotatingFileSink::write(std::string_view lines) {
+  // Lines go out in runs that fit the current file: one write per run, rotation between.
+  std::size_t run_start = 0;
+  std::uint64_t run_size = 0;
+  std::size_t at = 0;
+  while (at < lines.size()) {
+    auto end = lines.find('\n', at);
+    end = end == std::string_view::npos ? lines.size() : end + 1;
+    const auto line_size = end - at;
+    if (size_ + run_size + line_size > max_size_ && size_ + run_size > 0) {
+      append(lines.substr(run_start, at - run_start));
+      rotate();
+      run_start = at;
+      run_size = 0;
+    }
+    run_size += line_size;
+    at = end;
+  }
+  append(lines.substr(run_start));
+}
+
+void StdoutSink::write(std::string_view lines) {
+  if (write_all(STDOUT_FILENO, lines)) return;
+  if (!failed_) spdlog::error("monitor: cannot write to standard output: {}", std::strerror(errno));
+  failed_ = true;
+}
+
+}  // namespace unima::daemon

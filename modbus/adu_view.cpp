@@ -1,0 +1,39 @@
+#include "modbus/adu_view.hpp"
+
+namespace unima::modbus {
+
+Framing framing_of(const Transaction& transaction) {
+  switch (transaction.port) {
+    case PortKind::tcp: return Framing::tcp;
+    case PortKind::rtu: return Framing::rtu;
+    case PortKind::master: return transaction.peer.empty() ? Framing::rtu : Framing::tcp;
+  }
+  return Framing::rtu;
+}
+
+AduView view_adu(std::span<const std::uint8_t> frame, Framing framing) {
+  AduView view;
+  if (framing == Framing::tcp) {
+    if (frame.size() < mbap_header_size) return view;
+    MbapHeader header;
+    header.transaction_id = static_cast<std::uint16_t>(frame[0] << 8 | frame[1]);
+    header.protocol_id = static_cast<std::uint16_t>(frame[2] << 8 | frame[3]);
+    header.length = static_cast<std::uint16_t>(frame[4] << 8 | frame[5]);
+    header.unit_id = frame[6];
+    view.mbap = header;
+    view.address = header.unit_id;
+    view.pdu = frame.subspan(mbap_header_size);
+    return view;
+  }
+  if (frame.empty()) return view;
+  view.address = frame[0];
+  if (frame.size() < 3) {
+    view.pdu = frame.subspan(1);
+    return view;
+  }
+  view.pdu = frame.subspan(1, frame.size() - 3);
+  view.crc_on_wire = static_cast<std::uint16_t>(frame[frame.size() - 2] << 8 | frame[frame.size() - 1]);
+  return view;
+}
+
+}  // namespace unima::modbus

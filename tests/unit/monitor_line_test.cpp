@@ -1,0 +1,203 @@
+// Monitor lines (SPEC §5, seed 004 §8): every state gives the exact line, in text and JSON,
+// with the seed's TCP and RTU frames; lines read back as they were written.
+
+#include <gtest/gtest.h>
+
+#include <vector>
+
+#include "modbus/crc16.hpp"
+#include "modbus/monitor_line.hpp"
+
+namespace unima::modbus {
+namespace {
+
+using Bytes = std::vector<std::uint8_t>;
+using namespace std::chrono;
+
+const system_clock::time_point at =
+    sys_days(year(2026) / November / 22) + hours(14) + minutes(41) + seconds(23) + microseconds(123456);
+const std::string stamp = "2026-11-22T14:41:23.123456Z";
+
+std::string line(PortKind port, std::string_view peer, TransactionState state, const Bytes& query,
+                 const Bytes& response, std::uint8_t ix = 7, MonitorFormat format = MonitorFormat::text) {
+  const Transaction t{port, peer, at, state, query, response};
+  std::string name;
+  append_port_name(name, port, peer);
+  std::string out;
+  append_monitor_line(out, monitor_fields(t, ix, name), format);
+  return out;
+}
+
+// Seed 004 §5.1: TCP read of two input registers from 0x0011, and its answer.
+const Bytes tcp_query = {0x12, 0x34, 0x00, 0x00, 0x00, 0x06, 0x01, 0x04, 0x00, 0x11, 0x00, 0x02};
+const Bytes tcp_response = {0x12, 0x34, 0x00, 0x00, 0x00, 0x07, 0x01, 0x04, 0x04, 0x00, 0x50, 0x7F, 0xFF};
+// The same over RTU.
+const Bytes rtu_query = {0x01, 0x04, 0x00, 0x11, 0x00, 0x02, 0x21, 0xCE};
+const Bytes rtu_response = {0x01, 0x04, 0x04, 0x00, 0x50, 0x7F, 0xFF, 0x9B, 0xE5};
+
+TEST(MonitorLine, SeedTcpReadIsDone) {
+  EXPECT_EQ(line(PortKind::tcp, "127.0.0.1:40000", TransactionState::done, tcp_query, tcp_response),
+            stamp +
+                " tcp:127.0.0.1:40000 Ix=7 Rc=12 State=Done TrID=1234 PtID=0000 Len=0006 Ad=1 PDU=04 00 11 00 02 "
+                "Response=12 34 00 00 00 07 01 04 04 00 50 7F FF\n");
+}
+
+TEST(MonitorLine, SeedRtuReadIsDoneWithItsCrc) {
+  EXPECT_EQ(line(PortKind::rtu, "", TransactionState::done, rtu_query, rtu_response),
+            stamp + " rtu Ix=7 Rc=8 State=Done Ad=1 PDU=04 00 11 00 02 CRC=21CE Response=01 04 04 00 50 7F FF 9B E5\n");
+}
+
+TEST(MonitorLine, Not4MeShowsTheForeignResponseWhenHeard) {
+  const Bytes query = {0x03, 0x04, 0x02, 0x02, 0x00, 0x01, 0x90, 0x50};
+  const Bytes foreign = {0x03, 0x04, 0x02, 0x12, 0x34, 0xCD, 0x87};
+  EXPECT_EQ(line(PortKind::rtu, "", TransactionState::not_for_me, query, foreign),
+            stamp + " rtu Ix=7 Rc=8 State=Not4Me Ad=3 PDU=04 02 02 00 01 CRC=9050 Response=03 04 02 12 34 CD 87\n");
+  EXPECT_EQ(line(PortKind::rtu, "", TransactionState::not_for_me, query, {}),
+            stamp + " rtu Ix=7 Rc=8 State=Not4Me Ad=3 PDU=04 02 02 00 01 CRC=9050 Response=-\n");
+}
+
+TEST(MonitorLine, Not4MeOverTcpIsAnsweredGatewayTargetFailed) {
+  const Bytes query = {0x00, 0x07, 0x00, 0x00, 0x00, 0x06, 0x07, 0x04, 0x00, 0x11, 0x00, 0x01};
+  const Bytes answer = {0x00, 0x07, 0x00, 0x00, 0x00, 0x03, 0x07, 0x84, 0x0B};
+  EXPECT_EQ(line(PortKind::tcp, "10.0.0.2:502", TransactionState::not_for_me, query, answer, 255),
+            stamp +
+                " tcp:10.0.0.2:502 Ix=255 Rc=12 State=Not4Me TrID=0007 PtID=0000 Len=0006 Ad=7 PDU=04 00 11 00 01 "
+                "Response=00 07 00 00 00 03 07 84 0B\n");
+}
+
+TEST(MonitorLine, EachErrorState) {
+  EXPECT_EQ(line(PortKind::rtu, "", TransactionState::err01, {0x01, 0x01, 0x00, 0x00, 0x00, 0x01, 0xFD, 0xCA},
+                 {0x01, 0x81, 0x01, 0x81, 0x90}),
+            stamp + " rtu Ix=7 Rc=8 State=Err01 Ad=1 PDU=01 00 00 00 01 CRC=FDCA Response=01 81 01 81 90\n");
+  EXPECT_EQ(line(PortKind::rtu, "", TransactionState::err02, {0x01, 0x04, 0x00, 0x50, 0x00, 0x02, 0x71, 0xDA},
+                 {0x01, 0x84, 0x02, 0xC2, 0xC1}),
+            stamp + " rtu Ix=7 Rc=8 State=Err02 Ad=1 PDU=04 00 50 00 02 CRC=71DA Response=01 84 02 C2 C1\n");
+  // Err03 also for a bad CRC: no answer, and the CRC as it came.
+  EXPECT_EQ(line(PortKind::rtu, "", TransactionState::err03, {0x01, 0x04, 0x00, 0x11, 0x00, 0x02, 0x21, 0xCF}, {}),
+            stamp + " rtu Ix=7 Rc=8 State=Err03 Ad=1 PDU=04 00 11 00 02 CRC=21CF Response=-\n");
+  // Err04 also for a foreign response shorter than 5 bytes.
+  EXPECT_EQ(line(PortKind::master, "", TransactionState::err04, {0x03, 0x04, 0x02, 0x02, 0x00, 0x01, 0x90, 0x50},
+                 {0x03, 0x04, 0x02}),
+            stamp + " master Ix=7 Rc=8 State=Err04 Ad=3 PDU=04 02 02 00 01 CRC=9050 Response=03 04 02\n");
+}
+
+TEST(MonitorLine, TimeoutOfAMasterPoll) {
+  EXPECT_EQ(line(PortKind::master, "", TransactionState::timeout, {0x03, 0x06, 0x02, 0x02, 0x12, 0x34, 0x25, 0x27}, {}),
+            stamp + " master Ix=7 Rc=8 State=Timeout Ad=3 PDU=06 02 02 12 34 CRC=2527 Response=-\n");
+}
+
+TEST(MonitorLine, AMasterWithATcpTargetSpeaksMbap) {
+  EXPECT_EQ(line(PortKind::master, "192.168.1.9:502", TransactionState::done, tcp_query, tcp_response),
+            stamp +
+                " master Ix=7 Rc=12 State=Done TrID=1234 PtID=0000 Len=0006 Ad=1 PDU=04 00 11 00 02 "
+                "Response=12 34 00 00 00 07 01 04 04 00 50 7F FF\n");
+}
+
+TEST(MonitorLine, ATooShortFrameShowsWhatItHas) {
+  EXPECT_EQ(line(PortKind::tcp, "127.0.0.1:1", TransactionState::err03, {0x12, 0x34, 0x00}, {}),
+            stamp + " tcp:127.0.0.1:1 Ix=7 Rc=3 State=Err03 Ad=- PDU=- Response=-\n");
+  EXPECT_EQ(line(PortKind::rtu, "", TransactionState::err03, {0x01}, {}),
+            stamp + " rtu Ix=7 Rc=1 State=Err03 Ad=1 PDU=- Response=-\n");
+}
+
+TEST(MonitorLine, JsonCarriesTheSameFields) {
+  EXPECT_EQ(line(PortKind::tcp, "127.0.0.1:40000", TransactionState::done, tcp_query, tcp_response, 7,
+                 MonitorFormat::json),
+            R"({"time":")" + stamp +
+                R"(","port":"tcp:127.0.0.1:40000","ix":7,"rc":12,"state":"Done","trid":4660,"ptid":0,"len":6,)"
+                R"("ad":1,"pdu":"04 00 11 00 02","response":"12 34 00 00 00 07 01 04 04 00 50 7F FF"})"
+                "\n");
+  EXPECT_EQ(line(PortKind::rtu, "", TransactionState::err03, {0x01, 0x04, 0x00, 0x11, 0x00, 0x02, 0x21, 0xCF}, {}, 0,
+                 MonitorFormat::json),
+            R"({"time":")" + stamp +
+                R"(","port":"rtu","ix":0,"rc":8,"state":"Err03","ad":1,"pdu":"04 00 11 00 02","crc":"21CF",)"
+                R"("response":null})"
+                "\n");
+}
+
+TEST(MonitorLine, DropNotice) {
+  std::string text, json;
+  append_drop_notice(text, at, 42, MonitorFormat::text);
+  append_drop_notice(json, at, 42, MonitorFormat::json);
+  EXPECT_EQ(text, stamp + " monitor Dropped=42\n");
+  EXPECT_EQ(json, R"({"time":")" + stamp + R"(","port":"monitor","dropped":42})" "\n");
+  for (const auto& l : {text, json}) {
+    const auto parsed = parse_monitor_line(l);
+    ASSERT_TRUE(parsed) << l;
+    EXPECT_EQ(parsed->kind, MonitorLine::Kind::drop_notice);
+    EXPECT_EQ(parsed->dropped, 42u);
+    EXPECT_EQ(parsed->time, at);
+  }
+}
+
+TEST(MonitorLine, EveryStateHasItsName) {
+  const std::vector<std::string> names = {"Done", "Not4Me", "Err01", "Err02", "Err03", "Err04", "Timeout"};
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    EXPECT_EQ(state_name(static_cast<TransactionState>(i)), names[i]);
+    EXPECT_EQ(parse_state(names[i]), static_cast<TransactionState>(i));
+  }
+  EXPECT_FALSE(parse_state("done"));
+}
+
+// Written, read back, written again: the same line, in both formats and across them.
+TEST(MonitorLine, LinesReadBackAsWritten) {
+  struct Case {
+    PortKind port;
+    std::string peer;
+    TransactionState state;
+    Bytes query, response;
+  };
+  const std::vector<Case> cases = {
+      {PortKind::tcp, "127.0.0.1:40000", TransactionState::done, tcp_query, tcp_response},
+      {PortKind::rtu, "", TransactionState::done, rtu_query, rtu_response},
+      {PortKind::rtu, "", TransactionState::err03, {0x01}, {}},
+      {PortKind::tcp, "[::1]:5", TransactionState::err03, {0x12, 0x34, 0x00}, {}},
+      {PortKind::master, "", TransactionState::timeout, {0x03, 0x06, 0x02, 0x02, 0x12, 0x34, 0x25, 0x27}, {}},
+  };
+  for (const auto& c : cases) {
+    for (const auto format : {MonitorFormat::text, MonitorFormat::json}) {
+      const auto written = line(c.port, c.peer, c.state, c.query, c.response, 200, format);
+      const auto parsed = parse_monitor_line(written);
+      ASSERT_TRUE(parsed) << written;
+      EXPECT_EQ(parsed->kind, MonitorLine::Kind::transaction);
+      EXPECT_EQ(parsed->time, at);
+      EXPECT_EQ(parsed->ix, 200);
+      EXPECT_EQ(parsed->rc, c.query.size());
+      std::string again, other;
+      append_monitor_line(again, parsed->fields(), format);
+      EXPECT_EQ(again, written);
+      const auto other_format = format == MonitorFormat::text ? MonitorFormat::json : MonitorFormat::text;
+      append_monitor_line(other, parsed->fields(), other_format);
+      EXPECT_EQ(other, line(c.port, c.peer, c.state, c.query, c.response, 200, other_format));
+    }
+  }
+}
+
+TEST(MonitorLine, OtherTextIsNotAMonitorLine) {
+  for (const std::string& bad : std::vector<std::string>{"", "hello", "2026-11-22T14:41:23Z rtu Ix=1",
+                                stamp + " rtu Ix=7 Rc=8 State=Fine Ad=1 PDU=04 Response=-",
+                                stamp + " rtu Ix=300 Rc=8 State=Done Ad=1 PDU=04 Response=-",
+                                stamp + " rtu Ix=1 Rc=8 State=Done Ad=1 PDU=4 Response=-",
+                                stamp + " rtu Ix=1 Rc=8 State=Done Ad=1 PDU=04",
+                                stamp + " rtu Ix=1 Rc=8 State=Done TrID=0001 Ad=1 PDU=04 Response=-",
+                                std::string("{\"time\":\"x\"}"), std::string("{not json")})
+    EXPECT_FALSE(parse_monitor_line(bad)) << bad;
+}
+
+TEST(MonitorLine, UtcTimeIsIsoWithMicroseconds) {
+  std::string out;
+  append_utc_time(out, system_clock::time_point{});
+  EXPECT_EQ(out, "1970-01-01T00:00:00.000000Z");
+  EXPECT_EQ(parse_utc_time(stamp), at);
+  EXPECT_FALSE(parse_utc_time("2026-02-30T00:00:00.000000Z"));
+}
+
+TEST(MonitorLine, SeedFramesCarryValidCrcs) {
+  for (const auto& frame : {rtu_query, rtu_response}) {
+    const std::uint16_t wire = static_cast<std::uint16_t>(frame[frame.size() - 2] | frame[frame.size() - 1] << 8);
+    EXPECT_EQ(crc16(std::span(frame).first(frame.size() - 2)), wire);
+  }
+}
+
+}  // namespace
+}  // namespace unima::modbus

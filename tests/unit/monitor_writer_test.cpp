@@ -1,0 +1,187 @@
+// The monitor's writer and sinks (daemon/): a blocked writer never blocks the ports — the
+// queue fills, the rest is dropped, counted, and the log says so; the file sink rotates
+// by size without splitting lines.
+
+#include <gtest/gtest.h>
+
+#include <condition_variable>
+#include <filesystem>
+#include <fstream>
+#include <mutex>
+#include <sstream>
+
+#include "daemon/monitor_sinks.hpp"
+#include "daemon/monitor_writer.hpp"
+
+namespace unima::daemon {
+namespace {
+
+using namespace std::chrono_literals;
+using Bytes = std::vector<std::uint8_t>;
+
+// A sink whose first write blocks until released: a disk that hangs.
+struct Gate {
+  std::mutex mutex;
+  std::condition_variable changed;
+  bool entered = false;
+  bool released = false;
+  std::string text;
+};
+
+class BlockingSink : public MonitorSink {
+ public:
+  explicit BlockingSink(std::shared_ptr<Gate> gate) : gate_(std::move(gate)) {}
+  void write(std::string_view lines) override {
+    std::unique_lock lock(gate_->mutex);
+    gate_->entered = true;
+    gate_->changed.notify_all();
+    gate_->changed.wait(lock, [&] { return gate_->released; });
+    gate_->text += lines;
+  }
+
+ private:
+  std::shared_ptr<Gate> gate_;
+};
+
+const Bytes query = {0x12, 0x34, 0x00, 0x00, 0x00, 0x06, 0x01, 0x04, 0x00, 0x11, 0x00, 0x02};
+const Bytes response = {0x12, 0x34, 0x00, 0x00, 0x00, 0x07, 0x01, 0x04, 0x04, 0x00, 0x50, 0x7F, 0xFF};
+
+modbus::Transaction transaction() {
+  return {modbus::PortKind::tcp, "127.0.0.1:5000", std::chrono::system_clock::time_point{},
+          modbus::TransactionState::done, query, response};
+}
+
+std::vector<std::string> lines_of(const std::string& text) {
+  std::vector<std::string> lines;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  return lines;
+}
+
+TEST(MonitorWriter, ABlockedWriterMakesPushesDropAndCountNeverWait) {
+  auto gate = std::make_shared<Gate>();
+  std::vector<std::unique_ptr<MonitorSink>> sinks;
+  sinks.push_back(std::make_unique<BlockingSink>(gate));
+  MonitorWriter::Options options;
+  options.capacity = 8;
+  options.batch_window = 0ms;
+  MonitorWriter writer(std::move(sinks), options);
+
+  ASSERT_TRUE(writer.push(transaction(), 0));
+  {
+    std::unique_lock lock(gate->mutex);
+    ASSERT_TRUE(gate->changed.wait_for(lock, 5s, [&] { return gate->entered; })) << "the writer never wrote";
+  }
+  // The writer holds one slot while it is stuck in the sink: 7 more fit, 3 are dropped.
+  std::vector<bool> accepted;
+  for (std::uint8_t ix = 1; ix <= 10; ++ix) accepted.push_back(writer.push(transaction(), ix));
+  EXPECT_EQ(accepted, (std::vector<bool>{true, true, true, true, true, true, true, false, false, false}));
+  EXPECT_EQ(writer.dropped(), 3u);
+
+  {
+    std::lock_guard lock(gate->mutex);
+    gate->released = true;
+  }
+  gate->changed.notify_all();
+  writer.stop();
+  EXPECT_EQ(writer.written(), 8u);
+  EXPECT_EQ(writer.dropped(), 3u);
+  const auto lines = lines_of(gate->text);
+  ASSERT_EQ(lines.size(), 9u) << gate->text;
+  for (std::size_t i = 0; i < 8; ++i)
+    EXPECT_NE(lines[i].find(" Ix=" + std::to_string(i) + " "), std::string::npos) << lines[i];
+  EXPECT_NE(lines[8].find(" monitor Dropped=3"), std::string::npos) << lines[8];
+  EXPECT_FALSE(writer.push(transaction(), 11));  // stopped
+}
+
+TEST(MonitorWriter, AnUnblockedWriterWritesEveryLineInOrder) {
+  auto gate = std::make_shared<Gate>();
+  gate->released = true;
+  std::vector<std::unique_ptr<MonitorSink>> sinks;
+  sinks.push_back(std::make_unique<BlockingSink>(gate));
+  MonitorWriter::Options options;
+  options.capacity = 1000;
+  options.format = modbus::MonitorFormat::json;
+  MonitorWriter writer(std::move(sinks), options);
+  for (int i = 0; i < 500; ++i) ASSERT_TRUE(writer.push(transaction(), static_cast<std::uint8_t>(i)));
+  writer.stop();
+  const auto lines = lines_of(gate->text);
+  ASSERT_EQ(lines.size(), 500u);
+  for (std::size_t i = 0; i < lines.size(); ++i)
+    EXPECT_NE(lines[i].find("\"ix\":" + std::to_string(i % 256) + ","), std::string::npos) << lines[i];
+  EXPECT_EQ(writer.dropped(), 0u);
+}
+
+class TempDir {
+ public:
+  TempDir() {
+    std::string pattern = (std::filesystem::temp_directory_path() / "unima-unit-XXXXXX").string();
+    if (!::mkdtemp(pattern.data())) throw std::runtime_error("mkdtemp");
+    path_ = pattern;
+  }
+  ~TempDir() {
+    std::error_code ec;
+    std::filesystem::remove_all(path_, ec);
+  }
+  const std::filesystem::path& path() const { return path_; }
+
+ private:
+  std::filesystem::path path_;
+};
+
+std::string read_file(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+std::string numbered_line(int n) {  // 100 bytes with its newline
+  auto line = "line " + std::to_string(n);
+  line.resize(99, '.');
+  return line + "\n";
+}
+
+TEST(RotatingFileSink, RotatesBySizeKeepingMaxFilesAndWholeLines) {
+  TempDir dir;
+  const auto path = dir.path() / "sub" / "monitor.log";  // the directory is created
+  RotatingFileSink sink(path.string(), 350, 2);
+  std::string batch;
+  for (int n = 0; n < 7; ++n) batch += numbered_line(n);
+  sink.write(batch);  // 0-2 | 3-5 | 6
+  for (int n = 7; n < 12; ++n) sink.write(numbered_line(n));  // ... 6-8 | 9-11
+
+  EXPECT_EQ(read_file(path), numbered_line(9) + numbered_line(10) + numbered_line(11));
+  EXPECT_EQ(read_file(path.string() + ".1"), numbered_line(6) + numbered_line(7) + numbered_line(8));
+  EXPECT_EQ(read_file(path.string() + ".2"), numbered_line(3) + numbered_line(4) + numbered_line(5));
+  EXPECT_FALSE(std::filesystem::exists(path.string() + ".3"));
+}
+
+TEST(RotatingFileSink, AppendsToAnExistingFileAndCountsItsSize) {
+  TempDir dir;
+  const auto path = dir.path() / "monitor.log";
+  std::ofstream(path) << numbered_line(0) << numbered_line(1);
+  {
+    RotatingFileSink sink(path.string(), 300, 1);
+    EXPECT_EQ(sink.size(), 200u);
+    sink.write(numbered_line(2));
+    sink.write(numbered_line(3));
+  }
+  EXPECT_EQ(read_file(path), numbered_line(3));
+  EXPECT_EQ(read_file(path.string() + ".1"), numbered_line(0) + numbered_line(1) + numbered_line(2));
+}
+
+TEST(RotatingFileSink, AFileThatCannotBeOpenedIsAnErrorNamingIt) {
+  TempDir dir;
+  std::ofstream(dir.path() / "plain") << "x";
+  const auto path = (dir.path() / "plain" / "monitor.log").string();  // under a file
+  try {
+    RotatingFileSink sink(path, 1000, 1);
+    FAIL() << "opened";
+  } catch (const std::runtime_error& e) {
+    EXPECT_EQ(std::string(e.what()), "monitor: cannot open " + path + ": Not a directory");
+  }
+}
+
+}  // namespace
+}  // namespace unima::daemon

@@ -1,0 +1,158 @@
+// monitor-cost: what the monitor costs per transaction, measured in-process without a
+// load generator (the end-to-end benchmark is bench/'s: a config with monitor.file set).
+//
+//   build/tools/monitor-cost [iterations]
+//
+// It times, on the seed's TCP read (seed 004 §5.1):
+//   serve        the CPU part of serving it: MBAP parse, request handler, MBAP write
+//   observe ...  the hook a port calls (Monitor::observe) in its configurations: what the
+//                event loop pays; with the log on, the writer is given time to drain
+//                between batches, so no transaction is dropped and none is cheaper for it
+//   format/write the writer thread's work per line: formatting, and formatting + file append
+// A real TCP transaction also costs the recv and send system calls (microseconds on
+// loopback), which this leaves out: the observe/serve ratio printed is an upper bound of
+// the monitor's share of the event loop's time.
+
+#include <unistd.h>
+
+#include <array>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+#include <thread>
+
+#include "banks/register_space.hpp"
+#include "config/config.hpp"
+#include "daemon/monitor.hpp"
+#include "daemon/monitor_sinks.hpp"
+#include "modbus/bank_model.hpp"
+#include "modbus/mbap.hpp"
+#include "modbus/monitor_line.hpp"
+#include "modbus/request_handler.hpp"
+
+namespace {
+
+using namespace unima;
+using Clock = std::chrono::steady_clock;
+
+const std::array<std::uint8_t, 12> query = {0x12, 0x34, 0x00, 0x00, 0x00, 0x06, 0x01, 0x04, 0x00, 0x11, 0x00, 0x02};
+const std::array<std::uint8_t, 13> response = {0x12, 0x34, 0x00, 0x00, 0x00, 0x07, 0x01,
+                                               0x04, 0x04, 0x00, 0x50, 0x7F, 0xFF};
+
+modbus::Transaction seed_transaction() {
+  return {modbus::PortKind::tcp, "127.0.0.1:40000", std::chrono::system_clock::now(), modbus::TransactionState::done,
+          query, response};
+}
+
+template <typename F>
+double ns_per_op(std::size_t n, F&& f) {
+  const auto start = Clock::now();
+  for (std::size_t i = 0; i < n; ++i) f(i);
+  return std::chrono::duration<double, std::nano>(Clock::now() - start).count() / static_cast<double>(n);
+}
+
+double serve_cost(std::size_t n) {
+  const auto config = config::load_text("banks: { D1: 0x0011 }\ndevices: { D1: { type: unigen-chp, address: 5 } }\n",
+                                        "monitor-cost");
+  banks::RegisterStore store(config::bank_shapes(config));
+  banks::RegisterSpace space(config::address_map(config), store, banks::AccessRules{true});
+  modbus::BankModel model(space);
+  modbus::HandlerOptions options;
+  std::array<std::uint8_t, modbus::max_pdu_size> pdu{};
+  std::array<std::uint8_t, modbus::max_tcp_adu_size> out{};
+  std::size_t sink = 0;
+  const auto ns = ns_per_op(n, [&](std::size_t) {
+    const auto adu = modbus::parse_tcp_adu(query);
+    const auto length = modbus::handle_request(adu.pdu, pdu, model, options);
+    sink += modbus::write_tcp_adu(adu.header.transaction_id, adu.header.unit_id, std::span(pdu.data(), length), out);
+  });
+  if (sink == 0) std::puts("?");
+  return ns;
+}
+
+// observe() timed in batches; between batches (untimed) the writer catches up.
+double observe_cost(daemon::Monitor& monitor, std::size_t n, std::uint64_t& dropped) {
+  const auto t = seed_transaction();
+  constexpr std::size_t batch = 1000;
+  double total_ns = 0;
+  for (std::size_t done = 0; done < n; done += batch) {
+    const auto handled_before = monitor.written() + monitor.dropped();
+    total_ns += ns_per_op(batch, [&](std::size_t) { monitor.observe(t); }) * batch;
+    if (monitor.logging() && !monitor.filter().passes_everything()) continue;
+    while (monitor.logging() && monitor.written() + monitor.dropped() < handled_before + batch)
+      std::this_thread::sleep_for(std::chrono::microseconds(200));
+  }
+  dropped = monitor.dropped();
+  return total_ns / static_cast<double>(n);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const std::size_t n = argc > 1 ? std::stoul(argv[1]) : 200'000;
+  const auto dir = std::filesystem::temp_directory_path() / ("unima-monitor-cost-" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+
+  const double serve = serve_cost(n);
+  std::printf("%-44s %8.1f ns\n", "serve (MBAP + handler, no syscalls)", serve);
+
+  const auto report = [&](const char* what, config::MonitorConfig c) {
+    daemon::Monitor monitor(c);
+    std::uint64_t dropped = 0;
+    const double ns = observe_cost(monitor, n, dropped);
+    std::printf("%-44s %8.1f ns  (%4.1f %% of serve; %llu dropped)\n", what, ns, 100.0 * ns / serve,
+                static_cast<unsigned long long>(dropped));
+  };
+  config::MonitorConfig off;
+  report("observe, log off (counters, Ix)", off);
+  config::MonitorConfig indicators = off;
+  indicators.indicators = {{1, 0x0011}, {1, 0x0012}, {3, 0x0202}, {4, 0x0000}};
+  report("observe, log off, 4 indicators", indicators);
+  config::MonitorConfig file = off;
+  file.file = (dir / "monitor.log").string();
+  file.max_size = 64ull << 20;
+  report("observe, log to file", file);
+  config::MonitorConfig filtered = file;
+  filtered.filter.function = 6;  // the seed's read does not pass
+  report("observe, log to file, filtered out", filtered);
+  config::MonitorConfig json = file;
+  json.format = config::MonitorFormat::json;
+  report("observe, log to file as JSON", json);
+
+  // The writer thread's side.
+  const auto t = seed_transaction();
+  std::string port;
+  modbus::append_port_name(port, t.port, t.peer);
+  std::string line;
+  const double format_text = ns_per_op(n, [&](std::size_t i) {
+    line.clear();
+    modbus::append_monitor_line(line, modbus::monitor_fields(t, static_cast<std::uint8_t>(i), port),
+                                modbus::MonitorFormat::text);
+  });
+  std::printf("%-44s %8.1f ns  (%zu bytes a line)\n", "writer: format a text line", format_text, line.size());
+  const double format_json = ns_per_op(n, [&](std::size_t i) {
+    line.clear();
+    modbus::append_monitor_line(line, modbus::monitor_fields(t, static_cast<std::uint8_t>(i), port),
+                                modbus::MonitorFormat::json);
+  });
+  std::printf("%-44s %8.1f ns\n", "writer: format a JSON line", format_json);
+  {
+    daemon::RotatingFileSink sink((dir / "sink.log").string(), 10ull << 20, 2);
+    constexpr std::size_t batch = 256;
+    std::string lines;
+    const double ns = ns_per_op(n / batch, [&](std::size_t b) {
+                        lines.clear();
+                        for (std::size_t i = 0; i < batch; ++i)
+                          modbus::append_monitor_line(
+                              lines, modbus::monitor_fields(t, static_cast<std::uint8_t>(b + i), port),
+                              modbus::MonitorFormat::text);
+                        sink.write(lines);
+                      }) /
+                      batch;
+    std::printf("%-44s %8.1f ns  (=> %.0f lines/s for one writer thread)\n",
+                "writer: format + append to a rotating file", ns, 1e9 / ns);
+  }
+  std::filesystem::remove_all(dir);
+  return 0;
+}
