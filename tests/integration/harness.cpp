@@ -10,6 +10,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstring>
 #include <fstream>
 #include <sstream>
@@ -28,6 +29,10 @@ sockaddr_in loopback(std::uint16_t port) {
   return addr;
 }
 }  // namespace
+
+std::string next_line(const std::string& yaml) {
+  return std::to_string(std::count(yaml.begin(), yaml.end(), '\n') + 1);
+}
 
 std::uint16_t free_port() {
   const int fd = ::socket(AF_INET, SOCK_STREAM, 0);

@@ -18,6 +18,9 @@ namespace unima::test {
 using namespace std::chrono_literals;
 using Bytes = std::vector<std::uint8_t>;
 
+/// The 1-based number of the line that text appended to `yaml` starts on.
+std::string next_line(const std::string& yaml);
+
 /// A loopback TCP port that was free a moment ago.
 std::uint16_t free_port();
 

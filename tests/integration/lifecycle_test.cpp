@@ -15,7 +15,6 @@ namespace {
 class Lifecycle : public BridgeTest {};
 
 // The line number of a line appended to `yaml`.
-std::string next_line(const std::string& yaml) { return std::to_string(std::count(yaml.begin(), yaml.end(), '\n') + 1); }
 
 TEST_F(Lifecycle, StopsWithinASecondOfSigterm) {
   start();
