@@ -179,7 +179,8 @@ class Parser {
   }
 
   DeviceProfile profile(const YAML::Node& root) const {
-    only_keys(root, {"id", "name", "source", "functions", "word_order", "line", "min_gap", "frame_gap", "points"});
+    only_keys(root, {"id", "name", "source", "functions", "word_order", "line", "min_gap", "frame_gap", "byte_timeout",
+                     "points"});
     DeviceProfile d;
     d.id = text(root, "id", true);
     d.name = text(root, "name", false);
@@ -203,6 +204,7 @@ class Parser {
     }
     if (root["min_gap"]) d.min_gap = micros(root["min_gap"]);
     if (root["frame_gap"]) d.frame_gap = micros(root["frame_gap"]);
+    if (root["byte_timeout"]) d.byte_timeout = micros(root["byte_timeout"]);
     const auto points = root["points"];
     if (!points || !points.IsSequence() || points.size() == 0) fail(root, "'points' must be a non-empty list");
     std::set<std::string> names;

@@ -58,7 +58,8 @@ struct DeviceProfile {
   WordOrder word_order = WordOrder::low_first;
   SerialDefaults line;
   std::chrono::microseconds min_gap{0};    // between the starts of two frames to the device
-  std::chrono::microseconds frame_gap{0};  // silence the device needs between frames
+  std::chrono::microseconds frame_gap{0};     // silence the device needs between frames
+  std::chrono::microseconds byte_timeout{0};  // longest silence it accepts inside a frame
   std::vector<ProfilePoint> points;
 
   const ProfilePoint* find(std::string_view point_name) const;
