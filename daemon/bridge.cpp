@@ -51,6 +51,7 @@ Bridge::Bridge(asio::io_context& io, config::Config config)
       presence_timer_(io) {
   transport_ = make_transport(core_->config);
   tcp_ = make_tcp_server(core_->config);
+  master_ = make_master(core_->config);
   core_->store->set_change_listener([this](BankId bank, std::uint16_t offset, std::uint16_t value) {
     if (transport_) transport_->publish(bank, offset, value);
   });
@@ -100,6 +101,24 @@ std::unique_ptr<TcpSlaveServer> Bridge::make_tcp_server(const config::Config& co
   }
 }
 
+// In master mode the RTU line is the master's (SPEC §3); the TCP slave keeps serving.
+std::shared_ptr<MasterPort> Bridge::make_master(const config::Config& config) {
+  if (config.modbus.mode != config::ModbusMode::master) return nullptr;
+  MasterPort::Hooks hooks;
+  // The hooks read the running core at each call, so they follow a reload.
+  hooks.read_source = [this](const banks::SourceRef& source) -> std::optional<std::uint16_t> {
+    const auto value = core_->store->read_source(source);
+    if (!source.bit && value == modbus::not_measured) return std::nullopt;
+    return value;
+  };
+  hooks.set_output = [this](unsigned output, std::uint16_t value) { core_->store->set_user_output(output, value); };
+  hooks.on_fault = [this] { error_hold_.fault(); };
+  hooks.on_transaction = [](const modbus::Transaction& t) {
+    if (spdlog::should_log(spdlog::level::debug)) spdlog::debug("modbus master: {}", describe_master_transaction(t));
+  };
+  return MasterPort::create(io_, config, std::move(hooks));
+}
+
 SlaveContext Bridge::slave_context() const {
   SlaveContext context;
   context.registers = core_->model.get();
@@ -127,11 +146,13 @@ void Bridge::start() {
                    core_->config.bank_bases[index_of(banks::device_bank(n))], core_->store->length(banks::device_bank(n)));
   if (transport_) transport_->start();
   if (tcp_) tcp_->start();
+  if (master_) master_->start();
 }
 
 void Bridge::stop() {
   if (!started_) return;
   started_ = false;
+  if (master_) master_->stop();
   if (tcp_) tcp_->stop();
   if (transport_) transport_->stop();
   presence_timer_.cancel();
@@ -171,6 +192,19 @@ void Bridge::reload(config::Config config) {
     }
   }
 
+  // The master's line opens before anything is switched (a serial device may be missing).
+  std::shared_ptr<MasterPort> new_master;
+  try {
+    new_master = make_master(new_config);
+  } catch (...) {
+    if (!same_tcp && tcp_) {
+      new_tcp.reset();  // it may hold the port the old server needs again
+      tcp_ = std::make_unique<TcpSlaveServer>(io_, tcp_->options(), slave_context());
+      tcp_->start();
+    }
+    throw;
+  }
+
   // Commit: values and presence carried over, then the ports switched.
   core->store->take_state_from(*core_->store);
   const auto now = unimabus::Presence::Clock::now();
@@ -200,6 +234,9 @@ void Bridge::reload(config::Config config) {
     tcp_->set_limits(tcp.max_clients, tcp.idle_timeout);
     tcp_->set_context(slave_context());
   }
+  if (master_) master_->stop();
+  master_ = std::move(new_master);
+  if (master_) master_->start();
   for (const auto& warning : config::warnings(core_->config)) spdlog::warn("{}", warning);
   spdlog::info("bridge: reloaded {}", core_->config.file);
 }

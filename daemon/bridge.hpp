@@ -10,6 +10,7 @@
 #include "config/config.hpp"
 #include "daemon/asio.hpp"
 #include "daemon/error_hold.hpp"
+#include "daemon/master_port.hpp"
 #include "daemon/slave_context.hpp"
 #include "daemon/tcp_slave_server.hpp"
 #include "unimabus/presence.hpp"
@@ -39,12 +40,15 @@ class Bridge {
   const config::Config& config() const;
   /// The bound Modbus TCP port, 0 when there is no TCP slave.
   std::uint16_t tcp_port() const { return tcp_ ? tcp_->port() : 0; }
+  /// The Modbus master, in master mode; nullptr in slave mode.
+  const MasterPort* master() const { return master_.get(); }
 
  private:
   struct Core;
   std::unique_ptr<Core> build_core(config::Config config) const;
   std::unique_ptr<unimabus::Transport> make_transport(const config::Config& config);
   std::unique_ptr<TcpSlaveServer> make_tcp_server(const config::Config& config) const;
+  std::shared_ptr<MasterPort> make_master(const config::Config& config);
   SlaveContext slave_context() const;
   std::string on_telegram(const unimabus::Telegram& telegram);
   std::string snapshot() const;
@@ -56,6 +60,7 @@ class Bridge {
   ErrorHold error_hold_;
   std::unique_ptr<unimabus::Transport> transport_;
   std::unique_ptr<TcpSlaveServer> tcp_;
+  std::shared_ptr<MasterPort> master_;
   asio::steady_timer presence_timer_;
   bool presence_timer_armed_ = false;
   bool started_ = false;
