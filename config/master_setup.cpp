@@ -8,6 +8,19 @@ namespace unima::config {
 
 unsigned bits_per_char(const RtuConfig& rtu) { return 1 + 8 + (rtu.parity == Parity::none ? 0 : 1) + rtu.stop_bits; }
 
+std::vector<modbus::PlannedRequest> master_plan(const MasterSetup& setup) {
+  auto plan = modbus::plan_requests(setup.blocks, setup.plan);
+  std::vector<std::chrono::microseconds> slots;
+  for (const auto& r : plan)
+    slots.push_back(modbus::transaction_estimate(r, setup.serial) +
+                    std::chrono::duration_cast<std::chrono::microseconds>(setup.scheduler.frame_gap));
+  std::map<std::uint8_t, std::chrono::microseconds> gaps;
+  for (const auto& [device, timing] : setup.devices)
+    gaps[device] = std::chrono::duration_cast<std::chrono::microseconds>(timing.min_gap);
+  modbus::assign_phases(plan, slots, gaps);
+  return plan;
+}
+
 MasterSetup master_setup(const Config& config) {
   const auto& m = config.modbus.master;
   MasterSetup setup;

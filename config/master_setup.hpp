@@ -24,6 +24,10 @@ struct MasterSetup {
 /// Everything the master needs from `config` (which is in master mode).
 MasterSetup master_setup(const Config& config);
 
+/// The requests of `setup`, merged (modbus::plan_requests) and phased
+/// (modbus::assign_phases) for its line and devices.
+std::vector<modbus::PlannedRequest> master_plan(const MasterSetup& setup);
+
 /// Bits per character on the RTU line: start, 8 data, parity, stop bits.
 unsigned bits_per_char(const RtuConfig& rtu);
 

@@ -28,7 +28,7 @@ std::string span_text(const modbus::PlannedRequest& r) {
 
 std::string format_master_plan(const config::Config& config) {
   const auto setup = config::master_setup(config);
-  const auto plan = modbus::plan_requests(setup.blocks, setup.plan);
+  const auto plan = config::master_plan(setup);
   std::string out;
   const auto& m = config.modbus.master;
   if (!m.tcp.empty()) out += fmt::format("master: tcp {}\n", m.tcp);
@@ -38,8 +38,9 @@ std::string format_master_plan(const config::Config& config) {
   out += fmt::format("  {} blocks in {} requests (merge_gap {})\n", setup.blocks.size(), plan.size(), m.merge_gap);
   for (std::size_t n = 0; n < plan.size(); ++n) {
     const auto& r = plan[n];
-    out += fmt::format("  request {:>2}: device {:>3}, function {:>2}, {}, every {}\n", n + 1, r.device, r.function,
-                       span_text(r), duration_text(r.period));
+    out += fmt::format("  request {:>2}: device {:>3}, function {:>2}, {}, every {}{}\n", n + 1, r.device, r.function,
+                       span_text(r), duration_text(r.period),
+                       r.phase.count() ? fmt::format(" from +{:.1f}ms", static_cast<double>(r.phase.count()) / 1000) : "");
     for (const auto index : r.blocks) {
       const auto& b = setup.blocks[index];
       const auto what = b.is_read() ? fmt::format("-> output {}", b.output)

@@ -66,7 +66,7 @@ void MasterPort::start() {
   if (running_) return;
   running_ = true;
   const auto now = Clock::now();
-  auto plan = modbus::plan_requests(setup_.blocks, setup_.plan);
+  auto plan = config::master_plan(setup_);
   for (const auto& r : plan) counters_[r.device];
   scheduler_.emplace(std::move(plan), setup_.scheduler, setup_.devices, now);
   last_good_.assign(setup_.blocks.size(), now);

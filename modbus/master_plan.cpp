@@ -1,7 +1,9 @@
 #include "modbus/master_plan.hpp"
 
 #include <algorithm>
+#include <limits>
 #include <map>
+#include <numeric>
 #include <tuple>
 
 #include "modbus/protocol.hpp"
@@ -162,6 +164,57 @@ double device_request_rate(std::span<const PlannedRequest> requests, std::uint8_
   for (const auto& r : requests)
     if (r.device == device) rate += 1000.0 / static_cast<double>(r.period.count());
   return rate;
+}
+
+}  // namespace unima::modbus
+
+namespace unima::modbus {
+
+std::chrono::microseconds transaction_estimate(const PlannedRequest& request, const std::optional<SerialTiming>& line,
+                                               std::chrono::microseconds tcp_slot) {
+  if (!line) return tcp_slot;
+  const auto bytes = static_cast<long>(rtu_request_size(request) + rtu_response_size(request));
+  return line->char_time() * bytes + 2 * line->silence();
+}
+
+void assign_phases(std::vector<PlannedRequest>& requests, std::span<const std::chrono::microseconds> slots,
+                   const std::map<std::uint8_t, std::chrono::microseconds>& min_gaps) {
+  using std::chrono::microseconds;
+  std::vector<std::size_t> order(requests.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return requests[a].period < requests[b].period; });
+  constexpr long step = 500;                   // µs between the offsets tried
+  constexpr long longest_search = 2'000'000;   // µs: phases beyond two seconds buy nothing
+  std::vector<std::size_t> placed;
+  for (const auto i : order) {
+    const long period = std::chrono::duration_cast<microseconds>(requests[i].period).count();
+    const long limit = std::min(period, longest_search);
+    long best = 0;
+    double best_score = -1;
+    for (long offset = 0; offset < limit; offset += step) {
+      double score = std::numeric_limits<double>::infinity();
+      for (const auto j : placed) {
+        const long other = std::chrono::duration_cast<microseconds>(requests[j].period).count();
+        const long circle = std::gcd(period, other);
+        long distance = (offset - requests[j].phase.count()) % circle;
+        if (distance < 0) distance += circle;
+        distance = std::min(distance, circle - distance);
+        long need = std::max(slots[i].count(), slots[j].count());
+        if (requests[i].device == requests[j].device) {
+          const auto gap = min_gaps.find(requests[i].device);
+          if (gap != min_gaps.end()) need = std::max(need, gap->second.count());
+        }
+        score = std::min(score, static_cast<double>(distance) / static_cast<double>(std::max(need, 1L)));
+      }
+      if (score > best_score) {
+        best_score = score;
+        best = offset;
+      }
+      if (score >= 1) break;  // first fit: the earliest offset that keeps clear of all others
+    }
+    requests[i].phase = microseconds(best);
+    placed.push_back(i);
+  }
 }
 
 }  // namespace unima::modbus

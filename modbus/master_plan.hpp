@@ -8,6 +8,8 @@
 
 #include <chrono>
 #include <cstdint>
+#include <map>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -50,6 +52,7 @@ struct PlannedRequest {
   std::uint16_t first = 0;
   std::uint16_t count = 1;                 // registers or bits
   std::chrono::milliseconds period{1000};
+  std::chrono::microseconds phase{0};      // the first occurrence, after the start (assign_phases)
   std::vector<std::size_t> blocks;         // indices into the block list, by address
   bool spans_gap = false;                  // reads registers no block asked for
 
@@ -86,6 +89,20 @@ struct BusLoad {
 };
 
 BusLoad estimate_load(std::span<const PlannedRequest> requests, const SerialTiming& line);
+
+/// How long a request holds the line: its frames and two t3.5 on RTU; `tcp_slot` on TCP.
+std::chrono::microseconds transaction_estimate(const PlannedRequest& request, const std::optional<SerialTiming>& line,
+                                               std::chrono::microseconds tcp_slot = std::chrono::microseconds(1000));
+
+/// Sets each request's phase so that requests which would come due at the same moments
+/// are spread apart: by their transaction time on the line, and by the device's minimum
+/// gap between requests to one device. Without phases, requests whose periods are
+/// multiples of each other all come due together, and each but the first is late by the
+/// others' time, period after period. First fit, shortest period first; two requests can
+/// only meet at multiples of the greatest common divisor of their periods, so that is the
+/// circle their distance is measured on.
+void assign_phases(std::vector<PlannedRequest>& requests, std::span<const std::chrono::microseconds> slots,
+                   const std::map<std::uint8_t, std::chrono::microseconds>& min_gaps);
 /// Requests per second the plan sends to one device.
 double device_request_rate(std::span<const PlannedRequest> requests, std::uint8_t device);
 

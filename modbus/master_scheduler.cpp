@@ -11,7 +11,8 @@ MasterScheduler::MasterScheduler(std::vector<PlannedRequest> requests, const Opt
     Device& d = devices_[r.device];
     const auto given = devices.find(r.device);
     d.timing = given != devices.end() ? given->second : options.default_timing;
-    slots_.push_back(Slot{std::move(r), start, true, 0});
+    const auto first = start + r.phase;
+    slots_.push_back(Slot{std::move(r), first, true, 0});
   }
 }
 

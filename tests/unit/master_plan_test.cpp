@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <set>
+
 #include "modbus/master_plan.hpp"
 
 namespace unima::modbus {
@@ -143,6 +145,65 @@ TEST(MasterPlan, BusLoad) {
   EXPECT_EQ(rtu_response_size(write), 8u);
   EXPECT_DOUBLE_EQ(device_request_rate(plan, 1), 1.0);
   EXPECT_DOUBLE_EQ(device_request_rate(plan, 2), 0.0);
+}
+
+}  // namespace
+}  // namespace unima::modbus
+
+namespace unima::modbus {
+namespace {
+
+using namespace std::chrono_literals;
+
+PlannedRequest periodic(std::uint8_t device, std::chrono::milliseconds period) {
+  PlannedRequest r;
+  r.device = device;
+  r.period = period;
+  return r;
+}
+
+// The distance between two requests' occurrences, at their closest, in µs.
+long closest(const PlannedRequest& a, const PlannedRequest& b) {
+  const long pa = std::chrono::duration_cast<std::chrono::microseconds>(a.period).count();
+  const long pb = std::chrono::duration_cast<std::chrono::microseconds>(b.period).count();
+  long best = pa * pb;
+  for (long ta = a.phase.count(); ta < 10'000'000; ta += pa)
+    for (long tb = b.phase.count(); tb < 10'000'000; tb += pb) best = std::min(best, std::abs(ta - tb));
+  return best;
+}
+
+TEST(MasterPhases, RequestsThatWouldComeDueTogetherAreSpreadApart) {
+  std::vector<PlannedRequest> plan{periodic(1, 100ms), periodic(1, 200ms), periodic(2, 250ms), periodic(3, 1000ms),
+                                   periodic(3, 500ms)};
+  const std::vector<std::chrono::microseconds> slots(plan.size(), 6000us);
+  assign_phases(plan, slots, {{3, 35000us}});
+  EXPECT_EQ(plan[0].phase, 0us);  // the shortest period goes first, at once
+  for (std::size_t i = 0; i < plan.size(); ++i)
+    for (std::size_t j = i + 1; j < plan.size(); ++j) {
+      const long need = plan[i].device == 3 && plan[j].device == 3 ? 35000 : 6000;
+      EXPECT_GE(closest(plan[i], plan[j]), need) << i << " and " << j;
+    }
+}
+
+TEST(MasterPhases, AnOverfullPlanStillGetsTheBestSpreadItCan) {
+  // Ten 20 ms requests of 5 ms each cannot all keep 5 ms apart in 20 ms: the phases still
+  // spread them as evenly as the search allows.
+  std::vector<PlannedRequest> plan(10, periodic(1, 20ms));
+  const std::vector<std::chrono::microseconds> slots(plan.size(), 5000us);
+  assign_phases(plan, slots, {});
+  std::set<long> phases;
+  for (const auto& r : plan) phases.insert(r.phase.count());
+  EXPECT_GE(phases.size(), 4u);
+  for (const auto& r : plan) EXPECT_LT(r.phase, 20ms);
+}
+
+TEST(MasterPhases, TransactionEstimate) {
+  PlannedRequest r;
+  r.function = 3;
+  r.count = 2;
+  // 8 + 9 bytes at 9600 8N1 and two t3.5.
+  EXPECT_EQ(transaction_estimate(r, SerialTiming{9600, 10}), 17 * 1042us + 2 * 3646us);
+  EXPECT_EQ(transaction_estimate(r, std::nullopt), 1000us);
 }
 
 }  // namespace
