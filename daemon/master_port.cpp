@@ -38,6 +38,11 @@ std::string range(const modbus::PlannedRequest& r) {
   return r.count == 1 ? fmt::format("{}", r.first) : fmt::format("{}..{}", r.first, r.first + r.count - 1);
 }
 
+std::string outcome_text(const modbus::MasterResponse& r) {
+  if (r.status != ResponseStatus::exception) return std::string(response_status_name(r.status));
+  return fmt::format("exception {:02X}", static_cast<unsigned>(r.exception));
+}
+
 }  // namespace
 
 std::string describe_master_transaction(const modbus::Transaction& t) {
@@ -186,7 +191,7 @@ void MasterPort::finished(const MasterScheduler::Choice& choice, const modbus::B
     case MasterScheduler::Transition::degraded:
       counters.degraded = true;
       spdlog::warn("modbus master: device {} degraded: {} ({}); its requests stop, a probe goes every {} ms",
-                   request.device, response_status_name(result.status), link_->describe(),
+                   request.device, outcome_text(result), link_->describe(),
                    std::chrono::duration_cast<std::chrono::milliseconds>(scheduler_->probe_interval(request.device)).count());
       break;
     case MasterScheduler::Transition::recovered:
@@ -197,7 +202,7 @@ void MasterPort::finished(const MasterScheduler::Choice& choice, const modbus::B
   }
   if (result.status != ResponseStatus::ok && result.status != ResponseStatus::timeout)
     spdlog::debug("modbus master: device {} function {} {}: {}", request.device, request.function, range(request),
-                  response_status_name(result.status));
+                  outcome_text(result));
   pump();
 }
 

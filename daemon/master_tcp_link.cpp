@@ -40,16 +40,14 @@ void MasterTcpLink::transact(std::uint8_t unit, const modbus::Bytes& pdu, std::c
     if (ec) {
       if (last_error_ != ec.message()) spdlog::warn("modbus master: cannot resolve {}: {}", target_, ec.message());
       last_error_ = ec.message();
-      return;  // the deadline ends the transaction: no answer
+      return finish(generation, false);  // no answer
     }
     asio::async_connect(socket_, endpoints, [this, self, generation](const boost::system::error_code& e, const tcp::endpoint&) {
       if (generation != generation_) return;
       if (e) {
         if (last_error_ != e.message()) spdlog::warn("modbus master: cannot connect to {}: {}", target_, e.message());
         last_error_ = e.message();
-        boost::system::error_code ignored;
-        socket_.close(ignored);
-        return;
+        return finish(generation, false);  // no answer
       }
       if (!last_error_.empty()) spdlog::info("modbus master: connected to {}", target_);
       last_error_.clear();

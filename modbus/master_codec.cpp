@@ -105,8 +105,11 @@ TransactionState transaction_state(const MasterResponse& r) {
 }
 
 bool slave_answered(const MasterResponse& r) {
-  return r.status == ResponseStatus::ok || r.status == ResponseStatus::exception ||
-         r.status == ResponseStatus::bad_length || r.status == ResponseStatus::wrong_echo;
+  if (r.status == ResponseStatus::exception) {
+    // 0x0A and 0x0B come from a gateway in front of the slave: the slave itself is silent.
+    return r.exception != ExceptionCode::gateway_path_unavailable && r.exception != ExceptionCode::gateway_target_failed;
+  }
+  return r.status == ResponseStatus::ok || r.status == ResponseStatus::bad_length || r.status == ResponseStatus::wrong_echo;
 }
 
 std::optional<std::size_t> rtu_response_length(std::span<const std::uint8_t> bytes, std::uint8_t request_function) {

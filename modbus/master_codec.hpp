@@ -51,7 +51,8 @@ struct MasterResponse {
 /// a bad CRC or length, Err04 for a short frame, a wrong function (seed §8) or another
 /// slave's or a wrong echo, Timeout when nothing came.
 TransactionState transaction_state(const MasterResponse& response);
-/// Whether the slave is alive by this response: it answered something it meant for us.
+/// Whether the slave is alive by this response: it answered something it meant for us
+/// (a gateway's exception 0x0A or 0x0B says the slave behind it did not).
 bool slave_answered(const MasterResponse& response);
 
 /// The length an RTU response to a request of `request_function` will have, once enough

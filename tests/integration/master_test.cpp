@@ -277,6 +277,28 @@ TEST_F(MasterTest, MasterOverTcp) {
   EXPECT_TRUE(log_has(*daemon, "modbus master: tcp 127.0.0.1:")) << diagnostics();
 }
 
+TEST_F(MasterTest, AMissingTcpTargetOrUnitIsNoAnswer) {
+  sim = std::make_unique<SlaveSim>(dir, std::vector<std::string>{"1=sic184-v3"}, false, true);
+  ASSERT_TRUE(sim->ready()) << sim->output();
+  const auto nobody = free_port();
+  config.line = "master-tcp: 127.0.0.1:" + std::to_string(nobody);
+  config.master = "degrade_after: 2, retries: 0";
+  config.blocks = "  - { type: poll, device: 1, profile: sic184-v3, point: STATUS, period: 100ms, output: 1 }\n";
+  start();
+  EXPECT_TRUE(daemon->wait_for_log("modbus master: cannot connect to 127.0.0.1:" + std::to_string(nobody))) << diagnostics();
+  EXPECT_TRUE(daemon->wait_for_log("modbus master: Timeout tcp:127.0.0.1:" + std::to_string(nobody))) << diagnostics();
+  EXPECT_TRUE(daemon->wait_for_log("modbus master: device 1 degraded")) << diagnostics();
+  ASSERT_TRUE(daemon->terminate());
+
+  // A unit the gateway does not know: exception 0x0B, Err04, and the device counts as silent.
+  config.line = "master-tcp: 127.0.0.1:" + std::to_string(sim->tcp_port());
+  config.blocks = "  - { type: poll, device: 9, register: 1002, function: 3, period: 100ms, output: 1 }\n";
+  start();
+  EXPECT_TRUE(daemon->wait_for_log(" -> 00 01 00 00 00 03 09 83 0B")) << diagnostics();
+  EXPECT_TRUE(daemon->wait_for_log("modbus master: device 9 degraded")) << diagnostics();
+  EXPECT_EQ(output(1), 0x7FFF);
+}
+
 TEST_F(MasterTest, ANewConfigOnSighupChangesThePlan) {
   simulate({"1=sic184-v3"});
   config.blocks = "  - { type: poll, device: 1, profile: sic184-v3, point: STATUS, period: 100ms, output: 1 }\n";

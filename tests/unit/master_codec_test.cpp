@@ -98,6 +98,9 @@ TEST(MasterCodec, RtuResponseFaults) {
   EXPECT_EQ(checked.exception, ExceptionCode::illegal_data_address);
   EXPECT_EQ(transaction_state(checked), TransactionState::err02);
   EXPECT_TRUE(slave_answered(checked));
+  const auto gateway = check_rtu_response(rtu_frame(1, hex("83 0B")), 1, request);
+  EXPECT_EQ(transaction_state(gateway), TransactionState::err04);
+  EXPECT_FALSE(slave_answered(gateway));  // the gateway answered, the slave behind it did not
   EXPECT_FALSE(slave_answered(check_rtu_response(bad_crc, 1, request)));
   const auto write = write_request_pdu(6, 1, std::vector<std::uint16_t>{4});
   EXPECT_EQ(check_rtu_response(rtu_frame(1, hex("06 00 01 00 05")), 1, write).status, ResponseStatus::wrong_echo);
