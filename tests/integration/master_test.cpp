@@ -354,5 +354,13 @@ TEST_F(MasterTest, CheckPrintsTheMergePlanAndTheBusLoad) {
   EXPECT_NE(output.find("warning: the plan needs more than the line can carry"), std::string::npos) << output;
 }
 
+TEST(MasterCheck, AcceptsTheMasterExample) {
+  const auto [status, output] = run(std::string(UNIMA_BRIDGE_CLI) + " check --config " UNIMA_SOURCE_DIR
+                                    "/config/examples/master.yaml");
+  EXPECT_EQ(status, 0) << output;
+  EXPECT_NE(output.find("master: rtu /dev/ttyUSB0 38400 baud"), std::string::npos) << output;
+  EXPECT_EQ(output.find("warning"), std::string::npos) << output;
+}
+
 }  // namespace
 }  // namespace unima::test
