@@ -4,6 +4,7 @@
 #include <array>
 #include <chrono>
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -14,6 +15,8 @@
 #include "banks/device_table.hpp"
 #include "banks/register_store.hpp"
 #include "banks/source_ref.hpp"
+#include "modbus/device_profile.hpp"
+#include "modbus/master_value.hpp"
 
 namespace unima::config {
 
@@ -63,11 +66,35 @@ struct Extensions {
   bool function_43 = true;
 };
 
+/// A foreign slave the master talks to (modbus.master.devices.N).
+struct MasterDeviceConfig {
+  const modbus::DeviceProfile* profile = nullptr;  // what its blocks' points refer to
+  std::optional<Duration> min_gap;                 // else the profile's, else master.min_gap
+  std::optional<Duration> response_timeout;        // else master.response_timeout
+};
+
+/// Master-only settings (modbus.master; docs/master.md).
+struct MasterConfig {
+  std::string tcp;                      // "host:port" of a Modbus TCP slave to drive instead of modbus.rtu
+  Duration response_timeout{500};
+  unsigned retries = 1;                 // of reads; writes are never retried
+  unsigned merge_gap = 0;               // registers a merged read may skip
+  unsigned max_read_registers = 125;
+  Duration stale_after{10'000};         // a value not refreshed this long reads 0x7FFF
+  unsigned degrade_after = 3;           // failed transactions in a row that degrade a device
+  Duration backoff{1'000};              // first probe interval of a degraded device
+  Duration backoff_max{30'000};
+  Duration min_gap{0};                  // between two frames to one device
+  std::map<std::uint8_t, MasterDeviceConfig> devices;
+  std::string origin;                   // "file:line:col" of the section, when given
+};
+
 struct ModbusConfig {
   ModbusMode mode = ModbusMode::slave;
   std::uint8_t address = 1;  // seed "MBSAddr"
   std::optional<TcpSlaveConfig> tcp;
   std::optional<RtuConfig> rtu;
+  MasterConfig master;
   bool readable_write_banks = true;
   Extensions extensions;
 };
@@ -87,8 +114,18 @@ struct Block {
   std::uint8_t device = 0;                 // capture, poll, send: Modbus address of the foreign device
   Duration period{0};                      // poll, send
   std::string origin;                      // "file:line:col" of the block
+  // poll and send (SPEC §4 extensions): what goes over the wire and how it is converted
+  std::uint8_t function = 0;               // poll 1, 2, 3, 4 (seed: 4); send 5, 6, 16 (seed: 6)
+  modbus::ValueType data_type = modbus::ValueType::word;
+  modbus::WordOrder word_order = modbus::WordOrder::low_first;
+  double scale = 1.0;                      // device value x scale = bridge register
+  std::uint16_t count = 1;                 // bits read together (functions 1, 2)
+  const modbus::DeviceProfile* profile = nullptr;
+  std::string point;                       // the profile point named, if any
 
   bool is_slave_block() const { return type == Type::read || type == Type::write || type == Type::capture; }
+  /// Registers (or coils) on the foreign slave.
+  std::uint16_t extent() const;
 };
 
 std::string_view block_type_name(Block::Type type);

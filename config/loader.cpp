@@ -1,10 +1,12 @@
 #include <algorithm>
 #include <cerrno>
+#include <cmath>
 #include <cstring>
 #include <fstream>
 #include <sstream>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "banks/table_catalog.hpp"
 #include "config/config.hpp"
@@ -90,11 +92,11 @@ class Loader {
   }
 
   void modbus(const YAML::Node& node) {
-    yaml_.expect_keys(node, "modbus", {"mode", "address", "tcp", "rtu", "readable_write_banks", "extensions"});
+    yaml_.expect_keys(node, "modbus", {"mode", "address", "tcp", "rtu", "readable_write_banks", "extensions", "master"});
     auto& m = config_.modbus;
     if (node["mode"]) {
       const auto mode = yaml_.choice(node["mode"], {"slave", "master"});
-      if (mode == "master") yaml_.fail(node["mode"], "master mode is not available in this version");
+      m.mode = mode == "master" ? ModbusMode::master : ModbusMode::slave;
     }
     if (node["address"]) m.address = static_cast<std::uint8_t>(yaml_.number(node["address"], 0, 255));
     if (node["readable_write_banks"]) m.readable_write_banks = yaml_.boolean(node["readable_write_banks"]);
@@ -114,6 +116,76 @@ class Loader {
       m.tcp = t;
     }
     if (const auto rtu = node["rtu"]) m.rtu = rtu_line(rtu);
+    if (const auto master_node = node["master"]) master(master_node);
+    if (m.mode == ModbusMode::master) {
+      // SPEC §3: in master mode the RTU line belongs to the master; a TCP target is the extension.
+      if (!m.rtu && m.master.tcp.empty())
+        yaml_.fail(node["mode"] ? node["mode"] : node,
+                   "master mode needs the line to drive: modbus.rtu, or modbus.master.tcp (host:port)");
+      if (m.rtu && !m.master.tcp.empty())
+        yaml_.fail(node["master"]["tcp"], "modbus.master.tcp and modbus.rtu are both set; the master drives one "
+                                          "line: remove one of them");
+    }
+  }
+
+  void master(const YAML::Node& node) {
+    yaml_.expect_keys(node, "modbus.master",
+                      {"tcp", "response_timeout", "retries", "merge_gap", "max_read_registers", "stale_after",
+                       "degrade_after", "backoff", "backoff_max", "min_gap", "devices"});
+    auto& m = config_.modbus.master;
+    m.origin = yaml_.position(node);
+    const auto positive = [&](const YAML::Node& n) {
+      const auto d = yaml_.duration(n);
+      if (d.count() == 0) yaml_.fail(n, "must be longer than 0");
+      return d;
+    };
+    if (node["tcp"]) {
+      m.tcp = yaml_.text(node["tcp"]);
+      check_host_port(node["tcp"], m.tcp);
+    }
+    if (node["response_timeout"]) m.response_timeout = positive(node["response_timeout"]);
+    if (node["retries"]) m.retries = static_cast<unsigned>(yaml_.number(node["retries"], 0, 5));
+    if (node["merge_gap"]) m.merge_gap = static_cast<unsigned>(yaml_.number(node["merge_gap"], 0, 124));
+    if (node["max_read_registers"])
+      m.max_read_registers = static_cast<unsigned>(yaml_.number(node["max_read_registers"], 1, 125));
+    if (node["stale_after"]) m.stale_after = positive(node["stale_after"]);
+    if (node["degrade_after"]) m.degrade_after = static_cast<unsigned>(yaml_.number(node["degrade_after"], 1, 100));
+    if (node["backoff"]) m.backoff = positive(node["backoff"]);
+    if (node["backoff_max"]) m.backoff_max = positive(node["backoff_max"]);
+    if (m.backoff_max < m.backoff)
+      yaml_.fail(node["backoff_max"] ? node["backoff_max"] : node["backoff"], "backoff_max must not be shorter than backoff");
+    if (node["min_gap"]) m.min_gap = yaml_.duration(node["min_gap"]);
+    if (const auto devices = node["devices"]) {
+      if (!devices.IsMap()) yaml_.fail(devices, "modbus.master.devices must map Modbus addresses to { profile, min_gap, response_timeout }");
+      for (const auto& entry : devices) {
+        const auto address = static_cast<std::uint8_t>(yaml_.number(entry.first, 1, 247));
+        const auto& d = entry.second;
+        yaml_.expect_keys(d, fmt::format("modbus.master.devices.{}", address), {"profile", "min_gap", "response_timeout"});
+        MasterDeviceConfig device;
+        if (d["profile"]) device.profile = profile(d["profile"]);
+        if (d["min_gap"]) device.min_gap = yaml_.duration(d["min_gap"]);
+        if (d["response_timeout"]) device.response_timeout = positive(d["response_timeout"]);
+        m.devices[address] = device;
+      }
+    }
+  }
+
+  const modbus::DeviceProfile* profile(const YAML::Node& node) const {
+    const auto id = yaml_.text(node);
+    const auto* found = modbus::find_profile(id);
+    if (!found)
+      yaml_.fail(node, fmt::format("unknown device profile '{}' (known: {})", id, fmt::join(modbus::profile_ids(), ", ")));
+    return found;
+  }
+
+  void check_host_port(const YAML::Node& node, const std::string& s) const {
+    const auto colon = s.rfind(':');
+    if (colon == std::string::npos || colon == 0 || colon + 1 == s.size())
+      yaml_.fail(node, fmt::format("'{}' is not host:port", s));
+    const auto port = s.substr(colon + 1);
+    if (port.find_first_not_of("0123456789") != std::string::npos || port.size() > 5 || std::stoul(port) > 65535 ||
+        std::stoul(port) == 0)
+      yaml_.fail(node, fmt::format("'{}' has no valid port", s));
   }
 
   RtuConfig rtu_line(const YAML::Node& node) const {
@@ -222,18 +294,21 @@ class Loader {
         yaml_.expect_keys(b, "a capture block", {"type", "device", "register", "output"});
       } else if (type == "poll") {
         block.type = Block::Type::poll;
-        yaml_.expect_keys(b, "a poll block", {"type", "device", "register", "period", "output"});
+        yaml_.expect_keys(b, "a poll block", {"type", "device", "register", "period", "output", "function", "data_type",
+                                              "count", "word_order", "scale", "profile", "point"});
       } else {
         block.type = Block::Type::send;
-        yaml_.expect_keys(b, "a send block", {"type", "device", "register", "period", "source"});
+        yaml_.expect_keys(b, "a send block", {"type", "device", "register", "period", "source", "function", "data_type",
+                                              "word_order", "scale", "profile", "point"});
       }
       const auto required = [&](const char* key) {
         if (!b[key]) yaml_.fail(b, fmt::format("a {} block needs '{}'", type, key));
         return b[key];
       };
-      block.reg = static_cast<std::uint16_t>(yaml_.number(required("register"), 0, 0xFFFF));
-      if (block.type == Block::Type::read || block.type == Block::Type::send)
-        block.source = source(required("source"), SourceUse::analog);
+      if (block.is_slave_block() || !b["point"])
+        block.reg = static_cast<std::uint16_t>(yaml_.number(required("register"), 0, 0xFFFF));
+      if (block.type == Block::Type::read) block.source = source(required("source"), SourceUse::analog);
+      if (block.type == Block::Type::send) (void)required("source");  // parsed with its function, below
       if (block.type == Block::Type::write || block.type == Block::Type::capture || block.type == Block::Type::poll) {
         const auto& out = required("output");
         block.output = static_cast<unsigned>(yaml_.number(out, 1, banks::c_bank::user_output_count));
@@ -253,9 +328,132 @@ class Loader {
         const auto& period = required("period");
         block.period = yaml_.duration(period);
         if (block.period.count() == 0) yaml_.fail(period, "the period must be longer than 0");
+        master_point(b, block);
       }
       config_.blocks.push_back(std::move(block));
     }
+  }
+
+  // What a poll or send block reads or writes on the foreign slave: a profile point, or a
+  // register with function, data type, word order and scale (SPEC §4 extensions).
+  void master_point(const YAML::Node& b, Block& block) {
+    const bool poll = block.type == Block::Type::poll;
+    const auto device = config_.modbus.master.devices.find(block.device);
+    const auto* device_profile = device != config_.modbus.master.devices.end() ? device->second.profile : nullptr;
+    block.profile = b["profile"] ? profile(b["profile"]) : device_profile;
+    if (!block.profile) block.profile = profile_of_device_[block.device].first;  // named by an earlier block
+    if (b["profile"] && device_profile && block.profile != device_profile)
+      yaml_.fail(b["profile"], fmt::format("device {} is a {} (modbus.master.devices.{})", block.device,
+                                           device_profile->id, block.device));
+    const auto& seen = profile_of_device_[block.device];
+    if (block.profile && seen.first && seen.first != block.profile)
+      yaml_.fail(b["profile"] ? b["profile"] : b,
+                 fmt::format("device {} is a {} in the block at {}", block.device, seen.first->id, seen.second));
+    if (block.profile && !seen.first) profile_of_device_[block.device] = {block.profile, block.origin};
+
+    if (b["scale"]) {
+      const auto text = yaml_.text(b["scale"]);
+      try {
+        std::size_t used = 0;
+        block.scale = std::stod(text, &used);
+        if (used != text.size()) throw std::invalid_argument(text);
+      } catch (const std::exception&) {
+        yaml_.fail(b["scale"], fmt::format("'{}' is not a number", text));
+      }
+      if (block.scale == 0 || !std::isfinite(block.scale)) yaml_.fail(b["scale"], "scale must be a number other than 0");
+    }
+    if (b["point"]) point_block(b, block, poll);
+    else register_block(b, block, poll);
+    if (!poll) send_source(b["source"], block);
+  }
+
+  // A coil (function 5) takes a bit source, or a whole register (on when not 0).
+  void send_source(const YAML::Node& node, Block& block) const {
+    if (block.function == 5) {
+      auto parsed = parse_source_ref(yaml_.text(node), shapes_, SourceUse::bit);
+      if (auto* ref = std::get_if<banks::SourceRef>(&parsed)) {
+        block.source = std::move(*ref);
+        return;
+      }
+    }
+    block.source = source(node, SourceUse::analog);
+  }
+
+  void point_block(const YAML::Node& b, Block& block, bool poll) {
+    const auto& point_node = b["point"];
+    if (!block.profile)
+      yaml_.fail(point_node, fmt::format("a point needs a device profile: set 'profile' here, or "
+                                         "modbus.master.devices.{}.profile", block.device));
+    for (const char* key : {"register", "data_type", "count", "word_order"})
+      if (b[key]) yaml_.fail(b[key], fmt::format("'{}' comes from the profile's point; leave it out", key));
+    block.point = yaml_.text(point_node);
+    const auto* point = block.profile->find(block.point);
+    if (!point)
+      yaml_.fail(point_node, fmt::format("profile {} has no point '{}' (`unima-bridge profiles {}` lists them)",
+                                         block.profile->id, block.point, block.profile->id));
+    if (point->length > 1)
+      yaml_.fail(point_node, fmt::format("{} is an area of {} registers from {}; name one of them with 'register' "
+                                         "(and 'data_type') instead of 'point'", point->name, point->length, point->reg));
+    const auto& functions = poll ? point->read_functions : point->write_functions;
+    if (functions.empty())
+      yaml_.fail(point_node, fmt::format("{} cannot be {} (the device {} it only)", point->name,
+                                         poll ? "read" : "written", poll ? "writes" : "reads"));
+    block.function = functions.front();
+    if (b["function"]) {
+      block.function = static_cast<std::uint8_t>(yaml_.number(b["function"], 1, 127));
+      if (std::find(functions.begin(), functions.end(), block.function) == functions.end())
+        yaml_.fail(b["function"], fmt::format("{} is {} with function {}, not {}", point->name, poll ? "read" : "written",
+                                              fmt::join(functions, " or "), block.function));
+    }
+    block.reg = point->reg;
+    block.data_type = point->type;
+    block.count = point->type == modbus::ValueType::bits ? point->count : 1;
+    block.word_order = block.profile->word_order;
+    if (!b["scale"]) block.scale = point->scale;
+    if (b["scale"] && point->type == modbus::ValueType::bits) yaml_.fail(b["scale"], "bits are not scaled");
+  }
+
+  void register_block(const YAML::Node& b, Block& block, bool poll) {
+    using modbus::ValueType;
+    // The seed's blocks: MBS_F04 reads with function 4, MBS_F06 writes with 6.
+    block.function = poll ? 4 : 6;
+    if (const auto fn = b["function"]) {
+      block.function = static_cast<std::uint8_t>(std::stoul(poll ? yaml_.choice(fn, {"1", "2", "3", "4"})
+                                                                 : yaml_.choice(fn, {"5", "6", "16"})));
+    }
+    if (block.profile && !block.profile->implements(block.function))
+      yaml_.fail(b["function"] ? b["function"] : b,
+                 fmt::format("{} does not implement function {} (it implements {}){}", block.profile->id,
+                             block.function, fmt::join(block.profile->functions, ", "),
+                             b["function"] ? "" : "; set 'function'"));
+    const bool bits = block.function == 1 || block.function == 2 || block.function == 5;
+    block.data_type = bits ? ValueType::bits : ValueType::word;
+    if (const auto type_node = b["data_type"]) {
+      const auto name = yaml_.text(type_node);
+      const auto type = modbus::parse_value_type(name);
+      if (!type) yaml_.fail(type_node, fmt::format("'{}' is not one of: bits, word, int, dint, dword, real", name));
+      const bool fits = bits ? *type == ValueType::bits
+                             : *type != ValueType::bits && (block.function != 6 || modbus::register_span(*type) == 1);
+      if (!fits)
+        yaml_.fail(type_node, fmt::format("function {} does not {} {}{}", block.function, poll ? "read" : "write", name,
+                                          block.function == 6 ? " (function 6 writes one register: word or int)" : ""));
+      block.data_type = *type;
+    }
+    if (const auto count = b["count"]) {
+      if (!bits) yaml_.fail(count, "'count' is for bits (functions 1 and 2): how many are read into the output");
+      block.count = static_cast<std::uint16_t>(yaml_.number(count, 1, 16));
+    }
+    block.word_order = block.profile ? block.profile->word_order : modbus::WordOrder::low_first;
+    if (const auto order_node = b["word_order"]) {
+      const auto order = modbus::parse_word_order(yaml_.text(order_node));
+      if (!order) yaml_.fail(order_node, fmt::format("'{}' is not one of: low_first, high_first", yaml_.text(order_node)));
+      if (modbus::register_span(block.data_type) != 2)
+        yaml_.fail(order_node, "word_order is for the 32-bit types (dint, dword, real)");
+      block.word_order = *order;
+    }
+    if (b["scale"] && bits) yaml_.fail(b["scale"], "bits are not scaled");
+    if (std::uint32_t{block.reg} + block.extent() > 0x10000)
+      yaml_.fail(b["register"], "the value runs past register 0xFFFF");
   }
 
   void log(const YAML::Node& node) {
@@ -328,6 +526,7 @@ class Loader {
   YamlReader yaml_;
   Config config_;
   banks::BankShapes shapes_{};
+  std::map<std::uint8_t, std::pair<const modbus::DeviceProfile*, std::string>> profile_of_device_;
 };
 
 }  // namespace
@@ -402,6 +601,11 @@ std::string_view block_type_name(Block::Type type) {
   return "?";
 }
 
+std::uint16_t Block::extent() const {
+  if (data_type == modbus::ValueType::bits) return count;
+  return static_cast<std::uint16_t>(modbus::register_span(data_type));
+}
+
 std::vector<const Block*> Config::active_blocks() const {
   std::vector<const Block*> active;
   for (const auto& block : blocks)
@@ -412,6 +616,9 @@ std::vector<const Block*> Config::active_blocks() const {
 std::vector<std::string> warnings(const Config& config) {
   std::vector<std::string> found;
   const bool slave = config.modbus.mode == ModbusMode::slave;
+  if (slave && !config.modbus.master.origin.empty())
+    found.push_back(fmt::format("{}: modbus.master is set, but this bridge is a slave; the master settings are unused",
+                                config.modbus.master.origin));
   for (const auto& block : config.blocks) {
     if (block.is_slave_block() != slave)
       found.push_back(fmt::format("{}: {} block ignored: {} blocks act in {} mode only, this bridge is a {}",

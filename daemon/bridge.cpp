@@ -59,6 +59,7 @@ Bridge::Bridge(asio::io_context& io, config::Config config)
   transport_ = make_transport(core_->config);
   tcp_ = make_tcp_server(core_->config);
   rtu_ = make_rtu_port(core_->config);
+  master_ = make_master(core_->config);
   core_->store->set_change_listener([this](BankId bank, std::uint16_t offset, std::uint16_t value) {
     if (transport_) transport_->publish(bank, offset, value);
   });
@@ -139,6 +140,25 @@ void Bridge::on_foreign_exchange(std::span<const std::uint8_t> query, std::span<
   }
 }
 
+// In master mode the RTU line is the master's (SPEC §3); the TCP slave keeps serving.
+std::shared_ptr<MasterPort> Bridge::make_master(const config::Config& config) {
+  if (config.modbus.mode != config::ModbusMode::master) return nullptr;
+  MasterPort::Hooks hooks;
+  // The hooks read the running core at each call, so they follow a reload.
+  hooks.read_source = [this](const banks::SourceRef& source) -> std::optional<std::uint16_t> {
+    const auto value = core_->store->read_source(source);
+    if (!source.bit && value == modbus::not_measured) return std::nullopt;
+    return value;
+  };
+  hooks.set_output = [this](unsigned output, std::uint16_t value) { core_->store->set_user_output(output, value); };
+  hooks.on_fault = [this] { error_hold_.fault(); };
+  hooks.on_transaction = [this](const modbus::Transaction& t) {
+    monitor_->observe(t);
+    if (spdlog::should_log(spdlog::level::debug)) spdlog::debug("modbus master: {}", describe_master_transaction(t));
+  };
+  return MasterPort::create(io_, config, std::move(hooks));
+}
+
 SlaveContext Bridge::slave_context() const {
   SlaveContext context;
   context.registers = core_->model.get();
@@ -168,6 +188,7 @@ void Bridge::start() {
   if (transport_) transport_->start();
   if (tcp_) tcp_->start();
   if (rtu_) rtu_->start();
+  if (master_) master_->start();
   control_ = make_control_socket(core_->config.status.socket);
 }
 
@@ -188,6 +209,7 @@ void Bridge::stop() {
   if (!started_) return;
   started_ = false;
   if (rtu_) rtu_->stop();
+  if (master_) master_->stop();
   if (tcp_) tcp_->stop();
   if (transport_) transport_->stop();
   if (control_) control_->stop();
@@ -237,6 +259,19 @@ void Bridge::reload(config::Config config) {
     }
   }
 
+  // The master's line opens before anything is switched (a serial device may be missing).
+  std::shared_ptr<MasterPort> new_master;
+  try {
+    new_master = make_master(new_config);
+  } catch (...) {
+    if (!same_tcp && tcp_) {
+      new_tcp.reset();  // it may hold the port the old server needs again
+      tcp_ = std::make_unique<TcpSlaveServer>(io_, tcp_->options(), slave_context());
+      tcp_->start();
+    }
+    throw;
+  }
+
   // Commit: values and presence carried over, then the ports switched.
   core->store->take_state_from(*core_->store);
   const auto now = unimabus::Presence::Clock::now();
@@ -283,6 +318,9 @@ void Bridge::reload(config::Config config) {
   } else if (rtu_) {
     rtu_->set_context(rtu_context());
   }
+  if (master_) master_->stop();
+  master_ = std::move(new_master);
+  if (master_) master_->start();
   for (const auto& warning : config::warnings(core_->config)) spdlog::warn("{}", warning);
   spdlog::info("bridge: reloaded {}", core_->config.file);
 }

@@ -15,6 +15,7 @@
 #include "daemon/error_hold.hpp"
 #include "daemon/monitor.hpp"
 #include "daemon/rtu_slave_port.hpp"
+#include "daemon/master_port.hpp"
 #include "daemon/slave_context.hpp"
 #include "daemon/tcp_slave_server.hpp"
 #include "unimabus/presence.hpp"
@@ -47,6 +48,8 @@ class Bridge {
   /// The front panel and counters as one JSON document (`unima-bridge status`);
   /// daemon/bridge_status.cpp.
   std::string status_document() const;
+  /// The Modbus master, in master mode; nullptr in slave mode.
+  const MasterPort* master() const { return master_.get(); }
 
  private:
   struct Core;
@@ -54,6 +57,7 @@ class Bridge {
   std::unique_ptr<unimabus::Transport> make_transport(const config::Config& config);
   std::unique_ptr<TcpSlaveServer> make_tcp_server(const config::Config& config) const;
   std::unique_ptr<RtuSlavePort> make_rtu_port(const config::Config& config);
+  std::shared_ptr<MasterPort> make_master(const config::Config& config);
   SlaveContext slave_context() const;
   SlaveContext rtu_context() const;
   void on_foreign_exchange(std::span<const std::uint8_t> query, std::span<const std::uint8_t> response);
@@ -70,6 +74,7 @@ class Bridge {
   std::unique_ptr<unimabus::Transport> transport_;
   std::unique_ptr<TcpSlaveServer> tcp_;
   std::unique_ptr<RtuSlavePort> rtu_;
+  std::shared_ptr<MasterPort> master_;
   asio::steady_timer presence_timer_;
   bool presence_timer_armed_ = false;
   bool started_ = false;

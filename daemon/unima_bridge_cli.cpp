@@ -10,6 +10,7 @@
 #include "banks/table_reference.hpp"
 #include "config/config.hpp"
 #include "config/register_map.hpp"
+#include "daemon/master_format.hpp"
 #include "daemon/register_map_format.hpp"
 #include "daemon/cli_monitor.hpp"
 #include "daemon/cli_status.hpp"
@@ -20,16 +21,32 @@ constexpr const char* usage =
     "usage: unima-bridge check --config FILE\n"
     "       unima-bridge map --config FILE [--format table|csv|json]\n"
     "       unima-bridge tables\n"
-    "       unima-bridge status [--watch] [--json] [--socket PATH | --config FILE]\n"
-    "       unima-bridge monitor [--follow] [--filter EXPR] [--json] [--config FILE] [LOG]\n"
-    "\n"
-    "  check    validate a config; exit 0 when it is good, 1 with the errors when not\n"
-    "  map      every register the config serves: address, bank, offset, identifier,\n"
-    "           label, unit, scale, access\n"
-    "  tables   the reference of every device table, in Markdown (docs/registers.md)\n"
-    "  status   the front panel of the running daemon: mode, activity, Error, D_N/S_N on-line,\n"
-    "           capture indicators, counters\n"
-    "  monitor  read, filter and follow the monitor log (one line per Modbus transaction)\n";
+    "       unima-bridge status [--watch] [--json] [--socket PATH | --config FILE]
+"
+    "       unima-bridge monitor [--follow] [--filter EXPR] [--json] [--config FILE] [LOG]
+"
+    "       unima-bridge profiles [ID]
+"
+    "
+"
+    "  check     validate a config; exit 0 when it is good, 1 with the errors when not;
+"
+    "            in master mode also the merge plan and the estimated bus load
+"
+    "  map       every register the config serves: address, bank, offset, identifier,
+"
+    "            label, unit, scale, access
+"
+    "  tables    the reference of every device table, in Markdown (docs/registers.md)
+"
+    "  status    the front panel of the running daemon: mode, activity, Error, D_N/S_N on-line,
+"
+    "            capture indicators, counters
+"
+    "  monitor   read, filter and follow the monitor log (one line per Modbus transaction)
+"
+    "  profiles  the device profiles of foreign slaves for master mode; with ID, its points
+";
 
 int check(const std::string& path) {
   try {
@@ -39,6 +56,7 @@ int check(const std::string& path) {
     fmt::print("{}: OK\n", path);
     for (const auto& window : map.windows())
       fmt::print("  0x{:04X}..0x{:04X}  {}\n", window.first, window.end() - 1, window.name);
+    if (config.modbus.mode == unima::config::ModbusMode::master) fmt::print("{}", unima::daemon::format_master_plan(config));
     return 0;
   } catch (const std::exception& e) {
     fmt::print(stderr, "{}\n", e.what());
@@ -110,6 +128,15 @@ int main(int argc, char** argv) {
     }
     return is_map ? map(options.config, options.format.value_or(unima::daemon::MapFormat::table))
                   : check(options.config);
+  }
+  if (args[0] == "profiles") {
+    const auto text = unima::daemon::format_profiles(args.size() > 1 ? args[1] : "");
+    if (text.empty()) {
+      std::fprintf(stderr, "unima-bridge profiles: no profile '%s'\n", args[1].c_str());
+      return 1;
+    }
+    fmt::print("{}", text);
+    return 0;
   }
   if (args[0] == "tables") {
     fmt::print("{}", unima::banks::tables_markdown());

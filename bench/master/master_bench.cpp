@@ -1,0 +1,230 @@
+// master_bench: does the master hold its periods when one of three slaves is dead?
+//
+// The daemon (master mode, RTU at 38400 baud on a pseudo-terminal) polls a SIC184 v3.21,
+// a SIC184 v2.08 that never answers, and the stepper driver, with the periods below, for
+// up to a minute. The simulator logs every frame with its arrival time; for each request
+// of the live slaves the intervals between its frames are compared with its period.
+//
+// Pass: every live request's mean interval over the run within 5 % of its period (no
+// drift), and at least 95 % of the frames it should have had (no starvation). The share of
+// single intervals within ±5 % of the period and the largest deviations are reported too:
+// they show what the dead slave's probes cost. Exit 0 on pass, 1 on fail, 2 when it could
+// not run.
+
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace {
+
+using namespace std::chrono_literals;
+namespace fs = std::filesystem;
+
+struct Expected {
+  std::string request;  // the RTU frame as the simulator logs it
+  std::string what;
+  double period_ms;
+};
+
+// The plan of the config below (`unima-bridge check` prints it): frames of live slaves.
+const std::vector<Expected> expected{
+    {"01 03 04 24 00 02 85 30", "SIC184 v3 POS_ACT_REAL", 100},
+    {"01 02 13 88 00 08 FD 62", "SIC184 v3 IN1..IN8", 200},
+    {"01 03 03 EA 00 01 A5 BA", "SIC184 v3 STATUS", 250},
+    {"01 05 17 70 00 00 C9 A5", "SIC184 v3 OUT1 <- X.0", 1000},
+    {"03 03 00 00 00 02 C5 E9", "stepper STEP_ANGLE+SUBDIVISION", 200},
+    {"03 03 00 16 00 02 24 2D", "stepper POSITION", 500},
+    {"03 06 00 08 00 00 09 EA", "stepper TEST_SPEED <- X+0x00", 1000},
+};
+
+const char* config_template = R"(unimabus: { address: 5, transport: sim }
+modbus:
+  mode: master
+  rtu: { device: @PTY@, baud: 38400 }
+  master:
+    response_timeout: 100ms
+    retries: 1
+    degrade_after: 3
+    backoff: 1s
+    backoff_max: 10s
+    devices: { 1: { profile: sic184-v3 }, 2: { profile: sic184-v2 }, 3: { profile: stepper-driver } }
+blocks:
+  - { type: poll, device: 1, point: POS_ACT_REAL, period: 100ms, output: 1 }
+  - { type: poll, device: 1, point: IN, period: 200ms, output: 2 }
+  - { type: poll, device: 1, point: STATUS, period: 250ms, output: 3 }
+  - { type: send, device: 1, point: OUT1, period: 1s, source: X.0 }
+  - { type: poll, device: 2, point: XACT, period: 100ms, output: 4 }
+  - { type: poll, device: 2, point: MOTOR_STATUS, period: 500ms, output: 5 }
+  - { type: poll, device: 3, point: STEP_ANGLE, period: 200ms, output: 6 }
+  - { type: poll, device: 3, point: SUBDIVISION, period: 200ms, output: 7 }
+  - { type: poll, device: 3, point: POSITION, period: 500ms, output: 8 }
+  - { type: send, device: 3, point: TEST_SPEED, period: 1s, source: X+0x00 }
+log: { level: info }
+)";
+
+pid_t spawn(const std::vector<std::string>& args, const fs::path& out) {
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    const int fd = ::open(out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    ::dup2(fd, STDOUT_FILENO);
+    ::dup2(fd, STDERR_FILENO);
+    std::vector<char*> argv;
+    for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    ::execv(argv[0], argv.data());
+    ::_exit(127);
+  }
+  return pid;
+}
+
+std::string slurp(const fs::path& path) {
+  std::ifstream in(path);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+bool wait_for(const fs::path& file, const std::string& text, std::chrono::milliseconds timeout) {
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  while (std::chrono::steady_clock::now() < deadline) {
+    if (slurp(file).find(text) != std::string::npos) return true;
+    std::this_thread::sleep_for(20ms);
+  }
+  return false;
+}
+
+void stop(pid_t pid, int signo) {
+  if (pid <= 0) return;
+  ::kill(pid, signo);
+  ::waitpid(pid, nullptr, 0);
+}
+
+double percentile(std::vector<double> v, double p) {
+  if (v.empty()) return 0;
+  std::sort(v.begin(), v.end());
+  return v[std::min(v.size() - 1, static_cast<std::size_t>(p * static_cast<double>(v.size())))];
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  int seconds = 60;
+  std::string report_path;
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (arg == "--seconds" && i + 1 < argc) seconds = std::atoi(argv[++i]);
+    else if (arg == "--report" && i + 1 < argc) report_path = argv[++i];
+    else {
+      std::fprintf(stderr, "usage: master_bench [--seconds 1..60] [--report FILE]\n");
+      return 2;
+    }
+  }
+  seconds = std::clamp(seconds, 1, 60);  // bounded: a minute at most
+
+  char pattern[] = "/tmp/unima-master-bench-XXXXXX";
+  if (!::mkdtemp(pattern)) return 2;
+  const fs::path dir = pattern;
+  const auto pty = dir / "ttySIM", frames = dir / "frames.log", sim_out = dir / "sim.out", log = dir / "daemon.log";
+  const pid_t sim = spawn({UNIMA_SLAVE_SIM, "--pty", pty.string(), "--frames", frames.string(), "--slave", "1=sic184-v3",
+                           "--slave", "2=sic184-v2,dead", "--slave", "3=stepper-driver"},
+                          sim_out);
+  if (!wait_for(sim_out, "ready", 5s)) {
+    std::fprintf(stderr, "master_bench: the simulator did not start:\n%s", slurp(sim_out).c_str());
+    stop(sim, SIGKILL);
+    return 2;
+  }
+  std::string config = config_template;
+  config.replace(config.find("@PTY@"), 5, pty.string());
+  std::ofstream(dir / "bridge.yaml") << config;
+  const pid_t daemon = spawn({UNIMA_BRIDGED, "--config", (dir / "bridge.yaml").string()}, log);
+  if (!wait_for(log, "running", 5s)) {
+    std::fprintf(stderr, "master_bench: the daemon did not start:\n%s", slurp(log).c_str());
+    stop(daemon, SIGKILL);
+    stop(sim, SIGKILL);
+    return 2;
+  }
+  std::printf("master_bench: %d s, 3 slaves on %s at 38400 baud, slave 2 dead\n", seconds, pty.c_str());
+  std::fflush(stdout);
+  std::this_thread::sleep_for(std::chrono::seconds(seconds));
+  stop(daemon, SIGTERM);
+  stop(sim, SIGTERM);
+
+  // Frames by request, arrival times in µs.
+  std::map<std::string, std::vector<std::int64_t>> arrivals;
+  std::size_t dead_frames = 0;
+  std::istringstream in(slurp(frames));
+  for (std::string line; std::getline(in, line);) {
+    std::istringstream fields(line);
+    std::int64_t us = 0;
+    std::string direction, port;
+    fields >> us >> direction >> port;
+    std::string hex;
+    std::getline(fields, hex);
+    if (direction != "rx" || hex.size() < 2) continue;
+    hex.erase(0, 1);
+    if (hex.starts_with("02 ")) ++dead_frames;
+    arrivals[hex].push_back(us);
+  }
+
+  std::string report;
+  char line[512];
+  std::snprintf(line, sizeof line, "| request | period | frames (due) | mean interval | mean error | within ±5 %% | p99 |dev| | max |dev| |\n"
+                                   "|---|---:|---:|---:|---:|---:|---:|---:|\n");
+  report += line;
+  bool pass = true;
+  for (const auto& e : expected) {
+    const auto& t = arrivals[e.request];
+    std::vector<double> intervals, deviations;
+    for (std::size_t i = 1; i < t.size(); ++i) intervals.push_back(static_cast<double>(t[i] - t[i - 1]) / 1000.0);
+    if (intervals.size() < 2) {
+      std::snprintf(line, sizeof line, "| %s | %.0f ms | %zu | - | - | - | - | - |\n", e.what.c_str(), e.period_ms,
+                    t.size());
+      report += line;
+      pass = false;
+      continue;
+    }
+    // The mean over the whole run: first to last frame, so one late frame does not count twice.
+    const double mean = static_cast<double>(t.back() - t.front()) / 1000.0 / static_cast<double>(intervals.size());
+    std::size_t within = 0;
+    for (double d : intervals) {
+      deviations.push_back(std::abs(d - e.period_ms));
+      within += std::abs(d - e.period_ms) <= 0.05 * e.period_ms;
+    }
+    const double mean_error = 100.0 * (mean - e.period_ms) / e.period_ms;
+    const double share = 100.0 * static_cast<double>(within) / static_cast<double>(intervals.size());
+    const double due = seconds * 1000.0 / e.period_ms;
+    pass = pass && std::abs(mean_error) <= 5.0 && static_cast<double>(t.size()) >= 0.95 * due;
+    std::snprintf(line, sizeof line, "| %s | %.0f ms | %zu (%.0f) | %.3f ms | %+.3f %% | %.1f %% | %.1f ms | %.1f ms |\n",
+                  e.what.c_str(), e.period_ms, t.size(), due, mean, mean_error, share, percentile(deviations, 0.99),
+                  percentile(deviations, 1.0));
+    report += line;
+  }
+  std::snprintf(line, sizeof line, "\nDead SIC184 v2.08 (address 2): %zu frames in %d s (tries, retries and probes).\n",
+                dead_frames, seconds);
+  report += line;
+  const auto daemon_log = slurp(log);
+  std::istringstream l(daemon_log);
+  for (std::string text; std::getline(l, text);)
+    if (text.find("modbus master: device") != std::string::npos) report += "    " + text + "\n";
+  report += pass ? "PASS: every live request held its period within 5 % and had its frames\n"
+                 : "FAIL: a live request did not hold its period within 5 % or lost frames\n";
+  std::fputs(report.c_str(), stdout);
+  if (!report_path.empty()) std::ofstream(report_path) << report;
+  std::error_code ec;
+  fs::remove_all(dir, ec);
+  return pass ? 0 : 1;
+}

@@ -1,0 +1,80 @@
+#include "config/master_setup.hpp"
+
+#include <algorithm>
+
+#include <fmt/format.h>
+
+namespace unima::config {
+
+unsigned bits_per_char(const RtuConfig& rtu) { return 1 + 8 + (rtu.parity == Parity::none ? 0 : 1) + rtu.stop_bits; }
+
+std::vector<modbus::PlannedRequest> master_plan(const MasterSetup& setup) {
+  auto plan = modbus::plan_requests(setup.blocks, setup.plan);
+  std::vector<std::chrono::microseconds> slots;
+  for (const auto& r : plan)
+    slots.push_back(modbus::transaction_estimate(r, setup.serial) +
+                    std::chrono::duration_cast<std::chrono::microseconds>(setup.scheduler.frame_gap));
+  std::map<std::uint8_t, std::chrono::microseconds> gaps;
+  for (const auto& [device, timing] : setup.devices)
+    gaps[device] = std::chrono::duration_cast<std::chrono::microseconds>(timing.min_gap);
+  modbus::assign_phases(plan, slots, gaps);
+  return plan;
+}
+
+MasterSetup master_setup(const Config& config) {
+  const auto& m = config.modbus.master;
+  MasterSetup setup;
+  std::map<std::uint8_t, const modbus::DeviceProfile*> profiles;
+  for (const auto& [address, device] : m.devices)
+    if (device.profile) profiles[address] = device.profile;
+
+  for (const Block* block : config.active_blocks()) {
+    if (block->type != Block::Type::poll && block->type != Block::Type::send) continue;
+    modbus::MasterBlock b;
+    b.kind = block->type == Block::Type::poll ? modbus::MasterBlock::Kind::poll : modbus::MasterBlock::Kind::send;
+    b.device = block->device;
+    b.function = block->function;
+    b.reg = block->reg;
+    b.count = block->extent();
+    b.type = block->data_type;
+    b.order = block->word_order;
+    b.scale = block->scale;
+    b.period = block->period;
+    b.output = block->output;
+    b.name = block->point.empty() ? fmt::format("0x{:04X}", block->reg) : block->point;
+    b.origin = block->origin;
+    setup.blocks.push_back(std::move(b));
+    setup.sources.push_back(block->source);
+    // Never shorter than two periods: a slow poll is not stale between two of its reads.
+    setup.stale_after.push_back(std::max(m.stale_after, 2 * block->period));
+    if (block->profile && !profiles.count(block->device)) profiles[block->device] = block->profile;
+  }
+
+  setup.plan.merge_gap = m.merge_gap;
+  setup.plan.max_read_registers = static_cast<std::uint16_t>(m.max_read_registers);
+
+  auto& s = setup.scheduler;
+  s.retries = m.retries;
+  s.degrade_after = m.degrade_after;
+  s.backoff = m.backoff;
+  s.backoff_max = m.backoff_max;
+  s.default_timing = {m.min_gap, m.response_timeout};
+  if (const auto& rtu = config.modbus.rtu; rtu && m.tcp.empty()) {
+    setup.serial = modbus::SerialTiming{rtu->baud, bits_per_char(*rtu)};
+    s.frame_gap = setup.serial->silence();
+    for (const auto& [address, profile] : profiles) s.frame_gap = std::max<modbus::MasterScheduler::Duration>(s.frame_gap, profile->frame_gap);
+  }
+  for (const auto& block : setup.blocks) {
+    if (setup.devices.count(block.device)) continue;
+    modbus::MasterScheduler::DeviceTiming timing{m.min_gap, m.response_timeout};
+    if (const auto p = profiles.find(block.device); p != profiles.end()) timing.min_gap = p->second->min_gap;
+    if (const auto d = m.devices.find(block.device); d != m.devices.end()) {
+      if (d->second.min_gap) timing.min_gap = *d->second.min_gap;
+      if (d->second.response_timeout) timing.response_timeout = *d->second.response_timeout;
+    }
+    setup.devices[block.device] = timing;
+  }
+  return setup;
+}
+
+}  // namespace unima::config

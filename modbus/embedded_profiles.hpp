@@ -1,0 +1,16 @@
+#pragma once
+// The text of modbus/profiles/*.yaml, compiled into the binary (see embed_profiles.cmake).
+
+#include <string_view>
+#include <vector>
+
+namespace unima::modbus {
+
+struct EmbeddedProfile {
+  std::string_view file_name;
+  std::string_view yaml_text;
+};
+
+const std::vector<EmbeddedProfile>& embedded_profiles();
+
+}  // namespace unima::modbus

@@ -1,0 +1,151 @@
+#include "tests/integration/master_fixture.hpp"
+
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <fstream>
+#include <sstream>
+
+namespace unima::test {
+
+namespace {
+std::string read_file(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+}  // namespace
+
+SlaveSim::SlaveSim(const TempDir& dir, const std::vector<std::string>& slaves, bool pty, bool tcp)
+    : out_path_(dir.path() / "sim.out"), frames_path_(dir.path() / "frames.log"), control_path_(dir.path() / "sim.ctl") {
+  std::vector<std::string> args{UNIMA_SLAVE_SIM, "--frames", frames_path_.string(), "--control", control_path_.string()};
+  if (pty) args.insert(args.end(), {"--pty", (dir.path() / "ttySIM").string()});
+  if (tcp) args.insert(args.end(), {"--tcp", "0"});
+  for (const auto& s : slaves) args.insert(args.end(), {"--slave", s});
+  pid_ = ::fork();
+  if (pid_ < 0) throw std::runtime_error("fork");
+  if (pid_ == 0) {
+    const int out = ::open(out_path_.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    ::dup2(out, STDOUT_FILENO);
+    ::dup2(out, STDERR_FILENO);
+    std::vector<char*> argv;
+    for (auto& a : args) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    ::execv(UNIMA_SLAVE_SIM, argv.data());
+    ::_exit(127);
+  }
+  ready_ = eventually([&] { return output().find("ready ") != std::string::npos; });
+  if (!ready_) return;
+  const auto text = output();
+  const auto pty_at = text.find("pty=");
+  pty_ = text.substr(pty_at + 4, text.find(' ', pty_at) - pty_at - 4);
+  tcp_port_ = static_cast<std::uint16_t>(std::stoul(text.substr(text.find("tcp=") + 4)));
+}
+
+SlaveSim::~SlaveSim() {
+  if (pid_ > 0) {
+    ::kill(pid_, SIGKILL);
+    ::waitpid(pid_, nullptr, 0);
+  }
+}
+
+std::string SlaveSim::output() const { return read_file(out_path_); }
+
+std::vector<SimFrame> SlaveSim::frames() const {
+  std::vector<SimFrame> frames;
+  std::istringstream in(read_file(frames_path_));
+  for (std::string line; std::getline(in, line);) {
+    std::istringstream fields(line);
+    SimFrame f;
+    std::string direction, port;
+    fields >> f.micros >> direction >> port;
+    if (!fields) continue;
+    f.rx = direction == "rx";
+    f.rtu = port == "rtu";
+    std::getline(fields, f.hex);
+    if (!f.hex.empty() && f.hex[0] == ' ') f.hex.erase(0, 1);
+    frames.push_back(std::move(f));
+  }
+  return frames;
+}
+
+bool SlaveSim::wait_for_frame(const std::string& hex, bool rx, std::chrono::milliseconds timeout) const {
+  return eventually(
+      [&] {
+        for (const auto& f : frames())
+          if (f.rx == rx && f.hex == hex) return true;
+        return false;
+      },
+      timeout);
+}
+
+std::string SlaveSim::control(const std::string& line) const {
+  auto socket = Socket::unix_socket(control_path_.string());
+  if (!socket.valid()) return "(no control socket)";
+  socket.send(line + "\n");
+  return socket.read_line().value_or("(no answer)");
+}
+
+std::string MasterBridgeConfig::yaml() const {
+  std::ostringstream out;
+  out << "unimabus: { address: 5, transport: feed, listen: 127.0.0.1:" << feed_port << " }\n"
+      << "modbus:\n"
+      << "  mode: master\n"
+      << "  tcp: { listen: 127.0.0.1, port: " << modbus_port << " }\n";
+  std::string master_body = master;
+  if (line.starts_with("master-tcp: ")) {
+    const auto target = line.substr(12);
+    master_body = master_body.empty() ? "tcp: " + target : master_body + ", tcp: " + target;
+  } else {
+    out << "  " << line << "\n";
+  }
+  if (!master_body.empty()) out << "  master: { " << master_body << " }\n";
+  out << "blocks:\n" << blocks << "log: { level: debug }\n";
+  return out.str();
+}
+
+void MasterTest::simulate(const std::vector<std::string>& slaves, bool tcp) {
+  sim = std::make_unique<SlaveSim>(dir, slaves, true, tcp);
+  ASSERT_TRUE(sim->ready()) << sim->output();
+  config.line = "rtu: { device: " + sim->pty() + ", baud: 38400 }";
+}
+
+void MasterTest::start() {
+  daemon = std::make_unique<Daemon>(dir, config.yaml());
+  ASSERT_TRUE(wait_for_port(config.modbus_port)) << diagnostics();
+}
+
+std::optional<std::uint16_t> MasterTest::output(unsigned n) {
+  ModbusClient client(config.modbus_port);
+  const auto values = client.read_input(c_bank + static_cast<int>(n) - 1, 1);
+  if (!values) return std::nullopt;
+  return (*values)[0];
+}
+
+bool MasterTest::output_becomes(unsigned n, std::uint16_t value, std::chrono::milliseconds timeout) {
+  ModbusClient client(config.modbus_port);
+  return eventually(
+      [&] {
+        const auto values = client.read_input(c_bank + static_cast<int>(n) - 1, 1);
+        return values && (*values)[0] == value;
+      },
+      timeout);
+}
+
+std::string MasterTest::diagnostics() const {
+  std::string text = "--- config\n" + config.yaml();
+  if (daemon) text += "--- daemon log\n" + daemon->log();
+  if (sim) {
+    text += "--- sim frames (last 40)\n";
+    const auto frames = sim->frames();
+    for (std::size_t i = frames.size() > 40 ? frames.size() - 40 : 0; i < frames.size(); ++i)
+      text += std::to_string(frames[i].micros) + (frames[i].rx ? " rx " : " tx ") + frames[i].hex + "\n";
+    text += "--- sim output\n" + sim->output();
+  }
+  return text;
+}
+
+}  // namespace unima::test
