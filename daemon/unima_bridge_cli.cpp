@@ -21,32 +21,19 @@ constexpr const char* usage =
     "usage: unima-bridge check --config FILE\n"
     "       unima-bridge map --config FILE [--format table|csv|json]\n"
     "       unima-bridge tables\n"
-    "       unima-bridge status [--watch] [--json] [--socket PATH | --config FILE]
-"
-    "       unima-bridge monitor [--follow] [--filter EXPR] [--json] [--config FILE] [LOG]
-"
-    "       unima-bridge profiles [ID]
-"
-    "
-"
-    "  check     validate a config; exit 0 when it is good, 1 with the errors when not;
-"
-    "            in master mode also the merge plan and the estimated bus load
-"
-    "  map       every register the config serves: address, bank, offset, identifier,
-"
-    "            label, unit, scale, access
-"
-    "  tables    the reference of every device table, in Markdown (docs/registers.md)
-"
-    "  status    the front panel of the running daemon: mode, activity, Error, D_N/S_N on-line,
-"
-    "            capture indicators, counters
-"
-    "  monitor   read, filter and follow the monitor log (one line per Modbus transaction)
-"
-    "  profiles  the device profiles of foreign slaves for master mode; with ID, its points
-";
+    "       unima-bridge status [--watch] [--json] [--socket PATH | --config FILE]\n"
+    "       unima-bridge monitor [--follow] [--filter EXPR] [--json] [--config FILE] [LOG]\n"
+    "       unima-bridge profiles [ID]\n"
+    "\n"
+    "  check     validate a config; exit 0 when it is good, 1 with the errors when not;\n"
+    "            in master mode also the merge plan and the estimated bus load\n"
+    "  map       every register the config serves: address, bank, offset, identifier,\n"
+    "            label, unit, scale, access\n"
+    "  tables    the reference of every device table, in Markdown (docs/registers.md)\n"
+    "  status    the front panel of the running daemon: mode, activity, Error, D_N/S_N on-line,\n"
+    "            capture indicators, counters\n"
+    "  monitor   read, filter and follow the monitor log (one line per Modbus transaction)\n"
+    "  profiles  the device profiles of foreign slaves for master mode; with ID, its points\n";
 
 int check(const std::string& path) {
   try {
