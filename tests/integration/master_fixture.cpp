@@ -104,6 +104,8 @@ std::string MasterBridgeConfig::yaml() const {
   }
   if (!master_body.empty()) out << "  master: { " << master_body << " }\n";
   out << "blocks:\n" << blocks << "log: { level: debug }\n";
+  if (!status_socket.empty()) out << "status: { socket: " << status_socket << " }\n";
+  out << extra;
   return out.str();
 }
 

@@ -55,6 +55,8 @@ struct MasterBridgeConfig {
   std::string line;               // "rtu: { device: ..., baud: 38400 }" or "master-tcp: host:port"
   std::string master;             // the body of modbus.master, without tcp
   std::string blocks;             // YAML list items, each "  - { ... }\n"
+  std::string status_socket;      // in the test's temp dir, never the system's /run
+  std::string extra;              // more top-level sections
   std::string yaml() const;
 };
 
@@ -63,6 +65,7 @@ class MasterTest : public ::testing::Test {
   void SetUp() override {
     config.modbus_port = free_port();
     config.feed_port = free_port();
+    config.status_socket = (dir.path() / "control.sock").string();
   }
   /// Starts the simulator (on a pty) with `slaves`, and points the config's line at it.
   void simulate(const std::vector<std::string>& slaves, bool tcp = false);

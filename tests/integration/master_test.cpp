@@ -45,6 +45,23 @@ TEST_F(MasterTest, Sic184V3SeedFramesOnTheWire) {
   EXPECT_TRUE(eventually([&] { return sim->control("coil 1 6001") == "coil 1"; })) << diagnostics();
 }
 
+TEST_F(MasterTest, TheMonitorLogsEveryMasterTransaction) {
+  simulate({"1=sic184-v3"});
+  const auto log = dir.path() / "monitor.log";
+  config.extra = "monitor: { file: " + log.string() + " }\n";
+  config.blocks = "  - { type: poll, device: 1, profile: sic184-v3, point: IN1, period: 200ms, output: 1 }\n";
+  start();
+  ASSERT_TRUE(sim->wait_for_frame("01 02 13 88 00 01 3D 64")) << diagnostics();
+  std::string text;
+  ASSERT_TRUE(eventually([&] {
+    std::ifstream in(log);
+    text.assign(std::istreambuf_iterator<char>(in), {});
+    return text.find(" master Ix=") != std::string::npos;
+  })) << diagnostics();
+  EXPECT_NE(text.find(" Rc=8 State=Done Ad=1 PDU=02 13 88 00 01 CRC=3D64 Response=01 02 01 01 60 48\n"), std::string::npos)
+      << text;
+}
+
 TEST_F(MasterTest, StepperDriverSeedFramesOnTheWire) {
   simulate({"1=stepper-driver"});
   config.blocks =
