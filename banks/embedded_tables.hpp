@@ -1,5 +1,5 @@
 #pragma once
-// The text of banks/tables/*.yaml, compiled into the binary (see embed_tables.cmake).
+// The text of banks/tables/*.yaml, compiled into the binary (see cmake/embed_yaml.cmake).
 
 #include <string_view>
 #include <vector>

@@ -1,5 +1,5 @@
 #pragma once
-// The text of modbus/profiles/*.yaml, compiled into the binary (see embed_profiles.cmake).
+// The text of modbus/profiles/*.yaml, compiled into the binary (see cmake/embed_yaml.cmake).
 
 #include <string_view>
 #include <vector>
