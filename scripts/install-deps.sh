@@ -8,6 +8,7 @@ packages=(
   libmodbus-dev libboost-dev libyaml-cpp-dev libspdlog-dev libfmt-dev libsystemd-dev
   nlohmann-json3-dev googletest libgtest-dev
   mbpoll socat
+  python3 strace valgrind
 )
 
 missing=()
