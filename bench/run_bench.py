@@ -116,9 +116,13 @@ class Server:
         self.log.flush()
         return self.log_path.read_text()[-4000:]
 
-    def cpu_seconds(self) -> float:
+    def cpu_times(self) -> tuple[float, float]:
+        """User and system CPU seconds so far."""
         fields = Path(f"/proc/{self.pid}/stat").read_text().rsplit(")", 1)[1].split()
-        return (int(fields[11]) + int(fields[12])) / CLOCK_TICKS  # utime, stime
+        return int(fields[11]) / CLOCK_TICKS, int(fields[12]) / CLOCK_TICKS  # utime, stime
+
+    def cpu_seconds(self) -> float:
+        return sum(self.cpu_times())
 
     def status(self, key: str) -> int:
         for line in Path(f"/proc/{self.pid}/status").read_text().splitlines():
@@ -195,10 +199,12 @@ def throughput(kinds: list[ServerKind], tools: Tools, workdir: Path, settings: S
             for connections in settings.connections:
                 for round_number in range(settings.rounds):
                     for server in servers:  # A B A B ...
-                        cpu_before = server.cpu_seconds()
+                        user_before, system_before = server.cpu_times()
                         report = run_load(tools, server.modbus_port, connections, depth,
                                           duration=settings.duration, warmup=settings.warmup)
-                        report["cpu_us_per_request"] = (server.cpu_seconds() - cpu_before) * 1e6 / report["total"]
+                        user, system = server.cpu_times()
+                        report["cpu_us_per_request"] = (user + system - user_before - system_before) * 1e6 / report["total"]
+                        report["user_cpu_us_per_request"] = (user - user_before) * 1e6 / report["total"]
                         cells.setdefault((depth, connections, server.kind.name), Cell()).runs.append(report)
                     progress(f"depth {depth}, {connections} connections, round {round_number + 1}/{settings.rounds}: "
                              + ", ".join(f"{s.kind.name} {cells[(depth, connections, s.kind.name)].runs[-1]['rps']:.0f}/s"
@@ -273,18 +279,76 @@ def exact_run(kind: ServerKind, tools: Tools, workdir: Path, settings: Settings,
     return out
 
 
+# strace stops the server at every system call, which changes the timing and so what the
+# server finds: a speculative read that would find nothing at full speed may find the next
+# request under strace. perf's tracepoints count without stopping it, so when perf works
+# the runner counts both ways.
+PERF_SYSCALLS = ("recvfrom", "sendto", "recvmsg", "sendmsg", "read", "write", "epoll_wait", "epoll_ctl",
+                 "pselect6", "select", "timerfd_settime")
+PERF_EVENTS = ["raw_syscalls:sys_enter"] + [f"syscalls:sys_enter_{name}" for name in PERF_SYSCALLS]
+
+
+def perf_usable() -> bool:
+    if not shutil.which("perf"):
+        return False
+    try:
+        probe = subprocess.run(["perf", "stat", "-x,", "-e", ",".join(PERF_EVENTS), "--", "true"],
+                               capture_output=True, text=True, timeout=30)
+    except (OSError, subprocess.TimeoutExpired):
+        return False
+    return probe.returncode == 0 and "not supported" not in probe.stderr
+
+
+def perf_counts(server: Server, tools: Tools, settings: Settings, requests: int, out: Path) -> dict[str, int]:
+    """System calls of the running server while the load makes `requests` requests."""
+    perf = subprocess.Popen(["perf", "stat", "-x,", "-I", "100", "-o", str(out), "-e", ",".join(PERF_EVENTS),
+                             "-p", str(server.pid)], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    try:
+        deadline = time.monotonic() + 10
+        while not (out.exists() and "sys_enter" in out.read_text()):  # the first interval: counting
+            if time.monotonic() > deadline or perf.poll() is not None:
+                raise BenchError("perf stat did not start counting")
+            time.sleep(0.05)
+        run_load(tools, server.modbus_port, settings.exact_connections, 1, requests=requests)
+    finally:
+        perf.send_signal(signal.SIGINT)
+        perf.wait(timeout=30)
+    counts: dict[str, int] = {}
+    for line in out.read_text().splitlines():
+        fields = line.split(",")
+        if line.startswith("#") or len(fields) < 4 or not fields[1].isdigit():
+            continue
+        name = fields[3].split(":")[-1].removeprefix("sys_enter_").replace("sys_enter", "total")
+        counts[name] = counts.get(name, 0) + int(fields[1])
+    if "total" not in counts:
+        raise BenchError(f"no counts in {out}")
+    return counts
+
+
+def per_request(a: dict[str, int], b: dict[str, int], requests: int) -> tuple[float, dict[str, float]]:
+    per_call = {name: (b.get(name, 0) - a.get(name, 0)) / requests for name in set(a) | set(b)}
+    total = per_call.pop("total")
+    return total, {k: round(v, 3) for k, v in sorted(per_call.items(), key=lambda kv: -kv[1]) if abs(v) >= 0.005}
+
+
 def exact_counts(kinds: list[ServerKind], tools: Tools, workdir: Path, settings: Settings) -> dict:
     small, large = settings.exact_requests
     results: dict[str, dict] = {}
+    use_perf = settings.strace and perf_usable()
     for kind in kinds:
         entry: dict = {}
+        if use_perf:
+            server = Server(kind, tools, workdir)
+            try:
+                a = perf_counts(server, tools, settings, small, workdir / f"perf-{kind.name}-{small}.csv")
+                b = perf_counts(server, tools, settings, large, workdir / f"perf-{kind.name}-{large}.csv")
+            finally:
+                server.stop()
+            entry["perf_syscalls_per_request"], entry["perf_syscalls_by_name"] = per_request(a, b, large - small)
         if settings.strace:
             a = strace_counts(exact_run(kind, tools, workdir, settings, "strace", small))
             b = strace_counts(exact_run(kind, tools, workdir, settings, "strace", large))
-            per_call = {name: (b.get(name, 0) - a.get(name, 0)) / (large - small) for name in set(a) | set(b)}
-            entry["syscalls_per_request"] = per_call.pop("total")
-            entry["syscalls_by_name"] = {k: round(v, 3) for k, v in sorted(per_call.items(), key=lambda kv: -kv[1])
-                                         if abs(v) >= 0.005}
+            entry["syscalls_per_request"], entry["syscalls_by_name"] = per_request(a, b, large - small)
         if settings.callgrind:
             a = callgrind_instructions(exact_run(kind, tools, workdir, settings, "callgrind", small))
             b = callgrind_instructions(exact_run(kind, tools, workdir, settings, "callgrind", large))
@@ -337,7 +401,7 @@ def build_type(binary: str) -> str:
 
 
 def print_report(results: dict, kinds: list[ServerKind], settings: Settings) -> None:
-    reference = kinds[0].name
+    reference, bridge = kinds[0].name, kinds[1].name
     cells = results["cells"]
     m = results["machine"]
     print(f"\nmachine: {m['cpu']}, {m['cpus']} CPUs, Linux {m['kernel']}, load average {' '.join(m['loadavg'])}; "
@@ -355,19 +419,28 @@ def print_report(results: dict, kinds: list[ServerKind], settings: Settings) -> 
                 ratio = "" if kind.reference else (
                     f"{ratios(cells, depth, connections, kind.name, reference, 'rps'):>11.2f} "
                     f"{ratios(cells, depth, connections, kind.name, reference, 'p99_us'):>9.2f}")
+                if kind.name != bridge and not kind.reference:  # another config: its cost over the plain one
+                    ratio += (f"   vs {bridge}: req/s {ratios(cells, depth, connections, kind.name, bridge, 'rps'):.2f}"
+                              f", p99 {ratios(cells, depth, connections, kind.name, bridge, 'p99_us'):.2f}")
                 print(f"{depth:>5} {connections:>4}  {kind.name:<22} {cell.median('rps'):>9.0f} "
                       f"{cell.median('p50_us'):>8.1f} {cell.median('p99_us'):>8.1f} {cell.median('p999_us'):>9.1f} "
                       f"{cell.median('cpu_us_per_request'):>10.2f}  {ratio}")
-    print(f"\n{'server':<22} {'syscalls/req':>12} {'instr/req':>10} {'peak RSS':>10} {'idle CPU':>9} "
-          f"{'idle wake-ups':>13}   syscalls by name (per request, {settings.exact_connections} connections)")
+    print(f"\n{'server':<22} {'syscalls/req':>12} {'(perf)':>7} {'instr/req':>10} {'peak RSS':>10} {'idle CPU':>9} "
+          f"{'idle wake-ups':>13}")
     for kind in kinds:
         exact = results["exact"].get(kind.name, {})
         res = results["resources"][kind.name]
         syscalls = f"{exact['syscalls_per_request']:.2f}" if "syscalls_per_request" in exact else "-"
+        perf = f"{exact['perf_syscalls_per_request']:.2f}" if "perf_syscalls_per_request" in exact else "-"
         instructions = f"{exact['instructions_per_request']:.0f}" if "instructions_per_request" in exact else "-"
-        by_name = " ".join(f"{k} {v:g}" for k, v in exact.get("syscalls_by_name", {}).items())
-        print(f"{kind.name:<22} {syscalls:>12} {instructions:>10} {res['peak_rss_kib'] / 1024:>7.1f} MiB "
-              f"{res['idle_cpu_ms']:>6.0f} ms {res['idle_wakeups']:>6} in {res['idle_seconds']:g} s   {by_name}")
+        print(f"{kind.name:<22} {syscalls:>12} {perf:>7} {instructions:>10} {res['peak_rss_kib'] / 1024:>7.1f} MiB "
+              f"{res['idle_cpu_ms']:>6.0f} ms {res['idle_wakeups']:>6} in {res['idle_seconds']:g} s")
+    print(f"\nsystem calls per request by name, {settings.exact_connections} connections, depth 1:")
+    for kind in kinds:
+        exact = results["exact"].get(kind.name, {})
+        for method, key in (("strace -c", "syscalls_by_name"), ("perf stat", "perf_syscalls_by_name")):
+            if key in exact:
+                print(f"  {kind.name:<22} {method:<10} " + " ".join(f"{k} {v:g}" for k, v in exact[key].items()))
     for name, p in results["propagation"].items():
         print(f"\npropagation ({name}, {p['changes']} changes): feed -> Modbus p50 {p['feed_to_modbus']['p50_us']:.0f} µs, "
               f"p99 {p['feed_to_modbus']['p99_us']:.0f} µs; Modbus -> feed p50 {p['modbus_to_feed']['p50_us']:.0f} µs, "
