@@ -113,7 +113,8 @@ class Server:
         return int(children[0])
 
     def output(self) -> str:
-        self.log.flush()
+        if not self.log.closed:
+            self.log.flush()
         return self.log_path.read_text()[-4000:]
 
     def cpu_times(self) -> tuple[float, float]:
@@ -162,14 +163,19 @@ class Settings:
     changes: int
     callgrind: bool
     strace: bool
+    pin: str = "none"  # none | apart | same: the CPUs of server and load in the throughput runs
+
+    def load_cpu(self) -> int | None:
+        return {"apart": 1, "same": 0}.get(self.pin)
 
 
 def run_load(tools: Tools, port: int, connections: int, depth: int, *, duration: float = 0, warmup: float = 0,
-             requests: int = 0, timeout: float = 600) -> dict:
+             requests: int = 0, timeout: float = 600, cpu: int | None = None) -> dict:
     command = [tools.load, "--port", str(port), "--connections", str(connections), "--depth", str(depth),
                "--function", "4", "--address", hex(READ_ADDRESS), "--quantity", str(READ_COUNT),
                "--duration", str(duration), "--warmup", str(warmup), "--requests", str(requests), "--json"]
-    result = subprocess.run(command, capture_output=True, text=True, timeout=timeout)
+    pin = (lambda: os.sched_setaffinity(0, {cpu})) if cpu is not None else None
+    result = subprocess.run(command, capture_output=True, text=True, timeout=timeout, preexec_fn=pin)
     if result.returncode != 0:
         raise BenchError(f"load generator failed: {result.stderr.strip()}")
     report = json.loads(result.stdout)
@@ -191,17 +197,21 @@ class Cell:
 
 
 def throughput(kinds: list[ServerKind], tools: Tools, workdir: Path, settings: Settings) -> tuple[dict, dict]:
-    servers = [Server(kind, tools, workdir) for kind in kinds]
+    servers: list[Server] = []
     cells: dict[tuple[int, int, str], Cell] = {}
     resources: dict[str, dict] = {}
     try:
+        for kind in kinds:
+            servers.append(Server(kind, tools, workdir))
+            if settings.pin != "none":
+                os.sched_setaffinity(servers[-1].pid, {0})
         for depth in settings.depths:
             for connections in settings.connections:
                 for round_number in range(settings.rounds):
                     for server in servers:  # A B A B ...
                         user_before, system_before = server.cpu_times()
                         report = run_load(tools, server.modbus_port, connections, depth,
-                                          duration=settings.duration, warmup=settings.warmup)
+                                          duration=settings.duration, warmup=settings.warmup, cpu=settings.load_cpu())
                         user, system = server.cpu_times()
                         report["cpu_us_per_request"] = (user + system - user_before - system_before) * 1e6 / report["total"]
                         report["user_cpu_us_per_request"] = (user - user_before) * 1e6 / report["total"]
@@ -407,8 +417,9 @@ def print_report(results: dict, kinds: list[ServerKind], settings: Settings) -> 
     print(f"\nmachine: {m['cpu']}, {m['cpus']} CPUs, Linux {m['kernel']}, load average {' '.join(m['loadavg'])}; "
           f"build {results['build_type']}")
     print(f"load: function 4, {READ_COUNT} registers at 0x{READ_ADDRESS:04X}; {settings.rounds} rounds of "
-          f"{settings.duration} s (+{settings.warmup} s warm-up) per server, alternating; medians\n")
-    header = (f"{'depth':>5} {'conn':>4}  {'server':<22} {'req/s':>9} {'p50 µs':>8} {'p99 µs':>8} {'p99.9 µs':>9} "
+          f"{settings.duration} s (+{settings.warmup} s warm-up) per server, alternating; medians; "
+          f"CPU placement: {settings.pin}\n")
+    header = (f"{'depth':>5} {'conn':>4}  {'server':<26} {'req/s':>9} {'p50 µs':>8} {'p99 µs':>8} {'p99.9 µs':>9} "
               f"{'CPU µs/req':>10}  {'ratio req/s':>11} {'ratio p99':>9}")
     print(header)
     print("-" * len(header))
@@ -422,10 +433,10 @@ def print_report(results: dict, kinds: list[ServerKind], settings: Settings) -> 
                 if kind.name != bridge and not kind.reference:  # another config: its cost over the plain one
                     ratio += (f"   vs {bridge}: req/s {ratios(cells, depth, connections, kind.name, bridge, 'rps'):.2f}"
                               f", p99 {ratios(cells, depth, connections, kind.name, bridge, 'p99_us'):.2f}")
-                print(f"{depth:>5} {connections:>4}  {kind.name:<22} {cell.median('rps'):>9.0f} "
+                print(f"{depth:>5} {connections:>4}  {kind.name:<26} {cell.median('rps'):>9.0f} "
                       f"{cell.median('p50_us'):>8.1f} {cell.median('p99_us'):>8.1f} {cell.median('p999_us'):>9.1f} "
                       f"{cell.median('cpu_us_per_request'):>10.2f}  {ratio}")
-    print(f"\n{'server':<22} {'syscalls/req':>12} {'(perf)':>7} {'instr/req':>10} {'peak RSS':>10} {'idle CPU':>9} "
+    print(f"\n{'server':<26} {'syscalls/req':>12} {'(perf)':>7} {'instr/req':>10} {'peak RSS':>10} {'idle CPU':>9} "
           f"{'idle wake-ups':>13}")
     for kind in kinds:
         exact = results["exact"].get(kind.name, {})
@@ -433,14 +444,14 @@ def print_report(results: dict, kinds: list[ServerKind], settings: Settings) -> 
         syscalls = f"{exact['syscalls_per_request']:.2f}" if "syscalls_per_request" in exact else "-"
         perf = f"{exact['perf_syscalls_per_request']:.2f}" if "perf_syscalls_per_request" in exact else "-"
         instructions = f"{exact['instructions_per_request']:.0f}" if "instructions_per_request" in exact else "-"
-        print(f"{kind.name:<22} {syscalls:>12} {perf:>7} {instructions:>10} {res['peak_rss_kib'] / 1024:>7.1f} MiB "
+        print(f"{kind.name:<26} {syscalls:>12} {perf:>7} {instructions:>10} {res['peak_rss_kib'] / 1024:>7.1f} MiB "
               f"{res['idle_cpu_ms']:>6.0f} ms {res['idle_wakeups']:>6} in {res['idle_seconds']:g} s")
     print(f"\nsystem calls per request by name, {settings.exact_connections} connections, depth 1:")
     for kind in kinds:
         exact = results["exact"].get(kind.name, {})
         for method, key in (("strace -c", "syscalls_by_name"), ("perf stat", "perf_syscalls_by_name")):
             if key in exact:
-                print(f"  {kind.name:<22} {method:<10} " + " ".join(f"{k} {v:g}" for k, v in exact[key].items()))
+                print(f"  {kind.name:<26} {method:<10} " + " ".join(f"{k} {v:g}" for k, v in exact[key].items()))
     for name, p in results["propagation"].items():
         print(f"\npropagation ({name}, {p['changes']} changes): feed -> Modbus p50 {p['feed_to_modbus']['p50_us']:.0f} µs, "
               f"p99 {p['feed_to_modbus']['p99_us']:.0f} µs; Modbus -> feed p50 {p['modbus_to_feed']['p50_us']:.0f} µs, "
@@ -467,6 +478,9 @@ def main() -> int:
                         help="the two request counts whose difference the exact counts use")
     parser.add_argument("--changes", type=int, default=10000, help="changes each way for the propagation")
     parser.add_argument("--idle", type=float, default=3.0, help="seconds of the idle check")
+    parser.add_argument("--pin", choices=("none", "apart", "same"), default="none",
+                        help="throughput runs: leave placement to the scheduler, or pin the server to CPU 0 and "
+                             "the load to CPU 1 (apart) or to CPU 0 too (same)")
     parser.add_argument("--no-callgrind", action="store_true")
     parser.add_argument("--no-strace", action="store_true")
     parser.add_argument("--quick", action="store_true", help="a short run of everything (the CTest `bench` test)")
@@ -485,7 +499,7 @@ def main() -> int:
     if args.quick:
         settings = Settings(rounds=1, duration=0.3, warmup=0.05, connections=[1, 8, 64], depths=[1, 8],
                             exact_connections=16, exact_requests=(200, 600), idle_seconds=0.3, changes=200,
-                            callgrind=not args.no_callgrind, strace=not args.no_strace)
+                            callgrind=not args.no_callgrind, strace=not args.no_strace, pin=args.pin)
     else:
         small, large = (int(n) for n in args.exact_requests.split(","))
         settings = Settings(rounds=args.rounds, duration=args.duration, warmup=args.warmup,
@@ -493,7 +507,7 @@ def main() -> int:
                             depths=[int(n) for n in args.depths.split(",")],
                             exact_connections=args.exact_connections, exact_requests=(small, large),
                             idle_seconds=args.idle, changes=args.changes,
-                            callgrind=not args.no_callgrind, strace=not args.no_strace)
+                            callgrind=not args.no_callgrind, strace=not args.no_strace, pin=args.pin)
     for tool, wanted in (("strace", settings.strace), ("valgrind", settings.callgrind)):
         if wanted and not shutil.which(tool):
             print(f"run_bench: {tool} is not installed (scripts/install-deps.sh installs it)", file=sys.stderr)
@@ -504,8 +518,16 @@ def main() -> int:
         kinds.append(ServerKind(f"unima-bridged:{Path(config).stem}", config_template=Path(config).resolve()))
 
     results: dict = {"machine": machine(), "build_type": build_type(tools.bridged)}
+    failed = False
     with tempfile.TemporaryDirectory(prefix="unima-bench-") as tmp:
         workdir = Path(tmp)
+        for kind in kinds[2:]:  # a config this daemon cannot run is reported, and the rest measured
+            try:
+                Server(kind, tools, workdir).stop()
+            except BenchError as e:
+                print(f"run_bench: {kind.name} left out: {e}", file=sys.stderr)
+                kinds.remove(kind)
+                failed = True
         try:
             results["cells"], results["resources"] = throughput(kinds, tools, workdir, settings)
             results["exact"] = exact_counts(kinds, tools, workdir, settings)
@@ -518,7 +540,7 @@ def main() -> int:
         serialisable = dict(results)
         serialisable["cells"] = {f"depth {d} conn {c} {n}": cell.runs for (d, c, n), cell in results["cells"].items()}
         Path(args.json).write_text(json.dumps(serialisable, indent=1))
-    return 0
+    return 1 if failed else 0
 
 
 if __name__ == "__main__":
