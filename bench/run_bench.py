@@ -220,7 +220,7 @@ def throughput(kinds: list[ServerKind], tools: Tools, workdir: Path, settings: S
                              + ", ".join(f"{s.kind.name} {cells[(depth, connections, s.kind.name)].runs[-1]['rps']:.0f}/s"
                                          for s in servers))
         for server in servers:
-            resources[server.kind.name] = idle_check(server, settings.idle_seconds)
+            resources[server.kind.name] = idle_check(server, settings.idle_seconds, max(settings.connections))
             resources[server.kind.name]["peak_rss_kib"] = server.status("VmHWM")
     finally:
         for server in servers:
@@ -228,22 +228,38 @@ def throughput(kinds: list[ServerKind], tools: Tools, workdir: Path, settings: S
     return cells, resources
 
 
-def idle_check(server: Server, seconds: float) -> dict:
-    """CPU time and wake-ups (voluntary context switches) while no client is connected."""
+def settle(server: Server) -> None:
+    """Waits until the server has stopped switching in (closing connections, accepting)."""
     deadline = time.monotonic() + 5
-    while time.monotonic() < deadline:  # the last load's connections are being closed
+    while time.monotonic() < deadline:
         switches = server.status("voluntary_ctxt_switches")
         time.sleep(0.2)
         if server.status("voluntary_ctxt_switches") == switches:
-            break
-    cpu = server.cpu_seconds()
-    switches = server.status("voluntary_ctxt_switches") + server.status("nonvoluntary_ctxt_switches")
+            return
+
+
+def quiet_period(server: Server, seconds: float) -> tuple[float, int]:
+    """CPU milliseconds and wake-ups (context switches) of the server over `seconds`."""
+    def switches() -> int:
+        return server.status("voluntary_ctxt_switches") + server.status("nonvoluntary_ctxt_switches")
+    cpu, before = server.cpu_seconds(), switches()
     time.sleep(seconds)
-    return {
-        "idle_seconds": seconds,
-        "idle_cpu_ms": (server.cpu_seconds() - cpu) * 1e3,
-        "idle_wakeups": server.status("voluntary_ctxt_switches") + server.status("nonvoluntary_ctxt_switches") - switches,
-    }
+    return (server.cpu_seconds() - cpu) * 1e3, switches() - before
+
+
+def idle_check(server: Server, seconds: float, clients: int) -> dict:
+    """Idle costs nothing: no client, then `clients` connected clients that send nothing."""
+    settle(server)
+    idle_cpu, idle_wakeups = quiet_period(server, seconds)
+    sockets = [socket.create_connection(("127.0.0.1", server.modbus_port)) for _ in range(clients)]
+    try:
+        settle(server)
+        connected_cpu, connected_wakeups = quiet_period(server, seconds)
+    finally:
+        for s in sockets:
+            s.close()
+    return {"idle_seconds": seconds, "idle_cpu_ms": idle_cpu, "idle_wakeups": idle_wakeups,
+            "idle_clients": clients, "idle_clients_cpu_ms": connected_cpu, "idle_clients_wakeups": connected_wakeups}
 
 
 def ratios(cells: dict, depth: int, connections: int, name: str, reference: str, key: str) -> float:
@@ -436,16 +452,18 @@ def print_report(results: dict, kinds: list[ServerKind], settings: Settings) -> 
                 print(f"{depth:>5} {connections:>4}  {kind.name:<26} {cell.median('rps'):>9.0f} "
                       f"{cell.median('p50_us'):>8.1f} {cell.median('p99_us'):>8.1f} {cell.median('p999_us'):>9.1f} "
                       f"{cell.median('cpu_us_per_request'):>10.2f}  {ratio}")
-    print(f"\n{'server':<26} {'syscalls/req':>12} {'(perf)':>7} {'instr/req':>10} {'peak RSS':>10} {'idle CPU':>9} "
-          f"{'idle wake-ups':>13}")
+    clients = max(settings.connections)
+    print(f"\n{'server':<26} {'syscalls/req':>12} {'(perf)':>7} {'instr/req':>10} {'peak RSS':>10} "
+          f"{'idle: CPU, wake-ups':>20} {f'{clients} idle clients: CPU, wake-ups':>32}")
     for kind in kinds:
         exact = results["exact"].get(kind.name, {})
         res = results["resources"][kind.name]
         syscalls = f"{exact['syscalls_per_request']:.2f}" if "syscalls_per_request" in exact else "-"
         perf = f"{exact['perf_syscalls_per_request']:.2f}" if "perf_syscalls_per_request" in exact else "-"
         instructions = f"{exact['instructions_per_request']:.0f}" if "instructions_per_request" in exact else "-"
-        print(f"{kind.name:<26} {syscalls:>12} {perf:>7} {instructions:>10} {res['peak_rss_kib'] / 1024:>7.1f} MiB "
-              f"{res['idle_cpu_ms']:>6.0f} ms {res['idle_wakeups']:>6} in {res['idle_seconds']:g} s")
+        print(f"{kind.name:<26} {syscalls:>12} {perf:>7} {instructions:>10} {res['peak_rss_kib'] / 1024:>6.1f} MiB "
+              f"{res['idle_cpu_ms']:>6.0f} ms, {res['idle_wakeups']:>2} in {res['idle_seconds']:g} s "
+              f"{res['idle_clients_cpu_ms']:>18.0f} ms, {res['idle_clients_wakeups']:>2} in {res['idle_seconds']:g} s")
     print(f"\nsystem calls per request by name, {settings.exact_connections} connections, depth 1:")
     for kind in kinds:
         exact = results["exact"].get(kind.name, {})
