@@ -28,6 +28,13 @@ bool RegisterSpace::for_each_window(std::uint16_t first, std::size_t count, Fn&&
 }
 
 bool RegisterSpace::read(std::uint16_t first, std::span<std::uint16_t> out) const {
+  // The usual read lies in one window: one lookup, one check, one copy. The general walk
+  // below looks the first window up twice.
+  if (const Window* w = map_.find(first); w && !out.empty() && first + out.size() <= w->end()) {
+    if (!readable(*w)) return false;
+    store_.read(w->bank, static_cast<std::uint16_t>(first - w->first), out);
+    return true;
+  }
   // Check the whole range before reading any of it, as the bank reads are cheap but a
   // partial answer must never leave here.
   const bool all_readable =

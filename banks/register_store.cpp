@@ -31,17 +31,20 @@ RegisterStore::RegisterStore(const BankShapes& shapes) : shapes_(shapes) {
         if (reg.offset < shape.length) bank.offline[reg.offset] = offline_value(reg.kind);
     if (id == BankId::B || id == BankId::X) bank.offline.assign(shape.length, 0);
     bank.raw = bank.offline;
+    bank.served = bank.offline;
     bank.carried.assign(shape.length, 0);
   }
+}
+
+void RegisterStore::refresh_served(Bank& bank, std::size_t from, std::size_t count) {
+  for (std::size_t r = from; r < from + count; ++r)
+    bank.served[r] = bank.online && bank.carried[r] ? bank.raw[r] : bank.offline[r];
 }
 
 void RegisterStore::read(BankId id, std::uint16_t offset, std::span<std::uint16_t> out) const {
   const auto& bank = bank_(id);
   if (is_device_bank(id) || is_module_bank(id)) {
-    for (std::size_t i = 0; i < out.size(); ++i) {
-      const std::size_t r = offset + i;
-      out[i] = bank.online && bank.carried[r] ? bank.raw[r] : bank.offline[r];
-    }
+    std::copy_n(bank.served.begin() + offset, out.size(), out.begin());
     return;
   }
   switch (id) {
@@ -98,12 +101,16 @@ std::size_t RegisterStore::store_telegram(BankId id, std::uint16_t offset, std::
   const std::size_t n = std::min<std::size_t>(values.size(), bank.length - offset);
   std::copy_n(values.begin(), n, bank.raw.begin() + offset);
   std::fill_n(bank.carried.begin() + offset, n, std::uint8_t{1});
+  refresh_served(bank, offset, n);
   publish_mapped_bits();
   return n;
 }
 
 void RegisterStore::set_online(BankId id, bool online) {
-  bank_(id).online = online;
+  auto& bank = bank_(id);
+  if (bank.online == online) return;
+  bank.online = online;
+  refresh_served(bank, 0, bank.length);
   publish_mapped_bits();
 }
 

@@ -90,8 +90,13 @@ class RegisterStore {
     std::vector<std::uint16_t> raw;
     std::vector<std::uint16_t> offline;  // what each register reads while not measured
     std::vector<std::uint8_t> carried;   // 1 once a telegram carried the register
+    /// D_N and S_N: what a Modbus read returns, kept equal to
+    /// `online && carried[r] ? raw[r] : offline[r]` by every change of those, so that a
+    /// read — far more frequent than telegrams and presence changes — is one copy.
+    std::vector<std::uint16_t> served;
     bool online = false;
   };
+  static void refresh_served(Bank& bank, std::size_t from, std::size_t count);
   const Bank& bank_(BankId bank) const { return banks_[index_of(bank)]; }
   Bank& bank_(BankId bank) { return banks_[index_of(bank)]; }
   void notify(BankId bank, std::uint16_t offset, std::uint16_t value) const {

@@ -22,6 +22,8 @@ class TcpSlaveServer::Connection : public std::enable_shared_from_this<Connectio
     const auto remote = socket_.remote_endpoint(ec);
     peer_ = ec ? std::string("?") : remote.address().to_string() + ":" + std::to_string(remote.port());
     socket_.set_option(tcp::no_delay(true), ec);
+    // send() writes synchronously and must never block the loop (see send()).
+    socket_.non_blocking(true, ec);
   }
 
   void start() {
@@ -40,16 +42,19 @@ class TcpSlaveServer::Connection : public std::enable_shared_from_this<Connectio
   const std::string& peer() const { return peer_; }
 
  private:
+  // Boost 1.74's reactor tries the read at once (a recv) before it waits on epoll; when
+  // the client waits for each answer, that try finds nothing. Waiting without it
+  // (async_wait) would cost an epoll_ctl instead: this is the cheapest Asio allows
+  // (docs/performance.md, "Why not more at depth 1").
   void read() {
-    auto self = shared_from_this();
     socket_.async_read_some(asio::buffer(in_.data() + in_used_, in_.size() - in_used_),
-                            [this, self](const boost::system::error_code& ec, std::size_t n) {
+                            [this, self = shared_from_this()](const boost::system::error_code& ec, std::size_t n) {
                               if (ec) return finish(ec == asio::error::eof ? "closed by the client" : ec.message());
                               in_used_ += n;
                               last_activity_ = Clock::now();
                               if (!process()) return finish("sent a bad MBAP header");
-                              if (out_.empty()) return read();
-                              write();
+                              if (out_used_ == 0) return read();
+                              send();
                             });
   }
 
@@ -69,28 +74,28 @@ class TcpSlaveServer::Connection : public std::enable_shared_from_this<Connectio
         return false;
       }
       if (adu.status == modbus::TcpAdu::Status::need_more) break;
-      std::array<std::uint8_t, modbus::max_pdu_size> response;
+      // The response PDU is built in place behind room for its MBAP header: no copy, and
+      // out_ only grows (zero-filled) when a batch is longer than any before it.
+      if (out_.size() < out_used_ + modbus::max_tcp_adu_size) out_.resize(out_used_ + modbus::max_tcp_adu_size);
+      const auto adu_out = std::span(out_.data() + out_used_, modbus::max_tcp_adu_size);
+      const auto pdu_out = adu_out.subspan(modbus::mbap_header_size, modbus::max_pdu_size);
       std::size_t length = 0;
       const auto unit = adu.header.unit_id;
       if (unit == context.unit_id || unit == modbus::unit_id_any || unit == modbus::unit_id_not_used) {
-        length = modbus::handle_request(adu.pdu, response, *context.registers, context.options);
+        length = modbus::handle_request(adu.pdu, pdu_out, *context.registers, context.options);
       } else {
         // SPEC §3: a unit id that is not ours is Not4Me, answered "gateway target failed".
-        length = modbus::write_exception(adu.pdu[0], modbus::ExceptionCode::gateway_target_failed, response);
+        length = modbus::write_exception(adu.pdu[0], modbus::ExceptionCode::gateway_target_failed, pdu_out);
       }
-      const auto response_pdu = std::span<const std::uint8_t>(response.data(), length);
-      const auto state = modbus::state_of_response(response_pdu);
+      const auto state = modbus::state_of_response(pdu_out.first(length));
       if (state != modbus::TransactionState::done && context.on_fault) context.on_fault();
-      const auto old_size = out_.size();
-      out_.resize(old_size + modbus::mbap_header_size + length);
-      modbus::write_tcp_adu(adu.header.transaction_id, unit, response_pdu,
-                            std::span(out_.data() + old_size, out_.size() - old_size));
+      const auto size = modbus::write_mbap_header(adu.header.transaction_id, unit, length, adu_out) + length;
       if (context.on_transaction) {
-        context.on_transaction(modbus::Transaction{
-            modbus::PortKind::tcp, peer_, std::chrono::system_clock::now(), state,
-            std::span<const std::uint8_t>(in_.data() + at, adu.size),
-            std::span<const std::uint8_t>(out_.data() + old_size, out_.size() - old_size)});
+        context.on_transaction(modbus::Transaction{modbus::PortKind::tcp, peer_, std::chrono::system_clock::now(),
+                                                   state, std::span<const std::uint8_t>(in_.data() + at, adu.size),
+                                                   adu_out.first(size)});
       }
+      out_used_ += size;
       at += adu.size;
     }
     if (at > 0) {
@@ -100,13 +105,26 @@ class TcpSlaveServer::Connection : public std::enable_shared_from_this<Connectio
     return true;
   }
 
-  void write() {
-    auto self = shared_from_this();
-    asio::async_write(socket_, asio::buffer(out_), [this, self](const boost::system::error_code& ec, std::size_t) {
-      if (ec) return finish(ec.message());
-      out_.clear();
-      read();
-    });
+  // The answers nearly always fit the socket's send buffer, so they go out in one
+  // non-blocking send right here and the connection goes straight back to reading: no
+  // write operation and no completion handler to dispatch per request. Only when the
+  // client does not keep up does the rest wait for the socket in async_write.
+  void send() {
+    boost::system::error_code ec;
+    const std::size_t sent = socket_.write_some(asio::buffer(out_.data(), out_used_), ec);
+    if (ec == asio::error::would_block || ec == asio::error::try_again || (!ec && sent < out_used_)) {
+      const std::size_t done = ec ? 0 : sent;
+      asio::async_write(socket_, asio::buffer(out_.data() + done, out_used_ - done),
+                        [this, self = shared_from_this()](const boost::system::error_code& ec, std::size_t) {
+                          if (ec) return finish(ec.message());
+                          out_used_ = 0;
+                          read();
+                        });
+      return;
+    }
+    if (ec) return finish(ec.message());
+    out_used_ = 0;
+    read();
   }
 
   // The timer is not re-armed per request (that would cost a timerfd call each time); on
@@ -147,7 +165,8 @@ class TcpSlaveServer::Connection : public std::enable_shared_from_this<Connectio
   // A full ADU is at most 260 bytes; room for several pipelined ones per read.
   std::array<std::uint8_t, 4096> in_{};
   std::size_t in_used_ = 0;
-  std::vector<std::uint8_t> out_;
+  std::vector<std::uint8_t> out_;  // out_used_ bytes of answers, then spare room
+  std::size_t out_used_ = 0;
   Clock::time_point last_activity_;
   bool finished_ = false;
 };

@@ -85,7 +85,10 @@ int main(int argc, char** argv) {
   unima::daemon::set_log_level(config.log.level);
 
   try {
-    unima::asio::io_context io(1);
+    // One thread runs the loop and only it touches the sockets and timers, so the reactor
+    // need not lock per I/O operation; the scheduler keeps its lock, so a helper thread
+    // may still post() its results to the loop. Asio treats this hint as single-threaded.
+    unima::asio::io_context io(BOOST_ASIO_CONCURRENCY_HINT_UNSAFE_IO);
     unima::asio::signal_set signals(io, SIGTERM, SIGINT, SIGHUP);
     unima::daemon::Bridge bridge(io, std::move(config));
     unima::daemon::Watchdog watchdog(io);

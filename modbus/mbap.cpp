@@ -23,9 +23,9 @@ TcpAdu parse_tcp_adu(std::span<const std::uint8_t> bytes) {
   return adu;
 }
 
-std::size_t write_tcp_adu(std::uint16_t transaction_id, std::uint8_t unit_id, std::span<const std::uint8_t> pdu,
-                          std::span<std::uint8_t> out) {
-  const std::size_t length = pdu.size() + 1;
+std::size_t write_mbap_header(std::uint16_t transaction_id, std::uint8_t unit_id, std::size_t pdu_size,
+                              std::span<std::uint8_t> out) {
+  const std::size_t length = pdu_size + 1;
   out[0] = static_cast<std::uint8_t>(transaction_id >> 8);
   out[1] = static_cast<std::uint8_t>(transaction_id);
   out[2] = 0;
@@ -33,6 +33,12 @@ std::size_t write_tcp_adu(std::uint16_t transaction_id, std::uint8_t unit_id, st
   out[4] = static_cast<std::uint8_t>(length >> 8);
   out[5] = static_cast<std::uint8_t>(length);
   out[6] = unit_id;
+  return mbap_header_size;
+}
+
+std::size_t write_tcp_adu(std::uint16_t transaction_id, std::uint8_t unit_id, std::span<const std::uint8_t> pdu,
+                          std::span<std::uint8_t> out) {
+  write_mbap_header(transaction_id, unit_id, pdu.size(), out);
   std::copy(pdu.begin(), pdu.end(), out.begin() + mbap_header_size);
   return mbap_header_size + pdu.size();
 }

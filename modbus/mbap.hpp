@@ -34,6 +34,11 @@ struct TcpAdu {
 /// must be closed.
 TcpAdu parse_tcp_adu(std::span<const std::uint8_t> bytes);
 
+/// Writes the MBAP header of an ADU whose PDU of `pdu_size` bytes follows it in `out`
+/// (at least mbap_header_size bytes): for a PDU built in place. Returns mbap_header_size.
+std::size_t write_mbap_header(std::uint16_t transaction_id, std::uint8_t unit_id, std::size_t pdu_size,
+                              std::span<std::uint8_t> out);
+
 /// Writes header + pdu into `out` (at least mbap_header_size + pdu.size() bytes); the
 /// length field is computed. Returns the ADU size.
 std::size_t write_tcp_adu(std::uint16_t transaction_id, std::uint8_t unit_id, std::span<const std::uint8_t> pdu,

@@ -10,6 +10,8 @@ packages=(
   mbpoll socat
   # packaging tests: systemd-analyze, systemd-sysusers/-tmpfiles, man, dpkg-shlibdeps, shellcheck
   systemd man-db groff-base dpkg-dev shellcheck
+  # benchmarks: the runner, exact system-call and instruction counts
+  python3 strace valgrind
 )
 
 missing=()

@@ -1,0 +1,9 @@
+#!/usr/bin/env bash
+# Installs what is missing, builds a Release tree in build-release/ (or $BUILD_DIR) and
+# runs the benchmark of docs/performance.md: unima-bridged beside the libmodbus reference.
+# Extra arguments go to bench/run_bench.py (e.g. --rounds 9, --bridge-config FILE, --json F).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+scripts/install-deps.sh
+BUILD_DIR=${BUILD_DIR:-build-release} BUILD_TYPE=Release scripts/build.sh
+exec python3 bench/run_bench.py --build-dir "${BUILD_DIR:-build-release}" "$@"
