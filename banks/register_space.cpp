@@ -27,12 +27,17 @@ bool RegisterSpace::for_each_window(std::uint16_t first, std::size_t count, Fn&&
   return false;
 }
 
+void RegisterSpace::read_window(const Window& w, std::uint16_t address, std::span<std::uint16_t> out) const {
+  if (w.kind == Window::Kind::read_block) out[0] = store_.read_source(w.source);  // one register
+  else store_.read(w.bank, static_cast<std::uint16_t>(address - w.first), out);
+}
+
 bool RegisterSpace::read(std::uint16_t first, std::span<std::uint16_t> out) const {
   // The usual read lies in one window: one lookup, one check, one copy. The general walk
   // below looks the first window up twice.
   if (const Window* w = map_.find(first); w && !out.empty() && first + out.size() <= w->end()) {
     if (!readable(*w)) return false;
-    store_.read(w->bank, static_cast<std::uint16_t>(first - w->first), out);
+    read_window(*w, first, out);
     return true;
   }
   // Check the whole range before reading any of it, as the bank reads are cheap but a
@@ -43,8 +48,7 @@ bool RegisterSpace::read(std::uint16_t first, std::span<std::uint16_t> out) cons
       });
   if (!all_readable) return false;
   for_each_window(first, out.size(), [&](const Window& w, std::uint16_t address, std::size_t done, std::size_t n) {
-    if (w.kind == Window::Kind::read_block) out[done] = store_.read_source(w.source);
-    else store_.read(w.bank, static_cast<std::uint16_t>(address - w.first), out.subspan(done, n));
+    read_window(w, address, out.subspan(done, n));
     return true;
   });
   return true;

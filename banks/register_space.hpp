@@ -32,6 +32,8 @@ class RegisterSpace {
 
  private:
   bool readable(const Window& w) const;
+  /// Reads `out` from `address` on, all inside `w`, which is readable.
+  void read_window(const Window& w, std::uint16_t address, std::span<std::uint16_t> out) const;
   static bool writable(const Window& w) {
     return w.kind == Window::Kind::write_block || (w.kind == Window::Kind::bank && is_write_bank(w.bank));
   }

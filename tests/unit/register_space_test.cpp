@@ -67,10 +67,17 @@ TEST(RegisterStore, ReloadCarriesServedValuesOver) {
 class Space : public ::testing::Test {
  protected:
   // D1 (64 registers) at 0x1100, directly followed by W (16) at 0x1140; C at 0x2000.
+  static Window bank_window(BankId bank, std::uint16_t first, std::uint16_t count) {
+    Window w;
+    w.bank = bank;
+    w.first = first;
+    w.count = count;
+    w.name = std::string("bank ") + std::string(bank_name(bank));
+    return w;
+  }
   static std::vector<Window> windows() {
-    return {{Window::Kind::bank, BankId::D1, 0, 0x1100, 64, "bank D1", ""},
-            {Window::Kind::bank, BankId::W, 0, 0x1140, analog_bank_length, "bank W", ""},
-            {Window::Kind::bank, BankId::C, 0, 0x2000, c_bank_length, "bank C", ""}};
+    return {bank_window(BankId::D1, 0x1100, 64), bank_window(BankId::W, 0x1140, analog_bank_length),
+            bank_window(BankId::C, 0x2000, c_bank_length)};
   }
   Values read(std::uint16_t first, std::size_t count, bool* ok = nullptr) const {
     Values out(count, 0xABCD);
