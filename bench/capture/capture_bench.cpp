@@ -212,7 +212,8 @@ int main(int argc, char** argv) {
     config << "unimabus: { address: 5, transport: feed, listen: 127.0.0.1:" << feed_port << " }\n"
            << "modbus:\n  address: 1\n  tcp: { listen: 127.0.0.1, port: " << tcp_port << " }\n"
            << "  rtu: { device: " << (dir.path / "ttyRTU").string() << ", baud: " << baud << " }\n"
-           << "blocks:\n  - { type: capture, device: 3, register: 0x0202, output: 1 }\n";
+           << "blocks:\n  - { type: capture, device: 3, register: 0x0202, output: 1 }\n"
+           << "status: { socket: " << (dir.path / "control.sock").string() << " }\n";
   }
   Daemon daemon(dir.path / "bridge.yaml", dir.path / "daemon.log");
   Feed feed(feed_port);
