@@ -122,6 +122,48 @@ double percentile(std::vector<double> v, double p) {
   return v[std::min(v.size() - 1, static_cast<std::size_t>(p * static_cast<double>(v.size())))];
 }
 
+// While the daemon runs, how late this host wakes a sleeping thread up (a 10 ms grid):
+// the daemon and the simulator wait for their timers the same way, so a late frame on an
+// idle line is this, not the schedule.
+struct HostLatency {
+  std::vector<double> late_ms;
+  std::size_t over(double ms) const {
+    return static_cast<std::size_t>(std::count_if(late_ms.begin(), late_ms.end(), [&](double x) { return x > ms; }));
+  }
+};
+
+HostLatency host_latency(std::chrono::seconds run) {
+  HostLatency h;
+  const auto start = std::chrono::steady_clock::now();
+  for (auto next = start + 10ms; next < start + run; next += 10ms) {
+    std::this_thread::sleep_until(next);
+    h.late_ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - next).count());
+  }
+  return h;
+}
+
+struct Frame {
+  std::int64_t us;
+  std::string hex;
+};
+
+// An interval off by more than 5 %: when, and what was on the line between the moment the
+// frame should have come and the moment it came (nothing: the host was late, not the
+// schedule).
+std::string describe_outlier(const Expected& e, const std::vector<std::int64_t>& t, std::size_t i,
+                             const std::vector<Frame>& line_frames, std::int64_t first_frame) {
+  const auto expected_at = t[i - 1] + static_cast<std::int64_t>(e.period_ms * 1000.0);
+  std::string before;
+  for (const auto& f : line_frames)
+    if (f.us >= std::min(expected_at, t[i]) - 1000 && f.us < std::max(expected_at, t[i]) && f.hex != e.request)
+      before += " [" + f.hex + "]";
+  char text[512];
+  std::snprintf(text, sizeof text, "    %s: frame %zu at %.4f s, interval %+.2f ms off; on the line meanwhile:%s\n",
+                e.what.c_str(), i, static_cast<double>(t[i] - first_frame) / 1e6,
+                static_cast<double>(t[i] - t[i - 1]) / 1000.0 - e.period_ms, before.empty() ? " nothing" : before.c_str());
+  return text;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -163,13 +205,14 @@ int main(int argc, char** argv) {
   }
   std::printf("master_bench: %d s, 3 slaves on %s at 38400 baud, slave 2 dead\n", seconds, pty.c_str());
   std::fflush(stdout);
-  std::this_thread::sleep_for(std::chrono::seconds(seconds));
+  const auto host = host_latency(std::chrono::seconds(seconds));
   stop(daemon, SIGTERM);
   stop(sim, SIGTERM);
 
   // Frames by request, arrival times in µs.
   std::map<std::string, std::vector<std::int64_t>> arrivals;
   std::vector<std::int64_t> dead_frames;
+  std::vector<Frame> line_frames;  // every request heard, in order
   std::int64_t first_frame = -1;
   std::istringstream in(slurp(frames));
   for (std::string line; std::getline(in, line);) {
@@ -184,6 +227,7 @@ int main(int argc, char** argv) {
     if (first_frame < 0) first_frame = us;
     if (hex.starts_with("02 ")) dead_frames.push_back(us);
     arrivals[hex].push_back(us);
+    line_frames.push_back({us, hex});
   }
 
   std::string report;
@@ -193,6 +237,7 @@ int main(int argc, char** argv) {
                 "|---|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   report += line;
   bool pass = true;
+  std::string outliers;
   for (const auto& e : expected) {
     const auto& t = arrivals[e.request];
     if (t.size() < 3) {
@@ -209,6 +254,7 @@ int main(int argc, char** argv) {
       const double interval = static_cast<double>(t[i] - t[i - 1]) / 1000.0;
       deviations.push_back(std::abs(interval - e.period_ms));
       within += deviations.back() <= 0.05 * e.period_ms;
+      if (deviations.back() > 0.05 * e.period_ms) outliers += describe_outlier(e, t, i, line_frames, first_frame);
     }
     const double first = static_cast<double>(t[1] - t[0]) / 1000.0;
     // The mean from the second frame to the last, so one late frame does not count twice.
@@ -223,6 +269,13 @@ int main(int argc, char** argv) {
                   percentile(deviations, 0.99), percentile(deviations, 1.0));
     report += line;
   }
+  if (!outliers.empty()) report += "\nIntervals off by more than 5 %:\n" + outliers;
+  std::snprintf(line, sizeof line,
+                "\nHost wake-up latency during the run (a thread on a 10 ms grid, %zu wake-ups): p99 %.2f ms, max "
+                "%.2f ms, %zu later than 2 ms, %zu later than 5 ms.\n",
+                host.late_ms.size(), percentile(host.late_ms, 0.99), percentile(host.late_ms, 1.0), host.over(2.0),
+                host.over(5.0));
+  report += line;
   std::string times;
   for (const auto us : dead_frames) {
     std::snprintf(line, sizeof line, "%s%.2f", times.empty() ? "" : ", ", static_cast<double>(us - first_frame) / 1e6);
