@@ -12,9 +12,9 @@
 //   answered. A frame to a device in doubt — a retry, a try after a failure, the probe of a
 //   degraded device — goes only where the line is free for its frame and its whole wait for
 //   an answer before the next request of a live device falls due ("fits in the gap"). When
-//   the gap is shorter than the response time-out but at least half of it (and longer than
-//   the device's slowest answer so far), the frame goes with the wait cut to the gap: a
-//   slave that is back answers in its usual time, not at the end of its time-out.
+//   the gap is shorter than the response time-out but at least half of it (and a quarter
+//   longer than the device's slowest answer so far), the frame goes with the wait cut to
+//   the gap: a slave that is back answers in its usual time, not at the end of its time-out.
 // - Reads are retried up to `retries` times, as soon as a retry fits; a retry that has not
 //   fitted by its request's next occurrence gives way to it. Writes are never retried (a
 //   write that got no answer goes again at its next period, with the value of then).
