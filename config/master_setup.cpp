@@ -62,6 +62,7 @@ MasterSetup master_setup(const Config& config) {
   if (const auto& rtu = config.modbus.rtu; rtu && m.tcp.empty()) {
     setup.serial = modbus::SerialTiming{rtu->baud, bits_per_char(*rtu)};
     s.frame_gap = setup.serial->silence();
+    s.char_time = setup.serial->char_time();
     for (const auto& [address, profile] : profiles) s.frame_gap = std::max<modbus::MasterScheduler::Duration>(s.frame_gap, profile->frame_gap);
   }
   for (const auto& block : setup.blocks) {

@@ -145,8 +145,11 @@ void MasterPort::send(const MasterScheduler::Choice& choice) {
   scheduler_->begin(choice, now);
   in_flight_ = true;
   const auto sent = std::chrono::system_clock::now();
-  const auto timeout =
-      std::chrono::duration_cast<std::chrono::milliseconds>(scheduler_->timing(request.device).response_timeout);
+  // A frame to a device in doubt may wait less than its time-out: only as long as the line
+  // has room before the next request of a live device.
+  const auto wait = choice.timeout > MasterScheduler::Duration::zero() ? choice.timeout
+                                                                       : scheduler_->timing(request.device).response_timeout;
+  const auto timeout = std::chrono::duration_cast<std::chrono::milliseconds>(wait);
   link_->transact(request.device, pdu, timeout,
                   [weak = weak_from_this(), choice, pdu, sent](modbus::Bytes query, modbus::Bytes response) {
                     if (const auto self = weak.lock())

@@ -8,13 +8,25 @@
 //   (t3.5 on RTU), and per device at least `min_gap` between the starts of two frames
 //   (SIC184: ≤100 frames/s; the stepper driver: ≥35 ms per reply).
 // - Earliest due first among the requests that may go now.
-// - Reads are retried at once, up to `retries` times; writes never (a write that got no
-//   answer goes again at its next period, with the value of then).
+// - A device is *live* once it has answered and as long as its last transaction was
+//   answered. A frame to a device in doubt — a retry, a try after a failure, the probe of a
+//   degraded device — goes only where the line is free for its frame and its whole wait for
+//   an answer before the next request of a live device falls due ("fits in the gap"). When
+//   the gap is shorter than the response time-out but at least half of it (and a quarter
+//   longer than the device's slowest answer so far), the frame goes with the wait cut to
+//   the gap: a slave that is back answers in its usual time, not at the end of its time-out.
+// - Reads are retried up to `retries` times, as soon as a retry fits; a retry that has not
+//   fitted by its request's next occurrence gives way to it. Writes are never retried (a
+//   write that got no answer goes again at its next period, with the value of then).
 // - A device that failed `degrade_after` transactions in a row is degraded: its requests
-//   stop, and one probe goes every backoff interval (doubling up to backoff_max), placed
-//   where it delays no request of a healthy device — unless it has waited a whole interval
-//   for such a place. One answer makes the device healthy again. So a dead slave costs the
-//   others at most one response time-out per probe interval.
+//   stop, and one probe goes every backoff interval (doubling up to backoff_max). A frame
+//   in doubt that found no gap for one backoff interval (a probe: one probe interval) goes
+//   anyway, with the whole time-out: a dead slave is never starved of its recovery.
+//   One answer makes the device live again; it resumes its grid without a burst.
+// - The first transaction of a device that fails (nobody could know the slave was dead)
+//   moves the live devices' schedule past it, by whole multiples of the periods' greatest
+//   common divisor so that the phases keep their distances: one longer first interval
+//   instead of late frames followed by early ones.
 
 #include <chrono>
 #include <cstdint>
@@ -43,14 +55,22 @@ class MasterScheduler {
     Duration backoff{std::chrono::seconds(1)};
     Duration backoff_max{std::chrono::seconds(30)};
     Duration frame_gap{0};
+    /// One character on the RTU line (0 on TCP): a request holds the line for its frame
+    /// before the wait for the answer begins.
+    Duration char_time{0};
+    /// Kept free before a live request after a frame in doubt: the timers' and the
+    /// adapter's lateness.
+    Duration guard{std::chrono::milliseconds(2)};
     DeviceTiming default_timing;
   };
 
-  /// A request to send: which, and whether it is a retry or a degraded device's probe.
+  /// A request to send: which, whether it is a retry or a degraded device's probe, and how
+  /// long to wait for the answer.
   struct Choice {
     std::size_t request = 0;
     unsigned attempt = 0;  // 0 first, 1.. retries
     bool probe = false;
+    Duration timeout{0};   // 0: the device's response_timeout
   };
   struct Decision {
     std::optional<Choice> send;
@@ -84,6 +104,8 @@ class MasterScheduler {
   std::uint64_t missed(std::size_t index) const { return slots_[index].missed; }
   TimePoint due(std::size_t index) const { return slots_[index].due; }
   bool degraded(std::uint8_t device) const;
+  /// Answered, and its last transaction was answered: its requests have the line first.
+  bool live(std::uint8_t device) const;
   Duration probe_interval(std::uint8_t device) const;
   const DeviceTiming& timing(std::uint8_t device) const;
 
@@ -97,16 +119,27 @@ class MasterScheduler {
   struct Device {
     DeviceTiming timing;
     std::optional<TimePoint> last_start;
+    bool contacted = false;  // a transaction of it has ended
+    bool heard = false;      // it has answered
     unsigned failures = 0;
     bool degraded = false;
     Duration interval{0};
     TimePoint next_probe;
+    Duration slowest{0};     // the longest answered transaction
+    bool live() const { return heard && failures == 0 && !degraded; }
+    bool in_doubt() const { return failures > 0 || degraded; }
   };
 
   const Device& device(std::uint8_t address) const { return devices_.at(address); }
   TimePoint device_ready(const Device& d) const;
+  TimePoint next_live_request() const;
+  std::optional<Duration> fitting_wait(const PlannedRequest& request, const Device& d, TimePoint now,
+                                       TimePoint room_end) const;
   std::optional<std::size_t> probe_slot(std::uint8_t address) const;
+  std::optional<std::size_t> earliest_due(std::uint8_t address) const;
   void advance(Slot& slot, TimePoint now);
+  void resume_grid(std::uint8_t address, TimePoint now);
+  void move_live_schedule(TimePoint past);
 
   std::vector<Slot> slots_;
   std::map<std::uint8_t, Device> devices_;

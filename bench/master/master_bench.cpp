@@ -5,11 +5,14 @@
 // up to a minute. The simulator logs every frame with its arrival time; for each request
 // of the live slaves the intervals between its frames are compared with its period.
 //
-// Pass: every live request's mean interval over the run within 5 % of its period (no
-// drift), and at least 95 % of the frames it should have had (no starvation). The share of
-// single intervals within ±5 % of the period and the largest deviations are reported too:
-// they show what the dead slave's probes cost. Exit 0 on pass, 1 on fail, 2 when it could
-// not run.
+// Pass: every single interval of every live request within ±5 % of its period, except
+// each request's first interval (from its first frame to its second), and at least 95 %
+// of the frames it should have had (no starvation). The first interval is start-up: each
+// device's first request goes before anyone knows whether it answers, and the dead slave's
+// first time-out (100 ms, longer than the line's gaps) moves the live schedule once; the
+// table shows it apart. The dead slave's frames are listed with their times: its probes
+// must keep coming (no starved recovery). Exit 0 on pass, 1 on fail, 2 when it could not
+// run.
 
 #include <fcntl.h>
 #include <signal.h>
@@ -119,17 +122,60 @@ double percentile(std::vector<double> v, double p) {
   return v[std::min(v.size() - 1, static_cast<std::size_t>(p * static_cast<double>(v.size())))];
 }
 
+// While the daemon runs, how late this host wakes a sleeping thread up (a 10 ms grid):
+// the daemon and the simulator wait for their timers the same way, so a late frame on an
+// idle line is this, not the schedule.
+struct HostLatency {
+  std::vector<double> late_ms;
+  std::size_t over(double ms) const {
+    return static_cast<std::size_t>(std::count_if(late_ms.begin(), late_ms.end(), [&](double x) { return x > ms; }));
+  }
+};
+
+HostLatency host_latency(std::chrono::seconds run) {
+  HostLatency h;
+  const auto start = std::chrono::steady_clock::now();
+  for (auto next = start + 10ms; next < start + run; next += 10ms) {
+    std::this_thread::sleep_until(next);
+    h.late_ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - next).count());
+  }
+  return h;
+}
+
+struct Frame {
+  std::int64_t us;
+  std::string hex;
+};
+
+// An interval off by more than 5 %: when, and what was on the line between the moment the
+// frame should have come and the moment it came (nothing: the host was late, not the
+// schedule).
+std::string describe_outlier(const Expected& e, const std::vector<std::int64_t>& t, std::size_t i,
+                             const std::vector<Frame>& line_frames, std::int64_t first_frame) {
+  const auto expected_at = t[i - 1] + static_cast<std::int64_t>(e.period_ms * 1000.0);
+  std::string before;
+  for (const auto& f : line_frames)
+    if (f.us >= std::min(expected_at, t[i]) - 1000 && f.us < std::max(expected_at, t[i]) && f.hex != e.request)
+      before += " [" + f.hex + "]";
+  char text[512];
+  std::snprintf(text, sizeof text, "    %s: frame %zu at %.4f s, interval %+.2f ms off; on the line meanwhile:%s\n",
+                e.what.c_str(), i, static_cast<double>(t[i] - first_frame) / 1e6,
+                static_cast<double>(t[i] - t[i - 1]) / 1000.0 - e.period_ms, before.empty() ? " nothing" : before.c_str());
+  return text;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   int seconds = 60;
-  std::string report_path;
+  std::string report_path, frames_copy;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "--seconds" && i + 1 < argc) seconds = std::atoi(argv[++i]);
     else if (arg == "--report" && i + 1 < argc) report_path = argv[++i];
+    else if (arg == "--frames" && i + 1 < argc) frames_copy = argv[++i];
     else {
-      std::fprintf(stderr, "usage: master_bench [--seconds 1..60] [--report FILE]\n");
+      std::fprintf(stderr, "usage: master_bench [--seconds 1..60] [--report FILE] [--frames FILE]\n");
       return 2;
     }
   }
@@ -159,13 +205,15 @@ int main(int argc, char** argv) {
   }
   std::printf("master_bench: %d s, 3 slaves on %s at 38400 baud, slave 2 dead\n", seconds, pty.c_str());
   std::fflush(stdout);
-  std::this_thread::sleep_for(std::chrono::seconds(seconds));
+  const auto host = host_latency(std::chrono::seconds(seconds));
   stop(daemon, SIGTERM);
   stop(sim, SIGTERM);
 
   // Frames by request, arrival times in µs.
   std::map<std::string, std::vector<std::int64_t>> arrivals;
-  std::size_t dead_frames = 0;
+  std::vector<std::int64_t> dead_frames;
+  std::vector<Frame> line_frames;  // every request heard, in order
+  std::int64_t first_frame = -1;
   std::istringstream in(slurp(frames));
   for (std::string line; std::getline(in, line);) {
     std::istringstream fields(line);
@@ -176,55 +224,85 @@ int main(int argc, char** argv) {
     std::getline(fields, hex);
     if (direction != "rx" || hex.size() < 2) continue;
     hex.erase(0, 1);
-    if (hex.starts_with("02 ")) ++dead_frames;
+    if (first_frame < 0) first_frame = us;
+    if (hex.starts_with("02 ")) dead_frames.push_back(us);
     arrivals[hex].push_back(us);
+    line_frames.push_back({us, hex});
   }
 
   std::string report;
   char line[512];
-  std::snprintf(line, sizeof line, "| request | period | frames (due) | mean interval | mean error | within ±5 %% | p99 |dev| | max |dev| |\n"
-                                   "|---|---:|---:|---:|---:|---:|---:|---:|\n");
+  std::snprintf(line, sizeof line,
+                "| request | period | frames (due) | first interval | mean interval | mean error | within ±5 %% | p99 |dev| | max |dev| |\n"
+                "|---|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   report += line;
   bool pass = true;
+  std::string outliers;
   for (const auto& e : expected) {
     const auto& t = arrivals[e.request];
-    std::vector<double> intervals, deviations;
-    for (std::size_t i = 1; i < t.size(); ++i) intervals.push_back(static_cast<double>(t[i] - t[i - 1]) / 1000.0);
-    if (intervals.size() < 2) {
-      std::snprintf(line, sizeof line, "| %s | %.0f ms | %zu | - | - | - | - | - |\n", e.what.c_str(), e.period_ms,
+    if (t.size() < 3) {
+      std::snprintf(line, sizeof line, "| %s | %.0f ms | %zu | - | - | - | - | - | - |\n", e.what.c_str(), e.period_ms,
                     t.size());
       report += line;
       pass = false;
       continue;
     }
-    // The mean over the whole run: first to last frame, so one late frame does not count twice.
-    const double mean = static_cast<double>(t.back() - t.front()) / 1000.0 / static_cast<double>(intervals.size());
+    // Every interval but the first (start-up, shown apart).
+    std::vector<double> deviations;
     std::size_t within = 0;
-    for (double d : intervals) {
-      deviations.push_back(std::abs(d - e.period_ms));
-      within += std::abs(d - e.period_ms) <= 0.05 * e.period_ms;
+    for (std::size_t i = 2; i < t.size(); ++i) {
+      const double interval = static_cast<double>(t[i] - t[i - 1]) / 1000.0;
+      deviations.push_back(std::abs(interval - e.period_ms));
+      within += deviations.back() <= 0.05 * e.period_ms;
+      if (deviations.back() > 0.05 * e.period_ms) outliers += describe_outlier(e, t, i, line_frames, first_frame);
     }
+    const double first = static_cast<double>(t[1] - t[0]) / 1000.0;
+    // The mean from the second frame to the last, so one late frame does not count twice.
+    const double mean = static_cast<double>(t.back() - t[1]) / 1000.0 / static_cast<double>(deviations.size());
     const double mean_error = 100.0 * (mean - e.period_ms) / e.period_ms;
-    const double share = 100.0 * static_cast<double>(within) / static_cast<double>(intervals.size());
+    const double share = 100.0 * static_cast<double>(within) / static_cast<double>(deviations.size());
     const double due = seconds * 1000.0 / e.period_ms;
-    pass = pass && std::abs(mean_error) <= 5.0 && static_cast<double>(t.size()) >= 0.95 * due;
-    std::snprintf(line, sizeof line, "| %s | %.0f ms | %zu (%.0f) | %.3f ms | %+.3f %% | %.1f %% | %.1f ms | %.1f ms |\n",
-                  e.what.c_str(), e.period_ms, t.size(), due, mean, mean_error, share, percentile(deviations, 0.99),
-                  percentile(deviations, 1.0));
+    pass = pass && within == deviations.size() && static_cast<double>(t.size()) >= 0.95 * due;
+    std::snprintf(line, sizeof line,
+                  "| %s | %.0f ms | %zu (%.0f) | %.1f ms | %.3f ms | %+.3f %% | %.1f %% | %.1f ms | %.1f ms |\n",
+                  e.what.c_str(), e.period_ms, t.size(), due, first, mean, mean_error, share,
+                  percentile(deviations, 0.99), percentile(deviations, 1.0));
     report += line;
   }
-  std::snprintf(line, sizeof line, "\nDead SIC184 v2.08 (address 2): %zu frames in %d s (tries, retries and probes).\n",
-                dead_frames, seconds);
+  if (!outliers.empty()) report += "\nIntervals off by more than 5 %:\n" + outliers;
+  std::snprintf(line, sizeof line,
+                "\nHost wake-up latency during the run (a thread on a 10 ms grid, %zu wake-ups): p99 %.2f ms, max "
+                "%.2f ms, %zu later than 2 ms, %zu later than 5 ms.\n",
+                host.late_ms.size(), percentile(host.late_ms, 0.99), percentile(host.late_ms, 1.0), host.over(2.0),
+                host.over(5.0));
   report += line;
+  std::string times;
+  for (const auto us : dead_frames) {
+    std::snprintf(line, sizeof line, "%s%.2f", times.empty() ? "" : ", ", static_cast<double>(us - first_frame) / 1e6);
+    times += line;
+  }
+  std::snprintf(line, sizeof line, "\nDead SIC184 v2.08 (address 2): %zu frames in %d s (tries, retries and probes), at s: ",
+                dead_frames.size(), seconds);
+  report += line + times + "\n";
+  // Recovery is not starved: after its first frames the dead slave keeps being probed, at
+  // most backoff_max (10 s) plus the patience of one probe interval apart.
+  for (std::size_t i = 1; i < dead_frames.size(); ++i)
+    if (dead_frames[i] - dead_frames[i - 1] > 20'000'000) pass = false;
+  if (dead_frames.empty() || static_cast<double>(first_frame + static_cast<std::int64_t>(seconds) * 1'000'000 -
+                                                 dead_frames.back()) > 20e6)
+    pass = false;
   const auto daemon_log = slurp(log);
   std::istringstream l(daemon_log);
   for (std::string text; std::getline(l, text);)
     if (text.find("modbus master: device") != std::string::npos) report += "    " + text + "\n";
-  report += pass ? "PASS: every live request held its period within 5 % and had its frames\n"
-                 : "FAIL: a live request did not hold its period within 5 % or lost frames\n";
+  report += pass ? "PASS: every interval of every live request after its first within ±5 % of its period, all "
+                   "frames there, the dead slave probed\n"
+                 : "FAIL: a live request's interval (after its first) off by more than 5 %, frames lost, or the dead "
+                   "slave not probed\n";
   std::fputs(report.c_str(), stdout);
   if (!report_path.empty()) std::ofstream(report_path) << report;
   std::error_code ec;
+  if (!frames_copy.empty()) fs::copy_file(frames, frames_copy, fs::copy_options::overwrite_existing, ec);
   fs::remove_all(dir, ec);
   return pass ? 0 : 1;
 }
