@@ -195,6 +195,7 @@ int main(int argc, char** argv) {
   }
   std::string config = config_template;
   config.replace(config.find("@PTY@"), 5, pty.string());
+  config += "status: { socket: " + (dir / "control.sock").string() + " }\n";  // never the system's /run
   std::ofstream(dir / "bridge.yaml") << config;
   const pid_t daemon = spawn({UNIMA_BRIDGED, "--config", (dir / "bridge.yaml").string()}, log);
   if (!wait_for(log, "running", 5s)) {
