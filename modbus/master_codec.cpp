@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "modbus/crc16.hpp"
+#include "modbus/rtu_adu.hpp"
 #include "modbus/mbap.hpp"
 
 namespace unima::modbus {
@@ -63,11 +64,8 @@ Bytes write_request_pdu(std::uint8_t fn, std::uint16_t first, std::span<const st
 }
 
 Bytes rtu_frame(std::uint8_t address, std::span<const std::uint8_t> pdu) {
-  Bytes frame{address};
-  frame.insert(frame.end(), pdu.begin(), pdu.end());
-  const auto crc = crc16(frame);
-  frame.push_back(static_cast<std::uint8_t>(crc & 0xFF));
-  frame.push_back(static_cast<std::uint8_t>(crc >> 8));
+  Bytes frame(pdu.size() + 3);
+  write_rtu_adu(address, pdu, frame);
   return frame;
 }
 

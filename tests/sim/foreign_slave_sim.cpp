@@ -35,6 +35,7 @@
 #include <vector>
 
 #include "modbus/crc16.hpp"
+#include "modbus/rtu_adu.hpp"
 #include "modbus/mbap.hpp"
 #include "tests/sim/foreign_slave.hpp"
 
@@ -120,11 +121,8 @@ void write_all(int fd, const Bytes& bytes) {
 }
 
 Bytes rtu_frame(std::uint8_t address, const Bytes& pdu) {
-  Bytes frame{address};
-  frame.insert(frame.end(), pdu.begin(), pdu.end());
-  const auto crc = unima::modbus::crc16(frame);
-  frame.push_back(static_cast<std::uint8_t>(crc & 0xFF));
-  frame.push_back(static_cast<std::uint8_t>(crc >> 8));
+  Bytes frame(pdu.size() + 3);
+  unima::modbus::write_rtu_adu(address, pdu, frame);
   return frame;
 }
 
