@@ -172,7 +172,7 @@ class TcpSlaveServer::Connection : public std::enable_shared_from_this<Connectio
 };
 
 TcpSlaveServer::TcpSlaveServer(asio::io_context& io, const TcpSlaveOptions& options, const SlaveContext& context)
-    : io_(io), options_(options), context_(context), acceptor_(io) {
+    : io_(io), options_(options), context_(context), acceptor_(io), accept_retry_(io) {
   const tcp::endpoint endpoint(asio::ip::make_address(options_.listen), options_.port);
   acceptor_.open(endpoint.protocol());
   acceptor_.set_option(tcp::acceptor::reuse_address(true));
@@ -197,6 +197,7 @@ void TcpSlaveServer::stop() {
   stopped_ = true;
   boost::system::error_code ec;
   acceptor_.close(ec);
+  accept_retry_.cancel();
   auto connections = std::move(connections_);
   for (const auto& c : connections) c->close();
 }
@@ -205,8 +206,16 @@ void TcpSlaveServer::accept() {
   acceptor_.async_accept([this](const boost::system::error_code& ec, tcp::socket socket) {
     if (ec == asio::error::operation_aborted || stopped_) return;
     if (ec) {
-      spdlog::warn("modbus tcp: accept failed: {}", ec.message());
-    } else if (connections_.size() >= options_.max_clients) {
+      // Out of descriptors or memory: the pending connection stays in the backlog, so an
+      // immediate retry would fail again at once and spin. Wait a moment instead.
+      spdlog::warn("modbus tcp: accept failed: {}; retrying in 100 ms", ec.message());
+      accept_retry_.expires_after(std::chrono::milliseconds(100));
+      accept_retry_.async_wait([this](const boost::system::error_code& wait_ec) {
+        if (!wait_ec && !stopped_) accept();
+      });
+      return;
+    }
+    if (connections_.size() >= options_.max_clients) {
       spdlog::warn("modbus tcp: refusing a client: {} connections is the limit", options_.max_clients);
       boost::system::error_code ignored;
       socket.close(ignored);

@@ -51,6 +51,7 @@ class TcpSlaveServer {
   TcpSlaveOptions options_;
   SlaveContext context_;
   asio::ip::tcp::acceptor acceptor_;
+  asio::steady_timer accept_retry_;
   std::set<std::shared_ptr<Connection>> connections_;
   bool stopped_ = false;
 };

@@ -5,6 +5,7 @@
 #include <netinet/in.h>
 #include <poll.h>
 #include <signal.h>
+#include <sys/resource.h>
 #include <sys/socket.h>
 #include <sys/un.h>
 #include <sys/wait.h>
@@ -81,12 +82,19 @@ Daemon::Daemon(const TempDir& dir, const std::string& config_yaml, const std::ve
   for (auto& v : variables) envp.push_back(v.data());
   envp.push_back(nullptr);
   const char* const argv[] = {UNIMA_BRIDGED, "--config", config_path_.c_str(), nullptr};
+  rlim_t max_files = 0;  // the harness's own variable: a descriptor limit for the daemon
+  for (const auto& v : environment)
+    if (v.starts_with("UNIMA_TEST_MAX_FILES=")) max_files = std::stoul(v.substr(21));
   pid_ = ::fork();
   if (pid_ < 0) throw std::runtime_error("fork");
   if (pid_ == 0) {
     const int log = ::open(log_path_.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
     ::dup2(log, STDOUT_FILENO);
     ::dup2(log, STDERR_FILENO);
+    if (max_files != 0) {
+      const rlimit limit{max_files, max_files};
+      ::setrlimit(RLIMIT_NOFILE, &limit);
+    }
     ::execve(UNIMA_BRIDGED, const_cast<char* const*>(argv), envp.data());
     ::_exit(127);
   }
