@@ -109,7 +109,7 @@ class SocketSession final : public FeedTransport::Session {
 
 FeedTransport::FeedTransport(asio::io_context& io, const std::string& listen, unimabus::TelegramHandler on_telegram,
                              SnapshotFn snapshot)
-    : io_(io), listen_(listen), on_telegram_(std::move(on_telegram)), snapshot_(std::move(snapshot)) {
+    : io_(io), listen_(listen), on_telegram_(std::move(on_telegram)), snapshot_(std::move(snapshot)), accept_retry_(io) {
   if (listen_.starts_with("unix:")) {
     unix_path_ = listen_.substr(5);
     ::unlink(unix_path_.c_str());  // a socket file left by a previous run would block the bind
@@ -149,6 +149,7 @@ void FeedTransport::stop() {
   if (stopped_) return;
   stopped_ = true;
   boost::system::error_code ec;
+  accept_retry_.cancel();
   if (tcp_acceptor_) tcp_acceptor_->close(ec);
   if (unix_acceptor_) {
     unix_acceptor_->close(ec);
@@ -193,15 +194,20 @@ void FeedTransport::accept(Acceptor& acceptor) {
   acceptor.async_accept([this, &acceptor](const boost::system::error_code& ec, typename Acceptor::protocol_type::socket socket) {
     if (ec == asio::error::operation_aborted || stopped_) return;
     if (ec) {
-      spdlog::warn("feed: accept failed: {}", ec.message());
-    } else {
-      auto peer = describe_peer(socket, listen_);
-      send_at_once(socket);
-      spdlog::info("feed: {} connected", peer);
-      using SessionType = SocketSession<typename Acceptor::protocol_type::socket>;
-      adopt(std::make_shared<SessionType>(std::move(socket), std::move(peer), on_telegram_,
-                                          [this](Session* s) { forget(s); }));
+      // As in the TCP slave: a failed accept (out of descriptors) fails again at once.
+      spdlog::warn("feed: accept failed: {}; retrying in 100 ms", ec.message());
+      accept_retry_.expires_after(std::chrono::milliseconds(100));
+      accept_retry_.async_wait([this, &acceptor](const boost::system::error_code& wait_ec) {
+        if (!wait_ec && !stopped_) accept(acceptor);
+      });
+      return;
     }
+    auto peer = describe_peer(socket, listen_);
+    send_at_once(socket);
+    spdlog::info("feed: {} connected", peer);
+    using SessionType = SocketSession<typename Acceptor::protocol_type::socket>;
+    adopt(std::make_shared<SessionType>(std::move(socket), std::move(peer), on_telegram_,
+                                        [this](Session* s) { forget(s); }));
     accept(acceptor);
   });
 }

@@ -47,6 +47,7 @@ class FeedTransport final : public unimabus::Transport {
   std::unique_ptr<asio::local::stream_protocol::acceptor> unix_acceptor_;
   std::string unix_path_;
   std::set<std::shared_ptr<Session>> sessions_;
+  asio::steady_timer accept_retry_;
   bool stopped_ = false;
 };
 

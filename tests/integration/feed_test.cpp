@@ -1,6 +1,8 @@
 // The feed transport of the real daemon (SPEC §6): snapshot on connect, telegrams into
 // D_N and S_N, malformed lines answered and dropped, changes published, presence.
 
+#include <thread>
+
 #include "tests/integration/bridge_fixture.hpp"
 
 namespace unima::test {
@@ -109,6 +111,22 @@ TEST_F(Feed, EveryFeedClientGetsEveryChange) {
   ASSERT_TRUE(client.write(0x3010, 0x0005));
   EXPECT_TRUE(first.wait_for_line(R"({"bank":"X","offset":0,"value":5})"));
   EXPECT_TRUE(second.wait_for_line(R"({"bank":"X","offset":0,"value":5})"));
+}
+
+TEST_F(Feed, OutOfDescriptorsTheFeedWaitsInsteadOfSpinningAndRecovers) {
+  daemon = std::make_unique<Daemon>(dir, config.yaml(), std::vector<std::string>{"UNIMA_TEST_MAX_FILES=32"});
+  ASSERT_TRUE(wait_for_port(config.modbus_port)) << daemon->log();
+  std::vector<Socket> clients;
+  for (int i = 0; i < 40; ++i) clients.push_back(Socket::tcp(config.feed_port));  // the backlog takes them
+  ASSERT_TRUE(daemon->wait_for_log("feed: accept failed")) << daemon->log().substr(0, 2000);
+  const auto before = daemon->log_count("feed: accept failed");
+  std::this_thread::sleep_for(500ms);  // spinning would log thousands of failures meanwhile
+  EXPECT_LT(daemon->log_count("feed: accept failed") - before, 50u) << daemon->log().substr(0, 2000);
+  clients.clear();
+  EXPECT_TRUE(eventually([&] {
+    auto feed = Socket::tcp(config.feed_port);
+    return feed.valid() && feed.wait_for_line(R"({"bank":"C","offset":18,"value":0})", 1000ms);
+  })) << daemon->log().substr(0, 2000);
 }
 
 TEST_F(Feed, UnixSocketFeed) {

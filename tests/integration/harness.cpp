@@ -145,6 +145,13 @@ std::string Daemon::log() const {
   return text.str();
 }
 
+std::size_t Daemon::log_count(const std::string& text) const {
+  const auto all = log();
+  std::size_t n = 0;
+  for (auto at = all.find(text); at != std::string::npos; at = all.find(text, at + 1)) ++n;
+  return n;
+}
+
 bool Daemon::wait_for_log(const std::string& text, std::chrono::milliseconds timeout) const {
   return eventually([&] { return log().find(text) != std::string::npos; }, timeout);
 }

@@ -55,6 +55,8 @@ class Daemon {
   std::optional<int> exit_code() const { return exit_code_; }
   std::string log() const;
   bool wait_for_log(const std::string& text, std::chrono::milliseconds timeout = 5000ms) const;
+  /// How many times `text` stands in the log so far.
+  std::size_t log_count(const std::string& text) const;
   const std::filesystem::path& config_path() const { return config_path_; }
 
  private:
