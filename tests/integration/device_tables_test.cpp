@@ -119,21 +119,9 @@ TEST_F(MappingAndBlocks, ReadBlockAndWriteBlocks) {
   EXPECT_EQ(client.last_error(), EMBXILADD);
 }
 
-std::string run_output(const std::string& command, int& status) {
-  std::string output;
-  FILE* pipe = ::popen((command + " 2>&1").c_str(), "r");
-  char buf[4096];
-  while (std::size_t n = std::fread(buf, 1, sizeof buf, pipe)) output.append(buf, n);
-  const int raw = ::pclose(pipe);
-  status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-  return output;
-}
-
 TEST(MapCommand, FourDeviceTypesListEveryRegisterWithNamesAndUnits) {
-  int status = 0;
-  const auto csv = run_output(std::string(UNIMA_BRIDGE_CLI) +
-                                  " map --format csv --config " UNIMA_SOURCE_DIR "/config/examples/four-devices.yaml",
-                              status);
+  const auto [status, csv] =
+      run(std::string(UNIMA_BRIDGE_CLI) + " map --format csv --config " UNIMA_SOURCE_DIR "/config/examples/four-devices.yaml");
   ASSERT_EQ(status, 0) << csv;
   EXPECT_NE(csv.find("0x1121,D1,0x21,oil_temperature,Teplota oleje,analog,°C,0.1,R,"), std::string::npos) << csv;
   const std::vector<std::pair<std::uint16_t, std::string>> devices = {
@@ -150,14 +138,13 @@ TEST(MapCommand, FourDeviceTypesListEveryRegisterWithNamesAndUnits) {
       EXPECT_NE(line.find("," + reg.id + ","), std::string::npos) << line;
     }
   }
-  const auto json = run_output(std::string(UNIMA_BRIDGE_CLI) +
-                                   " map --format json --config " UNIMA_SOURCE_DIR "/config/examples/four-devices.yaml",
-                               status);
-  EXPECT_EQ(status, 0);
-  EXPECT_NE(json.find("\"id\": \"oil_temperature\""), std::string::npos);
-  EXPECT_EQ(run_output(std::string(UNIMA_BRIDGE_CLI) + " map --format xml --config x.yaml", status).find("unknown format"),
-            std::string("unima-bridge map: ").size());
-  EXPECT_EQ(status, 2);
+  const auto json =
+      run(std::string(UNIMA_BRIDGE_CLI) + " map --format json --config " UNIMA_SOURCE_DIR "/config/examples/four-devices.yaml");
+  EXPECT_EQ(json.status, 0);
+  EXPECT_NE(json.output.find("\"id\": \"oil_temperature\""), std::string::npos);
+  const auto xml = run(std::string(UNIMA_BRIDGE_CLI) + " map --format xml --config x.yaml");
+  EXPECT_EQ(xml.output.find("unknown format"), std::string("unima-bridge map: ").size());
+  EXPECT_EQ(xml.status, 2);
 }
 
 }  // namespace

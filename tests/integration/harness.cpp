@@ -12,6 +12,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <sstream>
@@ -33,6 +34,23 @@ sockaddr_in loopback(std::uint16_t port) {
 
 std::string next_line(const std::string& yaml) {
   return std::to_string(std::count(yaml.begin(), yaml.end(), '\n') + 1);
+}
+
+CommandResult run(const std::string& command) {
+  CommandResult result{-1, {}};
+  FILE* pipe = ::popen((command + " 2>&1").c_str(), "r");
+  char buf[4096];
+  while (std::size_t n = std::fread(buf, 1, sizeof buf, pipe)) result.output.append(buf, n);
+  const int status = ::pclose(pipe);
+  result.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return result;
+}
+
+std::string read_file(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
 }
 
 std::uint16_t free_port() {

@@ -21,6 +21,15 @@ using Bytes = std::vector<std::uint8_t>;
 /// The 1-based number of the line that text appended to `yaml` starts on.
 std::string next_line(const std::string& yaml);
 
+struct CommandResult {
+  int status;          // the exit code, -1 when killed
+  std::string output;  // standard output and error together
+};
+/// Runs a shell command (the CLI under test) to its end.
+CommandResult run(const std::string& command);
+
+std::string read_file(const std::filesystem::path& path);
+
 /// A loopback TCP port that was free a moment ago.
 std::uint16_t free_port();
 

@@ -81,20 +81,6 @@ TEST_F(Lifecycle, ABadConfigAtStartUpExitsNonZeroNamingThePosition) {
       << daemon->log();
 }
 
-struct Run {
-  int status;
-  std::string output;
-};
-Run run(const std::string& command) {
-  Run result{};
-  FILE* pipe = ::popen((command + " 2>&1").c_str(), "r");
-  char buf[4096];
-  while (std::size_t n = std::fread(buf, 1, sizeof buf, pipe)) result.output.append(buf, n);
-  const int status = ::pclose(pipe);
-  result.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return result;
-}
-
 TEST(CheckCommand, AcceptsTheDemoConfig) {
   const auto r = run(std::string(UNIMA_BRIDGE_CLI) + " check --config " UNIMA_SOURCE_DIR "/config/examples/demo.yaml");
   EXPECT_EQ(r.status, 0) << r.output;

@@ -10,15 +10,6 @@
 
 namespace unima::test {
 
-namespace {
-std::string read_file(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-}  // namespace
-
 SlaveSim::SlaveSim(const TempDir& dir, const std::vector<std::string>& slaves, bool pty, bool tcp)
     : out_path_(dir.path() / "sim.out"), frames_path_(dir.path() / "frames.log"), control_path_(dir.path() / "sim.ctl") {
   std::vector<std::string> args{UNIMA_SLAVE_SIM, "--frames", frames_path_.string(), "--control", control_path_.string()};

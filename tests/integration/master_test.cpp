@@ -338,15 +338,6 @@ TEST_F(MasterTest, AMissingSerialDeviceStopsTheStartWithAClearError) {
   EXPECT_TRUE(log_has(*daemon, "modbus master: cannot open " + (dir.path() / "no-such-tty").string())) << diagnostics();
 }
 
-std::pair<int, std::string> run(const std::string& command) {
-  std::string output;
-  FILE* pipe = ::popen((command + " 2>&1").c_str(), "r");
-  char buf[4096];
-  while (std::size_t n = std::fread(buf, 1, sizeof buf, pipe)) output.append(buf, n);
-  const int status = ::pclose(pipe);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
-}
-
 TEST_F(MasterTest, CheckPrintsTheMergePlanAndTheBusLoad) {
   config.line = "rtu: { device: /dev/ttyUSB0, baud: 9600 }";
   config.master = "merge_gap: 2";

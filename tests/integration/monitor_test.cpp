@@ -19,27 +19,6 @@
 namespace unima::test {
 namespace {
 
-std::string read_file(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
-struct Run {
-  int status;
-  std::string output;
-};
-Run run(const std::string& command) {
-  Run result{};
-  FILE* pipe = ::popen((command + " 2>&1").c_str(), "r");
-  char buf[4096];
-  while (std::size_t n = std::fread(buf, 1, sizeof buf, pipe)) result.output.append(buf, n);
-  const int status = ::pclose(pipe);
-  result.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return result;
-}
-
 /// `unima-bridge ARGS...` running beside the test, its output going to a file.
 class CliProcess {
  public:
