@@ -4,14 +4,17 @@
 
 namespace unima::test {
 
-ModbusClient::ModbusClient(std::uint16_t port, int unit) {
-  ctx_ = modbus_new_tcp("127.0.0.1", port);
+ModbusClient::ModbusClient(std::uint16_t port, int unit) : ModbusClient(modbus_new_tcp("127.0.0.1", port), unit) {}
+
+ModbusClient::ModbusClient(modbus_t* ctx, int unit) : ctx_(ctx) {
+  if (!ctx_) return;
   modbus_set_slave(ctx_, unit);
   modbus_set_response_timeout(ctx_, 3, 0);
   connected_ = modbus_connect(ctx_) == 0;
 }
 
 ModbusClient::~ModbusClient() {
+  if (!ctx_) return;
   modbus_close(ctx_);
   modbus_free(ctx_);
 }

@@ -15,7 +15,7 @@ namespace unima::test {
 class ModbusClient {
  public:
   explicit ModbusClient(std::uint16_t port, int unit = 1);
-  ~ModbusClient();
+  virtual ~ModbusClient();
   ModbusClient(const ModbusClient&) = delete;
   ModbusClient& operator=(const ModbusClient&) = delete;
 
@@ -26,6 +26,10 @@ class ModbusClient {
   bool write_many(int address, const std::vector<std::uint16_t>& values);
   /// errno of the last failed call (EMBXILADD etc. for exceptions).
   int last_error() const { return last_error_; }
+
+ protected:
+  /// Takes `ctx` (TCP or RTU, nullptr when it could not be made) and connects it.
+  ModbusClient(modbus_t* ctx, int unit);
 
  private:
   modbus_t* ctx_ = nullptr;

@@ -117,49 +117,4 @@ SocatLink::~SocatLink() {
   }
 }
 
-RtuMaster::RtuMaster(const fs::path& device, int baud, int unit) {
-  ctx_ = modbus_new_rtu(device.c_str(), baud, 'N', 8, 1);
-  if (!ctx_) return;
-  modbus_set_slave(ctx_, unit);
-  modbus_set_response_timeout(ctx_, 3, 0);
-  connected_ = modbus_connect(ctx_) == 0;
-}
-
-RtuMaster::~RtuMaster() {
-  if (!ctx_) return;
-  modbus_close(ctx_);
-  modbus_free(ctx_);
-}
-
-std::optional<std::vector<std::uint16_t>> RtuMaster::read_input(int address, int count) {
-  std::vector<std::uint16_t> values(static_cast<std::size_t>(count));
-  if (modbus_read_input_registers(ctx_, address, count, values.data()) != count) {
-    last_error_ = errno;
-    return std::nullopt;
-  }
-  return values;
-}
-
-std::optional<std::vector<std::uint16_t>> RtuMaster::read_holding(int address, int count) {
-  std::vector<std::uint16_t> values(static_cast<std::size_t>(count));
-  if (modbus_read_registers(ctx_, address, count, values.data()) != count) {
-    last_error_ = errno;
-    return std::nullopt;
-  }
-  return values;
-}
-
-bool RtuMaster::write(int address, std::uint16_t value) {
-  if (modbus_write_register(ctx_, address, value) == 1) return true;
-  last_error_ = errno;
-  return false;
-}
-
-bool RtuMaster::write_many(int address, const std::vector<std::uint16_t>& values) {
-  const int n = static_cast<int>(values.size());
-  if (modbus_write_registers(ctx_, address, n, values.data()) == n) return true;
-  last_error_ = errno;
-  return false;
-}
-
 }  // namespace unima::test

@@ -13,6 +13,7 @@
 #include <optional>
 #include <vector>
 
+#include "tests/integration/bridge_fixture.hpp"
 #include "tests/integration/harness.hpp"
 
 namespace unima::test {
@@ -59,24 +60,10 @@ class SocatLink {
 };
 
 /// libmodbus as an RTU master on a serial device.
-class RtuMaster {
+class RtuMaster : public ModbusClient {
  public:
-  RtuMaster(const std::filesystem::path& device, int baud, int unit = 1);
-  ~RtuMaster();
-  RtuMaster(const RtuMaster&) = delete;
-  RtuMaster& operator=(const RtuMaster&) = delete;
-
-  bool connected() const { return connected_; }
-  std::optional<std::vector<std::uint16_t>> read_input(int address, int count);
-  std::optional<std::vector<std::uint16_t>> read_holding(int address, int count);
-  bool write(int address, std::uint16_t value);
-  bool write_many(int address, const std::vector<std::uint16_t>& values);
-  int last_error() const { return last_error_; }
-
- private:
-  modbus_t* ctx_ = nullptr;
-  bool connected_ = false;
-  int last_error_ = 0;
+  RtuMaster(const std::filesystem::path& device, int baud, int unit = 1)
+      : ModbusClient(modbus_new_rtu(device.c_str(), baud, 'N', 8, 1), unit) {}
 };
 
 }  // namespace unima::test
