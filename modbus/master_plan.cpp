@@ -58,6 +58,20 @@ std::size_t bit_bytes(std::uint16_t bits) { return (bits + 7u) / 8u; }
 
 }  // namespace
 
+namespace {
+// The request of one block alone.
+PlannedRequest request_of(const MasterBlock& b, std::size_t index) {
+  PlannedRequest request;
+  request.device = b.device;
+  request.function = b.function;
+  request.first = b.reg;
+  request.count = b.count;
+  request.period = b.period;
+  request.blocks = {index};
+  return request;
+}
+}  // namespace
+
 std::vector<PlannedRequest> plan_requests(std::span<const MasterBlock> blocks, const PlanOptions& options) {
   std::map<std::pair<std::uint8_t, std::uint8_t>, std::vector<std::size_t>> reads;
   std::vector<PlannedRequest> planned;
@@ -66,14 +80,7 @@ std::vector<PlannedRequest> plan_requests(std::span<const MasterBlock> blocks, c
     if (b.is_read()) {
       reads[{b.device, b.function}].push_back(i);
     } else {
-      PlannedRequest write;
-      write.device = b.device;
-      write.function = b.function;
-      write.first = b.reg;
-      write.count = b.count;
-      write.period = b.period;
-      write.blocks = {i};
-      planned.push_back(std::move(write));
+      planned.push_back(request_of(b, i));
     }
   }
   for (auto& [key, indices] : reads) {
@@ -106,14 +113,7 @@ std::vector<PlannedRequest> split_request(const PlannedRequest& request, std::sp
       same->period = std::min(same->period, b.period);
       continue;
     }
-    PlannedRequest part;
-    part.device = b.device;
-    part.function = b.function;
-    part.first = b.reg;
-    part.count = b.count;
-    part.period = b.period;
-    part.blocks = {index};
-    parts.push_back(std::move(part));
+    parts.push_back(request_of(b, index));
   }
   if (parts.size() <= 1) parts.clear();
   return parts;
