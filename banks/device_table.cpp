@@ -156,16 +156,24 @@ class Parser {
     return r;
   }
 
+  DeviceTableHead head(const YAML::Node& root) const {
+    DeviceTableHead h;
+    h.id = text(root, "id", true);
+    if (const auto aliases = root["aliases"]) {
+      if (!aliases.IsSequence()) fail(aliases, "aliases must be a list");
+      for (const auto& a : aliases) h.aliases.push_back(a.as<std::string>());
+    }
+    return h;
+  }
+
   DeviceTable table(const YAML::Node& root) const {
     only_keys(root, {"id", "aliases", "devices", "seed_chapter", "registers"});
     DeviceTable t;
-    t.id = text(root, "id", true);
+    auto h = head(root);
+    t.id = std::move(h.id);
+    t.aliases = std::move(h.aliases);
     t.devices = text(root, "devices", false);
     t.seed_chapter = text(root, "seed_chapter", false);
-    if (const auto aliases = root["aliases"]) {
-      if (!aliases.IsSequence()) fail(aliases, "aliases must be a list");
-      for (const auto& a : aliases) t.aliases.push_back(a.as<std::string>());
-    }
     const auto regs = root["registers"];
     if (!regs || !regs.IsSequence() || regs.size() == 0) fail(root, "'registers' must be a non-empty list");
     if (regs.size() > max_table_length) fail(regs, fmt::format("a table has at most {} registers", max_table_length));
@@ -196,7 +204,10 @@ class Parser {
 
 }  // namespace
 
-DeviceTable parse_device_table(std::string_view yaml_text, std::string_view origin) {
+namespace {
+
+template <typename Read>
+auto parse_with(std::string_view yaml_text, std::string_view origin, Read read) {
   YAML::Node root;
   try {
     root = YAML::Load(std::string(yaml_text));
@@ -204,10 +215,32 @@ DeviceTable parse_device_table(std::string_view yaml_text, std::string_view orig
     throw TableError(fmt::format("{}:{}:{}: {}", origin, e.mark.line + 1, e.mark.column + 1, e.msg));
   }
   try {
-    return Parser(origin).table(root);
+    return read(Parser(origin), root);
   } catch (const YAML::Exception& e) {
     throw TableError(fmt::format("{}:{}:{}: {}", origin, e.mark.line + 1, e.mark.column + 1, e.msg));
   }
+}
+
+// The text up to the line `registers:`; the whole text when there is none (the full
+// parse then names what is missing).
+std::string_view head_text(std::string_view yaml_text) {
+  if (yaml_text.starts_with("registers:")) return {};
+  const auto at = yaml_text.find("\nregisters:");
+  return at == std::string_view::npos ? yaml_text : yaml_text.substr(0, at + 1);
+}
+
+}  // namespace
+
+DeviceTableHead parse_device_table_head(std::string_view yaml_text, std::string_view origin) {
+  return parse_with(head_text(yaml_text), origin, [](const Parser& parser, const YAML::Node& root) {
+    if (!root.IsMap()) parser.fail(root, "expected a mapping");
+    return parser.head(root);
+  });
+}
+
+DeviceTable parse_device_table(std::string_view yaml_text, std::string_view origin) {
+  return parse_with(yaml_text, origin,
+                    [](const Parser& parser, const YAML::Node& root) { return parser.table(root); });
 }
 
 }  // namespace unima::banks

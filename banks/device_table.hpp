@@ -65,6 +65,17 @@ class TableError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// What identifies a table: the keys before `registers:`, which is all a catalog needs
+/// to find a table without parsing its registers.
+struct DeviceTableHead {
+  std::string id;
+  std::vector<std::string> aliases;
+};
+
+/// Parses the head of a table file (the text before the line `registers:`); throws
+/// TableError like parse_device_table.
+DeviceTableHead parse_device_table_head(std::string_view yaml_text, std::string_view origin);
+
 /// Parses and validates one table file; `origin` names it in errors.
 /// Throws TableError naming origin, line and column.
 DeviceTable parse_device_table(std::string_view yaml_text, std::string_view origin);

@@ -1,6 +1,7 @@
 #pragma once
 // All register tables the daemon knows: the nine D_N device types (SPEC §2), the IO module
-// of S_N and the Bridge's own bank C. Parsed once, on first use, from the embedded files.
+// of S_N and the Bridge's own bank C, from the embedded files. Each table is parsed once,
+// when it is first asked for; a parsed table stays put for the life of the process.
 
 #include <string_view>
 #include <vector>
@@ -9,8 +10,9 @@
 
 namespace unima::banks {
 
-/// Every table, in file-name order. Throws TableError if an embedded file is invalid.
-const std::vector<DeviceTable>& all_tables();
+/// Every table, in id order (parses those not parsed yet). Throws TableError if an
+/// embedded file is invalid.
+std::vector<const DeviceTable*> all_tables();
 
 /// A D_N device type by its id or alias (`unigen-chp`, `microgen-chp`); nullptr if unknown.
 const DeviceTable* find_device_type(std::string_view id);

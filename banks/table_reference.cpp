@@ -63,8 +63,7 @@ std::string tables_markdown() {
   for (const auto id : device_type_ids()) out += fmt::format(" `{}`", id);
   out += ".\n\n";
   // In the seed's order: bank C (§6.2.3), the device types (§6.2.4.x), the IO module (§6.2.5).
-  std::vector<const DeviceTable*> tables;
-  for (const auto& table : all_tables()) tables.push_back(&table);
+  auto tables = all_tables();
   std::stable_sort(tables.begin(), tables.end(),
                    [](const auto* a, const auto* b) { return a->seed_chapter < b->seed_chapter; });
   for (const auto* table : tables) write_table(out, *table);

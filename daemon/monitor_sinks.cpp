@@ -77,6 +77,7 @@ void RotatingFileSink::append(std::string_view bytes) {
 }
 
 void RotatingFileSink::write(std::string_view lines) {
+  if (size_ + lines.size() <= max_size_) return append(lines);  // most batches: no line is looked at
   // Lines go out in runs that fit the current file: one write per run, rotation between.
   std::size_t run_start = 0;
   std::uint64_t run_size = 0;

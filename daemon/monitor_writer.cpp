@@ -7,7 +7,8 @@
 namespace unima::daemon {
 
 MonitorWriter::MonitorWriter(std::vector<std::unique_ptr<MonitorSink>> sinks, Options options)
-    : sinks_(std::move(sinks)), options_(options), slots_(std::max<std::size_t>(options.capacity, 1)) {
+    : sinks_(std::move(sinks)), options_(options), capacity_(std::max<std::size_t>(options.capacity, 1)),
+      slots_(std::make_unique_for_overwrite<Entry[]>(capacity_)) {
   thread_ = std::thread([this] { run(); });
 }
 
@@ -16,21 +17,20 @@ MonitorWriter::~MonitorWriter() { stop(); }
 void MonitorWriter::stop() {
   {
     std::lock_guard lock(mutex_);
-    stopping_ = true;
+    stopping_.store(true);
   }
   wake_.notify_one();
   if (thread_.joinable()) thread_.join();
 }
 
 bool MonitorWriter::push(const modbus::Transaction& t, std::uint8_t ix) {
-  std::unique_lock lock(mutex_);
-  if (count_ == slots_.size() || stopping_) {
-    ++dropped_pending_;
+  const auto tail = tail_.load(std::memory_order_relaxed);
+  if (tail - head_.load(std::memory_order_acquire) == capacity_ || stopping_.load(std::memory_order_relaxed)) {
     dropped_total_.fetch_add(1, std::memory_order_relaxed);
     return false;
   }
-  Entry& e = slots_[(head_ + count_) % slots_.size()];
-  e.time = t.time;
+  Entry& e = slots_[tail_slot_];
+  e.time = t.time.time_since_epoch().count();
   e.rc = static_cast<std::uint32_t>(t.query.size());
   e.query_size = static_cast<std::uint16_t>(std::min(t.query.size(), Entry::max_frame));
   e.response_size = static_cast<std::uint16_t>(std::min(t.response.size(), Entry::max_frame));
@@ -42,20 +42,42 @@ bool MonitorWriter::push(const modbus::Transaction& t, std::uint8_t ix) {
   if (e.peer_size > 0) std::memcpy(e.peer, t.peer.data(), e.peer_size);
   if (e.query_size > 0) std::memcpy(e.query, t.query.data(), e.query_size);
   if (e.response_size > 0) std::memcpy(e.response, t.response.data(), e.response_size);
-  ++count_;
-  // Only a waiting writer needs the (system-call) wake-up; a batching one is cut short
+  tail_slot_ = next_slot(tail_slot_);
+  // Sequentially consistent, like the writer's going to sleep (wait_for_work): either the
+  // writer sees this slot before it sleeps, or this push sees it asleep and wakes it.
+  tail_.store(tail + 1, std::memory_order_seq_cst);
+  const auto state = writer_state_.load(std::memory_order_seq_cst);
+  // Only a sleeping writer needs the (system-call) wake-up; a batching one is cut short
   // when the queue is half full.
-  const bool wake = writer_state_ == WriterState::idle ||
-                    (writer_state_ == WriterState::batching && count_ >= slots_.size() / 2);
-  lock.unlock();
-  if (wake) wake_.notify_one();
+  const bool wake = state == WriterState::idle ||
+                    (state == WriterState::batching &&
+                     tail + 1 - head_.load(std::memory_order_relaxed) >= capacity_ / 2);
+  if (wake) {
+    { std::lock_guard lock(mutex_); }  // the writer is either before its check or waiting
+    wake_.notify_one();
+  }
   return true;
+}
+
+// Sleeps until a transaction is queued, then gives the port the batch window to queue
+// more, so that a busy port costs one wake-up and one write per batch.
+void MonitorWriter::wait_for_work(std::uint64_t head) {
+  std::unique_lock lock(mutex_);
+  writer_state_.store(WriterState::idle, std::memory_order_seq_cst);
+  wake_.wait(lock, [&] { return tail_.load(std::memory_order_seq_cst) != head || stopping_.load(); });
+  if (!stopping_.load() && options_.batch_window.count() > 0) {
+    writer_state_.store(WriterState::batching, std::memory_order_seq_cst);
+    wake_.wait_for(lock, options_.batch_window, [&] {
+      return stopping_.load() || tail_.load(std::memory_order_seq_cst) - head >= capacity_ / 2;
+    });
+  }
+  writer_state_.store(WriterState::busy, std::memory_order_relaxed);
 }
 
 void MonitorWriter::format(const Entry& e, std::string& out, std::string& port) const {
   const modbus::Transaction t{e.port,
                               std::string_view(e.peer, e.peer_size),
-                              e.time,
+                              std::chrono::system_clock::time_point(std::chrono::system_clock::duration(e.time)),
                               e.state,
                               std::span<const std::uint8_t>(e.query, e.query_size),
                               std::span<const std::uint8_t>(e.response, e.response_size)};
@@ -69,32 +91,23 @@ void MonitorWriter::format(const Entry& e, std::string& out, std::string& port) 
 void MonitorWriter::run() {
   std::string out;
   std::string port;
-  std::unique_lock lock(mutex_);
+  std::size_t head_slot = 0;
   while (true) {
-    writer_state_ = WriterState::idle;
-    wake_.wait(lock, [this] { return count_ > 0 || stopping_; });
-    if (!stopping_ && options_.batch_window.count() > 0) {
-      writer_state_ = WriterState::batching;
-      wake_.wait_for(lock, options_.batch_window, [this] { return stopping_ || count_ >= slots_.size() / 2; });
-    }
-    writer_state_ = WriterState::busy;
-    if (count_ == 0 && stopping_) break;
-    // The slots [head, head + n) are the writer's until head moves: push only fills
-    // free slots, so they are read without the lock.
-    const std::size_t head = head_;
-    const std::size_t n = count_;
-    const auto dropped = std::exchange(dropped_pending_, 0);
-    lock.unlock();
+    const auto head = head_.load(std::memory_order_relaxed);
+    wait_for_work(head);
+    // The slots [head, tail) are the writer's until head moves: push only fills free ones.
+    const auto tail = tail_.load(std::memory_order_acquire);
+    if (tail == head && stopping_.load()) break;
+    const auto dropped = dropped_total_.load(std::memory_order_relaxed) - dropped_reported_;
+    dropped_reported_ += dropped;
 
     out.clear();
-    for (std::size_t i = 0; i < n; ++i) format(slots_[(head + i) % slots_.size()], out, port);
+    for (auto position = head; position != tail; ++position, head_slot = next_slot(head_slot))
+      format(slots_[head_slot], out, port);
     if (dropped > 0) modbus::append_drop_notice(out, std::chrono::system_clock::now(), dropped, options_.format);
     for (const auto& sink : sinks_) sink->write(out);
-    written_total_.fetch_add(n, std::memory_order_relaxed);
-
-    lock.lock();
-    head_ = (head_ + n) % slots_.size();
-    count_ -= n;
+    written_total_.fetch_add(tail - head, std::memory_order_relaxed);
+    head_.store(tail, std::memory_order_release);
   }
 }
 

@@ -3,10 +3,12 @@
 //
 // Why a thread: writing the log can block on the disk (a full page cache, a slow SD card,
 // a rotation's renames) and the event loop must never wait for that, so a dedicated
-// writer thread formats and writes the lines. The ports only copy the transaction into a
-// preallocated slot under a short mutex; when the queue is full the transaction is
-// dropped and counted, the log says how many were lost, and serving goes on. That is the
-// seed's rule too (seed 004 §8: a missing monitor line never delays the right answer).
+// writer thread formats and writes the lines. The event loop only copies the transaction
+// into a free slot of a ring and publishes it with one atomic store (one producer, one
+// consumer: no lock on the serving path); it takes the mutex only to wake a writer that
+// sleeps. When the ring is full the transaction is dropped and counted, the log says how
+// many were lost, and serving goes on. That is the seed's rule too (seed 004 §8: a missing
+// monitor line never delays the right answer).
 //
 // spdlog 1.10's async logger was considered: its overflow policies either block the
 // caller or overrun the oldest message, and it formats on the caller's thread; this queue
@@ -20,6 +22,7 @@
 #include <mutex>
 #include <string_view>
 #include <thread>
+#include <type_traits>
 #include <vector>
 
 #include "modbus/monitor_line.hpp"
@@ -53,25 +56,28 @@ class MonitorWriter {
   MonitorWriter& operator=(const MonitorWriter&) = delete;
 
   /// Copies the transaction into the queue; false (and counted) when the queue is full.
-  /// Never waits for the writer. Safe from any thread.
+  /// Never waits for the writer. One thread pushes (the event loop; another one only
+  /// after the first stopped pushing).
   bool push(const modbus::Transaction& transaction, std::uint8_t ix);
 
   std::uint64_t dropped() const { return dropped_total_.load(std::memory_order_relaxed); }
   std::uint64_t written() const { return written_total_.load(std::memory_order_relaxed); }
-  std::size_t capacity() const { return slots_.size(); }
+  std::size_t capacity() const { return capacity_; }
 
  private:
   // One transaction as copied from the port, so the port may reuse its buffers at once.
+  // Trivial to construct: the ring is allocated untouched, and a slot costs memory only
+  // once a transaction was copied into it.
   struct Entry {
     static constexpr std::size_t max_frame = 260;  // the largest TCP ADU; RTU's is 256
-    std::chrono::system_clock::time_point time;
-    std::uint32_t rc = 0;  // the query's size on the wire, even when longer than kept
-    std::uint16_t query_size = 0;
-    std::uint16_t response_size = 0;
-    modbus::PortKind port = modbus::PortKind::tcp;
-    modbus::TransactionState state = modbus::TransactionState::done;
-    std::uint8_t ix = 0;
-    std::uint8_t peer_size = 0;
+    std::chrono::system_clock::rep time;  // ticks since the epoch (a time_point would zero itself)
+    std::uint32_t rc;  // the query's size on the wire, even when longer than kept
+    std::uint16_t query_size;
+    std::uint16_t response_size;
+    modbus::PortKind port;
+    modbus::TransactionState state;
+    std::uint8_t ix;
+    std::uint8_t peer_size;
     char peer[64];
     std::uint8_t query[max_frame];
     std::uint8_t response[max_frame];
@@ -79,19 +85,28 @@ class MonitorWriter {
   enum class WriterState : std::uint8_t { idle, batching, busy };
 
   void run();
+  void wait_for_work(std::uint64_t head);
   void format(const Entry& entry, std::string& out, std::string& port) const;
+  // The next slot after `index`: counting on is cheaper than dividing a position.
+  std::size_t next_slot(std::size_t index) const { return index + 1 == capacity_ ? 0 : index + 1; }
+  static_assert(std::is_trivially_default_constructible_v<Entry>);
 
   std::vector<std::unique_ptr<MonitorSink>> sinks_;
   Options options_;
-  std::vector<Entry> slots_;
+  std::size_t capacity_;
+  std::unique_ptr<Entry[]> slots_;
 
-  std::mutex mutex_;
+  // Positions count every transaction ever queued; [head, tail) are queued. The pusher
+  // alone moves tail, the writer alone moves head, each on its own cache line.
+  alignas(64) std::atomic<std::uint64_t> tail_{0};
+  std::size_t tail_slot_ = 0;  // the pusher's: the slot of tail
+  alignas(64) std::atomic<std::uint64_t> head_{0};
+  std::atomic<WriterState> writer_state_{WriterState::busy};
+  std::atomic<bool> stopping_{false};
+  std::uint64_t dropped_reported_ = 0;  // the writer's: drops the log already told
+
+  std::mutex mutex_;  // only for sleeping and waking the writer
   std::condition_variable wake_;
-  std::size_t head_ = 0;   // oldest queued slot
-  std::size_t count_ = 0;  // queued slots
-  std::uint64_t dropped_pending_ = 0;  // not yet reported in the log
-  WriterState writer_state_ = WriterState::busy;
-  bool stopping_ = false;
 
   std::atomic<std::uint64_t> dropped_total_{0};
   std::atomic<std::uint64_t> written_total_{0};

@@ -162,8 +162,10 @@ class TcpSlaveServer::Connection : public std::enable_shared_from_this<Connectio
   tcp::socket socket_;
   asio::steady_timer idle_timer_;
   std::string peer_;
-  // A full ADU is at most 260 bytes; room for several pipelined ones per read.
-  std::array<std::uint8_t, 4096> in_{};
+  // A full ADU is at most 260 bytes; room for several pipelined ones per read. Left
+  // uninitialised: only the in_used_ bytes a read filled are ever looked at, and a client
+  // that sends little then keeps only the pages it touched resident (issue #8's RSS).
+  std::array<std::uint8_t, 4096> in_;
   std::size_t in_used_ = 0;
   std::vector<std::uint8_t> out_;  // out_used_ bytes of answers, then spare room
   std::size_t out_used_ = 0;

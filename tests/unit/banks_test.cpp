@@ -192,15 +192,54 @@ TEST(AddressMap, WindowRunningPastTheLastAddressThrows) {
 // The embedded tables
 
 TEST(TableCatalog, AllElevenTablesLoad) {
-  const auto& tables = all_tables();
+  const auto tables = all_tables();
   std::set<std::string> ids;
-  for (const auto& t : tables) ids.insert(t.id);
+  for (const auto* t : tables) ids.insert(t->id);
   const std::set<std::string> expected = {"bridge-internal", "bridge-tem", "io-module", "microgen-sync",
                                           "nsu2",            "uis",        "unigen-chp", "unigen-mve",
                                           "unigen-tem",      "usc",        "uvr"};
   EXPECT_EQ(tables.size(), 11u);
   EXPECT_EQ(ids, expected);
   EXPECT_EQ(embedded_tables().size(), 11u);
+}
+
+// The catalog finds a table by its head and parses the rest on first use: the table it
+// hands out is the one all_tables() lists later, and each embedded head names its table.
+TEST(TableCatalog, ATableFoundByItsHeadIsTheParsedTable) {
+  const DeviceTable* by_alias = find_device_type("microgen-chp");
+  ASSERT_NE(by_alias, nullptr);
+  EXPECT_EQ(by_alias->id, "unigen-chp");
+  EXPECT_EQ(find_device_type("unigen-chp"), by_alias);
+  const auto tables = all_tables();
+  EXPECT_NE(std::find(tables.begin(), tables.end(), by_alias), tables.end());
+  for (const auto& embedded : embedded_tables()) {
+    const auto head = parse_device_table_head(embedded.yaml_text, embedded.file_name);
+    const auto full = parse_device_table(embedded.yaml_text, embedded.file_name);
+    EXPECT_EQ(head.id, full.id);
+    EXPECT_EQ(head.aliases, full.aliases);
+  }
+}
+
+TEST(TableHead, IsReadFromTheLinesBeforeTheRegisters) {
+  const auto head = parse_device_table_head(
+      "# a table\nid: pump\naliases: [p1, p2]\ndevices: \"Pump\"\nregisters:\n  - { offset: oops\n", "pump.yaml");
+  EXPECT_EQ(head.id, "pump");
+  EXPECT_EQ(head.aliases, (std::vector<std::string>{"p1", "p2"}));
+}
+
+TEST(TableHead, NamesFileLineAndColumnOfAnError) {
+  try {
+    parse_device_table_head("devices: \"Pump\"\naliases: p1\nregisters: []\n", "pump.yaml");
+    FAIL() << "no error";
+  } catch (const TableError& e) {
+    EXPECT_STREQ(e.what(), "pump.yaml:1:1: missing key 'id'");
+  }
+  try {
+    parse_device_table_head("id: pump\naliases: p1\n", "pump.yaml");
+    FAIL() << "no error";
+  } catch (const TableError& e) {
+    EXPECT_STREQ(e.what(), "pump.yaml:2:10: aliases must be a list");
+  }
 }
 
 TEST(TableCatalog, DeviceTypesAreTheNineOfSpec2) {
@@ -264,7 +303,8 @@ TEST(TableCatalog, UnigenChpOilTemperature) {
 }
 
 TEST(TableCatalog, EveryTableIsWellFormed) {
-  for (const auto& t : all_tables()) {
+  for (const auto* table : all_tables()) {
+    const auto& t = *table;
     SCOPED_TRACE(t.id);
     EXPECT_GT(t.length(), 0);
     EXPECT_LE(t.length(), max_table_length);

@@ -291,9 +291,9 @@ TEST(RegisterReference, DocsRegistersMdIsUpToDate) {
 
 TEST(RegisterReference, EveryIdentifierOfTheDataIsInTheDocs) {
   const auto docs = banks::tables_markdown();
-  for (const auto& table : banks::all_tables())
-    for (const auto& reg : table.registers) {
-      EXPECT_NE(docs.find("`" + reg.id + "`"), std::string::npos) << table.id << " " << reg.id;
+  for (const auto* table : banks::all_tables())
+    for (const auto& reg : table->registers) {
+      EXPECT_NE(docs.find("`" + reg.id + "`"), std::string::npos) << table->id << " " << reg.id;
       for (const auto& field : reg.fields) EXPECT_NE(docs.find("`" + field.id + "`"), std::string::npos) << field.id;
     }
 }
@@ -319,11 +319,11 @@ TEST(InferredOffsets, AreExactlyTheReviewedOnesAndEachSaysWhy) {
       {"uvr", 0x11, "control_inputs"},
   };
   std::set<std::tuple<std::string, std::uint16_t, std::string>> found;
-  for (const auto& table : banks::all_tables())
-    for (const auto& reg : table.registers) {
+  for (const auto* table : banks::all_tables())
+    for (const auto& reg : table->registers) {
       bool noted = reg.inferred.size() > 20;
       for (const auto& f : reg.fields) noted = noted || f.inferred.size() > 20;
-      if (noted) found.emplace(table.id, reg.offset, reg.id);
+      if (noted) found.emplace(table->id, reg.offset, reg.id);
     }
   EXPECT_EQ(found, expected);
 }

@@ -192,6 +192,43 @@ TEST(MonitorLine, UtcTimeIsIsoWithMicroseconds) {
   EXPECT_FALSE(parse_utc_time("2026-02-30T00:00:00.000000Z"));
 }
 
+// The date and clock of the last second are kept and reused: times in the same second,
+// the next one, an earlier day and back again each read as themselves.
+TEST(MonitorLine, EachTimeReadsAsItselfInAnyOrder) {
+  const std::vector<std::pair<system_clock::time_point, std::string>> times = {
+      {at, stamp},
+      {at + microseconds(1), "2026-11-22T14:41:23.123457Z"},
+      {at + microseconds(876544), "2026-11-22T14:41:24.000000Z"},
+      {at - days(366), "2025-11-21T14:41:23.123456Z"},
+      {at + microseconds(876544) + hours(10) - microseconds(1), "2026-11-23T00:41:23.999999Z"},
+      {at, stamp},
+      {system_clock::time_point{}, "1970-01-01T00:00:00.000000Z"},
+  };
+  for (const auto& [time, text] : times) {
+    std::string out;
+    append_utc_time(out, time);
+    EXPECT_EQ(out, text);
+  }
+}
+
+// Every byte value reads as its two upper-case digits, spaced, in both formats.
+TEST(MonitorLine, EveryByteValueIsWrittenInHex) {
+  Bytes all(256);
+  for (std::size_t b = 0; b < all.size(); ++b) all[b] = static_cast<std::uint8_t>(b);
+  std::string expected;
+  for (std::size_t b = 0; b < all.size(); ++b) {
+    static constexpr char digits[] = "0123456789ABCDEF";
+    if (b > 0) expected += ' ';
+    expected += digits[b >> 4];
+    expected += digits[b & 0x0F];
+  }
+  const auto text = line(PortKind::tcp, "127.0.0.1:40000", TransactionState::done, tcp_query, all);
+  EXPECT_NE(text.find(" Response=" + expected + "\n"), std::string::npos) << text;
+  const auto json = line(PortKind::tcp, "127.0.0.1:40000", TransactionState::done, tcp_query, all, 7,
+                         MonitorFormat::json);
+  EXPECT_NE(json.find("\"response\":\"" + expected + "\"}\n"), std::string::npos) << json;
+}
+
 TEST(MonitorLine, SeedFramesCarryValidCrcs) {
   for (const auto& frame : {rtu_query, rtu_response}) {
     const std::uint16_t wire = static_cast<std::uint16_t>(frame[frame.size() - 2] | frame[frame.size() - 1] << 8);

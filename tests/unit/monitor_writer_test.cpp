@@ -112,6 +112,45 @@ TEST(MonitorWriter, AnUnblockedWriterWritesEveryLineInOrder) {
   EXPECT_EQ(writer.dropped(), 0u);
 }
 
+// A sink that counts lines and the drops the log reports.
+class CountingSink : public MonitorSink {
+ public:
+  void write(std::string_view lines) override {
+    for (const auto& line : lines_of(std::string(lines))) {
+      if (const auto at = line.find(" monitor Dropped="); at != std::string::npos)
+        reported_drops += std::stoull(line.substr(at + 17));
+      else
+        ++transactions;
+    }
+  }
+  std::uint64_t transactions = 0;
+  std::uint64_t reported_drops = 0;
+};
+
+// The ring is shared without a lock on the pushing side: under a flood that keeps it full,
+// every transaction is either written once or dropped and reported once.
+TEST(MonitorWriter, UnderAFloodEveryTransactionIsWrittenOrCountedExactlyOnce) {
+  for (const auto window : {0ms, 1ms}) {
+    auto sink = std::make_unique<CountingSink>();
+    auto* counted = sink.get();
+    std::vector<std::unique_ptr<MonitorSink>> sinks;
+    sinks.push_back(std::move(sink));
+    MonitorWriter::Options options;
+    options.capacity = 64;
+    options.batch_window = window;
+    MonitorWriter writer(std::move(sinks), options);
+    constexpr std::uint64_t pushes = 200'000;
+    std::uint64_t accepted = 0;
+    for (std::uint64_t i = 0; i < pushes; ++i) accepted += writer.push(transaction(), static_cast<std::uint8_t>(i));
+    writer.stop();
+    EXPECT_EQ(writer.written(), accepted);
+    EXPECT_EQ(writer.dropped(), pushes - accepted);
+    EXPECT_EQ(counted->transactions, accepted);
+    EXPECT_LE(counted->reported_drops, writer.dropped());  // the last drops may come after the last batch
+    EXPECT_GT(accepted, 0u);
+  }
+}
+
 class TempDir {
  public:
   TempDir() {
