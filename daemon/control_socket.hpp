@@ -33,6 +33,7 @@ class ControlSocket {
   std::string path_;
   DocumentFn document_;
   asio::local::stream_protocol::acceptor acceptor_;
+  asio::steady_timer accept_retry_;
   bool stopped_ = false;
 };
 

@@ -231,6 +231,25 @@ TEST_F(Monitor, StatusShowsAFaultAndTwoSecondsLaterNot) {
   EXPECT_NE(cleared.output.find("Error     [ ]"), std::string::npos) << cleared.output;
 }
 
+// Out of descriptors, the status socket's accept fails like the others' and waits
+// before it tries again instead of spinning; once descriptors are free it answers again.
+TEST_F(Monitor, OutOfDescriptorsTheStatusSocketWaitsInsteadOfSpinningAndRecovers) {
+  daemon = std::make_unique<Daemon>(dir, config.yaml(), std::vector<std::string>{"UNIMA_TEST_MAX_FILES=32"});
+  ASSERT_TRUE(wait_for_port(config.modbus_port)) << daemon->log();
+  std::vector<Socket> clients;
+  for (int i = 0; i < 40; ++i) clients.push_back(Socket::tcp(config.modbus_port));  // uses up the descriptors
+  ASSERT_TRUE(daemon->wait_for_log("modbus tcp: accept failed")) << daemon->log().substr(0, 2000);
+  for (int i = 0; i < 3; ++i) clients.push_back(Socket::unix_socket(config.status_socket));  // the backlog takes them
+  ASSERT_TRUE(daemon->wait_for_log("status: accept failed")) << daemon->log().substr(0, 2000);
+  const auto before = daemon->log_count("status: accept failed");
+  std::this_thread::sleep_for(500ms);  // spinning would log thousands of failures meanwhile
+  EXPECT_LT(daemon->log_count("status: accept failed") - before, 50u) << daemon->log().substr(0, 2000);
+  clients.clear();
+  EXPECT_TRUE(eventually([&] {
+    return run(std::string(UNIMA_BRIDGE_CLI) + " status --json --socket " + config.status_socket).status == 0;
+  })) << daemon->log().substr(0, 2000);
+}
+
 TEST_F(Monitor, AReloadSwitchesTheLogAndTheFilterAndKeepsTheIndicators) {
   start_with("  indicators: [ { address: 1, register: 0x0100 } ]\n");
   ModbusClient client(config.modbus_port);
