@@ -8,7 +8,8 @@ void LineSplitter::feed(std::string_view bytes, const std::function<void(std::st
     const auto newline = bytes.find('\n');
     const auto piece = bytes.substr(0, newline);
     if (!discarding_) {
-      if (partial_.size() + piece.size() > max_line_) {
+      // One more byte may be the "\r" of a "\r\n", which is not part of the line.
+      if (partial_.size() + piece.size() > max_line_ + 1) {
         discarding_ = true;
         partial_.clear();
         on_overlong();
@@ -21,7 +22,8 @@ void LineSplitter::feed(std::string_view bytes, const std::function<void(std::st
     if (!discarding_) {
       std::string_view line = partial_;
       if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
-      on_line(line);
+      if (line.size() > max_line_) on_overlong();
+      else on_line(line);
     }
     partial_.clear();
     discarding_ = false;

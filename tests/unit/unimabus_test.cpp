@@ -189,6 +189,20 @@ TEST(LineSplitter, ThreeLinesAtEverySplitPoint) {
   EXPECT_EQ(out.lines, expected);
 }
 
+// The limit counts the line, not the "\r" of its "\r\n".
+TEST(LineSplitter, TheLimitCountsTheLineWithoutItsCarriageReturn) {
+  const std::string full(16, 'x');
+  for (const std::size_t cut : {std::size_t{0}, std::size_t{16}, std::size_t{17}}) {
+    LineSplitter splitter(16);
+    Collected out;
+    const std::string stream = full + "\r\n" + full + "y\r\n" + full + "y\n" + full + "\n";
+    feed(splitter, std::string_view(stream).substr(0, cut), out);
+    feed(splitter, std::string_view(stream).substr(cut), out);
+    EXPECT_EQ(out.lines, (std::vector<std::string>{full, full})) << "cut at " << cut;
+    EXPECT_EQ(out.overlong, 2) << "cut at " << cut;
+  }
+}
+
 TEST(LineSplitter, IncompleteLineWaitsForItsNewline) {
   LineSplitter splitter;
   Collected out;
