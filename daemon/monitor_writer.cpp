@@ -6,6 +6,10 @@
 
 namespace unima::daemon {
 
+namespace {
+constexpr std::size_t write_slice = 128 * 1024;
+}  // namespace
+
 MonitorWriter::MonitorWriter(std::vector<std::unique_ptr<MonitorSink>> sinks, Options options)
     : sinks_(std::move(sinks)), options_(options), capacity_(std::max<std::size_t>(options.capacity, 1)),
       slots_(std::make_unique_for_overwrite<Entry[]>(capacity_)) {
@@ -40,13 +44,18 @@ bool MonitorWriter::push(const modbus::Transaction& t, std::uint8_t ix) {
   e.peer_size = static_cast<std::uint8_t>(std::min(t.peer.size(), sizeof e.peer));
   // An empty span may have no data pointer, which memcpy must not get even for 0 bytes.
   if (e.peer_size > 0) std::memcpy(e.peer, t.peer.data(), e.peer_size);
-  if (e.query_size > 0) std::memcpy(e.query, t.query.data(), e.query_size);
-  if (e.response_size > 0) std::memcpy(e.response, t.response.data(), e.response_size);
+  if (e.query_size > 0) std::memcpy(e.frames, t.query.data(), e.query_size);
+  if (e.response_size > 0) std::memcpy(e.frames + e.query_size, t.response.data(), e.response_size);
   tail_slot_ = next_slot(tail_slot_);
-  // Sequentially consistent, like the writer's going to sleep (wait_for_work): either the
-  // writer sees this slot before it sleeps, or this push sees it asleep and wakes it.
-  tail_.store(tail + 1, std::memory_order_seq_cst);
-  const auto state = writer_state_.load(std::memory_order_seq_cst);
+  // The next slot is cold (the ring is larger than the caches): ask for its first lines
+  // now, while the port goes back to its sockets, rather than stall on them next time.
+  const auto* next = reinterpret_cast<const char*>(&slots_[tail_slot_]);
+  for (std::size_t line = 0; line < 4 * 64; line += 64) __builtin_prefetch(next + line, 1);
+  // A release store, not a fence: a fence would wait here for the slot's cache misses.
+  // Its price is that this push may miss a writer falling asleep at the same moment;
+  // the writer covers that by looking once more after a short wait (wait_for_work).
+  tail_.store(tail + 1, std::memory_order_release);
+  const auto state = writer_state_.load(std::memory_order_relaxed);
   // Only a sleeping writer needs the (system-call) wake-up; a batching one is cut short
   // when the queue is half full.
   const bool wake = state == WriterState::idle ||
@@ -60,15 +69,20 @@ bool MonitorWriter::push(const modbus::Transaction& t, std::uint8_t ix) {
 }
 
 // Sleeps until a transaction is queued, then gives the port the batch window to queue
-// more, so that a busy port costs one wake-up and one write per batch.
+// more, so that a busy port costs one wake-up and one write per batch. A push that raced
+// with the writer falling asleep may not have woken it (see push), so the first wait is
+// a timed one: only after a quiet batch window does the writer sleep until woken, which
+// costs an idle daemon one wake-up after its last transaction, not one per period.
 void MonitorWriter::wait_for_work(std::uint64_t head) {
+  const auto queued = [&] { return tail_.load(std::memory_order_acquire) != head || stopping_.load(); };
   std::unique_lock lock(mutex_);
   writer_state_.store(WriterState::idle, std::memory_order_seq_cst);
-  wake_.wait(lock, [&] { return tail_.load(std::memory_order_seq_cst) != head || stopping_.load(); });
+  const auto window = options_.batch_window.count() > 0 ? options_.batch_window : std::chrono::milliseconds(10);
+  if (!wake_.wait_for(lock, window, queued)) wake_.wait(lock, queued);
   if (!stopping_.load() && options_.batch_window.count() > 0) {
-    writer_state_.store(WriterState::batching, std::memory_order_seq_cst);
+    writer_state_.store(WriterState::batching, std::memory_order_relaxed);
     wake_.wait_for(lock, options_.batch_window, [&] {
-      return stopping_.load() || tail_.load(std::memory_order_seq_cst) - head >= capacity_ / 2;
+      return stopping_.load() || tail_.load(std::memory_order_acquire) - head >= capacity_ / 2;
     });
   }
   writer_state_.store(WriterState::busy, std::memory_order_relaxed);
@@ -79,8 +93,8 @@ void MonitorWriter::format(const Entry& e, std::string& out, std::string& port) 
                               std::string_view(e.peer, e.peer_size),
                               std::chrono::system_clock::time_point(std::chrono::system_clock::duration(e.time)),
                               e.state,
-                              std::span<const std::uint8_t>(e.query, e.query_size),
-                              std::span<const std::uint8_t>(e.response, e.response_size)};
+                              std::span<const std::uint8_t>(e.frames, e.query_size),
+                              std::span<const std::uint8_t>(e.frames + e.query_size, e.response_size)};
   port.clear();
   modbus::append_port_name(port, t.port, t.peer);
   auto fields = modbus::monitor_fields(t, e.ix, port);
@@ -102,10 +116,18 @@ void MonitorWriter::run() {
     dropped_reported_ += dropped;
 
     out.clear();
-    for (auto position = head; position != tail; ++position, head_slot = next_slot(head_slot))
+    for (auto position = head; position != tail; ++position, head_slot = next_slot(head_slot)) {
       format(slots_[head_slot], out, port);
+      // A batch of a busy port is megabytes of text; writing it in slices keeps the
+      // buffer (and the daemon's memory) small at the price of a few more writes.
+      if (out.size() >= write_slice) {
+        for (const auto& sink : sinks_) sink->write(out);
+        out.clear();
+      }
+    }
     if (dropped > 0) modbus::append_drop_notice(out, std::chrono::system_clock::now(), dropped, options_.format);
-    for (const auto& sink : sinks_) sink->write(out);
+    if (!out.empty())
+      for (const auto& sink : sinks_) sink->write(out);
     written_total_.fetch_add(tail - head, std::memory_order_relaxed);
     head_.store(tail, std::memory_order_release);
   }

@@ -67,7 +67,8 @@ class MonitorWriter {
  private:
   // One transaction as copied from the port, so the port may reuse its buffers at once.
   // Trivial to construct: the ring is allocated untouched, and a slot costs memory only
-  // once a transaction was copied into it.
+  // once a transaction was copied into it. The response follows the query in `frames`,
+  // so a transaction fills a few adjacent cache lines, not a 600-byte stride.
   struct Entry {
     static constexpr std::size_t max_frame = 260;  // the largest TCP ADU; RTU's is 256
     std::chrono::system_clock::rep time;  // ticks since the epoch (a time_point would zero itself)
@@ -78,9 +79,8 @@ class MonitorWriter {
     modbus::TransactionState state;
     std::uint8_t ix;
     std::uint8_t peer_size;
-    char peer[64];
-    std::uint8_t query[max_frame];
-    std::uint8_t response[max_frame];
+    char peer[64];  // "address:port" of a TCP client; longer is cut
+    std::uint8_t frames[2 * max_frame];  // the query, then the response
   };
   enum class WriterState : std::uint8_t { idle, batching, busy };
 
