@@ -124,7 +124,16 @@ class TcpSlaveServer::Connection : public std::enable_shared_from_this<Connectio
     }
     if (ec) return finish(ec.message());
     out_used_ = 0;
-    read();
+    // With other clients, the next read starts after the loop's other ready work, not
+    // here: Asio tries a read at once (see read()), and a client that waits for each
+    // answer has not sent its next request yet when this send returns, so that try would
+    // be a wasted system call; after the others were served it often finds the request
+    // (64 clients: 2.1 instead of 3.0 system calls a request). A lone client gains
+    // nothing by it and would pay an extra epoll_wait.
+    if (server_.connections_.size() == 1) return read();
+    asio::post(socket_.get_executor(), [this, self = shared_from_this()] {
+      if (!finished_) read();
+    });
   }
 
   // The timer is not re-armed per request (that would cost a timerfd call each time); on
