@@ -39,6 +39,13 @@ class TcpSlaveServer::Connection : public std::enable_shared_from_this<Connectio
     idle_timer_.cancel();
   }
 
+  // The server stops and may be gone before this connection's pending handlers run
+  // (aborted reads, a deferred read start): they must not call back into it.
+  void abandon() {
+    finished_ = true;
+    close();
+  }
+
   const std::string& peer() const { return peer_; }
 
  private:
@@ -210,7 +217,7 @@ void TcpSlaveServer::stop() {
   acceptor_.close(ec);
   accept_retry_.cancel();
   auto connections = std::move(connections_);
-  for (const auto& c : connections) c->close();
+  for (const auto& c : connections) c->abandon();
 }
 
 void TcpSlaveServer::accept() {
