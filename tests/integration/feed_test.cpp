@@ -118,10 +118,8 @@ TEST_F(Feed, OutOfDescriptorsTheFeedWaitsInsteadOfSpinningAndRecovers) {
   ASSERT_TRUE(wait_for_port(config.modbus_port)) << daemon->log();
   std::vector<Socket> clients;
   for (int i = 0; i < 40; ++i) clients.push_back(Socket::tcp(config.feed_port));  // the backlog takes them
-  ASSERT_TRUE(daemon->wait_for_log("feed: accept failed")) << daemon->log().substr(0, 2000);
-  const auto before = daemon->log_count("feed: accept failed");
-  std::this_thread::sleep_for(500ms);  // spinning would log thousands of failures meanwhile
-  EXPECT_LT(daemon->log_count("feed: accept failed") - before, 50u) << daemon->log().substr(0, 2000);
+  std::string report;
+  EXPECT_TRUE(daemon->logs_slowly("feed: accept failed", report)) << report;
   clients.clear();
   EXPECT_TRUE(eventually([&] {
     auto feed = Socket::tcp(config.feed_port);

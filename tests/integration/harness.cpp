@@ -170,6 +170,16 @@ std::size_t Daemon::log_count(const std::string& text) const {
   return n;
 }
 
+bool Daemon::logs_slowly(const std::string& text, std::string& report) const {
+  report = log().substr(0, 2000);
+  if (!wait_for_log(text)) return false;
+  const auto before = log_count(text);
+  std::this_thread::sleep_for(500ms);
+  const auto more = log_count(text) - before;
+  report = std::to_string(more) + " more '" + text + "' in 500 ms:\n" + log().substr(0, 2000);
+  return more < 50;
+}
+
 bool Daemon::wait_for_log(const std::string& text, std::chrono::milliseconds timeout) const {
   return eventually([&] { return log().find(text) != std::string::npos; }, timeout);
 }

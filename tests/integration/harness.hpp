@@ -66,6 +66,10 @@ class Daemon {
   bool wait_for_log(const std::string& text, std::chrono::milliseconds timeout = 5000ms) const;
   /// How many times `text` stands in the log so far.
   std::size_t log_count(const std::string& text) const;
+  /// True when `text` appears in the log, then no more than a few times in the next
+  /// 500 ms: a failing accept that waits before it retries logs about five, one that
+  /// spins thousands. Otherwise false, with the start of the log in `report`.
+  bool logs_slowly(const std::string& text, std::string& report) const;
   const std::filesystem::path& config_path() const { return config_path_; }
 
  private:

@@ -240,10 +240,8 @@ TEST_F(Monitor, OutOfDescriptorsTheStatusSocketWaitsInsteadOfSpinningAndRecovers
   for (int i = 0; i < 40; ++i) clients.push_back(Socket::tcp(config.modbus_port));  // uses up the descriptors
   ASSERT_TRUE(daemon->wait_for_log("modbus tcp: accept failed")) << daemon->log().substr(0, 2000);
   for (int i = 0; i < 3; ++i) clients.push_back(Socket::unix_socket(config.status_socket));  // the backlog takes them
-  ASSERT_TRUE(daemon->wait_for_log("status: accept failed")) << daemon->log().substr(0, 2000);
-  const auto before = daemon->log_count("status: accept failed");
-  std::this_thread::sleep_for(500ms);  // spinning would log thousands of failures meanwhile
-  EXPECT_LT(daemon->log_count("status: accept failed") - before, 50u) << daemon->log().substr(0, 2000);
+  std::string report;
+  EXPECT_TRUE(daemon->logs_slowly("status: accept failed", report)) << report;
   clients.clear();
   EXPECT_TRUE(eventually([&] {
     return run(std::string(UNIMA_BRIDGE_CLI) + " status --json --socket " + config.status_socket).status == 0;
