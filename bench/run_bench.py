@@ -43,10 +43,23 @@ class BenchError(Exception):
     pass
 
 
+_next_port = 10000 + os.getpid() * 7919 % 20000
+
+
 def free_port() -> int:
-    with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
+    """A loopback port below the kernel's ephemeral range (32768 by default): one from
+    bind(0) may become a load connection's local port before the server binds it."""
+    global _next_port
+    for _ in range(20000):
+        port = 10000 + (_next_port - 10000) % 20000
+        _next_port += 1
+        with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as s:
+            try:
+                s.bind(("127.0.0.1", port))
+            except OSError:
+                continue
+            return port
+    raise BenchError("no free loopback port from 10000 to 29999")
 
 
 def wait_for_port(port: int, process: subprocess.Popen, what: str, timeout: float) -> None:

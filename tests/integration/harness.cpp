@@ -53,14 +53,48 @@ std::string read_file(const std::filesystem::path& path) {
   return text.str();
 }
 
-std::uint16_t free_port() {
+namespace {
+
+bool bindable(std::uint16_t port) {
   const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
-  auto addr = loopback(0);
-  if (::bind(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0) throw std::runtime_error("bind");
-  socklen_t len = sizeof addr;
-  ::getsockname(fd, reinterpret_cast<sockaddr*>(&addr), &len);
+  auto addr = loopback(port);
+  const bool ok = ::bind(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) == 0;
   ::close(fd);
-  return ntohs(addr.sin_port);
+  return ok;
+}
+
+// The first port the kernel hands out to connecting sockets (32768 by default).
+std::uint16_t ephemeral_low() {
+  std::ifstream range("/proc/sys/net/ipv4/ip_local_port_range");
+  unsigned low = 0;
+  return range >> low && low > 0 && low <= 65535 ? static_cast<std::uint16_t>(low) : 32768;
+}
+
+}  // namespace
+
+// Below the ephemeral range: a port from bind(0) may become another test's client socket's
+// local port before the daemon binds it ("Address already in use"); one down here stays
+// free. Each test process starts at its own place in the range, so parallel tests rarely
+// try the same port.
+std::uint16_t free_port() {
+  constexpr unsigned first = 10000;
+  const unsigned low = ephemeral_low();
+  if (low <= first + 1000) {  // an unusual range: fall back to the kernel's choice
+    const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+    auto addr = loopback(0);
+    if (::bind(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0) throw std::runtime_error("bind");
+    socklen_t len = sizeof addr;
+    ::getsockname(fd, reinterpret_cast<sockaddr*>(&addr), &len);
+    ::close(fd);
+    return ntohs(addr.sin_port);
+  }
+  const unsigned span = low - first;
+  static unsigned next = static_cast<unsigned>(::getpid()) * 7919u % span;
+  for (unsigned tries = 0; tries < span; ++tries) {
+    const auto port = static_cast<std::uint16_t>(first + next++ % span);
+    if (bindable(port)) return port;
+  }
+  throw std::runtime_error("no free loopback port below the ephemeral range");
 }
 
 bool eventually(const std::function<bool()>& condition, std::chrono::milliseconds timeout) {

@@ -30,7 +30,7 @@ CommandResult run(const std::string& command);
 
 std::string read_file(const std::filesystem::path& path);
 
-/// A loopback TCP port that was free a moment ago.
+/// A loopback TCP port that was free a moment ago, below the kernel's ephemeral range.
 std::uint16_t free_port();
 
 /// Polls `condition` every 10 ms until it holds or `timeout` passes.
