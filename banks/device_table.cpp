@@ -1,6 +1,7 @@
 #include "banks/device_table.hpp"
 
 #include "banks/bank_id.hpp"
+#include "banks/yaml_document.hpp"
 
 #include <yaml-cpp/yaml.h>
 
@@ -206,21 +207,6 @@ class Parser {
 
 namespace {
 
-template <typename Read>
-auto parse_with(std::string_view yaml_text, std::string_view origin, Read read) {
-  YAML::Node root;
-  try {
-    root = YAML::Load(std::string(yaml_text));
-  } catch (const YAML::ParserException& e) {
-    throw TableError(fmt::format("{}:{}:{}: {}", origin, e.mark.line + 1, e.mark.column + 1, e.msg));
-  }
-  try {
-    return read(Parser(origin), root);
-  } catch (const YAML::Exception& e) {
-    throw TableError(fmt::format("{}:{}:{}: {}", origin, e.mark.line + 1, e.mark.column + 1, e.msg));
-  }
-}
-
 // The text up to the line `registers:`; the whole text when there is none (the full
 // parse then names what is missing).
 std::string_view head_text(std::string_view yaml_text) {
@@ -232,15 +218,16 @@ std::string_view head_text(std::string_view yaml_text) {
 }  // namespace
 
 DeviceTableHead parse_device_table_head(std::string_view yaml_text, std::string_view origin) {
-  return parse_with(head_text(yaml_text), origin, [](const Parser& parser, const YAML::Node& root) {
+  return read_yaml_document<TableError>(head_text(yaml_text), origin, [&](const YAML::Node& root) {
+    const Parser parser(origin);
     if (!root.IsMap()) parser.fail(root, "expected a mapping");
     return parser.head(root);
   });
 }
 
 DeviceTable parse_device_table(std::string_view yaml_text, std::string_view origin) {
-  return parse_with(yaml_text, origin,
-                    [](const Parser& parser, const YAML::Node& root) { return parser.table(root); });
+  return read_yaml_document<TableError>(yaml_text, origin,
+                                       [&](const YAML::Node& root) { return Parser(origin).table(root); });
 }
 
 }  // namespace unima::banks

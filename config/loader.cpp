@@ -9,6 +9,7 @@
 #include <fmt/ranges.h>
 
 #include "banks/table_catalog.hpp"
+#include "banks/yaml_document.hpp"
 #include "config/config.hpp"
 #include "config/source_ref_parser.hpp"
 #include "config/yaml_reader.hpp"
@@ -532,17 +533,8 @@ class Loader {
 }  // namespace
 
 Config load_text(const std::string& text, const std::string& origin) {
-  YAML::Node root;
-  try {
-    root = YAML::Load(text);
-  } catch (const YAML::ParserException& e) {
-    throw ConfigError(fmt::format("{}:{}:{}: {}", origin, e.mark.line + 1, e.mark.column + 1, e.msg));
-  }
-  try {
-    return Loader(origin).load(root);
-  } catch (const YAML::Exception& e) {
-    throw ConfigError(fmt::format("{}:{}:{}: {}", origin, e.mark.line + 1, e.mark.column + 1, e.msg));
-  }
+  return banks::read_yaml_document<ConfigError>(text, origin,
+                                                [&](const YAML::Node& root) { return Loader(origin).load(root); });
 }
 
 Config load_file(const std::string& path) {

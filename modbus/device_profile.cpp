@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include "banks/yaml_document.hpp"
 #include "modbus/embedded_profiles.hpp"
 #include "modbus/protocol.hpp"
 
@@ -223,17 +224,8 @@ class Parser {
 }  // namespace
 
 DeviceProfile parse_device_profile(std::string_view yaml_text, std::string_view origin) {
-  YAML::Node root;
-  try {
-    root = YAML::Load(std::string(yaml_text));
-  } catch (const YAML::ParserException& e) {
-    throw ProfileError(fmt::format("{}:{}:{}: {}", origin, e.mark.line + 1, e.mark.column + 1, e.msg));
-  }
-  try {
-    return Parser(origin).profile(root);
-  } catch (const YAML::Exception& e) {
-    throw ProfileError(fmt::format("{}:{}:{}: {}", origin, e.mark.line + 1, e.mark.column + 1, e.msg));
-  }
+  return banks::read_yaml_document<ProfileError>(yaml_text, origin,
+                                                 [&](const YAML::Node& root) { return Parser(origin).profile(root); });
 }
 
 const std::vector<DeviceProfile>& all_profiles() {
