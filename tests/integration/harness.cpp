@@ -97,6 +97,14 @@ std::uint16_t free_port() {
   throw std::runtime_error("no free loopback port below the ephemeral range");
 }
 
+long read_before(int fd, std::chrono::steady_clock::time_point deadline, std::span<std::uint8_t> buf) {
+  const auto left = std::chrono::ceil<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+  pollfd p{fd, POLLIN, 0};
+  if (::poll(&p, 1, static_cast<int>(std::max<long>(left.count(), 0))) <= 0) return 0;
+  const auto got = ::read(fd, buf.data(), buf.size());
+  return got > 0 ? static_cast<long>(got) : -1;
+}
+
 bool eventually(const std::function<bool()>& condition, std::chrono::milliseconds timeout) {
   const auto deadline = std::chrono::steady_clock::now() + timeout;
   while (true) {
@@ -264,13 +272,9 @@ void Socket::send(const std::string& text) const { send(Bytes(text.begin(), text
 Bytes Socket::receive(std::size_t n, std::chrono::milliseconds timeout) const {
   Bytes out;
   const auto deadline = std::chrono::steady_clock::now() + timeout;
+  std::uint8_t buf[4096];
   while (out.size() < n) {
-    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
-    if (left.count() <= 0) break;
-    pollfd p{fd_, POLLIN, 0};
-    if (::poll(&p, 1, static_cast<int>(left.count())) <= 0) break;
-    std::uint8_t buf[4096];
-    const auto got = ::recv(fd_, buf, std::min(sizeof buf, n - out.size()), 0);
+    const auto got = read_before(fd_, deadline, std::span(buf, std::min(sizeof buf, n - out.size())));
     if (got <= 0) break;
     out.insert(out.end(), buf, buf + got);
   }
@@ -279,19 +283,17 @@ Bytes Socket::receive(std::size_t n, std::chrono::milliseconds timeout) const {
 
 bool Socket::closed_by_peer(std::chrono::milliseconds timeout) const {
   const auto deadline = std::chrono::steady_clock::now() + timeout;
-  while (std::chrono::steady_clock::now() < deadline) {
-    pollfd p{fd_, POLLIN, 0};
-    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
-    if (::poll(&p, 1, static_cast<int>(std::max<long>(left.count(), 1))) <= 0) continue;
-    std::uint8_t buf[512];
-    const auto got = ::recv(fd_, buf, sizeof buf, 0);
-    if (got <= 0) return true;  // EOF or reset
+  std::uint8_t buf[512];
+  while (true) {
+    const auto got = read_before(fd_, deadline, buf);
+    if (got < 0) return true;  // EOF or reset
+    if (got == 0 && std::chrono::steady_clock::now() >= deadline) return false;
   }
-  return false;
 }
 
 std::optional<std::string> Socket::read_line(std::chrono::milliseconds timeout) {
   const auto deadline = std::chrono::steady_clock::now() + timeout;
+  std::uint8_t buf[4096];
   while (true) {
     const auto newline = buffered_.find('\n');
     if (newline != std::string::npos) {
@@ -299,14 +301,9 @@ std::optional<std::string> Socket::read_line(std::chrono::milliseconds timeout) 
       buffered_.erase(0, newline + 1);
       return line;
     }
-    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
-    if (left.count() <= 0) return std::nullopt;
-    pollfd p{fd_, POLLIN, 0};
-    if (::poll(&p, 1, static_cast<int>(left.count())) <= 0) return std::nullopt;
-    char buf[4096];
-    const auto got = ::recv(fd_, buf, sizeof buf, 0);
+    const auto got = read_before(fd_, deadline, buf);
     if (got <= 0) return std::nullopt;
-    buffered_.append(buf, static_cast<std::size_t>(got));
+    buffered_.append(reinterpret_cast<const char*>(buf), static_cast<std::size_t>(got));
   }
 }
 

@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <functional>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -32,6 +33,11 @@ std::string read_file(const std::filesystem::path& path);
 
 /// A loopback TCP port that was free a moment ago, below the kernel's ephemeral range.
 std::uint16_t free_port();
+
+/// Waits until `fd` (a socket or a pty) has something to read or `deadline` passes (it
+/// looks at least once), then reads once into `buf`: the count read, 0 when nothing came
+/// in time, -1 at end of stream or on an error.
+long read_before(int fd, std::chrono::steady_clock::time_point deadline, std::span<std::uint8_t> buf);
 
 /// Polls `condition` every 10 ms until it holds or `timeout` passes.
 bool eventually(const std::function<bool()>& condition, std::chrono::milliseconds timeout = 5000ms);

@@ -82,13 +82,10 @@ void PtyLine::write(const Bytes& bytes) const {
 Bytes PtyLine::read(std::size_t n, std::chrono::milliseconds timeout) const {
   Bytes out;
   const auto deadline = std::chrono::steady_clock::now() + timeout;
+  std::uint8_t buf[512];
   while (out.size() < n) {
-    // Polled at least once, so that a time-out of 0 takes what is there.
-    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
-    pollfd p{master_, POLLIN, 0};
-    if (::poll(&p, 1, static_cast<int>(std::max<long>(left.count(), 0))) <= 0) break;
-    std::uint8_t buf[512];
-    const auto got = ::read(master_, buf, std::min(sizeof buf, n - out.size()));
+    // read_before looks at least once, so that a time-out of 0 takes what is there.
+    const auto got = read_before(master_, deadline, std::span(buf, std::min(sizeof buf, n - out.size())));
     if (got <= 0) break;
     out.insert(out.end(), buf, buf + got);
   }

@@ -8,32 +8,12 @@
 
 #include "daemon/rtu_slave_port.hpp"
 #include "tests/integration/rtu_line.hpp"
+#include "tests/support/map_registers.hpp"
 
 namespace unima::test {
 namespace {
 
 using modbus::TransactionState;
-
-// 0x0011..0x0012 readable (the seed's example), 0x0101 writable.
-class FakeRegisters : public modbus::RegisterModel {
- public:
-  std::map<std::uint16_t, std::uint16_t> readable{{0x11, 0x0050}, {0x12, 0x7FFF}};
-  std::map<std::uint16_t, std::uint16_t> writable{{0x101, 0}};
-  bool read_registers(std::uint16_t first, std::span<std::uint16_t> out) override {
-    for (std::size_t i = 0; i < out.size(); ++i) {
-      const auto it = readable.find(static_cast<std::uint16_t>(first + i));
-      if (it == readable.end()) return false;
-      out[i] = it->second;
-    }
-    return true;
-  }
-  bool write_registers(std::uint16_t first, std::span<const std::uint16_t> values) override {
-    for (std::size_t i = 0; i < values.size(); ++i)
-      if (!writable.contains(static_cast<std::uint16_t>(first + i))) return false;
-    for (std::size_t i = 0; i < values.size(); ++i) writable[static_cast<std::uint16_t>(first + i)] = values[i];
-    return true;
-  }
-};
 
 struct Seen {
   modbus::PortKind port;
@@ -77,7 +57,8 @@ class RtuPort : public ::testing::Test {
   TempDir dir;
   std::unique_ptr<PtyLine> line;
   asio::io_context io;
-  FakeRegisters registers;
+  // 0x0011..0x0012 readable (the seed's example), 0x0101 writable.
+  test_support::MapRegisters registers{{{0x11, 0x0050}, {0x12, 0x7FFF}}, {{0x101, 0}}};
   std::unique_ptr<daemon::RtuSlavePort> port;
   std::vector<Seen> seen;
   std::vector<std::pair<Bytes, Bytes>> foreign;

@@ -42,15 +42,11 @@ class NotifySocket {
   /// whole message, or nullopt at the deadline. Every message read is kept in `seen()`.
   std::optional<std::string> wait_for(const std::string& line, std::chrono::milliseconds timeout = 5000ms) {
     const auto deadline = std::chrono::steady_clock::now() + timeout;
+    std::uint8_t buf[4096];
     while (true) {
-      const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
-      if (left.count() <= 0) return std::nullopt;
-      pollfd p{fd_, POLLIN, 0};
-      if (::poll(&p, 1, static_cast<int>(left.count())) <= 0) return std::nullopt;
-      char buf[4096];
-      const auto got = ::recv(fd_, buf, sizeof buf, 0);
+      const auto got = read_before(fd_, deadline, buf);
       if (got <= 0) return std::nullopt;
-      seen_.emplace_back(buf, static_cast<std::size_t>(got));
+      seen_.emplace_back(reinterpret_cast<const char*>(buf), static_cast<std::size_t>(got));
       if (carries(seen_.back(), line)) return seen_.back();
     }
   }

@@ -9,6 +9,7 @@
 #include "modbus/crc16.hpp"
 #include "modbus/mbap.hpp"
 #include "modbus/request_handler.hpp"
+#include "tests/support/map_registers.hpp"
 
 namespace unima::modbus {
 namespace {
@@ -33,30 +34,6 @@ TEST(Crc16, SeedFramesCarryTheirCrc) {
 
 TEST(Crc16, EmptyInputIsTheInitialValue) { EXPECT_EQ(crc16({}), 0xFFFF); }
 
-// A register model with a readable window 0x0011..0x0014 and a writable one 0x0100..0x0101.
-class FakeRegisters : public RegisterModel {
- public:
-  std::map<std::uint16_t, std::uint16_t> readable{{0x11, 0x0050}, {0x12, 0x7FFF}, {0x13, 3}, {0x14, 4}};
-  std::map<std::uint16_t, std::uint16_t> writable{{0x100, 0}, {0x101, 0}};
-  int reads = 0;
-
-  bool read_registers(std::uint16_t first, std::span<std::uint16_t> out) override {
-    ++reads;
-    for (std::size_t i = 0; i < out.size(); ++i) {
-      auto it = readable.find(static_cast<std::uint16_t>(first + i));
-      if (it == readable.end()) return false;
-      out[i] = it->second;
-    }
-    return true;
-  }
-  bool write_registers(std::uint16_t first, std::span<const std::uint16_t> values) override {
-    for (std::size_t i = 0; i < values.size(); ++i)
-      if (!writable.contains(static_cast<std::uint16_t>(first + i))) return false;
-    for (std::size_t i = 0; i < values.size(); ++i) writable[static_cast<std::uint16_t>(first + i)] = values[i];
-    return true;
-  }
-};
-
 class Handler : public ::testing::Test {
  protected:
   Bytes handle(const Bytes& request) {
@@ -64,7 +41,8 @@ class Handler : public ::testing::Test {
     const auto n = handle_request(request, response, registers, options);
     return Bytes(response.begin(), response.begin() + static_cast<std::ptrdiff_t>(n));
   }
-  FakeRegisters registers;
+  // A readable window 0x0011..0x0014 and a writable one 0x0100..0x0101.
+  test_support::MapRegisters registers{{{0x11, 0x0050}, {0x12, 0x7FFF}, {0x13, 3}, {0x14, 4}}, {{0x100, 0}, {0x101, 0}}};
   HandlerOptions options;
 };
 
