@@ -19,6 +19,7 @@
 #include "banks/register_space.hpp"
 #include "banks/register_store.hpp"
 #include "banks/table_catalog.hpp"
+#include "tests/support/error_message.hpp"
 
 namespace unima::banks {
 namespace {
@@ -389,12 +390,7 @@ TEST(ParseDeviceTable, MinimalTable) {
 }
 
 std::string table_error(const std::string& yaml) {
-  try {
-    (void)parse_device_table(yaml, "tables/t.yaml");
-  } catch (const TableError& e) {
-    return e.what();
-  }
-  return "(no error)";
+  return test_support::error_message<TableError>([&] { (void)parse_device_table(yaml, "tables/t.yaml"); });
 }
 
 bool starts_with(const std::string& text, const std::string& prefix) { return text.rfind(prefix, 0) == 0; }

@@ -14,6 +14,7 @@
 #include "banks/table_catalog.hpp"
 #include "config/config.hpp"
 #include "config/yaml_reader.hpp"
+#include "tests/support/error_message.hpp"
 
 namespace unima::config {
 namespace {
@@ -26,12 +27,7 @@ bool contains(const std::string& text, const std::string& part) { return text.fi
 
 /// The message of the ConfigError that loading `text` throws, or "(no error)".
 std::string load_error(const std::string& text, const std::string& origin = "cfg.yaml") {
-  try {
-    (void)load_text(text, origin);
-  } catch (const ConfigError& e) {
-    return e.what();
-  }
-  return "(no error)";
+  return test_support::error_message<ConfigError>([&] { (void)load_text(text, origin); });
 }
 
 // The example of SPEC §7, with the sections this version has: unimabus, modbus (tcp),

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "modbus/device_profile.hpp"
+#include "tests/support/error_message.hpp"
 
 namespace unima::modbus {
 namespace {
@@ -69,12 +70,7 @@ TEST(DeviceProfiles, Sic184V2AndStepper) {
 }
 
 std::string parse_error(const std::string& text) {
-  try {
-    (void)parse_device_profile(text, "p.yaml");
-  } catch (const ProfileError& e) {
-    return e.what();
-  }
-  return "(no error)";
+  return test_support::error_message<ProfileError>([&] { (void)parse_device_profile(text, "p.yaml"); });
 }
 
 TEST(DeviceProfiles, BadFilesNameTheLine) {

@@ -13,6 +13,7 @@
 #include "banks/table_reference.hpp"
 #include "config/register_map.hpp"
 #include "config/source_ref_parser.hpp"
+#include "tests/support/error_message.hpp"
 
 namespace unima {
 namespace {
@@ -188,12 +189,7 @@ TEST_F(Mapped, WriteBlockSetsItsUserOutputAndPublishes) {
 }
 
 std::string config_error(const std::string& yaml) {
-  try {
-    load(yaml);
-  } catch (const config::ConfigError& e) {
-    return e.what();
-  }
-  return "(accepted)";
+  return test_support::error_message<config::ConfigError>([&] { (void)load(yaml); }, "(accepted)");
 }
 
 TEST(BlocksConfig, ABlockRegisterInsideABankIsRejectedNamingBoth) {

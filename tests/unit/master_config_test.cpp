@@ -6,6 +6,7 @@
 
 #include "config/config.hpp"
 #include "config/master_setup.hpp"
+#include "tests/support/error_message.hpp"
 
 namespace unima::config {
 namespace {
@@ -22,12 +23,7 @@ const std::string rtu_master =
 Config load(const std::string& yaml) { return load_text(yaml, "m.yaml"); }
 
 std::string error(const std::string& yaml) {
-  try {
-    (void)load(yaml);
-  } catch (const ConfigError& e) {
-    return e.what();
-  }
-  return "(no error)";
+  return test_support::error_message<ConfigError>([&] { (void)load(yaml); });
 }
 
 TEST(MasterConfig, ModeMasterWithTheMasterSection) {

@@ -4,17 +4,13 @@
 #include <gtest/gtest.h>
 
 #include "config/config.hpp"
+#include "tests/support/error_message.hpp"
 
 namespace unima::config {
 namespace {
 
 std::string error_of(const std::string& yaml) {
-  try {
-    load_text(yaml, "bridge.yaml");
-  } catch (const ConfigError& e) {
-    return e.what();
-  }
-  return "accepted";
+  return test_support::error_message<ConfigError>([&] { (void)load_text(yaml, "bridge.yaml"); }, "accepted");
 }
 
 TEST(MonitorConfig, TheSpecExample) {
