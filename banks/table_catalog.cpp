@@ -29,11 +29,19 @@ class Catalog {
     std::sort(entries_.begin(), entries_.end(), [](const auto& a, const auto& b) { return a.head.id < b.head.id; });
   }
 
-  const DeviceTable* find(std::string_view id, bool device_types_only, bool by_alias) {
+  /// Any table, by its id.
+  const DeviceTable* table(std::string_view id) {
+    for (auto& entry : entries_)
+      if (entry.head.id == id) return &parsed(entry);
+    return nullptr;
+  }
+
+  /// A D_N device type, by its id or an alias.
+  const DeviceTable* device_type(std::string_view id) {
     for (auto& entry : entries_) {
-      if (device_types_only && !is_device_type(entry.head.id)) continue;
       const auto& aliases = entry.head.aliases;
-      if (entry.head.id == id || (by_alias && std::find(aliases.begin(), aliases.end(), id) != aliases.end()))
+      if (is_device_type(entry.head.id) &&
+          (entry.head.id == id || std::find(aliases.begin(), aliases.end(), id) != aliases.end()))
         return &parsed(entry);
     }
     return nullptr;
@@ -81,11 +89,11 @@ Catalog& catalog() {
 
 std::vector<const DeviceTable*> all_tables() { return catalog().all(); }
 
-const DeviceTable* find_device_type(std::string_view id) { return catalog().find(id, true, true); }
+const DeviceTable* find_device_type(std::string_view id) { return catalog().device_type(id); }
 
 std::vector<std::string_view> device_type_ids() { return catalog().device_type_ids(); }
 
-const DeviceTable* io_module_table() { return catalog().find(io_module_table_id, false, false); }
-const DeviceTable* bridge_internal_table() { return catalog().find(bridge_internal_table_id, false, false); }
+const DeviceTable* io_module_table() { return catalog().table(io_module_table_id); }
+const DeviceTable* bridge_internal_table() { return catalog().table(bridge_internal_table_id); }
 
 }  // namespace unima::banks

@@ -47,10 +47,6 @@ bool MonitorWriter::push(const modbus::Transaction& t, std::uint8_t ix) {
   if (e.query_size > 0) std::memcpy(e.frames, t.query.data(), e.query_size);
   if (e.response_size > 0) std::memcpy(e.frames + e.query_size, t.response.data(), e.response_size);
   tail_slot_ = next_slot(tail_slot_);
-  // The next slot is cold (the ring is larger than the caches): ask for its first lines
-  // now, while the port goes back to its sockets, rather than stall on them next time.
-  const auto* next = reinterpret_cast<const char*>(&slots_[tail_slot_]);
-  for (std::size_t line = 0; line < 4 * 64; line += 64) __builtin_prefetch(next + line, 1);
   // A release store, not a fence: a fence would wait here for the slot's cache misses.
   // Its price is that this push may miss a writer falling asleep at the same moment;
   // the writer covers that by looking once more after a short wait (wait_for_work).
