@@ -4,6 +4,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
@@ -30,29 +31,55 @@ bool write_all(int fd, std::string_view bytes) {
 
 }  // namespace
 
-RotatingFileSink::RotatingFileSink(std::string path, std::uint64_t max_size, unsigned max_files)
-    : path_(std::move(path)), max_size_(max_size), max_files_(max_files) {
+RotatingFileSink::RotatingFileSink(std::string path, std::uint64_t max_size, unsigned max_files,
+                                   FileAppender::Route route)
+    : path_(std::move(path)), max_size_(max_size), max_files_(max_files), route_(route) {
   const auto directory = std::filesystem::path(path_).parent_path();
   std::error_code ignored;  // open() says what went wrong
   if (!directory.empty()) std::filesystem::create_directories(directory, ignored);
   if (!open()) throw std::runtime_error("monitor: cannot open " + path_ + ": " + std::strerror(errno));
 }
 
-RotatingFileSink::~RotatingFileSink() {
-  if (fd_ >= 0) ::close(fd_);
-}
+RotatingFileSink::~RotatingFileSink() { close(); }
 
 bool RotatingFileSink::open() {
-  fd_ = ::open(path_.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0640);
-  if (fd_ < 0) return false;
-  struct stat st{};
-  size_ = ::fstat(fd_, &st) == 0 ? static_cast<std::uint64_t>(st.st_size) : 0;
+  auto file = std::make_unique<FileAppender>(path_, route_);
+  if (!file->is_open()) return false;
+  file_ = std::move(file);
+  reserved_ = file_->size();
+  reserving_ = true;
   return true;
 }
 
+void RotatingFileSink::close() {
+  if (!file_) return;
+  if (!file_->flush()) report_write_error();
+  // Truncating to the size it has frees the blocks reserved past the end.
+  struct stat st{};
+  if (reserved_ > file_->size() && ::fstat(file_->fd(), &st) == 0) (void)::ftruncate(file_->fd(), st.st_size);
+  file_.reset();
+}
+
+// Appending into blocks the file already owns costs the kernel less than appending past
+// them (ext4 reserves and accounts new blocks as they come), and a busy port appends tens
+// of MB/s. KEEP_SIZE leaves the size, and so what readers and `tail -F` see, untouched.
+// Reserved a step ahead, never past max_size, so a stopped daemon leaves at most one step
+// unused on disk.
+void RotatingFileSink::reserve_for(std::uint64_t end) {
+  if (end <= reserved_ || !reserving_) return;
+  const auto target = std::max(end, std::min(reserved_ + reserve_step, max_size_));
+  if (::fallocate(file_->fd(), FALLOC_FL_KEEP_SIZE, static_cast<off_t>(reserved_),
+                  static_cast<off_t>(target - reserved_)) == 0)
+    reserved_ = target;
+  else
+    reserving_ = false;  // not supported by this file system, or the disk is full: append() will say so
+}
+
 void RotatingFileSink::rotate() {
-  if (fd_ >= 0) ::close(fd_);
-  fd_ = -1;
+  close();
+  // The oldest goes first, so that no rename replaces a file: ext4 writes a file renamed
+  // over another one out to disk at once (auto_da_alloc), on this thread, at every rotation.
+  ::unlink((path_ + "." + std::to_string(max_files_)).c_str());
   for (unsigned i = max_files_; i > 1; --i)
     ::rename((path_ + "." + std::to_string(i - 1)).c_str(), (path_ + "." + std::to_string(i)).c_str());
   ::rename(path_.c_str(), (path_ + ".1").c_str());
@@ -62,22 +89,27 @@ void RotatingFileSink::rotate() {
   }
 }
 
-void RotatingFileSink::append(std::string_view bytes) {
-  if (bytes.empty()) return;
-  if (fd_ < 0 && !open()) return;  // still failing; logged once
-  if (write_all(fd_, bytes)) {
-    size_ += bytes.size();
-    if (failing_) spdlog::info("monitor: writing {} again", path_);
-    failing_ = false;
-    return;
-  }
-  if (!failing_) spdlog::error("monitor: cannot write {}: {}; lines are lost until it works again", path_,
-                               std::strerror(errno));
+void RotatingFileSink::report_write_error() {
+  if (!failing_)
+    spdlog::error("monitor: cannot write {}: {}; lines are lost until it works again", path_, std::strerror(errno));
   failing_ = true;
 }
 
+void RotatingFileSink::append(std::string_view bytes) {
+  if (bytes.empty()) return;
+  if (!file_ && !open()) return;  // still failing; logged once
+  reserve_for(file_->size() + bytes.size());
+  if (!file_->append(bytes)) return report_write_error();
+  if (failing_) spdlog::info("monitor: writing {} again", path_);
+  failing_ = false;
+}
+
+void RotatingFileSink::flush() {
+  if (file_ && !file_->flush()) report_write_error();
+}
+
 void RotatingFileSink::write(std::string_view lines) {
-  if (size_ + lines.size() <= max_size_) return append(lines);  // most batches: no line is looked at
+  if (size() + lines.size() <= max_size_) return append(lines);  // most batches: no line is looked at
   // Lines go out in runs that fit the current file: one write per run, rotation between.
   std::size_t run_start = 0;
   std::uint64_t run_size = 0;
@@ -86,7 +118,7 @@ void RotatingFileSink::write(std::string_view lines) {
     auto end = lines.find('\n', at);
     end = end == std::string_view::npos ? lines.size() : end + 1;
     const auto line_size = end - at;
-    if (size_ + run_size + line_size > max_size_ && size_ + run_size > 0) {
+    if (size() + run_size + line_size > max_size_ && size() + run_size > 0) {
       append(lines.substr(run_start, at - run_start));
       rotate();
       run_start = at;

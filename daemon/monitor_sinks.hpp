@@ -3,9 +3,11 @@
 // Called on the writer thread only (daemon/monitor_writer.hpp).
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <string_view>
 
+#include "daemon/file_appender.hpp"
 #include "daemon/monitor_writer.hpp"
 
 namespace unima::daemon {
@@ -13,26 +15,36 @@ namespace unima::daemon {
 /// Appends to `path`; before a line would make it larger than max_size, renames
 /// path -> path.1 -> ... -> path.<max_files> (the oldest is dropped) and starts a new file,
 /// so `tail -F path` and `unima-bridge monitor --follow` go on with the new one.
-/// A line is never split between two files.
+/// A line is never split between two files. Lines may be held back until flush() (see
+/// daemon/file_appender.hpp), never longer than FileAppender::tail_delay.
 class RotatingFileSink : public MonitorSink {
  public:
   /// Opens (creating the directory if needed); throws std::runtime_error naming the path.
-  RotatingFileSink(std::string path, std::uint64_t max_size, unsigned max_files);
+  RotatingFileSink(std::string path, std::uint64_t max_size, unsigned max_files,
+                   FileAppender::Route route = FileAppender::Route::direct_where_possible);
   ~RotatingFileSink() override;
 
   void write(std::string_view lines) override;
-  std::uint64_t size() const { return size_; }
+  void flush() override;
+  std::uint64_t size() const { return file_ ? file_->size() : 0; }
 
  private:
   bool open();
+  void close();
   void rotate();
   void append(std::string_view bytes);
+  void report_write_error();
+  void reserve_for(std::uint64_t end);
+
+  static constexpr std::uint64_t reserve_step = 4 << 20;
 
   std::string path_;
   std::uint64_t max_size_;
   unsigned max_files_;
-  int fd_ = -1;
-  std::uint64_t size_ = 0;
+  FileAppender::Route route_;
+  std::unique_ptr<FileAppender> file_;
+  std::uint64_t reserved_ = 0;  // the file's blocks are allocated up to here
+  bool reserving_ = true;       // false once fallocate failed for this file
   bool failing_ = false;  // a write error was logged; the next success is logged too
 };
 

@@ -74,7 +74,14 @@ void MonitorWriter::wait_for_work(std::uint64_t head) {
   std::unique_lock lock(mutex_);
   writer_state_.store(WriterState::idle, std::memory_order_seq_cst);
   const auto window = options_.batch_window.count() > 0 ? options_.batch_window : std::chrono::milliseconds(10);
-  if (!wake_.wait_for(lock, window, queued)) wake_.wait(lock, queued);
+  if (!wake_.wait_for(lock, window, queued)) {
+    // Quiet: what the sinks hold back goes out now. Unlocked, so that a push meanwhile
+    // never waits for the disk; it finds the writer idle and wakes it as usual.
+    lock.unlock();
+    for (const auto& sink : sinks_) sink->flush();
+    lock.lock();
+    wake_.wait(lock, queued);
+  }
   if (!stopping_.load() && options_.batch_window.count() > 0) {
     writer_state_.store(WriterState::batching, std::memory_order_relaxed);
     wake_.wait_for(lock, options_.batch_window, [&] {

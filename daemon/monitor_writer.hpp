@@ -35,6 +35,8 @@ class MonitorSink {
  public:
   virtual ~MonitorSink() = default;
   virtual void write(std::string_view lines) = 0;
+  /// The writer has nothing more for now: lines a sink held back must reach readers.
+  virtual void flush() {}
 };
 
 class MonitorWriter {

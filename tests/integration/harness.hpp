@@ -14,6 +14,8 @@
 #include <string>
 #include <vector>
 
+#include "tests/support/temp_files.hpp"
+
 namespace unima::test {
 
 using namespace std::chrono_literals;
@@ -29,7 +31,7 @@ struct CommandResult {
 /// Runs a shell command (the CLI under test) to its end.
 CommandResult run(const std::string& command);
 
-std::string read_file(const std::filesystem::path& path);
+using test_support::read_file;
 
 /// A loopback TCP port that was free a moment ago, below the kernel's ephemeral range.
 std::uint16_t free_port();
@@ -42,15 +44,7 @@ long read_before(int fd, std::chrono::steady_clock::time_point deadline, std::sp
 /// Polls `condition` every 10 ms until it holds or `timeout` passes.
 bool eventually(const std::function<bool()>& condition, std::chrono::milliseconds timeout = 5000ms);
 
-class TempDir {
- public:
-  TempDir();
-  ~TempDir();
-  const std::filesystem::path& path() const { return path_; }
-
- private:
-  std::filesystem::path path_;
-};
+using test_support::TempDir;
 
 /// The daemon as a child process; killed when the object goes.
 class Daemon {

@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
+
 #include <condition_variable>
 #include <filesystem>
 #include <fstream>
@@ -12,6 +14,7 @@
 
 #include "daemon/monitor_sinks.hpp"
 #include "daemon/monitor_writer.hpp"
+#include "tests/support/temp_files.hpp"
 
 namespace unima::daemon {
 namespace {
@@ -151,29 +154,8 @@ TEST(MonitorWriter, UnderAFloodEveryTransactionIsWrittenOrCountedExactlyOnce) {
   }
 }
 
-class TempDir {
- public:
-  TempDir() {
-    std::string pattern = (std::filesystem::temp_directory_path() / "unima-unit-XXXXXX").string();
-    if (!::mkdtemp(pattern.data())) throw std::runtime_error("mkdtemp");
-    path_ = pattern;
-  }
-  ~TempDir() {
-    std::error_code ec;
-    std::filesystem::remove_all(path_, ec);
-  }
-  const std::filesystem::path& path() const { return path_; }
-
- private:
-  std::filesystem::path path_;
-};
-
-std::string read_file(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
+using test_support::read_file;
+using test_support::TempDir;
 
 std::string numbered_line(int n) {  // 100 bytes with its newline
   auto line = "line " + std::to_string(n);
@@ -189,6 +171,7 @@ TEST(RotatingFileSink, RotatesBySizeKeepingMaxFilesAndWholeLines) {
   for (int n = 0; n < 7; ++n) batch += numbered_line(n);
   sink.write(batch);  // 0-2 | 3-5 | 6
   for (int n = 7; n < 12; ++n) sink.write(numbered_line(n));  // ... 6-8 | 9-11
+  sink.flush();
 
   EXPECT_EQ(read_file(path), numbered_line(9) + numbered_line(10) + numbered_line(11));
   EXPECT_EQ(read_file(path.string() + ".1"), numbered_line(6) + numbered_line(7) + numbered_line(8));
@@ -208,6 +191,27 @@ TEST(RotatingFileSink, AppendsToAnExistingFileAndCountsItsSize) {
   }
   EXPECT_EQ(read_file(path), numbered_line(3));
   EXPECT_EQ(read_file(path.string() + ".1"), numbered_line(0) + numbered_line(1) + numbered_line(2));
+}
+
+// Blocks on disk are taken a step ahead of the lines (cheaper appends), never shown in the
+// size readers see, and given back when the sink closes.
+TEST(RotatingFileSink, ReservesBlocksAheadWithoutChangingTheSizeAndFreesThemOnClose) {
+  TempDir dir;
+  const auto path = dir.path() / "monitor.log";
+  const auto allocated = [&] {
+    struct stat st{};
+    EXPECT_EQ(::stat(path.c_str(), &st), 0);
+    return static_cast<std::uint64_t>(st.st_blocks) * 512;
+  };
+  {
+    RotatingFileSink sink(path.string(), 1 << 20, 1);
+    sink.write(numbered_line(0));
+    sink.flush();
+    EXPECT_EQ(std::filesystem::file_size(path), 100u);
+    EXPECT_EQ(allocated(), 1u << 20) << "reserved up to max_size, which is less than a step";
+  }
+  EXPECT_EQ(read_file(path), numbered_line(0));
+  EXPECT_LT(allocated(), 64u * 1024);
 }
 
 TEST(RotatingFileSink, AFileThatCannotBeOpenedIsAnErrorNamingIt) {

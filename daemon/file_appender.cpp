@@ -1,0 +1,140 @@
+#include "daemon/file_appender.hpp"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstdlib>
+#include <cstring>
+
+namespace unima::daemon {
+
+namespace {
+
+// False on an error other than EINTR (errno tells which), or when the file system wrote
+// nothing (a full disk may do that without an error: ENOSPC is then the honest errno).
+bool pwrite_all(int fd, const char* data, std::size_t size, std::uint64_t offset) {
+  while (size > 0) {
+    const auto n = ::pwrite(fd, data, size, static_cast<off_t>(offset));
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      if (n == 0) errno = ENOSPC;
+      return false;
+    }
+    data += n;
+    size -= static_cast<std::size_t>(n);
+    offset += static_cast<std::uint64_t>(n);
+  }
+  return true;
+}
+
+}  // namespace
+
+void FileAppender::FreeAligned::operator()(char* p) const { std::free(p); }
+
+FileAppender::FileAppender(const std::string& path, Route route) {
+  fd_ = ::open(path.c_str(), O_WRONLY | O_CREAT | O_CLOEXEC, 0640);
+  if (fd_ < 0) return;
+  struct stat st{};
+  if (::fstat(fd_, &st) != 0) {
+    const int error = errno;
+    ::close(fd_);
+    fd_ = -1;
+    errno = error;
+    return;
+  }
+  const auto size = static_cast<std::uint64_t>(st.st_size);
+  base_ = size;
+  if (route == Route::page_cache) return;
+  direct_fd_ = ::open(path.c_str(), O_WRONLY | O_DIRECT | O_CLOEXEC);
+  if (direct_fd_ < 0) return;  // not on this file system: through the page cache
+  // Allocated here, touched only as lines come: an idle monitor costs no memory for it.
+  stage_.reset(static_cast<char*>(std::aligned_alloc(block, stage_capacity)));
+  // The stage starts at the block the file ends in; its first bytes are already there.
+  const std::size_t in_last_block = size % block;
+  if (!stage_ || (in_last_block > 0 && ::pread(fd_, stage_.get(), in_last_block,
+                                                static_cast<off_t>(size - in_last_block)) !=
+                                           static_cast<ssize_t>(in_last_block))) {
+    ::close(direct_fd_);
+    direct_fd_ = -1;
+    stage_.reset();
+    return;
+  }
+  base_ = size - in_last_block;
+  staged_ = visible_ = in_last_block;
+}
+
+FileAppender::~FileAppender() {
+  if (fd_ < 0) return;
+  (void)flush();
+  if (direct_fd_ >= 0) ::close(direct_fd_);
+  ::close(fd_);
+}
+
+bool FileAppender::append(std::string_view bytes) {
+  if (direct_fd_ < 0) {
+    if (!write_through_page_cache(base_, bytes)) return false;
+    base_ += bytes.size();
+    return true;
+  }
+  const auto now = std::chrono::steady_clock::now();
+  while (!bytes.empty()) {
+    if (staged_ == visible_) hidden_since_ = now;
+    const auto n = std::min(bytes.size(), stage_capacity - staged_);
+    std::memcpy(stage_.get() + staged_, bytes.data(), n);
+    staged_ += n;
+    bytes.remove_prefix(n);
+    if (staged_ == stage_capacity) {
+      if (!write_whole_blocks()) return false;
+      if (direct_fd_ < 0) return append(bytes);  // fell back: the rest goes the same way
+    }
+  }
+  if (staged_ > visible_ && now - hidden_since_ >= tail_delay) return flush();
+  return true;
+}
+
+bool FileAppender::flush() {
+  if (direct_fd_ < 0) return true;  // nothing is ever held back
+  if (!write_whole_blocks()) return false;
+  if (staged_ == visible_) return true;
+  if (!write_through_page_cache(base_ + visible_, {stage_.get() + visible_, staged_ - visible_})) {
+    staged_ = visible_;  // lost; the next lines follow the last ones written
+    return false;
+  }
+  visible_ = staged_;
+  return true;
+}
+
+bool FileAppender::write_whole_blocks() {
+  const auto whole = staged_ / block * block;
+  if (whole == 0) return true;
+  if (!pwrite_all(direct_fd_, stage_.get(), whole, base_)) return fall_back_to_page_cache();
+  std::memmove(stage_.get(), stage_.get() + whole, staged_ - whole);
+  base_ += whole;
+  staged_ -= whole;
+  visible_ = visible_ > whole ? visible_ - whole : 0;
+  return true;
+}
+
+bool FileAppender::write_through_page_cache(std::uint64_t offset, std::string_view bytes) {
+  return pwrite_all(fd_, bytes.data(), bytes.size(), offset);
+}
+
+// A direct write failed (the file system refused the alignment, the disk is full, ...):
+// what is staged goes through the page cache, and so does everything after it.
+bool FileAppender::fall_back_to_page_cache() {
+  const int error = errno;
+  ::close(direct_fd_);
+  direct_fd_ = -1;
+  const bool written =
+      write_through_page_cache(base_ + visible_, {stage_.get() + visible_, staged_ - visible_});
+  base_ += written ? staged_ : visible_;
+  staged_ = visible_ = 0;
+  stage_.reset();
+  errno = error;
+  return written;
+}
+
+}  // namespace unima::daemon

@@ -1,0 +1,113 @@
+// The monitor's file appender (daemon/file_appender.hpp): whatever way the bytes take —
+// whole blocks past the page cache, the partial last block through it, or everything
+// through it where O_DIRECT is refused — the file holds exactly what was appended, in
+// order, and readers see it after flush().
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <gtest/gtest.h>
+
+#include <cerrno>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "daemon/file_appender.hpp"
+#include "tests/support/temp_files.hpp"
+
+namespace unima::daemon {
+namespace {
+
+using test_support::read_file;
+using test_support::TempDir;
+
+// Lines of varying length, so that block and stage boundaries fall inside lines.
+std::string lines(int first, int count) {
+  std::string text;
+  for (int n = first; n < first + count; ++n) text += "line " + std::to_string(n) + std::string(n % 97, '.') + "\n";
+  return text;
+}
+
+bool file_system_takes_direct_writes(const std::filesystem::path& dir) {
+  const auto probe = (dir / "probe").string();
+  const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_DIRECT, 0600);
+  if (fd >= 0) ::close(fd);
+  std::filesystem::remove(probe);
+  return fd >= 0;
+}
+
+TEST(FileAppender, HoldsExactlyWhatWasAppendedAcrossBlocksAndStages) {
+  TempDir dir;
+  const auto path = dir.path() / "monitor.log";
+  std::string expected;
+  {
+    FileAppender file(path.string());
+    ASSERT_TRUE(file.is_open());
+    // 2.5 stages in pieces of every size; flushes at odd moments in between.
+    for (int n = 0; expected.size() < 5 * FileAppender::stage_capacity / 2; n += 50) {
+      const auto piece = lines(n, 50);
+      ASSERT_TRUE(file.append(piece));
+      expected += piece;
+      EXPECT_EQ(file.size(), expected.size());
+      if (n % 1000 == 0) {
+        ASSERT_TRUE(file.flush());
+        EXPECT_EQ(read_file(path), expected);
+      }
+    }
+    ASSERT_TRUE(file.flush());
+    EXPECT_EQ(read_file(path), expected) << "all of it visible after flush()";
+    ASSERT_TRUE(file.append("one more\n"));
+    expected += "one more\n";
+  }
+  EXPECT_EQ(read_file(path), expected) << "the rest written when it closes";
+}
+
+TEST(FileAppender, GoesOnFromTheMiddleOfABlockOfAnExistingFile) {
+  TempDir dir;
+  const auto path = dir.path() / "monitor.log";
+  const auto before = lines(0, 60);  // not a multiple of a block
+  ASSERT_NE(before.size() % FileAppender::block, 0u);
+  std::ofstream(path, std::ios::binary) << before;
+  {
+    FileAppender file(path.string());
+    EXPECT_EQ(file.size(), before.size());
+    ASSERT_TRUE(file.append(lines(60, 3000)));
+  }
+  EXPECT_EQ(read_file(path), before + lines(60, 3000));
+}
+
+TEST(FileAppender, BypassesThePageCacheWhereTheFileSystemAllowsIt) {
+  TempDir dir;
+  if (!file_system_takes_direct_writes(dir.path())) GTEST_SKIP() << dir.path() << " refuses O_DIRECT";
+  FileAppender file((dir.path() / "monitor.log").string());
+  EXPECT_TRUE(file.direct());
+}
+
+// The route taken where O_DIRECT is refused (or a direct write failed): every append is
+// in the file at once.
+TEST(FileAppender, ThroughThePageCacheEveryAppendIsInTheFileAtOnce) {
+  TempDir dir;
+  const auto path = dir.path() / "monitor.log";
+  {
+    FileAppender file(path.string(), FileAppender::Route::page_cache);
+    ASSERT_TRUE(file.is_open());
+    EXPECT_FALSE(file.direct());
+    ASSERT_TRUE(file.append(lines(0, 10)));
+    EXPECT_EQ(read_file(path), lines(0, 10));
+    ASSERT_TRUE(file.append(lines(10, 3000)));
+    EXPECT_EQ(file.size(), lines(0, 3010).size());
+    EXPECT_EQ(read_file(path), lines(0, 3010));
+  }
+  EXPECT_EQ(read_file(path), lines(0, 3010));
+}
+
+TEST(FileAppender, AFileThatCannotBeOpenedSaysWhy) {
+  TempDir dir;
+  FileAppender file((dir.path() / "missing" / "monitor.log").string());
+  EXPECT_FALSE(file.is_open());
+  EXPECT_EQ(errno, ENOENT);
+}
+
+}  // namespace
+}  // namespace unima::daemon
