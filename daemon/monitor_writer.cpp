@@ -1,6 +1,7 @@
 #include "daemon/monitor_writer.hpp"
 
 #include <algorithm>
+#include <cassert>
 #include <cstring>
 #include <utility>
 
@@ -9,6 +10,11 @@ namespace unima::daemon {
 namespace {
 constexpr std::size_t write_slice = 128 * 1024;
 }  // namespace
+
+// monitor_line_bound() of the longest transaction an Entry holds: "tcp:" and the peer,
+// and every byte of both frames.
+constexpr std::size_t MonitorWriter::max_line =
+    256 + 6 * (4 + sizeof(Entry::peer)) + 3 * sizeof(Entry::frames) + 2;
 
 MonitorWriter::MonitorWriter(std::vector<std::unique_ptr<MonitorSink>> sinks, Options options)
     : sinks_(std::move(sinks)), options_(options), capacity_(std::max<std::size_t>(options.capacity, 1)),
@@ -91,7 +97,7 @@ void MonitorWriter::wait_for_work(std::uint64_t head) {
   writer_state_.store(WriterState::busy, std::memory_order_relaxed);
 }
 
-void MonitorWriter::format(const Entry& e, std::string& out, std::string& port) const {
+char* MonitorWriter::format(const Entry& e, char* out, std::string& port) const {
   const modbus::Transaction t{e.port,
                               std::string_view(e.peer, e.peer_size),
                               std::chrono::system_clock::time_point(std::chrono::system_clock::duration(e.time)),
@@ -102,12 +108,23 @@ void MonitorWriter::format(const Entry& e, std::string& out, std::string& port) 
   modbus::append_port_name(port, t.port, t.peer);
   auto fields = modbus::monitor_fields(t, e.ix, port);
   fields.rc = e.rc;
-  modbus::append_monitor_line(out, fields, options_.format);
+  assert(modbus::monitor_line_bound(fields) <= max_line);
+  return modbus::write_monitor_line(out, fields, options_.format);
 }
 
 void MonitorWriter::run() {
-  std::string out;
+  // Lines are formatted straight into this buffer (no string to grow or clear) and go to
+  // the sinks whenever a slice is full: a batch of a busy port is megabytes of text, and
+  // slices keep the daemon's memory small at the price of a few more writes.
+  const auto text = std::make_unique_for_overwrite<char[]>(write_slice + max_line);
+  std::size_t used = 0;
+  const auto write_out = [&] {
+    if (used == 0) return;
+    for (const auto& sink : sinks_) sink->write({text.get(), used});
+    used = 0;
+  };
   std::string port;
+  std::string notice;
   std::size_t head_slot = 0;
   while (true) {
     const auto head = head_.load(std::memory_order_relaxed);
@@ -118,19 +135,17 @@ void MonitorWriter::run() {
     const auto dropped = dropped_total_.load(std::memory_order_relaxed) - dropped_reported_;
     dropped_reported_ += dropped;
 
-    out.clear();
     for (auto position = head; position != tail; ++position, head_slot = next_slot(head_slot)) {
-      format(slots_[head_slot], out, port);
-      // A batch of a busy port is megabytes of text; writing it in slices keeps the
-      // buffer (and the daemon's memory) small at the price of a few more writes.
-      if (out.size() >= write_slice) {
-        for (const auto& sink : sinks_) sink->write(out);
-        out.clear();
-      }
+      used = static_cast<std::size_t>(format(slots_[head_slot], text.get() + used, port) - text.get());
+      if (used >= write_slice) write_out();
     }
-    if (dropped > 0) modbus::append_drop_notice(out, std::chrono::system_clock::now(), dropped, options_.format);
-    if (!out.empty())
-      for (const auto& sink : sinks_) sink->write(out);
+    if (dropped > 0) {
+      notice.clear();
+      modbus::append_drop_notice(notice, std::chrono::system_clock::now(), dropped, options_.format);
+      std::memcpy(text.get() + used, notice.data(), notice.size());  // shorter than max_line
+      used += notice.size();
+    }
+    write_out();
     written_total_.fetch_add(tail - head, std::memory_order_relaxed);
     head_.store(tail, std::memory_order_release);
   }

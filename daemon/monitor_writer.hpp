@@ -88,7 +88,9 @@ class MonitorWriter {
 
   void run();
   void wait_for_work(std::uint64_t head);
-  void format(const Entry& entry, std::string& out, std::string& port) const;
+  // Writes the entry's line at `out`, which has room for max_line bytes; returns its end.
+  char* format(const Entry& entry, char* out, std::string& port) const;
+  static const std::size_t max_line;
   // The next slot after `index`: counting on is cheaper than dividing a position.
   std::size_t next_slot(std::size_t index) const { return index + 1 == capacity_ ? 0 : index + 1; }
   static_assert(std::is_trivially_default_constructible_v<Entry>);

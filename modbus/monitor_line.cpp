@@ -33,20 +33,16 @@ struct SecondText {
 thread_local SecondText last_second;
 
 // Writes a line through a raw pointer into space reserved for its bound, so that no
-// character is checked against the string's capacity: the writer thread formats one line
-// per transaction, and per-character appends were most of its cost. The loops work on a
+// character is checked against a capacity: the writer thread formats one line per
+// transaction, and per-character appends were most of its cost. The loops work on a
 // local copy of the pointer: a store through a char pointer may alias the member, which
 // would make the compiler reload it after every character.
 class LineWriter {
  public:
-  LineWriter(std::string& out, std::size_t bound) : out_(out) {
-    const auto start = out_.size();
-    out_.resize(start + bound);
-    p_ = out_.data() + start;
-  }
-  ~LineWriter() { out_.resize(static_cast<std::size_t>(p_ - out_.data())); }
+  explicit LineWriter(char* out) : p_(out) {}
   LineWriter(const LineWriter&) = delete;
   LineWriter& operator=(const LineWriter&) = delete;
+  char* end() const { return p_; }
 
   void put(char c) { *p_++ = c; }
   void put(std::string_view text) {
@@ -136,19 +132,22 @@ class LineWriter {
     put('Z');
   }
 
-  /// Room for a line of these fields: fixed text, the port escaped at worst, three
-  /// characters a byte (and a cell's spare byte).
-  static std::size_t bound(const MonitorFields& f) {
-    return 256 + 6 * f.port.size() + 3 * (f.query.pdu.size() + f.response.size()) + 2;
-  }
 
  private:
-  std::string& out_;
   char* p_;
 };
 
-void append_text(std::string& out, const MonitorFields& f) {
-  LineWriter w(out, LineWriter::bound(f));
+// Appends what `write` writes into `bound` bytes of room at the end of `out`.
+template <typename Write>
+void append_bounded(std::string& out, std::size_t bound, Write&& write) {
+  const auto start = out.size();
+  out.resize(start + bound);
+  LineWriter w(out.data() + start);
+  write(w);
+  out.resize(static_cast<std::size_t>(w.end() - out.data()));
+}
+
+void write_text(LineWriter& w, const MonitorFields& f) {
   w.utc_time(f.time);
   w.put(' ');
   w.put(f.port);
@@ -180,8 +179,7 @@ void append_text(std::string& out, const MonitorFields& f) {
   w.put('\n');
 }
 
-void append_json(std::string& out, const MonitorFields& f) {
-  LineWriter w(out, LineWriter::bound(f));
+void write_json(LineWriter& w, const MonitorFields& f) {
   w.put("{\"time\":\"");
   w.utc_time(f.time);
   w.put("\",\"port\":");
@@ -226,6 +224,21 @@ void append_json(std::string& out, const MonitorFields& f) {
     w.put('"');
   }
   w.put("}\n");
+}
+
+void write_drop_notice(LineWriter& w, Clock::time_point time, std::uint64_t dropped, MonitorFormat format) {
+  if (format == MonitorFormat::json) {
+    w.put("{\"time\":\"");
+    w.utc_time(time);
+    w.put("\",\"port\":\"monitor\",\"dropped\":");
+    w.decimal(dropped);
+    w.put("}\n");
+  } else {
+    w.utc_time(time);
+    w.put(" monitor Dropped=");
+    w.decimal(dropped);
+    w.put('\n');
+  }
 }
 
 std::optional<std::uint64_t> parse_unsigned(std::string_view text, int base, std::uint64_t max) {
@@ -478,30 +491,32 @@ MonitorFields monitor_fields(const Transaction& transaction, std::uint8_t ix, st
   return fields;
 }
 
+std::size_t monitor_line_bound(const MonitorFields& f) {
+  // Fixed text, the port escaped at worst, three characters a byte (and a cell's spare byte).
+  return 256 + 6 * f.port.size() + 3 * (f.query.pdu.size() + f.response.size()) + 2;
+}
+
+char* write_monitor_line(char* out, const MonitorFields& fields, MonitorFormat format) {
+  LineWriter w(out);
+  if (format == MonitorFormat::json) write_json(w, fields);
+  else write_text(w, fields);
+  return w.end();
+}
+
 void append_monitor_line(std::string& out, const MonitorFields& fields, MonitorFormat format) {
-  if (format == MonitorFormat::json) append_json(out, fields);
-  else append_text(out, fields);
+  append_bounded(out, monitor_line_bound(fields), [&](LineWriter& w) {
+    if (format == MonitorFormat::json) write_json(w, fields);
+    else write_text(w, fields);
+  });
 }
 
 void append_drop_notice(std::string& out, Clock::time_point time, std::uint64_t dropped, MonitorFormat format) {
-  LineWriter w(out, 128);
-  if (format == MonitorFormat::json) {
-    w.put("{\"time\":\"");
-    w.utc_time(time);
-    w.put("\",\"port\":\"monitor\",\"dropped\":");
-    w.decimal(dropped);
-    w.put("}\n");
-  } else {
-    w.utc_time(time);
-    w.put(" monitor Dropped=");
-    w.decimal(dropped);
-    w.put('\n');
-  }
+  append_bounded(out, 128, [&](LineWriter& w) { write_drop_notice(w, time, dropped, format); });
 }
 
+
 void append_utc_time(std::string& out, Clock::time_point time) {
-  LineWriter w(out, 32);
-  w.utc_time(time);
+  append_bounded(out, 32, [&](LineWriter& w) { w.utc_time(time); });
 }
 
 std::optional<Clock::time_point> parse_utc_time(std::string_view text) {

@@ -229,6 +229,30 @@ TEST(MonitorLine, EveryByteValueIsWrittenInHex) {
   EXPECT_NE(json.find("\"response\":\"" + expected + "\"}\n"), std::string::npos) << json;
 }
 
+// The monitor's writer formats into a raw buffer of monitor_line_bound() bytes: the same
+// line as append_monitor_line, never past the bound, even for the longest frames and a
+// peer name that JSON must escape at every character.
+TEST(MonitorLine, WrittenIntoABufferItIsTheSameLineWithinItsBound) {
+  Bytes longest_query(260), longest_response(260);
+  for (std::size_t i = 0; i < 260; ++i) longest_query[i] = longest_response[i] = static_cast<std::uint8_t>(i * 7);
+  const std::string peer(64, '\x01');
+  for (const auto format : {MonitorFormat::text, MonitorFormat::json}) {
+    const Transaction t{PortKind::tcp, peer, at, TransactionState::done, longest_query, longest_response};
+    std::string name;
+    append_port_name(name, PortKind::tcp, peer);
+    const auto fields = monitor_fields(t, 255, name);
+    std::string appended;
+    append_monitor_line(appended, fields, format);
+    const auto bound = monitor_line_bound(fields);
+    std::string buffer(bound + 64, '#');
+    const char* const begin = buffer.data();
+    const char* const end = write_monitor_line(buffer.data(), fields, format);
+    ASSERT_LE(end - begin, static_cast<std::ptrdiff_t>(bound));
+    EXPECT_EQ(std::string(begin, end), appended);
+    EXPECT_EQ(buffer.substr(bound), std::string(64, '#')) << "nothing written past the bound";
+  }
+}
+
 TEST(MonitorLine, SeedFramesCarryValidCrcs) {
   for (const auto& frame : {rtu_query, rtu_response}) {
     const std::uint16_t wire = static_cast<std::uint16_t>(frame[frame.size() - 2] | frame[frame.size() - 1] << 8);
