@@ -110,11 +110,27 @@ bool FileAppender::flush() {
 bool FileAppender::write_whole_blocks() {
   const auto whole = staged_ / block * block;
   if (whole == 0) return true;
-  if (!pwrite_all(direct_fd_, stage_.get(), whole, base_)) return fall_back_to_page_cache();
+  std::size_t direct_from = 0;
+  if (visible_ > 0) {
+    // The first block is partly in the file through the page cache already: the rest of
+    // it goes the same way. A direct write over a cached page makes the kernel drop that
+    // page, and a reader that holds it at that moment (`tail -F` reads exactly there)
+    // would keep it, stale, with zeros where the new lines are.
+    if (!write_through_page_cache(base_ + visible_, {stage_.get() + visible_, block - visible_})) {
+      staged_ = visible_;  // lost; the next lines follow the last ones written
+      return false;
+    }
+    direct_from = block;
+  }
+  if (whole > direct_from &&
+      !pwrite_all(direct_fd_, stage_.get() + direct_from, whole - direct_from, base_ + direct_from)) {
+    visible_ = direct_from;  // the first block is in the file either way
+    return fall_back_to_page_cache();
+  }
   std::memmove(stage_.get(), stage_.get() + whole, staged_ - whole);
   base_ += whole;
   staged_ -= whole;
-  visible_ = visible_ > whole ? visible_ - whole : 0;
+  visible_ = 0;
   return true;
 }
 

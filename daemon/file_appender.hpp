@@ -8,8 +8,9 @@
 // the event loop and the clients on a small gateway. Written with O_DIRECT, whole blocks
 // go from our buffer to the disk with none of that. O_DIRECT only takes whole aligned
 // blocks, so the lines are staged in an aligned buffer; whole blocks go out when it is
-// full or on flush(), and the last, partial block through the page cache on flush() —
-// the next direct write of that block replaces it (the kernel keeps the two coherent).
+// full or on flush(), and the last, partial block through the page cache on flush(). A
+// block begun through the page cache is finished through it: direct writes only ever go
+// past the end of the file, where no reader can hold a cached page.
 // Readers (`tail -F`, `unima-bridge monitor --follow`) see the lines at the latest on the
 // next flush(), when the stage fills, or `tail_delay` after they came, whichever is first.
 //

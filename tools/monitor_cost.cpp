@@ -8,7 +8,11 @@
 //   observe ...  the hook a port calls (Monitor::observe) in its configurations: what the
 //                event loop pays; with the log on, the writer is given time to drain
 //                between batches, so no transaction is dropped and none is cheaper for it
-//   format/write the writer thread's work per line: formatting, and formatting + file append
+//   format/write the writer thread's work per line: formatting, and formatting + file append;
+//                then the bench's line (FC4, 64 registers, ~540 bytes) formatted and appended
+//                to a rotating file in batches, in this thread's CPU time (the kernel's
+//                share included), through the page cache and with whole blocks written
+//                past it (daemon/file_appender.hpp)
 // A real TCP transaction also costs the recv and send system calls (microseconds on
 // loopback), which this leaves out: the observe/serve ratio printed is an upper bound of
 // the monitor's share of the event loop's time.

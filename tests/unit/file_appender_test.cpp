@@ -4,6 +4,7 @@
 // order, and readers see it after flush().
 
 #include <fcntl.h>
+#include <sys/mman.h>
 #include <unistd.h>
 
 #include <gtest/gtest.h>
@@ -12,6 +13,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include "daemon/file_appender.hpp"
 #include "tests/support/temp_files.hpp"
@@ -75,6 +77,44 @@ TEST(FileAppender, GoesOnFromTheMiddleOfABlockOfAnExistingFile) {
     ASSERT_TRUE(file.append(lines(60, 3000)));
   }
   EXPECT_EQ(read_file(path), before + lines(60, 3000));
+}
+
+// Which pages of `path` are in the page cache (mincore of a mapping that is never touched).
+std::vector<bool> cached_pages(const std::filesystem::path& path) {
+  const int fd = ::open(path.c_str(), O_RDONLY);
+  const auto size = std::filesystem::file_size(path);
+  void* map = ::mmap(nullptr, size, PROT_READ, MAP_SHARED, fd, 0);
+  ::close(fd);
+  const auto page = static_cast<std::size_t>(::sysconf(_SC_PAGESIZE));
+  std::vector<unsigned char> residency((size + page - 1) / page);
+  EXPECT_EQ(::mincore(map, size, residency.data()), 0);
+  ::munmap(map, size);
+  std::vector<bool> cached;
+  for (const auto r : residency) cached.push_back((r & 1) != 0);
+  return cached;
+}
+
+// A reader holding a cached page while a direct write replaces its block would keep it,
+// stale: so the block the last flush() began through the page cache is finished through
+// it, and direct writes go only past the end of the file.
+TEST(FileAppender, ABlockBegunThroughThePageCacheIsFinishedThroughIt) {
+  TempDir dir;
+  if (!file_system_takes_direct_writes(dir.path())) GTEST_SKIP() << dir.path() << " refuses O_DIRECT";
+  const auto path = dir.path() / "monitor.log";
+  const std::string block_of_text(FileAppender::block, 'x');
+  {
+    FileAppender file(path.string());
+    ASSERT_TRUE(file.append("the first line\n"));
+    ASSERT_TRUE(file.flush());  // block 0 begun through the page cache
+    for (int n = 0; n < 3; ++n) ASSERT_TRUE(file.append(block_of_text));
+    ASSERT_TRUE(file.flush());
+    const auto cached = cached_pages(path);
+    ASSERT_GE(cached.size(), 3u);
+    EXPECT_TRUE(cached[0]) << "block 0 finished through the page cache, not replaced under a reader";
+    EXPECT_FALSE(cached[1]) << "block 1 written past the page cache";
+    EXPECT_FALSE(cached[2]);
+  }
+  EXPECT_EQ(read_file(path), "the first line\n" + block_of_text + block_of_text + block_of_text);
 }
 
 TEST(FileAppender, BypassesThePageCacheWhereTheFileSystemAllowsIt) {
