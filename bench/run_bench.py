@@ -89,10 +89,16 @@ class ServerKind:
                     "--count", str(READ_COUNT)]
         text = self.config_template.read_text()
         text = text.replace("@MODBUS_PORT@", str(modbus_port)).replace("@FEED_PORT@", str(feed_port))
-        text = text.replace("@DIR@", str(workdir))
+        text = text.replace("@DIR@", str(self.directory(workdir, modbus_port)))
         config = workdir / f"{self.name}-{modbus_port}.yaml"
         config.write_text(text)
         return [tools.bridged, "--config", str(config)]
+
+    def directory(self, workdir: Path, modbus_port: int) -> Path:
+        """@DIR@: each daemon's own, so that no two share a control socket or monitor log."""
+        path = workdir / f"{self.name.replace(':', '-')}-{modbus_port}"
+        path.mkdir(exist_ok=True)
+        return path
 
 
 class Server:
@@ -101,6 +107,7 @@ class Server:
     def __init__(self, kind: ServerKind, tools: "Tools", workdir: Path, wrapper: list[str] | None = None,
                  start_timeout: float = 10):
         self.kind = kind
+        self.workdir = workdir
         self.modbus_port = free_port()
         self.feed_port = free_port()
         self.log_path = workdir / f"{kind.name}-{self.modbus_port}.log"
@@ -124,6 +131,26 @@ class Server:
         if len(children) != 1:
             raise BenchError(f"cannot find the server under {self.process.args[0]}")
         return int(children[0])
+
+    def control_status(self) -> dict | None:
+        """The daemon's status document (its control socket, `status.socket`), if it has one."""
+        if self.kind.reference:
+            return None
+        path = self.kind.directory(self.workdir, self.modbus_port) / "control.sock"
+        if not path.exists():
+            return None
+        with socket.socket(socket.AF_UNIX, socket.SOCK_STREAM) as s:
+            s.settimeout(5)
+            s.connect(str(path))
+            data = b""
+            while chunk := s.recv(65536):
+                data += chunk
+        return json.loads(data)
+
+    def monitor_dropped(self) -> int | None:
+        """Monitor lines dropped so far, when this daemon writes a monitor log."""
+        status = self.control_status()
+        return status["monitor"]["dropped"] if status and status["monitor"]["file"] else None
 
     def output(self) -> str:
         if not self.log.closed:
@@ -222,10 +249,13 @@ def throughput(kinds: list[ServerKind], tools: Tools, workdir: Path, settings: S
             for connections in settings.connections:
                 for round_number in range(settings.rounds):
                     for server in servers:  # A B A B ...
+                        dropped_before = server.monitor_dropped()
                         user_before, system_before = server.cpu_times()
                         report = run_load(tools, server.modbus_port, connections, depth,
                                           duration=settings.duration, warmup=settings.warmup, cpu=settings.load_cpu())
                         user, system = server.cpu_times()
+                        if dropped_before is not None:  # a variant with the monitor log: were lines lost?
+                            report["monitor_dropped"] = server.monitor_dropped() - dropped_before
                         report["cpu_us_per_request"] = (user + system - user_before - system_before) * 1e6 / report["total"]
                         report["user_cpu_us_per_request"] = (user - user_before) * 1e6 / report["total"]
                         cells.setdefault((depth, connections, server.kind.name), Cell()).runs.append(report)
@@ -235,6 +265,9 @@ def throughput(kinds: list[ServerKind], tools: Tools, workdir: Path, settings: S
         for server in servers:
             resources[server.kind.name] = idle_check(server, settings.idle_seconds, max(settings.connections))
             resources[server.kind.name]["peak_rss_kib"] = server.status("VmHWM")
+            status = server.control_status()
+            if status and status["monitor"]["file"]:  # every line of the throughput runs written?
+                resources[server.kind.name]["monitor"] = {k: status["monitor"][k] for k in ("written", "dropped")}
     finally:
         for server in servers:
             server.stop()
@@ -462,6 +495,8 @@ def print_report(results: dict, kinds: list[ServerKind], settings: Settings) -> 
                 if kind.name != bridge and not kind.reference:  # another config: its cost over the plain one
                     ratio += (f"   vs {bridge}: req/s {ratios(cells, depth, connections, kind.name, bridge, 'rps'):.2f}"
                               f", p99 {ratios(cells, depth, connections, kind.name, bridge, 'p99_us'):.2f}")
+                if "monitor_dropped" in cell.runs[0]:
+                    ratio += f", monitor lines dropped {sum(run['monitor_dropped'] for run in cell.runs)}"
                 print(f"{depth:>5} {connections:>4}  {kind.name:<26} {cell.median('rps'):>9.0f} "
                       f"{cell.median('p50_us'):>8.1f} {cell.median('p99_us'):>8.1f} {cell.median('p999_us'):>9.1f} "
                       f"{cell.median('cpu_us_per_request'):>10.2f}  {ratio}")
@@ -477,6 +512,10 @@ def print_report(results: dict, kinds: list[ServerKind], settings: Settings) -> 
         print(f"{kind.name:<26} {syscalls:>12} {perf:>7} {instructions:>10} {res['peak_rss_kib'] / 1024:>6.1f} MiB "
               f"{res['idle_cpu_ms']:>6.0f} ms, {res['idle_wakeups']:>2} in {res['idle_seconds']:g} s "
               f"{res['idle_clients_cpu_ms']:>18.0f} ms, {res['idle_clients_wakeups']:>2} in {res['idle_seconds']:g} s")
+    for kind in kinds:
+        if monitor := results["resources"][kind.name].get("monitor"):
+            print(f"monitor of {kind.name}: {monitor['written']} lines written, {monitor['dropped']} dropped "
+                  f"(all its throughput runs)")
     print(f"\nsystem calls per request by name, {settings.exact_connections} connections, depth 1:")
     for kind in kinds:
         exact = results["exact"].get(kind.name, {})
