@@ -114,10 +114,8 @@ TEST_F(Feed, EveryFeedClientGetsEveryChange) {
 }
 
 TEST_F(Feed, OutOfDescriptorsTheFeedWaitsInsteadOfSpinningAndRecovers) {
-  daemon = std::make_unique<Daemon>(dir, config.yaml(), std::vector<std::string>{"UNIMA_TEST_MAX_FILES=32"});
-  ASSERT_TRUE(wait_for_port(config.modbus_port)) << daemon->log();
-  std::vector<Socket> clients;
-  for (int i = 0; i < 40; ++i) clients.push_back(Socket::tcp(config.feed_port));  // the backlog takes them
+  daemon = start_with_few_descriptors(dir, config.yaml(), config.modbus_port);
+  auto clients = tcp_clients(config.feed_port, 40);
   std::string report;
   EXPECT_TRUE(daemon->logs_slowly("feed: accept failed", report)) << report;
   clients.clear();

@@ -222,6 +222,19 @@ Socket Socket::tcp(std::uint16_t port) {
   return Socket(fd);
 }
 
+std::unique_ptr<Daemon> start_with_few_descriptors(const TempDir& dir, const std::string& config_yaml,
+                                                   std::uint16_t modbus_port) {
+  auto daemon = std::make_unique<Daemon>(dir, config_yaml, std::vector<std::string>{"UNIMA_TEST_MAX_FILES=32"});
+  if (!wait_for_port(modbus_port)) throw std::runtime_error("the daemon does not listen:\n" + daemon->log());
+  return daemon;
+}
+
+std::vector<Socket> tcp_clients(std::uint16_t port, int count) {
+  std::vector<Socket> clients;
+  for (int i = 0; i < count; ++i) clients.push_back(Socket::tcp(port));
+  return clients;
+}
+
 Socket Socket::unix_socket(const std::string& path) {
   const int fd = ::socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
   sockaddr_un addr{};

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <span>
 #include <string>
@@ -108,6 +109,16 @@ class Socket {
   int fd_ = -1;
   std::string buffered_;
 };
+
+/// The daemon with room for only 32 descriptors (UNIMA_TEST_MAX_FILES), once it listens on
+/// `modbus_port`: for the tests of what a port does when accept() fails. Throws, with the
+/// daemon's log, when it does not listen.
+std::unique_ptr<Daemon> start_with_few_descriptors(const TempDir& dir, const std::string& config_yaml,
+                                                   std::uint16_t modbus_port);
+
+/// `count` TCP clients of 127.0.0.1:port; past the daemon's descriptors the listen backlog
+/// takes them.
+std::vector<Socket> tcp_clients(std::uint16_t port, int count);
 
 /// A Modbus TCP query/response exchange on a fresh connection: the bytes as sent, the
 /// response as received (MBAP + PDU; the MBAP length says how many to wait for).

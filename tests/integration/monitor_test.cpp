@@ -234,10 +234,8 @@ TEST_F(Monitor, StatusShowsAFaultAndTwoSecondsLaterNot) {
 // Out of descriptors, the status socket's accept fails like the others' and waits
 // before it tries again instead of spinning; once descriptors are free it answers again.
 TEST_F(Monitor, OutOfDescriptorsTheStatusSocketWaitsInsteadOfSpinningAndRecovers) {
-  daemon = std::make_unique<Daemon>(dir, config.yaml(), std::vector<std::string>{"UNIMA_TEST_MAX_FILES=32"});
-  ASSERT_TRUE(wait_for_port(config.modbus_port)) << daemon->log();
-  std::vector<Socket> clients;
-  for (int i = 0; i < 40; ++i) clients.push_back(Socket::tcp(config.modbus_port));  // uses up the descriptors
+  daemon = start_with_few_descriptors(dir, config.yaml(), config.modbus_port);
+  auto clients = tcp_clients(config.modbus_port, 40);
   ASSERT_TRUE(daemon->wait_for_log("modbus tcp: accept failed")) << daemon->log().substr(0, 2000);
   for (int i = 0; i < 3; ++i) clients.push_back(Socket::unix_socket(config.status_socket));  // the backlog takes them
   std::string report;
