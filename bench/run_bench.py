@@ -265,9 +265,6 @@ def throughput(kinds: list[ServerKind], tools: Tools, workdir: Path, settings: S
         for server in servers:
             resources[server.kind.name] = idle_check(server, settings.idle_seconds, max(settings.connections))
             resources[server.kind.name]["peak_rss_kib"] = server.status("VmHWM")
-            status = server.control_status()
-            if status and status["monitor"]["file"]:  # every line of the throughput runs written?
-                resources[server.kind.name]["monitor"] = {k: status["monitor"][k] for k in ("written", "dropped")}
     finally:
         for server in servers:
             server.stop()
@@ -512,10 +509,6 @@ def print_report(results: dict, kinds: list[ServerKind], settings: Settings) -> 
         print(f"{kind.name:<26} {syscalls:>12} {perf:>7} {instructions:>10} {res['peak_rss_kib'] / 1024:>6.1f} MiB "
               f"{res['idle_cpu_ms']:>6.0f} ms, {res['idle_wakeups']:>2} in {res['idle_seconds']:g} s "
               f"{res['idle_clients_cpu_ms']:>18.0f} ms, {res['idle_clients_wakeups']:>2} in {res['idle_seconds']:g} s")
-    for kind in kinds:
-        if monitor := results["resources"][kind.name].get("monitor"):
-            print(f"monitor of {kind.name}: {monitor['written']} lines written, {monitor['dropped']} dropped "
-                  f"(all its throughput runs)")
     print(f"\nsystem calls per request by name, {settings.exact_connections} connections, depth 1:")
     for kind in kinds:
         exact = results["exact"].get(kind.name, {})

@@ -30,13 +30,16 @@ class FileAppender {
   static constexpr std::size_t block = 4096;  // a multiple of every disk's logical block
   static constexpr std::size_t stage_capacity = 1 << 20;
   static constexpr std::chrono::milliseconds tail_delay{100};
+  static constexpr std::uint64_t reserve_step = 4 << 20;
 
   enum class Route { direct_where_possible, page_cache };
 
   /// Opens or creates `path` (0640) to append to; false from is_open() with errno set
-  /// when it cannot.
-  explicit FileAppender(const std::string& path, Route route = Route::direct_where_possible);
-  /// Flushes, then closes.
+  /// when it cannot. With `reserve_up_to` > 0 the file's disk blocks are reserved ahead of
+  /// the appends, never past that size (see reserve_for).
+  explicit FileAppender(const std::string& path, Route route = Route::direct_where_possible,
+                        std::uint64_t reserve_up_to = 0);
+  /// Flushes, gives back whole blocks reserved past the end, then closes.
   ~FileAppender();
   FileAppender(const FileAppender&) = delete;
   FileAppender& operator=(const FileAppender&) = delete;
@@ -46,8 +49,6 @@ class FileAppender {
   bool direct() const { return direct_fd_ >= 0; }
   /// The file's size once everything appended is written.
   std::uint64_t size() const { return base_ + staged_; }
-  /// The descriptor (not the direct one), for fallocate and the like.
-  int fd() const { return fd_; }
 
   /// False (errno set) when bytes could not be written; those bytes are lost, and the
   /// file keeps no hole where they would have been.
@@ -60,6 +61,7 @@ class FileAppender {
     void operator()(char* p) const;
   };
 
+  void reserve_for(std::uint64_t end);
   bool write_whole_blocks();
   bool write_through_page_cache(std::uint64_t offset, std::string_view bytes);
   bool fall_back_to_page_cache();
@@ -71,6 +73,8 @@ class FileAppender {
   std::size_t staged_ = 0;     // bytes in the stage; without O_DIRECT always 0
   std::size_t visible_ = 0;    // of those, already in the file through the page cache
   std::chrono::steady_clock::time_point hidden_since_{};  // when the first unwritten byte came
+  std::uint64_t reserve_up_to_;
+  std::uint64_t reserved_ = 0;  // the file's blocks are allocated up to here
 };
 
 }  // namespace unima::daemon

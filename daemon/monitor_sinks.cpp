@@ -1,10 +1,7 @@
 #include "daemon/monitor_sinks.hpp"
 
-#include <fcntl.h>
-#include <sys/stat.h>
 #include <unistd.h>
 
-#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
@@ -43,39 +40,15 @@ RotatingFileSink::RotatingFileSink(std::string path, std::uint64_t max_size, uns
 RotatingFileSink::~RotatingFileSink() { close(); }
 
 bool RotatingFileSink::open() {
-  auto file = std::make_unique<FileAppender>(path_, route_);
+  auto file = std::make_unique<FileAppender>(path_, route_, max_size_);
   if (!file->is_open()) return false;
   file_ = std::move(file);
-  reserved_ = file_->size();
-  reserving_ = true;
   return true;
 }
 
 void RotatingFileSink::close() {
-  if (!file_) return;
-  if (!file_->flush()) report_write_error();
-  // Truncating to the size it has frees whole blocks reserved past the end. Only then:
-  // ext4 writes a truncated file out when it is closed, a stall of milliseconds.
-  const auto block = FileAppender::block;
-  struct stat st{};
-  if (reserved_ / block > (file_->size() + block - 1) / block && ::fstat(file_->fd(), &st) == 0)
-    (void)::ftruncate(file_->fd(), st.st_size);
+  if (file_ && !file_->flush()) report_write_error();
   file_.reset();
-}
-
-// Appending into blocks the file already owns costs the kernel less than appending past
-// them (ext4 reserves and accounts new blocks as they come), and a busy port appends tens
-// of MB/s. KEEP_SIZE leaves the size, and so what readers and `tail -F` see, untouched.
-// Reserved a step ahead, never past max_size, so a stopped daemon leaves at most one step
-// unused on disk.
-void RotatingFileSink::reserve_for(std::uint64_t end) {
-  if (end <= reserved_ || !reserving_) return;
-  const auto target = std::max(end, std::min(reserved_ + reserve_step, max_size_));
-  if (::fallocate(file_->fd(), FALLOC_FL_KEEP_SIZE, static_cast<off_t>(reserved_),
-                  static_cast<off_t>(target - reserved_)) == 0)
-    reserved_ = target;
-  else
-    reserving_ = false;  // not supported by this file system, or the disk is full: append() will say so
 }
 
 void RotatingFileSink::rotate() {
@@ -101,7 +74,6 @@ void RotatingFileSink::report_write_error() {
 void RotatingFileSink::append(std::string_view bytes) {
   if (bytes.empty()) return;
   if (!file_ && !open()) return;  // still failing; logged once
-  reserve_for(file_->size() + bytes.size());
   if (!file_->append(bytes)) return report_write_error();
   if (failing_) spdlog::info("monitor: writing {} again", path_);
   failing_ = false;

@@ -34,17 +34,12 @@ class RotatingFileSink : public MonitorSink {
   void rotate();
   void append(std::string_view bytes);
   void report_write_error();
-  void reserve_for(std::uint64_t end);
-
-  static constexpr std::uint64_t reserve_step = 4 << 20;
 
   std::string path_;
   std::uint64_t max_size_;
   unsigned max_files_;
   FileAppender::Route route_;
   std::unique_ptr<FileAppender> file_;
-  std::uint64_t reserved_ = 0;  // the file's blocks are allocated up to here
-  bool reserving_ = true;       // false once fallocate failed for this file
   bool failing_ = false;  // a write error was logged; the next success is logged too
 };
 

@@ -504,10 +504,9 @@ char* write_monitor_line(char* out, const MonitorFields& fields, MonitorFormat f
 }
 
 void append_monitor_line(std::string& out, const MonitorFields& fields, MonitorFormat format) {
-  append_bounded(out, monitor_line_bound(fields), [&](LineWriter& w) {
-    if (format == MonitorFormat::json) write_json(w, fields);
-    else write_text(w, fields);
-  });
+  const auto start = out.size();
+  out.resize(start + monitor_line_bound(fields));
+  out.resize(static_cast<std::size_t>(write_monitor_line(out.data() + start, fields, format) - out.data()));
 }
 
 void append_drop_notice(std::string& out, Clock::time_point time, std::uint64_t dropped, MonitorFormat format) {
