@@ -34,8 +34,8 @@ bool pwrite_all(int fd, const char* data, std::size_t size, std::uint64_t offset
 
 void FileAppender::FreeAligned::operator()(char* p) const { std::free(p); }
 
-FileAppender::FileAppender(const std::string& path, Route route, std::uint64_t reserve_up_to)
-    : reserve_up_to_(reserve_up_to) {
+FileAppender::FileAppender(const std::string& path, Route route, std::uint64_t reserve_up_to, Stage stage)
+    : stage_(std::move(stage)), reserve_up_to_(reserve_up_to) {
   fd_ = ::open(path.c_str(), O_WRONLY | O_CREAT | O_CLOEXEC, 0640);
   if (fd_ < 0) return;
   struct stat st{};
@@ -52,7 +52,7 @@ FileAppender::FileAppender(const std::string& path, Route route, std::uint64_t r
   direct_fd_ = ::open(path.c_str(), O_WRONLY | O_DIRECT | O_CLOEXEC);
   if (direct_fd_ < 0) return;  // not on this file system: through the page cache
   // Allocated here, touched only as lines come: an idle monitor costs no memory for it.
-  stage_.reset(static_cast<char*>(std::aligned_alloc(block, stage_capacity)));
+  if (!stage_) stage_.reset(static_cast<char*>(std::aligned_alloc(block, stage_capacity)));
   // The stage starts at the block the file ends in; its first bytes are already there.
   const std::size_t in_last_block = size % block;
   if (!stage_ || (in_last_block > 0 && ::pread(fd_, stage_.get(), in_last_block,
@@ -65,6 +65,17 @@ FileAppender::FileAppender(const std::string& path, Route route, std::uint64_t r
   }
   base_ = size - in_last_block;
   staged_ = visible_ = in_last_block;
+}
+
+FileAppender::Stage FileAppender::release_stage() {
+  // Whatever flush() could not write is lost already (staged_ == visible_); appending
+  // from here on goes through the page cache.
+  if (staged_ > visible_) (void)flush();
+  if (direct_fd_ >= 0) ::close(direct_fd_);
+  direct_fd_ = -1;
+  base_ += staged_;
+  staged_ = visible_ = 0;
+  return std::move(stage_);
 }
 
 FileAppender::~FileAppender() {

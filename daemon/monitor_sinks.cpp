@@ -40,14 +40,16 @@ RotatingFileSink::RotatingFileSink(std::string path, std::uint64_t max_size, uns
 RotatingFileSink::~RotatingFileSink() { close(); }
 
 bool RotatingFileSink::open() {
-  auto file = std::make_unique<FileAppender>(path_, route_, max_size_);
+  auto file = std::make_unique<FileAppender>(path_, route_, max_size_, std::move(spare_stage_));
   if (!file->is_open()) return false;
   file_ = std::move(file);
   return true;
 }
 
 void RotatingFileSink::close() {
-  if (file_ && !file_->flush()) report_write_error();
+  if (!file_) return;
+  if (!file_->flush()) report_write_error();
+  spare_stage_ = file_->release_stage();
   file_.reset();
 }
 

@@ -40,6 +40,7 @@ class RotatingFileSink : public MonitorSink {
   unsigned max_files_;
   FileAppender::Route route_;
   std::unique_ptr<FileAppender> file_;
+  FileAppender::Stage spare_stage_;  // the closed file's, for the next one
   bool failing_ = false;  // a write error was logged; the next success is logged too
 };
 

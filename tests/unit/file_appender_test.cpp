@@ -124,6 +124,37 @@ TEST(FileAppender, BypassesThePageCacheWhereTheFileSystemAllowsIt) {
   EXPECT_TRUE(file.direct());
 }
 
+// Rotation hands the closed file's stage to the next file (no page faults to map a fresh
+// one): both files hold exactly their bytes, and the next file really writes from it.
+TEST(FileAppender, AStageReleasedByOneFileServesTheNext) {
+  TempDir dir;
+  if (!file_system_takes_direct_writes(dir.path())) GTEST_SKIP() << dir.path() << " refuses O_DIRECT";
+  const auto first_path = dir.path() / "monitor.log.1";
+  const auto next_path = dir.path() / "monitor.log";
+  const auto first_text = lines(0, 20000);  // more than a stage: whole blocks went out direct
+  const auto next_text = lines(20000, 3000);
+  ASSERT_GT(first_text.size(), FileAppender::stage_capacity);
+  FileAppender::Stage stage;
+  {
+    FileAppender first(first_path.string());
+    ASSERT_TRUE(first.append(first_text));
+    ASSERT_TRUE(first.flush());
+    stage = first.release_stage();
+    EXPECT_EQ(first.size(), first_text.size());
+  }
+  ASSERT_TRUE(stage);
+  const char* const reused = stage.get();
+  {
+    FileAppender next(next_path.string(), FileAppender::Route::direct_where_possible, 0, std::move(stage));
+    EXPECT_TRUE(next.direct());
+    ASSERT_TRUE(next.append(next_text));
+    ASSERT_TRUE(next.flush());
+    EXPECT_EQ(next.release_stage().get(), reused);
+  }
+  EXPECT_EQ(read_file(first_path), first_text);
+  EXPECT_EQ(read_file(next_path), next_text);
+}
+
 // The route taken where O_DIRECT is refused (or a direct write failed): every append is
 // in the file at once.
 TEST(FileAppender, ThroughThePageCacheEveryAppendIsInTheFileAtOnce) {
