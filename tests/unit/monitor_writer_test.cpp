@@ -11,6 +11,7 @@
 #include <fstream>
 #include <mutex>
 #include <sstream>
+#include <thread>
 
 #include "daemon/monitor_sinks.hpp"
 #include "daemon/monitor_writer.hpp"
@@ -151,6 +152,85 @@ TEST(MonitorWriter, UnderAFloodEveryTransactionIsWrittenOrCountedExactlyOnce) {
     EXPECT_EQ(counted->transactions, accepted);
     EXPECT_LE(counted->reported_drops, writer.dropped());  // the last drops may come after the last batch
     EXPECT_GT(accepted, 0u);
+  }
+}
+
+// A sink that keeps everything and notes a write that does not end with a whole line.
+class RecordingSink : public MonitorSink {
+ public:
+  explicit RecordingSink(std::shared_ptr<std::string> text) : text_(std::move(text)) {}
+  void write(std::string_view lines) override {
+    if (lines.empty() || lines.back() != '\n') ++broken_writes;
+    *text_ += lines;
+  }
+  int broken_writes = 0;
+
+ private:
+  std::shared_ptr<std::string> text_;
+};
+
+// Lines of every length wrap around the ring many times: each one the writer hands on is
+// whole, in order, and says exactly what was pushed (frames longer than an ADU cut, Rc
+// still their size; a peer longer than 64 characters cut).
+TEST(MonitorWriter, LinesOfEveryLengthComeOutWholeAcrossTheRingsEnd) {
+  for (const auto format : {modbus::MonitorFormat::text, modbus::MonitorFormat::json}) {
+    auto text = std::make_shared<std::string>();
+    auto sink = std::make_unique<RecordingSink>(text);
+    const auto* recorded = sink.get();
+    std::vector<std::unique_ptr<MonitorSink>> sinks;
+    sinks.push_back(std::move(sink));
+    MonitorWriter::Options options;
+    options.capacity = 16;  // a ring of a few of the longest lines
+    options.batch_window = 0ms;
+    options.format = format;
+    MonitorWriter writer(std::move(sinks), options);
+
+    struct Pushed {
+      std::uint8_t ix;
+      Bytes query;
+      Bytes response;
+      std::string peer;
+    };
+    std::vector<Pushed> accepted;
+    for (int i = 0; i < 3000; ++i) {
+      Pushed p;
+      p.ix = static_cast<std::uint8_t>(i);
+      p.query = query;
+      if (i % 7 == 0) p.query.resize(300, 0x5A);  // longer than any ADU
+      p.response.resize(static_cast<std::size_t>(i * 37 % 301));
+      for (std::size_t b = 0; b < p.response.size(); ++b) p.response[b] = static_cast<std::uint8_t>(b * 7 + i);
+      p.peer = i % 11 == 0 ? std::string(100, '9') : "10.0.0." + std::to_string(i % 200) + ":" + std::to_string(i);
+      const modbus::Transaction t{modbus::PortKind::tcp, p.peer, std::chrono::system_clock::time_point{},
+                                  modbus::TransactionState::done, p.query, p.response};
+      // A full ring is waited out here (bounded), so that every length goes through.
+      bool taken = false;
+      for (int attempt = 0; !taken && attempt < 20'000; ++attempt) {
+        taken = writer.push(t, p.ix);
+        if (!taken) std::this_thread::sleep_for(50us);
+      }
+      ASSERT_TRUE(taken) << "the writer never made room";
+      accepted.push_back(std::move(p));
+    }
+    writer.stop();
+    EXPECT_EQ(recorded->broken_writes, 0);
+    EXPECT_EQ(writer.written(), accepted.size());
+
+    std::vector<std::string> lines;
+    for (const auto& line : lines_of(*text))
+      if (line.find("\"monitor\"") == std::string::npos && line.find(" monitor Dropped=") == std::string::npos)
+        lines.push_back(line);
+    ASSERT_EQ(lines.size(), accepted.size());
+    for (std::size_t i = 0; i < lines.size(); ++i) {
+      const auto parsed = modbus::parse_monitor_line(lines[i]);
+      ASSERT_TRUE(parsed) << lines[i];
+      const auto& p = accepted[i];
+      EXPECT_EQ(parsed->ix, p.ix);
+      EXPECT_EQ(parsed->rc, p.query.size());
+      EXPECT_EQ(parsed->port, "tcp:" + p.peer.substr(0, 64));
+      const auto kept = std::min<std::size_t>(p.response.size(), MonitorWriter::max_frame);
+      EXPECT_EQ(parsed->response, Bytes(p.response.begin(), p.response.begin() + static_cast<std::ptrdiff_t>(kept)))
+          << lines[i];
+    }
   }
 }
 
