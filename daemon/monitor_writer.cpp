@@ -2,30 +2,23 @@
 
 #include <algorithm>
 #include <cassert>
-#include <cstring>  // memrchr (GNU) too
+#include <cstring>
 #include <utility>
 
 namespace unima::daemon {
 
 namespace {
 constexpr std::size_t write_slice = 128 * 1024;
-constexpr std::size_t max_peer = 64;  // "address:port" of a TCP client; longer is cut
-
-// monitor_line_bound() of the longest line push writes: "tcp:" and the longest peer kept,
-// and every byte of both frames kept.
-constexpr std::size_t max_line = 256 + 6 * (4 + max_peer) + 3 * (2 * MonitorWriter::max_frame) + 2;
-
-std::span<const std::uint8_t> kept(std::span<const std::uint8_t> frame) {
-  return frame.first(std::min(frame.size(), MonitorWriter::max_frame));
-}
 }  // namespace
+
+// monitor_line_bound() of the longest transaction an Entry holds: "tcp:" and the peer,
+// and every byte of both frames.
+constexpr std::size_t MonitorWriter::max_line =
+    256 + 6 * (4 + sizeof(Entry::peer)) + 3 * sizeof(Entry::frames) + 2;
 
 MonitorWriter::MonitorWriter(std::vector<std::unique_ptr<MonitorSink>> sinks, Options options)
     : sinks_(std::move(sinks)), options_(options), capacity_(std::max<std::size_t>(options.capacity, 1)),
-      // Room for the longest line even when the end of the ring had to be skipped.
-      ring_size_(std::max(capacity_ * bytes_per_transaction, 2 * max_line)),
-      ring_(std::make_unique_for_overwrite<char[]>(ring_size_)) {
-  assert(ring_size_ < (std::size_t{1} << 31));  // positions count bytes modulo 2^32
+      slots_(std::make_unique_for_overwrite<Entry[]>(capacity_)) {
   thread_ = std::thread([this] { run(); });
 }
 
@@ -41,53 +34,35 @@ void MonitorWriter::stop() {
 }
 
 bool MonitorWriter::push(const modbus::Transaction& t, std::uint8_t ix) {
-  const auto tail = unpack(tail_.load(std::memory_order_relaxed));
-  const auto head = unpack(head_.load(std::memory_order_acquire));
-  const auto drop = [&] {
+  const auto tail = tail_.load(std::memory_order_relaxed);
+  if (tail - head_.load(std::memory_order_acquire) == capacity_ || stopping_.load(std::memory_order_relaxed)) {
     dropped_total_.fetch_add(1, std::memory_order_relaxed);
     return false;
-  };
-  if (tail.lines - head.lines == capacity_ || stopping_.load(std::memory_order_relaxed)) return drop();
-
-  // A client's transactions come in runs: its port name is built once per run.
-  const auto peer = t.peer.substr(0, max_peer);
-  if (port_name_.empty() || t.port != named_port_ || peer != named_peer_) {
-    named_port_ = t.port;
-    named_peer_.assign(peer);
-    port_name_.clear();
-    modbus::append_port_name(port_name_, t.port, peer);
   }
-  const modbus::Transaction cut{t.port, t.peer, t.time, t.state, kept(t.query), kept(t.response)};
-  auto fields = modbus::monitor_fields(cut, ix, port_name_);
-  fields.rc = t.query.size();
-  const auto bound = modbus::monitor_line_bound(fields);
-  assert(bound <= max_line);
-
-  const std::size_t skip = tail_offset_ + bound > ring_size_ ? ring_size_ - tail_offset_ : 0;
-  const std::uint32_t queued_bytes = tail.bytes - head.bytes;
-  if (queued_bytes + skip + bound > ring_size_) return drop();
-  if (skip > 0) {
-    lap_end_.store(tail_offset_, std::memory_order_relaxed);
-    tail_offset_ = 0;
-  }
-  char* const line = ring_.get() + tail_offset_;
-  const auto size = static_cast<std::size_t>(modbus::write_monitor_line(line, fields, options_.format) - line);
-  tail_offset_ += size;
-  if (tail_offset_ == ring_size_) {
-    lap_end_.store(ring_size_, std::memory_order_relaxed);
-    tail_offset_ = 0;
-  }
-  // A release store, not a fence: a fence would wait here for the line's cache misses.
+  Entry& e = slots_[tail_slot_];
+  e.time = t.time.time_since_epoch().count();
+  e.rc = static_cast<std::uint32_t>(t.query.size());
+  e.query_size = static_cast<std::uint16_t>(std::min(t.query.size(), max_frame));
+  e.response_size = static_cast<std::uint16_t>(std::min(t.response.size(), max_frame));
+  e.port = t.port;
+  e.state = t.state;
+  e.ix = ix;
+  e.peer_size = static_cast<std::uint8_t>(std::min(t.peer.size(), sizeof e.peer));
+  // An empty span may have no data pointer, which memcpy must not get even for 0 bytes.
+  if (e.peer_size > 0) std::memcpy(e.peer, t.peer.data(), e.peer_size);
+  if (e.query_size > 0) std::memcpy(e.frames, t.query.data(), e.query_size);
+  if (e.response_size > 0) std::memcpy(e.frames + e.query_size, t.response.data(), e.response_size);
+  tail_slot_ = next_slot(tail_slot_);
+  // A release store, not a fence: a fence would wait here for the slot's cache misses.
   // Its price is that this push may miss a writer falling asleep at the same moment;
   // the writer covers that by looking once more after a short wait (wait_for_work).
-  tail_.store(pack({tail.lines + 1, static_cast<std::uint32_t>(tail.bytes + skip + size)}),
-              std::memory_order_release);
+  tail_.store(tail + 1, std::memory_order_release);
   const auto state = writer_state_.load(std::memory_order_relaxed);
   // Only a sleeping writer needs the (system-call) wake-up; a batching one is cut short
   // when the queue is half full.
   const bool wake = state == WriterState::idle ||
                     (state == WriterState::batching &&
-                     tail.lines + 1 - unpack(head_.load(std::memory_order_relaxed)).lines >= capacity_ / 2);
+                     tail + 1 - head_.load(std::memory_order_relaxed) >= capacity_ / 2);
   if (wake) {
     { std::lock_guard lock(mutex_); }  // the writer is either before its check or waiting
     wake_.notify_one();
@@ -100,9 +75,8 @@ bool MonitorWriter::push(const modbus::Transaction& t, std::uint8_t ix) {
 // with the writer falling asleep may not have woken it (see push), so the first wait is
 // a timed one: only after a quiet batch window does the writer sleep until woken, which
 // costs an idle daemon one wake-up after its last transaction, not one per period.
-void MonitorWriter::wait_for_work(std::uint32_t head_lines) {
-  const auto queued_lines = [&] { return unpack(tail_.load(std::memory_order_acquire)).lines - head_lines; };
-  const auto queued = [&] { return queued_lines() != 0 || stopping_.load(); };
+void MonitorWriter::wait_for_work(std::uint64_t head) {
+  const auto queued = [&] { return tail_.load(std::memory_order_acquire) != head || stopping_.load(); };
   std::unique_lock lock(mutex_);
   writer_state_.store(WriterState::idle, std::memory_order_seq_cst);
   const auto window = options_.batch_window.count() > 0 ? options_.batch_window : std::chrono::milliseconds(10);
@@ -116,56 +90,64 @@ void MonitorWriter::wait_for_work(std::uint32_t head_lines) {
   }
   if (!stopping_.load() && options_.batch_window.count() > 0) {
     writer_state_.store(WriterState::batching, std::memory_order_relaxed);
-    wake_.wait_for(lock, options_.batch_window, [&] { return stopping_.load() || queued_lines() >= capacity_ / 2; });
+    wake_.wait_for(lock, options_.batch_window, [&] {
+      return stopping_.load() || tail_.load(std::memory_order_acquire) - head >= capacity_ / 2;
+    });
   }
   writer_state_.store(WriterState::busy, std::memory_order_relaxed);
 }
 
-void MonitorWriter::write_out(std::size_t from, std::size_t to, Position& head) {
-  // Slices keep the room coming back to the pusher while a big batch is being written.
-  while (from != to) {
-    std::size_t end = to;
-    if (to - from > write_slice) {
-      const auto* last = static_cast<const char*>(::memrchr(ring_.get() + from, '\n', write_slice));
-      assert(last != nullptr);  // lines are far shorter than a slice
-      end = static_cast<std::size_t>(last - ring_.get()) + 1;
-    }
-    for (const auto& sink : sinks_) sink->write({ring_.get() + from, end - from});
-    head.bytes += static_cast<std::uint32_t>(end - from);
-    give_back(head);  // still the lines before the batch: the pusher counts too few free, never too many
-    from = end;
-  }
+char* MonitorWriter::format(const Entry& e, char* out, std::string& port) const {
+  const modbus::Transaction t{e.port,
+                              std::string_view(e.peer, e.peer_size),
+                              std::chrono::system_clock::time_point(std::chrono::system_clock::duration(e.time)),
+                              e.state,
+                              std::span<const std::uint8_t>(e.frames, e.query_size),
+                              std::span<const std::uint8_t>(e.frames + e.query_size, e.response_size)};
+  port.clear();
+  modbus::append_port_name(port, t.port, t.peer);
+  auto fields = modbus::monitor_fields(t, e.ix, port);
+  fields.rc = e.rc;
+  assert(modbus::monitor_line_bound(fields) <= max_line);
+  return modbus::write_monitor_line(out, fields, options_.format);
 }
 
 void MonitorWriter::run() {
+  // Lines are formatted straight into this buffer (no string to grow or clear) and go to
+  // the sinks whenever a slice is full: a batch of a busy port is megabytes of text, and
+  // slices keep the daemon's memory small at the price of a few more writes.
+  const auto text = std::make_unique_for_overwrite<char[]>(write_slice + max_line);
+  std::size_t used = 0;
+  const auto write_out = [&] {
+    if (used == 0) return;
+    for (const auto& sink : sinks_) sink->write({text.get(), used});
+    used = 0;
+  };
+  std::string port;
   std::string notice;
+  std::size_t head_slot = 0;
   while (true) {
-    auto head = unpack(head_.load(std::memory_order_relaxed));
-    wait_for_work(head.lines);
-    // The bytes [head, tail) are the writer's until head moves: push only fills free ones.
-    const auto tail = unpack(tail_.load(std::memory_order_acquire));
-    if (tail.lines == head.lines && stopping_.load()) break;
+    const auto head = head_.load(std::memory_order_relaxed);
+    wait_for_work(head);
+    // The slots [head, tail) are the writer's until head moves: push only fills free ones.
+    const auto tail = tail_.load(std::memory_order_acquire);
+    if (tail == head && stopping_.load()) break;
     const auto dropped = dropped_total_.load(std::memory_order_relaxed) - dropped_reported_;
     dropped_reported_ += dropped;
 
-    const std::size_t queued_bytes = tail.bytes - head.bytes;
-    if (head_offset_ + queued_bytes <= ring_size_) {
-      write_out(head_offset_, head_offset_ + queued_bytes, head);
-      head_offset_ = (head_offset_ + queued_bytes) % ring_size_;
-    } else {  // the lines wrap: to the lap's end, past the skipped room, then from the start
-      const auto lap_end = lap_end_.load(std::memory_order_relaxed);
-      write_out(head_offset_, lap_end, head);
-      head.bytes += static_cast<std::uint32_t>(ring_size_ - lap_end);
-      head_offset_ = head_offset_ + queued_bytes - ring_size_;
-      write_out(0, head_offset_, head);
+    for (auto position = head; position != tail; ++position, head_slot = next_slot(head_slot)) {
+      used = static_cast<std::size_t>(format(slots_[head_slot], text.get() + used, port) - text.get());
+      if (used >= write_slice) write_out();
     }
     if (dropped > 0) {
       notice.clear();
       modbus::append_drop_notice(notice, std::chrono::system_clock::now(), dropped, options_.format);
-      for (const auto& sink : sinks_) sink->write(notice);
+      std::memcpy(text.get() + used, notice.data(), notice.size());  // shorter than max_line
+      used += notice.size();
     }
-    written_total_.fetch_add(tail.lines - head.lines, std::memory_order_relaxed);
-    give_back(tail);
+    write_out();
+    written_total_.fetch_add(tail - head, std::memory_order_relaxed);
+    head_.store(tail, std::memory_order_release);
   }
 }
 

@@ -33,7 +33,7 @@ struct SecondText {
 thread_local SecondText last_second;
 
 // Writes a line through a raw pointer into space reserved for its bound, so that no
-// character is checked against a capacity: the event loop formats one line per
+// character is checked against a capacity: the writer thread formats one line per
 // transaction, and per-character appends were most of its cost. The loops work on a
 // local copy of the pointer: a store through a char pointer may alias the member, which
 // would make the compiler reload it after every character.

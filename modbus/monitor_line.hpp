@@ -53,7 +53,7 @@ void append_monitor_line(std::string& out, const MonitorFields& fields, MonitorF
 void append_drop_notice(std::string& out, std::chrono::system_clock::time_point time, std::uint64_t dropped,
                         MonitorFormat format);
 /// The same line written into `out`, which has room for monitor_line_bound(fields) bytes
-/// (no string to grow: the monitor formats straight into its queue).
+/// (no string to grow: the monitor's writer formats straight into its write buffer).
 /// Returns the end of what was written.
 std::size_t monitor_line_bound(const MonitorFields& fields);
 char* write_monitor_line(char* out, const MonitorFields& fields, MonitorFormat format);

@@ -169,10 +169,10 @@ class RecordingSink : public MonitorSink {
   std::shared_ptr<std::string> text_;
 };
 
-// Lines of every length wrap around the ring many times: each one the writer hands on is
-// whole, in order, and says exactly what was pushed (frames longer than an ADU cut, Rc
+// Transactions of every length go round a small ring many times: each line the writer
+// hands on is whole, in order, and says exactly what was pushed (frames longer than an ADU cut, Rc
 // still their size; a peer longer than 64 characters cut).
-TEST(MonitorWriter, LinesOfEveryLengthComeOutWholeAcrossTheRingsEnd) {
+TEST(MonitorWriter, TransactionsOfEveryLengthComeOutWholeAndInOrder) {
   for (const auto format : {modbus::MonitorFormat::text, modbus::MonitorFormat::json}) {
     auto text = std::make_shared<std::string>();
     auto sink = std::make_unique<RecordingSink>(text);
@@ -180,7 +180,7 @@ TEST(MonitorWriter, LinesOfEveryLengthComeOutWholeAcrossTheRingsEnd) {
     std::vector<std::unique_ptr<MonitorSink>> sinks;
     sinks.push_back(std::move(sink));
     MonitorWriter::Options options;
-    options.capacity = 16;  // a ring of a few of the longest lines
+    options.capacity = 16;
     options.batch_window = 0ms;
     options.format = format;
     MonitorWriter writer(std::move(sinks), options);
