@@ -6,6 +6,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "modbus/hex_text.hpp"
+
 namespace unima::modbus {
 
 namespace {
@@ -14,16 +16,6 @@ using Clock = std::chrono::system_clock;
 
 constexpr std::array<std::string_view, 7> state_names = {"Done",  "Not4Me", "Err01",  "Err02",
                                                          "Err03", "Err04",  "Timeout"};
-constexpr char hex_digits[] = "0123456789ABCDEF";
-
-// "00 " .. "FF ", four bytes a cell so that one load and one store write a byte's text
-// (the fourth byte is overwritten by the next cell or lies in the line's spare room).
-constexpr auto hex_cells = [] {
-  std::array<std::array<char, 4>, 256> cells{};
-  for (std::size_t b = 0; b < cells.size(); ++b) cells[b] = {hex_digits[b >> 4], hex_digits[b & 0x0F], ' ', ' '};
-  return cells;
-}();
-
 // The last UTC second formatted, per thread: lines come many per second, and the date and
 // clock of a second are the costly part of a time stamp.
 struct SecondText {
@@ -49,32 +41,18 @@ class LineWriter {
     std::memcpy(p_, text.data(), text.size());
     p_ += text.size();
   }
-  void hex_byte(std::uint8_t byte) {
-    std::memcpy(p_, hex_cells[byte].data(), 2);
-    p_ += 2;
-  }
+  void hex_byte(std::uint8_t byte) { p_ = write_hex_digits(p_, byte); }
   void hex16(std::uint16_t value) {
     hex_byte(static_cast<std::uint8_t>(value >> 8));
     hex_byte(static_cast<std::uint8_t>(value));
   }
-  // "04 00 11", or "-" for nothing. The bound leaves room for the last cell's spare bytes.
+  // "04 00 11", or "-" for nothing. The bound leaves room for the last cell's spare byte.
   void hex_bytes(std::span<const std::uint8_t> bytes) {
     if (bytes.empty()) {
       put('-');
       return;
     }
-    char* p = p_;
-    const std::uint8_t* byte = bytes.data();
-    const std::uint8_t* const end = byte + bytes.size();
-    // Four at a time: a response of 64 registers is 137 bytes, most of a line's text.
-    for (; end - byte >= 4; byte += 4, p += 12) {
-      std::memcpy(p, hex_cells[byte[0]].data(), 4);
-      std::memcpy(p + 3, hex_cells[byte[1]].data(), 4);
-      std::memcpy(p + 6, hex_cells[byte[2]].data(), 4);
-      std::memcpy(p + 9, hex_cells[byte[3]].data(), 4);
-    }
-    for (; byte != end; ++byte, p += 3) std::memcpy(p, hex_cells[*byte].data(), 4);
-    p_ = p - 1;  // no space after the last byte
+    p_ = write_hex_cells(p_, bytes.data(), bytes.size()) - 1;  // no space after the last byte
   }
   void decimal(std::uint64_t value) { p_ = std::to_chars(p_, p_ + 20, value).ptr; }
   void digits(unsigned value, int width) {
