@@ -97,16 +97,20 @@ void MonitorWriter::wait_for_work(std::uint64_t head) {
   writer_state_.store(WriterState::busy, std::memory_order_relaxed);
 }
 
-char* MonitorWriter::format(const Entry& e, char* out, std::string& port) const {
+char* MonitorWriter::format(const Entry& e, char* out, PortName& port) const {
   const modbus::Transaction t{e.port,
                               std::string_view(e.peer, e.peer_size),
                               std::chrono::system_clock::time_point(std::chrono::system_clock::duration(e.time)),
                               e.state,
                               std::span<const std::uint8_t>(e.frames, e.query_size),
                               std::span<const std::uint8_t>(e.frames + e.query_size, e.response_size)};
-  port.clear();
-  modbus::append_port_name(port, t.port, t.peer);
-  auto fields = modbus::monitor_fields(t, e.ix, port);
+  if (port.name.empty() || port.port != t.port || port.peer != t.peer) {
+    port.port = t.port;
+    port.peer.assign(t.peer);
+    port.name.clear();
+    modbus::append_port_name(port.name, t.port, t.peer);
+  }
+  auto fields = modbus::monitor_fields(t, e.ix, port.name);
   fields.rc = e.rc;
   assert(modbus::monitor_line_bound(fields) <= max_line);
   return modbus::write_monitor_line(out, fields, options_.format);
@@ -123,7 +127,7 @@ void MonitorWriter::run() {
     for (const auto& sink : sinks_) sink->write({text.get(), used});
     used = 0;
   };
-  std::string port;
+  PortName port;
   std::string notice;
   std::size_t head_slot = 0;
   while (true) {

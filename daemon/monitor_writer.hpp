@@ -20,6 +20,7 @@
 #include <cstdint>
 #include <memory>
 #include <mutex>
+#include <string>
 #include <string_view>
 #include <thread>
 #include <type_traits>
@@ -92,7 +93,14 @@ class MonitorWriter {
   void run();
   void wait_for_work(std::uint64_t head);
   // Writes the entry's line at `out`, which has room for max_line bytes; returns its end.
-  char* format(const Entry& entry, char* out, std::string& port) const;
+  // The last port name formatted, built again only when the port or the peer changes: a
+  // client's transactions come in runs.
+  struct PortName {
+    modbus::PortKind port{};
+    std::string peer;
+    std::string name;
+  };
+  char* format(const Entry& entry, char* out, PortName& port) const;
   static const std::size_t max_line;
   // The next slot after `index`: counting on is cheaper than dividing a position.
   std::size_t next_slot(std::size_t index) const { return index + 1 == capacity_ ? 0 : index + 1; }
