@@ -68,7 +68,6 @@ class FileAppender {
   Stage release_stage();
 
  private:
-
   void reserve_for(std::uint64_t end);
   bool write_whole_blocks();
   bool write_through_page_cache(std::uint64_t offset, std::string_view bytes);

@@ -92,7 +92,6 @@ class MonitorWriter {
 
   void run();
   void wait_for_work(std::uint64_t head);
-  // Writes the entry's line at `out`, which has room for max_line bytes; returns its end.
   // The last port name formatted, built again only when the port or the peer changes: a
   // client's transactions come in runs.
   struct PortName {
@@ -100,6 +99,7 @@ class MonitorWriter {
     std::string peer;
     std::string name;
   };
+  // Writes the entry's line at `out`, which has room for max_line bytes; returns its end.
   char* format(const Entry& entry, char* out, PortName& port) const;
   static const std::size_t max_line;
   // The next slot after `index`: counting on is cheaper than dividing a position.
