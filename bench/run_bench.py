@@ -305,11 +305,25 @@ def idle_check(server: Server, seconds: float, clients: int) -> dict:
             "idle_clients": clients, "idle_clients_cpu_ms": connected_cpu, "idle_clients_wakeups": connected_wakeups}
 
 
-def ratios(cells: dict, depth: int, connections: int, name: str, reference: str, key: str) -> float:
-    """The median over rounds of name/reference for `key`, paired round by round."""
+def round_ratios(cells: dict, depth: int, connections: int, name: str, reference: str, key: str) -> list[float]:
+    """name/reference for `key`, paired round by round."""
     mine = cells[(depth, connections, name)].runs
     theirs = cells[(depth, connections, reference)].runs
-    return statistics.median(a[key] / b[key] for a, b in zip(mine, theirs) if b[key] > 0)
+    return [a[key] / b[key] for a, b in zip(mine, theirs) if b[key] > 0]
+
+
+def ratios(cells: dict, depth: int, connections: int, name: str, reference: str, key: str) -> float:
+    """The median over rounds of name/reference for `key`, paired round by round."""
+    return statistics.median(round_ratios(cells, depth, connections, name, reference, key))
+
+
+def quartiles(values: list[float]) -> str:
+    """" (rounds a – b)": where the middle half of the per-round ratios lie, so that a reader
+    sees how far this run's median could move in the next one."""
+    if len(values) < 4:
+        return ""
+    q1, _, q3 = statistics.quantiles(values, n=4)
+    return f" (rounds {q1:.2f} – {q3:.2f})"
 
 
 # --- exact counts -------------------------------------------------------------------------
@@ -490,7 +504,8 @@ def print_report(results: dict, kinds: list[ServerKind], settings: Settings) -> 
                     f"{ratios(cells, depth, connections, kind.name, reference, 'rps'):>11.2f} "
                     f"{ratios(cells, depth, connections, kind.name, reference, 'p99_us'):>9.2f}")
                 if kind.name != bridge and not kind.reference:  # another config: its cost over the plain one
-                    ratio += (f"   vs {bridge}: req/s {ratios(cells, depth, connections, kind.name, bridge, 'rps'):.2f}"
+                    per_round = round_ratios(cells, depth, connections, kind.name, bridge, 'rps')
+                    ratio += (f"   vs {bridge}: req/s {statistics.median(per_round):.2f}{quartiles(per_round)}"
                               f", p99 {ratios(cells, depth, connections, kind.name, bridge, 'p99_us'):.2f}")
                 if "monitor_dropped" in cell.runs[0]:
                     ratio += f", monitor lines dropped {sum(run['monitor_dropped'] for run in cell.runs)}"
