@@ -1,15 +1,18 @@
 // The monitor's file appender (daemon/file_appender.hpp): whatever way the bytes take —
 // whole blocks past the page cache, the partial last block through it, or everything
-// through it where O_DIRECT is refused — the file holds exactly what was appended, in
-// order, and readers see it after flush().
+// through it where O_DIRECT is refused or a direct write failed — the file holds exactly
+// what was appended (less what a failed write lost, with no hole), in order, and readers
+// see it after flush().
 
 #include <fcntl.h>
 #include <sys/mman.h>
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <gtest/gtest.h>
 
 #include <cerrno>
+#include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -153,6 +156,59 @@ TEST(FileAppender, AStageReleasedByOneFileServesTheNext) {
   }
   EXPECT_EQ(read_file(first_path), first_text);
   EXPECT_EQ(read_file(next_path), next_text);
+}
+
+// Sets the largest file this process may write (RLIMIT_FSIZE) for a scope: past it, writes
+// fail with EFBIG — the direct ones as well, which is how a direct write is made to fail
+// here (a full disk would do the same, and no test can fill one).
+class FileSizeLimit {
+ public:
+  explicit FileSizeLimit(rlim_t bytes) {
+    ::getrlimit(RLIMIT_FSIZE, &saved_);
+    old_handler_ = std::signal(SIGXFSZ, SIG_IGN);  // else the kernel's signal ends the test
+    rlimit limit = saved_;
+    limit.rlim_cur = bytes;
+    ::setrlimit(RLIMIT_FSIZE, &limit);
+  }
+  ~FileSizeLimit() {
+    ::setrlimit(RLIMIT_FSIZE, &saved_);
+    std::signal(SIGXFSZ, old_handler_);
+  }
+  FileSizeLimit(const FileSizeLimit&) = delete;
+  FileSizeLimit& operator=(const FileSizeLimit&) = delete;
+
+ private:
+  rlimit saved_{};
+  void (*old_handler_)(int) = nullptr;
+};
+
+// A direct write that fails says so (errno) and loses what it held, and the appender goes
+// on through the page cache: what is appended once writing works again follows the last
+// bytes written, with no hole where the lost ones would have been.
+TEST(FileAppender, AfterAFailedDirectWriteItGoesOnThroughThePageCache) {
+  TempDir dir;
+  if (!file_system_takes_direct_writes(dir.path())) GTEST_SKIP() << dir.path() << " refuses O_DIRECT";
+  const auto path = dir.path() / "monitor.log";
+  const std::string written_before(2 * FileAppender::block, 'a');  // whole blocks: direct
+  const auto lost = lines(0, 30000);                                 // more than a stage
+  const auto written_after = lines(30000, 100);
+  ASSERT_GT(lost.size(), FileAppender::stage_capacity);
+  {
+    FileAppender file(path.string());
+    ASSERT_TRUE(file.direct());
+    ASSERT_TRUE(file.append(written_before));
+    ASSERT_TRUE(file.flush());
+    {
+      const FileSizeLimit limit(written_before.size());
+      errno = 0;
+      EXPECT_FALSE(file.append(lost));
+      EXPECT_EQ(errno, EFBIG);
+    }
+    EXPECT_FALSE(file.direct()) << "still writing past the page cache after a failed direct write";
+    ASSERT_TRUE(file.append(written_after));
+    EXPECT_EQ(read_file(path), written_before + written_after) << "appended at once through the page cache";
+  }
+  EXPECT_EQ(read_file(path), written_before + written_after);
 }
 
 // The route taken where O_DIRECT is refused (or a direct write failed): every append is
