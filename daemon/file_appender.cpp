@@ -165,8 +165,16 @@ bool FileAppender::write_whole_blocks() {
   return true;
 }
 
+// A write that fails part-way (a full disk) may have put some of its bytes in the file.
+// Every caller counts them all as lost and writes the next lines at `offset`, so they are
+// cut off again: otherwise whatever the next lines do not cover would stay behind them, a
+// piece of a lost line at the end of the file.
 bool FileAppender::write_through_page_cache(std::uint64_t offset, std::string_view bytes) {
-  return pwrite_all(fd_, bytes.data(), bytes.size(), offset);
+  if (pwrite_all(fd_, bytes.data(), bytes.size(), offset)) return true;
+  const int error = errno;
+  if (::ftruncate(fd_, static_cast<off_t>(offset)) == 0) reserved_ = std::min(reserved_, offset);
+  errno = error;
+  return false;
 }
 
 // A direct write failed (the file system refused the alignment, the disk is full, ...):

@@ -211,6 +211,30 @@ TEST(FileAppender, AfterAFailedDirectWriteItGoesOnThroughThePageCache) {
   EXPECT_EQ(read_file(path), written_before + written_after);
 }
 
+// A write the limit cuts short puts part of its bytes in the file before it fails: they are
+// cut off again, so that nothing of the lost lines is left behind the next ones — through
+// the page cache, and through a direct write whose page-cache fallback fails too.
+TEST(FileAppender, AWriteThatFailsPartWayLeavesNothingOfItBehind) {
+  TempDir dir;
+  for (const auto route : {FileAppender::Route::page_cache, FileAppender::Route::direct_where_possible}) {
+    const auto path = dir.path() / (route == FileAppender::Route::page_cache ? "cached.log" : "direct.log");
+    const std::string written_before(2 * FileAppender::block, 'a');
+    const auto lost = lines(0, 30000);  // more than a stage
+    const auto written_after = lines(30000, 10);  // far shorter than what the limit let through
+    FileAppender file(path.string(), route);
+    ASSERT_TRUE(file.append(written_before));
+    ASSERT_TRUE(file.flush());
+    {
+      const FileSizeLimit limit(written_before.size() + 5000);  // part of `lost` fits
+      EXPECT_FALSE(file.append(lost));
+    }
+    EXPECT_EQ(file.size(), written_before.size());
+    ASSERT_TRUE(file.append(written_after));
+    ASSERT_TRUE(file.flush());
+    EXPECT_EQ(read_file(path), written_before + written_after) << path;
+  }
+}
+
 // The route taken where O_DIRECT is refused (or a direct write failed): every append is
 // in the file at once.
 TEST(FileAppender, ThroughThePageCacheEveryAppendIsInTheFileAtOnce) {
