@@ -36,7 +36,11 @@ void FileAppender::FreeAligned::operator()(char* p) const { std::free(p); }
 
 FileAppender::FileAppender(const std::string& path, Route route, std::uint64_t reserve_up_to, Stage stage)
     : stage_(std::move(stage)), reserve_up_to_(reserve_up_to) {
-  fd_ = ::open(path.c_str(), O_WRONLY | O_CREAT | O_CLOEXEC, 0640);
+  // Read too: continuing an existing file in the middle of a block (a restart, a reload)
+  // reads that block back into the stage, or every block of that file would go through
+  // the page cache. A file we may only write is still appended to, that way.
+  fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0640);
+  if (fd_ < 0 && errno == EACCES) fd_ = ::open(path.c_str(), O_WRONLY | O_CREAT | O_CLOEXEC, 0640);
   if (fd_ < 0) return;
   struct stat st{};
   if (::fstat(fd_, &st) != 0) {
