@@ -77,8 +77,9 @@ TEST(FileAppender, GoesOnFromTheMiddleOfABlockOfAnExistingFile) {
   {
     FileAppender file(path.string());
     EXPECT_EQ(file.size(), before.size());
-    if (file_system_takes_direct_writes(dir.path()))
+    if (file_system_takes_direct_writes(dir.path())) {
       EXPECT_TRUE(file.direct()) << "the last block read back into the stage, whole blocks still direct";
+    }
     ASSERT_TRUE(file.append(lines(60, 3000)));
   }
   EXPECT_EQ(read_file(path), before + lines(60, 3000));
