@@ -110,7 +110,6 @@ class LineWriter {
     put('Z');
   }
 
-
  private:
   char* p_;
 };
@@ -202,6 +201,11 @@ void write_json(LineWriter& w, const MonitorFields& f) {
     w.put('"');
   }
   w.put("}\n");
+}
+
+void write_line(LineWriter& w, const MonitorFields& f, MonitorFormat format) {
+  if (format == MonitorFormat::json) write_json(w, f);
+  else write_text(w, f);
 }
 
 void write_drop_notice(LineWriter& w, Clock::time_point time, std::uint64_t dropped, MonitorFormat format) {
@@ -476,21 +480,17 @@ std::size_t monitor_line_bound(const MonitorFields& f) {
 
 char* write_monitor_line(char* out, const MonitorFields& fields, MonitorFormat format) {
   LineWriter w(out);
-  if (format == MonitorFormat::json) write_json(w, fields);
-  else write_text(w, fields);
+  write_line(w, fields, format);
   return w.end();
 }
 
 void append_monitor_line(std::string& out, const MonitorFields& fields, MonitorFormat format) {
-  const auto start = out.size();
-  out.resize(start + monitor_line_bound(fields));
-  out.resize(static_cast<std::size_t>(write_monitor_line(out.data() + start, fields, format) - out.data()));
+  append_bounded(out, monitor_line_bound(fields), [&](LineWriter& w) { write_line(w, fields, format); });
 }
 
 void append_drop_notice(std::string& out, Clock::time_point time, std::uint64_t dropped, MonitorFormat format) {
   append_bounded(out, 128, [&](LineWriter& w) { write_drop_notice(w, time, dropped, format); });
 }
-
 
 void append_utc_time(std::string& out, Clock::time_point time) {
   append_bounded(out, 32, [&](LineWriter& w) { w.utc_time(time); });

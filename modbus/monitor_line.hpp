@@ -52,10 +52,11 @@ MonitorFields monitor_fields(const Transaction& transaction, std::uint8_t ix, st
 void append_monitor_line(std::string& out, const MonitorFields& fields, MonitorFormat format);
 void append_drop_notice(std::string& out, std::chrono::system_clock::time_point time, std::uint64_t dropped,
                         MonitorFormat format);
+/// The most bytes the line of `fields` can take, in either format.
+std::size_t monitor_line_bound(const MonitorFields& fields);
 /// The same line written into `out`, which has room for monitor_line_bound(fields) bytes
 /// (no string to grow: the monitor's writer formats straight into its write buffer).
 /// Returns the end of what was written.
-std::size_t monitor_line_bound(const MonitorFields& fields);
 char* write_monitor_line(char* out, const MonitorFields& fields, MonitorFormat format);
 
 /// "2026-11-22T14:41:23.123456Z"
