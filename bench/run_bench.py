@@ -107,11 +107,13 @@ class Server:
     def __init__(self, kind: ServerKind, tools: "Tools", workdir: Path, wrapper: list[str] | None = None,
                  start_timeout: float = 10):
         self.kind = kind
-        self.workdir = workdir
         self.modbus_port = free_port()
         self.feed_port = free_port()
         self.log_path = workdir / f"{kind.name}-{self.modbus_port}.log"
         command = kind.command(tools, workdir, self.modbus_port, self.feed_port)
+        # Where a daemon's config puts its status socket (`@DIR@/control.sock`); None for the reference.
+        self.control_socket = (None if kind.reference
+                               else kind.directory(workdir, self.modbus_port) / "control.sock")
         self.wrapped = wrapper is not None
         self.log = open(self.log_path, "w")
         self.process = subprocess.Popen((wrapper or []) + command, stdout=self.log, stderr=subprocess.STDOUT,
@@ -134,14 +136,11 @@ class Server:
 
     def control_status(self) -> dict | None:
         """The daemon's status document (its control socket, `status.socket`), if it has one."""
-        if self.kind.reference:
-            return None
-        path = self.kind.directory(self.workdir, self.modbus_port) / "control.sock"
-        if not path.exists():
+        if self.control_socket is None or not self.control_socket.exists():
             return None
         with socket.socket(socket.AF_UNIX, socket.SOCK_STREAM) as s:
             s.settimeout(5)
-            s.connect(str(path))
+            s.connect(str(self.control_socket))
             data = b""
             while chunk := s.recv(65536):
                 data += chunk
