@@ -57,6 +57,7 @@ bool MonitorWriter::push(const modbus::Transaction& t, std::uint8_t ix) {
   // Its price is that this push may miss a writer falling asleep at the same moment;
   // the writer covers that by looking once more after a short wait (wait_for_work).
   tail_.store(tail + 1, std::memory_order_release);
+  prepare_slot(slots_[tail_slot_], e.extent());
   const auto state = writer_state_.load(std::memory_order_relaxed);
   // Only a sleeping writer needs the (system-call) wake-up; a batching one is cut short
   // when the queue is half full.
@@ -68,6 +69,18 @@ bool MonitorWriter::push(const modbus::Transaction& t, std::uint8_t ix) {
     wake_.notify_one();
   }
   return true;
+}
+
+// The writer read the next slot's lines when it was last used, so the other core holds
+// them (or they left this one's caches): storing into them waits for the lines, and the
+// loop's next locked instruction — each system call's cancellation bookkeeping, a
+// shared_ptr's count — waits for those stores to land: 150 – 200 ns a request at 8
+// connections, measured (docs/performance.md, "Fifth pass"). Asking for the lines now, a
+// transaction ahead, takes that wait off the serving path; the next transaction is most
+// likely as long as this one.
+void MonitorWriter::prepare_slot(const Entry& slot, std::size_t extent) {
+  const auto* const begin = reinterpret_cast<const char*>(&slot);
+  for (std::size_t line = 0; line < extent; line += 64) __builtin_prefetch(begin + line, 1);
 }
 
 // Sleeps until a transaction is queued, then gives the port the batch window to queue

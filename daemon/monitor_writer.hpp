@@ -17,6 +17,7 @@
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
+#include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <mutex>
@@ -75,8 +76,9 @@ class MonitorWriter {
   // One transaction as copied from the port, so the port may reuse its buffers at once.
   // Trivial to construct: the ring is allocated untouched, and a slot costs memory only
   // once a transaction was copied into it. The response follows the query in `frames`,
-  // so a transaction fills a few adjacent cache lines, not a 600-byte stride.
-  struct Entry {
+  // so a transaction fills a few adjacent cache lines, not a 600-byte stride; each slot
+  // begins a cache line, so that prepare_slot knows which lines the next one takes.
+  struct alignas(64) Entry {
     std::chrono::system_clock::rep time;  // ticks since the epoch (a time_point would zero itself)
     std::uint32_t rc;  // the query's size on the wire, even when longer than kept
     std::uint16_t query_size;
@@ -87,10 +89,14 @@ class MonitorWriter {
     std::uint8_t peer_size;
     char peer[64];  // "address:port" of a TCP client; longer is cut
     std::uint8_t frames[2 * max_frame];  // the query, then the response
+
+    // How far into the slot this transaction reaches.
+    std::size_t extent() const { return offsetof(Entry, frames) + query_size + response_size; }
   };
   enum class WriterState : std::uint8_t { idle, batching, busy };
 
   void run();
+  static void prepare_slot(const Entry& slot, std::size_t extent);
   void wait_for_work(std::uint64_t head);
   // The last port name formatted, built again only when the port or the peer changes: a
   // client's transactions come in runs.
