@@ -82,6 +82,7 @@ class ServerKind:
     name: str
     reference: bool = False
     config_template: Path | None = None  # a bridge config with @MODBUS_PORT@ etc.
+    binary: str | None = None  # another build of the daemon than tools.bridged (--other-bridged)
 
     def command(self, tools: "Tools", workdir: Path, modbus_port: int, feed_port: int) -> list[str]:
         if self.reference:
@@ -92,7 +93,7 @@ class ServerKind:
         text = text.replace("@DIR@", str(self.directory(workdir, modbus_port)))
         config = workdir / f"{self.name}-{modbus_port}.yaml"
         config.write_text(text)
-        return [tools.bridged, "--config", str(config)]
+        return [self.binary or tools.bridged, "--config", str(config)]
 
     def directory(self, workdir: Path, modbus_port: int) -> Path:
         """@DIR@: each daemon's own, so that no two share a control socket or monitor log."""
@@ -545,6 +546,10 @@ def main() -> int:
     parser.add_argument("--bridge-config", action="append", default=[], metavar="YAML",
                         help="another bridge config to measure beside bench/configs/bridge.yaml (repeatable); "
                              "@MODBUS_PORT@, @FEED_PORT@ and @DIR@ are filled in")
+    parser.add_argument("--other-bridged", metavar="BINARY",
+                        help="another build of unima-bridged (a change's parent, say), run with the same "
+                             "bridge configs in the same rounds; its rows are named other:CONFIG and compared "
+                             "with this build's plain daemon")
     parser.add_argument("--rounds", type=int, default=7)
     parser.add_argument("--duration", type=float, default=2.0, help="seconds per run")
     parser.add_argument("--warmup", type=float, default=0.3, help="seconds per run not measured")
@@ -593,6 +598,10 @@ def main() -> int:
     kinds = [ServerKind("libmodbus", reference=True), ServerKind("unima-bridged", config_template=BENCH_DIR / "configs/bridge.yaml")]
     for config in args.bridge_config:
         kinds.append(ServerKind(f"unima-bridged:{Path(config).stem}", config_template=Path(config).resolve()))
+    if args.other_bridged:
+        other = str(Path(args.other_bridged).resolve())
+        for config in [BENCH_DIR / "configs/bridge.yaml", *args.bridge_config]:
+            kinds.append(ServerKind(f"other:{Path(config).stem}", config_template=Path(config).resolve(), binary=other))
 
     results: dict = {"machine": machine(), "build_type": build_type(tools.bridged)}
     failed = False
