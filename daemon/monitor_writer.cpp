@@ -80,7 +80,7 @@ bool MonitorWriter::push(const modbus::Transaction& t, std::uint8_t ix) {
 // likely as long as this one.
 void MonitorWriter::prepare_slot(const Entry& slot, std::size_t extent) {
   const auto* const begin = reinterpret_cast<const char*>(&slot);
-  for (std::size_t line = 0; line < extent; line += 64) __builtin_prefetch(begin + line, 1);
+  for (std::size_t line = 0; line < extent; line += cache_line) __builtin_prefetch(begin + line, 1);
 }
 
 // Sleeps until a transaction is queued, then gives the port the batch window to queue

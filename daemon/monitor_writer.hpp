@@ -73,12 +73,13 @@ class MonitorWriter {
   static constexpr std::size_t max_frame = 260;
 
  private:
+  static constexpr std::size_t cache_line = 64;  // x86-64's and most ARM cores'
   // One transaction as copied from the port, so the port may reuse its buffers at once.
   // Trivial to construct: the ring is allocated untouched, and a slot costs memory only
   // once a transaction was copied into it. The response follows the query in `frames`,
   // so a transaction fills a few adjacent cache lines, not a 600-byte stride; each slot
   // begins a cache line, so that prepare_slot knows which lines the next one takes.
-  struct alignas(64) Entry {
+  struct alignas(cache_line) Entry {
     std::chrono::system_clock::rep time;  // ticks since the epoch (a time_point would zero itself)
     std::uint32_t rc;  // the query's size on the wire, even when longer than kept
     std::uint16_t query_size;
@@ -119,9 +120,9 @@ class MonitorWriter {
 
   // Positions count every transaction ever queued; [head, tail) are queued. The pusher
   // alone moves tail, the writer alone moves head, each on its own cache line.
-  alignas(64) std::atomic<std::uint64_t> tail_{0};
+  alignas(cache_line) std::atomic<std::uint64_t> tail_{0};
   std::size_t tail_slot_ = 0;  // the pusher's: the slot of tail
-  alignas(64) std::atomic<std::uint64_t> head_{0};
+  alignas(cache_line) std::atomic<std::uint64_t> head_{0};
   std::atomic<WriterState> writer_state_{WriterState::busy};
   std::atomic<bool> stopping_{false};
   std::uint64_t dropped_reported_ = 0;  // the writer's: drops the log already told
