@@ -51,7 +51,7 @@ FileAppender::FileAppender(const std::string& path, Route route, std::uint64_t r
     return;
   }
   const auto size = static_cast<std::uint64_t>(st.st_size);
-  base_ = reserved_ = size;
+  base_ = reserved_ = line_end_ = size;
   if (route == Route::page_cache) return;
   direct_fd_ = ::open(path.c_str(), O_WRONLY | O_DIRECT | O_CLOEXEC);
   if (direct_fd_ < 0) return;  // not on this file system: through the page cache
@@ -110,7 +110,7 @@ void FileAppender::reserve_for(std::uint64_t end) {
 bool FileAppender::append(std::string_view bytes) {
   reserve_for(size() + bytes.size());
   if (direct_fd_ < 0) {
-    if (!write_through_page_cache(base_, bytes)) return false;
+    if (!write_through_page_cache(base_, bytes)) return lose_unwritten();
     base_ += bytes.size();
     return true;
   }
@@ -134,10 +134,8 @@ bool FileAppender::flush() {
   if (direct_fd_ < 0) return true;  // nothing is ever held back
   if (!write_whole_blocks()) return false;
   if (staged_ == visible_) return true;
-  if (!write_through_page_cache(base_ + visible_, {stage_.get() + visible_, staged_ - visible_})) {
-    staged_ = visible_;  // lost; the next lines follow the last ones written
-    return false;
-  }
+  if (!write_through_page_cache(base_ + visible_, {stage_.get() + visible_, staged_ - visible_}))
+    return lose_unwritten();
   visible_ = staged_;
   return true;
 }
@@ -151,16 +149,16 @@ bool FileAppender::write_whole_blocks() {
     // it goes the same way. A direct write over a cached page makes the kernel drop that
     // page, and a reader that holds it at that moment (`tail -F` reads exactly there)
     // would keep it, stale, with zeros where the new lines are.
-    if (!write_through_page_cache(base_ + visible_, {stage_.get() + visible_, block - visible_})) {
-      staged_ = visible_;  // lost; the next lines follow the last ones written
-      return false;
-    }
+    if (!write_through_page_cache(base_ + visible_, {stage_.get() + visible_, block - visible_}))
+      return lose_unwritten();
     direct_from = block;
   }
-  if (whole > direct_from &&
-      !pwrite_all(direct_fd_, stage_.get() + direct_from, whole - direct_from, base_ + direct_from)) {
-    visible_ = direct_from;  // the first block is in the file either way
-    return fall_back_to_page_cache();
+  if (whole > direct_from) {
+    if (!pwrite_all(direct_fd_, stage_.get() + direct_from, whole - direct_from, base_ + direct_from)) {
+      visible_ = direct_from;  // the first block is in the file either way
+      return fall_back_to_page_cache();
+    }
+    note_written(stage_.get() + direct_from, whole - direct_from, base_ + direct_from);
   }
   std::memmove(stage_.get(), stage_.get() + whole, staged_ - whole);
   base_ += whole;
@@ -169,14 +167,32 @@ bool FileAppender::write_whole_blocks() {
   return true;
 }
 
-// A write that fails part-way (a full disk) may have put some of its bytes in the file.
-// Every caller counts them all as lost and writes the next lines at `offset`, so they are
-// cut off again: otherwise whatever the next lines do not cover would stay behind them, a
-// piece of a lost line at the end of the file.
 bool FileAppender::write_through_page_cache(std::uint64_t offset, std::string_view bytes) {
-  if (pwrite_all(fd_, bytes.data(), bytes.size(), offset)) return true;
+  if (!pwrite_all(fd_, bytes.data(), bytes.size(), offset)) return false;
+  note_written(bytes.data(), bytes.size(), offset);
+  return true;
+}
+
+void FileAppender::note_written(const char* bytes, std::size_t size, std::uint64_t offset) {
+  // From the end: a line is short, so this looks at one line, not at the whole write.
+  if (const auto* newline = static_cast<const char*>(::memrchr(bytes, '\n', size)))
+    line_end_ = offset + static_cast<std::uint64_t>(newline - bytes) + 1;
+}
+
+// What could not be written is lost, and so is what went before it of the same line: a
+// direct write ends at a block boundary, inside a line, and a write that fails part-way (a
+// full disk) may have put some of its bytes in the file. Left there, that piece of a line
+// would run into the next line written. So the file is cut back to its last whole line, and
+// the next lines follow that; through the page cache from here on, as after any failure,
+// since the stage's blocks no longer match the file's.
+bool FileAppender::lose_unwritten() {
   const int error = errno;
-  if (::ftruncate(fd_, static_cast<off_t>(offset)) == 0) reserved_ = std::min(reserved_, offset);
+  if (::ftruncate(fd_, static_cast<off_t>(line_end_)) == 0) reserved_ = std::min(reserved_, line_end_);
+  if (direct_fd_ >= 0) ::close(direct_fd_);
+  direct_fd_ = -1;
+  stage_.reset();
+  base_ = line_end_;
+  staged_ = visible_ = 0;
   errno = error;
   return false;
 }
@@ -184,16 +200,14 @@ bool FileAppender::write_through_page_cache(std::uint64_t offset, std::string_vi
 // A direct write failed (the file system refused the alignment, the disk is full, ...):
 // what is staged goes through the page cache, and so does everything after it.
 bool FileAppender::fall_back_to_page_cache() {
-  const int error = errno;
+  if (!write_through_page_cache(base_ + visible_, {stage_.get() + visible_, staged_ - visible_}))
+    return lose_unwritten();
   ::close(direct_fd_);
   direct_fd_ = -1;
-  const bool written =
-      write_through_page_cache(base_ + visible_, {stage_.get() + visible_, staged_ - visible_});
-  base_ += written ? staged_ : visible_;
+  base_ += staged_;
   staged_ = visible_ = 0;
   stage_.reset();
-  errno = error;
-  return written;
+  return true;
 }
 
 }  // namespace unima::daemon

@@ -14,8 +14,8 @@
 // Readers (`tail -F`, `unima-bridge monitor --follow`) see the lines at the latest on the
 // next flush(), when the stage fills, or `tail_delay` after they came, whichever is first.
 //
-// Where O_DIRECT is refused (tmpfs, some network file systems) or a direct write fails,
-// the appender writes through the page cache instead, as any log file.
+// Where O_DIRECT is refused (tmpfs, some network file systems) or a write fails, the
+// appender writes through the page cache instead, as any log file.
 
 #include <chrono>
 #include <cstdint>
@@ -57,8 +57,10 @@ class FileAppender {
   /// The file's size once everything appended is written.
   std::uint64_t size() const { return base_ + staged_; }
 
-  /// False (errno set) when bytes could not be written; those bytes are lost, and the
-  /// file keeps no hole where they would have been.
+  /// Appends whole lines (`bytes` ends with a newline, as the monitor's sinks write). False
+  /// (errno set) when they could not be written: they are lost, and so is the beginning of
+  /// a line whose rest was lost; the file is cut back to its last whole line, with no hole,
+  /// and what is appended next follows that line.
   bool append(std::string_view bytes);
   /// Everything appended is in the file (readers see it) when this returns true.
   bool flush();
@@ -71,6 +73,8 @@ class FileAppender {
   void reserve_for(std::uint64_t end);
   bool write_whole_blocks();
   bool write_through_page_cache(std::uint64_t offset, std::string_view bytes);
+  void note_written(const char* bytes, std::size_t size, std::uint64_t offset);
+  bool lose_unwritten();
   bool fall_back_to_page_cache();
 
   int fd_ = -1;
@@ -82,6 +86,7 @@ class FileAppender {
   std::chrono::steady_clock::time_point hidden_since_{};  // when the first unwritten byte came
   std::uint64_t reserve_up_to_;
   std::uint64_t reserved_ = 0;  // the file's blocks are allocated up to here
+  std::uint64_t line_end_ = 0;  // the file offset after the last newline written
 };
 
 }  // namespace unima::daemon

@@ -1,8 +1,8 @@
 // The monitor's file appender (daemon/file_appender.hpp): whatever way the bytes take —
 // whole blocks past the page cache, the partial last block through it, or everything
 // through it where O_DIRECT is refused or a direct write failed — the file holds exactly
-// what was appended (less what a failed write lost, with no hole), in order, and readers
-// see it after flush().
+// what was appended (less what a failed write lost — whole lines —, with no hole), in
+// order, and readers see it after flush().
 
 #include <fcntl.h>
 #include <sys/mman.h>
@@ -192,8 +192,8 @@ TEST(FileAppender, AfterAFailedDirectWriteItGoesOnThroughThePageCache) {
   TempDir dir;
   if (!file_system_takes_direct_writes(dir.path())) GTEST_SKIP() << dir.path() << " refuses O_DIRECT";
   const auto path = dir.path() / "monitor.log";
-  const std::string written_before(2 * FileAppender::block, 'a');  // whole blocks: direct
-  const auto lost = lines(0, 30000);                                 // more than a stage
+  const auto written_before = std::string(2 * FileAppender::block - 1, 'a') + "\n";  // whole blocks: direct
+  const auto lost = lines(0, 30000);                                                  // more than a stage
   const auto written_after = lines(30000, 100);
   ASSERT_GT(lost.size(), FileAppender::stage_capacity);
   {
@@ -221,7 +221,7 @@ TEST(FileAppender, AWriteThatFailsPartWayLeavesNothingOfItBehind) {
   TempDir dir;
   for (const auto route : {FileAppender::Route::page_cache, FileAppender::Route::direct_where_possible}) {
     const auto path = dir.path() / (route == FileAppender::Route::page_cache ? "cached.log" : "direct.log");
-    const std::string written_before(2 * FileAppender::block, 'a');
+    const auto written_before = std::string(2 * FileAppender::block - 1, 'a') + "\n";
     const auto lost = lines(0, 30000);  // more than a stage
     const auto written_after = lines(30000, 10);  // far shorter than what the limit let through
     FileAppender file(path.string(), route);
@@ -236,6 +236,35 @@ TEST(FileAppender, AWriteThatFailsPartWayLeavesNothingOfItBehind) {
     ASSERT_TRUE(file.flush());
     EXPECT_EQ(read_file(path), written_before + written_after) << path;
   }
+}
+
+// A direct write ends at a block boundary, inside a line. When what follows it cannot be
+// written, the beginning of that line is cut off too: the file ends with its last whole line,
+// and the next lines follow it, never a piece of a lost line running into them.
+TEST(FileAppender, AFailedWriteLeavesTheFileEndingWithItsLastWholeLine) {
+  TempDir dir;
+  if (!file_system_takes_direct_writes(dir.path())) GTEST_SKIP() << dir.path() << " refuses O_DIRECT";
+  const auto path = dir.path() / "monitor.log";
+  const auto text = lines(0, 300);
+  const auto whole_blocks = text.size() / FileAppender::block * FileAppender::block;
+  ASSERT_GE(whole_blocks, 2 * FileAppender::block);
+  ASSERT_NE(text[whole_blocks - 1], '\n') << "the test needs a block boundary inside a line";
+  const auto kept = text.substr(0, text.rfind('\n', whole_blocks - 1) + 1);
+  const auto written_after = lines(300, 10);
+  FileAppender file(path.string());
+  ASSERT_TRUE(file.direct());
+  ASSERT_TRUE(file.append(text));  // held in the stage
+  {
+    const FileSizeLimit limit(whole_blocks);  // the whole blocks go out direct, the rest fails
+    errno = 0;
+    EXPECT_FALSE(file.flush());
+    EXPECT_EQ(errno, EFBIG);
+  }
+  EXPECT_EQ(read_file(path), kept);
+  EXPECT_EQ(file.size(), kept.size());
+  ASSERT_TRUE(file.append(written_after));
+  ASSERT_TRUE(file.flush());
+  EXPECT_EQ(read_file(path), kept + written_after);
 }
 
 // The route taken where O_DIRECT is refused (or a direct write failed): every append is
