@@ -72,14 +72,19 @@ FileAppender::FileAppender(const std::string& path, Route route, std::uint64_t r
 }
 
 FileAppender::Stage FileAppender::release_stage() {
-  // Whatever flush() could not write is lost already (staged_ == visible_); appending
-  // from here on goes through the page cache.
+  // A flush() that failed has cut its lines off already; appending from here on goes
+  // through the page cache.
   if (staged_ > visible_) (void)flush();
+  leave_direct_route(base_ + staged_);
+  return std::move(stage_);
+}
+
+// From here on everything goes through the page cache, the file continuing at `end`.
+void FileAppender::leave_direct_route(std::uint64_t end) {
   if (direct_fd_ >= 0) ::close(direct_fd_);
   direct_fd_ = -1;
-  base_ += staged_;
+  base_ = end;
   staged_ = visible_ = 0;
-  return std::move(stage_);
 }
 
 FileAppender::~FileAppender() {
@@ -188,11 +193,8 @@ void FileAppender::note_written(const char* bytes, std::size_t size, std::uint64
 bool FileAppender::lose_unwritten() {
   const int error = errno;
   if (::ftruncate(fd_, static_cast<off_t>(line_end_)) == 0) reserved_ = std::min(reserved_, line_end_);
-  if (direct_fd_ >= 0) ::close(direct_fd_);
-  direct_fd_ = -1;
+  leave_direct_route(line_end_);
   stage_.reset();
-  base_ = line_end_;
-  staged_ = visible_ = 0;
   errno = error;
   return false;
 }
@@ -202,10 +204,7 @@ bool FileAppender::lose_unwritten() {
 bool FileAppender::fall_back_to_page_cache() {
   if (!write_through_page_cache(base_ + visible_, {stage_.get() + visible_, staged_ - visible_}))
     return lose_unwritten();
-  ::close(direct_fd_);
-  direct_fd_ = -1;
-  base_ += staged_;
-  staged_ = visible_ = 0;
+  leave_direct_route(base_ + staged_);
   stage_.reset();
   return true;
 }

@@ -75,6 +75,7 @@ class FileAppender {
   bool write_through_page_cache(std::uint64_t offset, std::string_view bytes);
   void note_written(const char* bytes, std::size_t size, std::uint64_t offset);
   bool lose_unwritten();
+  void leave_direct_route(std::uint64_t end);
   bool fall_back_to_page_cache();
 
   int fd_ = -1;

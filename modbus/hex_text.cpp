@@ -25,8 +25,6 @@ constexpr auto hex_cells = [] {
 
 }  // namespace
 
-// The loop works on local pointers: a store through a char pointer may alias anything,
-// which would make the compiler reload a member after every cell.
 char* write_hex_cells_portable(char* out, const std::uint8_t* bytes, std::size_t size) {
   const std::uint8_t* const end = bytes + size;
   for (; end - bytes >= 4; bytes += 4, out += 12) {
