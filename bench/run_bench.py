@@ -570,7 +570,7 @@ def main() -> int:
     args = parser.parse_args()
 
     build = Path(args.build_dir)
-    tools = Tools(args.bridged or str(build / "daemon/unima-bridged"),
+    tools = Tools(args.bridged or str(build / "bin/unima-bridged"),
                   args.load or str(build / "bench/unima-bench-load"),
                   args.reference or str(build / "bench/unima-bench-libmodbus-server"),
                   args.propagation or str(build / "bench/unima-bench-propagation"))

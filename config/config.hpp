@@ -15,8 +15,8 @@
 #include "banks/device_table.hpp"
 #include "banks/register_store.hpp"
 #include "banks/source_ref.hpp"
-#include "modbus/device_profile.hpp"
-#include "modbus/master_value.hpp"
+#include "master/device_profile.hpp"
+#include "master/master_value.hpp"
 
 namespace unima::config {
 
@@ -68,7 +68,7 @@ struct Extensions {
 
 /// A foreign slave the master talks to (modbus.master.devices.N).
 struct MasterDeviceConfig {
-  const modbus::DeviceProfile* profile = nullptr;  // what its blocks' points refer to
+  const master::DeviceProfile* profile = nullptr;  // what its blocks' points refer to
   std::optional<Duration> min_gap;                 // else the profile's, else master.min_gap
   std::optional<Duration> response_timeout;        // else master.response_timeout
 };
@@ -116,11 +116,11 @@ struct Block {
   std::string origin;                      // "file:line:col" of the block
   // poll and send (SPEC §4 extensions): what goes over the wire and how it is converted
   std::uint8_t function = 0;               // poll 1, 2, 3, 4 (seed: 4); send 5, 6, 16 (seed: 6)
-  modbus::ValueType data_type = modbus::ValueType::word;
-  modbus::WordOrder word_order = modbus::WordOrder::low_first;
+  master::ValueType data_type = master::ValueType::word;
+  master::WordOrder word_order = master::WordOrder::low_first;
   double scale = 1.0;                      // device value x scale = bridge register
   std::uint16_t count = 1;                 // bits read together (functions 1, 2)
-  const modbus::DeviceProfile* profile = nullptr;
+  const master::DeviceProfile* profile = nullptr;
   std::string point;                       // the profile point named, if any
 
   bool is_slave_block() const { return type == Type::read || type == Type::write || type == Type::capture; }

@@ -171,11 +171,11 @@ class Loader {
     }
   }
 
-  const modbus::DeviceProfile* profile(const YAML::Node& node) const {
+  const master::DeviceProfile* profile(const YAML::Node& node) const {
     const auto id = yaml_.text(node);
-    const auto* found = modbus::find_profile(id);
+    const auto* found = master::find_profile(id);
     if (!found)
-      yaml_.fail(node, fmt::format("unknown device profile '{}' (known: {})", id, fmt::join(modbus::profile_ids(), ", ")));
+      yaml_.fail(node, fmt::format("unknown device profile '{}' (known: {})", id, fmt::join(master::profile_ids(), ", ")));
     return found;
   }
 
@@ -408,14 +408,14 @@ class Loader {
     }
     block.reg = point->reg;
     block.data_type = point->type;
-    block.count = point->type == modbus::ValueType::bits ? point->count : 1;
+    block.count = point->type == master::ValueType::bits ? point->count : 1;
     block.word_order = block.profile->word_order;
     if (!b["scale"]) block.scale = point->scale;
-    if (b["scale"] && point->type == modbus::ValueType::bits) yaml_.fail(b["scale"], "bits are not scaled");
+    if (b["scale"] && point->type == master::ValueType::bits) yaml_.fail(b["scale"], "bits are not scaled");
   }
 
   void register_block(const YAML::Node& b, Block& block, bool poll) {
-    using modbus::ValueType;
+    using master::ValueType;
     // The seed's blocks: MBS_F04 reads with function 4, MBS_F06 writes with 6.
     block.function = poll ? 4 : 6;
     if (const auto fn = b["function"]) {
@@ -431,10 +431,10 @@ class Loader {
     block.data_type = bits ? ValueType::bits : ValueType::word;
     if (const auto type_node = b["data_type"]) {
       const auto name = yaml_.text(type_node);
-      const auto type = modbus::parse_value_type(name);
+      const auto type = master::parse_value_type(name);
       if (!type) yaml_.fail(type_node, fmt::format("'{}' is not one of: bits, word, int, dint, dword, real", name));
       const bool fits = bits ? *type == ValueType::bits
-                             : *type != ValueType::bits && (block.function != 6 || modbus::register_span(*type) == 1);
+                             : *type != ValueType::bits && (block.function != 6 || master::register_span(*type) == 1);
       if (!fits)
         yaml_.fail(type_node, fmt::format("function {} does not {} {}{}", block.function, poll ? "read" : "write", name,
                                           block.function == 6 ? " (function 6 writes one register: word or int)" : ""));
@@ -444,11 +444,11 @@ class Loader {
       if (!bits) yaml_.fail(count, "'count' is for bits (functions 1 and 2): how many are read into the output");
       block.count = static_cast<std::uint16_t>(yaml_.number(count, 1, 16));
     }
-    block.word_order = block.profile ? block.profile->word_order : modbus::WordOrder::low_first;
+    block.word_order = block.profile ? block.profile->word_order : master::WordOrder::low_first;
     if (const auto order_node = b["word_order"]) {
-      const auto order = modbus::parse_word_order(yaml_.text(order_node));
+      const auto order = master::parse_word_order(yaml_.text(order_node));
       if (!order) yaml_.fail(order_node, fmt::format("'{}' is not one of: low_first, high_first", yaml_.text(order_node)));
-      if (modbus::register_span(block.data_type) != 2)
+      if (master::register_span(block.data_type) != 2)
         yaml_.fail(order_node, "word_order is for the 32-bit types (dint, dword, real)");
       block.word_order = *order;
     }
@@ -527,7 +527,7 @@ class Loader {
   YamlReader yaml_;
   Config config_;
   banks::BankShapes shapes_{};
-  std::map<std::uint8_t, std::pair<const modbus::DeviceProfile*, std::string>> profile_of_device_;
+  std::map<std::uint8_t, std::pair<const master::DeviceProfile*, std::string>> profile_of_device_;
 };
 
 }  // namespace
@@ -594,8 +594,8 @@ std::string_view block_type_name(Block::Type type) {
 }
 
 std::uint16_t Block::extent() const {
-  if (data_type == modbus::ValueType::bits) return count;
-  return static_cast<std::uint16_t>(modbus::register_span(data_type));
+  if (data_type == master::ValueType::bits) return count;
+  return static_cast<std::uint16_t>(master::register_span(data_type));
 }
 
 std::vector<const Block*> Config::active_blocks() const {

@@ -8,30 +8,30 @@ namespace unima::config {
 
 unsigned bits_per_char(const RtuConfig& rtu) { return 1 + 8 + (rtu.parity == Parity::none ? 0 : 1) + rtu.stop_bits; }
 
-std::vector<modbus::PlannedRequest> master_plan(const MasterSetup& setup) {
-  auto plan = modbus::plan_requests(setup.blocks, setup.plan);
+std::vector<master::PlannedRequest> master_plan(const MasterSetup& setup) {
+  auto plan = master::plan_requests(setup.blocks, setup.plan);
   std::vector<std::chrono::microseconds> slots;
   for (const auto& r : plan)
-    slots.push_back(modbus::transaction_estimate(r, setup.serial) +
+    slots.push_back(master::transaction_estimate(r, setup.serial) +
                     std::chrono::duration_cast<std::chrono::microseconds>(setup.scheduler.frame_gap));
   std::map<std::uint8_t, std::chrono::microseconds> gaps;
   for (const auto& [device, timing] : setup.devices)
     gaps[device] = std::chrono::duration_cast<std::chrono::microseconds>(timing.min_gap);
-  modbus::assign_phases(plan, slots, gaps);
+  master::assign_phases(plan, slots, gaps);
   return plan;
 }
 
 MasterSetup master_setup(const Config& config) {
   const auto& m = config.modbus.master;
   MasterSetup setup;
-  std::map<std::uint8_t, const modbus::DeviceProfile*> profiles;
+  std::map<std::uint8_t, const master::DeviceProfile*> profiles;
   for (const auto& [address, device] : m.devices)
     if (device.profile) profiles[address] = device.profile;
 
   for (const Block* block : config.active_blocks()) {
     if (block->type != Block::Type::poll && block->type != Block::Type::send) continue;
-    modbus::MasterBlock b;
-    b.kind = block->type == Block::Type::poll ? modbus::MasterBlock::Kind::poll : modbus::MasterBlock::Kind::send;
+    master::MasterBlock b;
+    b.kind = block->type == Block::Type::poll ? master::MasterBlock::Kind::poll : master::MasterBlock::Kind::send;
     b.device = block->device;
     b.function = block->function;
     b.reg = block->reg;
@@ -60,14 +60,14 @@ MasterSetup master_setup(const Config& config) {
   s.backoff_max = m.backoff_max;
   s.default_timing = {m.min_gap, m.response_timeout};
   if (const auto& rtu = config.modbus.rtu; rtu && m.tcp.empty()) {
-    setup.serial = modbus::SerialTiming{rtu->baud, bits_per_char(*rtu)};
+    setup.serial = master::SerialTiming{rtu->baud, bits_per_char(*rtu)};
     s.frame_gap = setup.serial->silence();
     s.char_time = setup.serial->char_time();
-    for (const auto& [address, profile] : profiles) s.frame_gap = std::max<modbus::MasterScheduler::Duration>(s.frame_gap, profile->frame_gap);
+    for (const auto& [address, profile] : profiles) s.frame_gap = std::max<master::MasterScheduler::Duration>(s.frame_gap, profile->frame_gap);
   }
   for (const auto& block : setup.blocks) {
     if (setup.devices.count(block.device)) continue;
-    modbus::MasterScheduler::DeviceTiming timing{m.min_gap, m.response_timeout};
+    master::MasterScheduler::DeviceTiming timing{m.min_gap, m.response_timeout};
     if (const auto p = profiles.find(block.device); p != profiles.end()) timing.min_gap = p->second->min_gap;
     if (const auto d = m.devices.find(block.device); d != m.devices.end()) {
       if (d->second.min_gap) timing.min_gap = *d->second.min_gap;

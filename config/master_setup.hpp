@@ -6,27 +6,27 @@
 #include <vector>
 
 #include "config/config.hpp"
-#include "modbus/master_plan.hpp"
-#include "modbus/master_scheduler.hpp"
+#include "master/master_plan.hpp"
+#include "master/master_scheduler.hpp"
 
 namespace unima::config {
 
 struct MasterSetup {
-  std::vector<modbus::MasterBlock> blocks;               // active poll and send blocks, in config order
+  std::vector<master::MasterBlock> blocks;               // active poll and send blocks, in config order
   std::vector<std::optional<banks::SourceRef>> sources;  // per block: what a send writes
   std::vector<Duration> stale_after;                     // per block: when a value goes stale
-  modbus::PlanOptions plan;
-  modbus::MasterScheduler::Options scheduler;
-  std::map<std::uint8_t, modbus::MasterScheduler::DeviceTiming> devices;
-  std::optional<modbus::SerialTiming> serial;            // the RTU line; nullopt for a TCP target
+  master::PlanOptions plan;
+  master::MasterScheduler::Options scheduler;
+  std::map<std::uint8_t, master::MasterScheduler::DeviceTiming> devices;
+  std::optional<master::SerialTiming> serial;            // the RTU line; nullopt for a TCP target
 };
 
 /// Everything the master needs from `config` (which is in master mode).
 MasterSetup master_setup(const Config& config);
 
-/// The requests of `setup`, merged (modbus::plan_requests) and phased
-/// (modbus::assign_phases) for its line and devices.
-std::vector<modbus::PlannedRequest> master_plan(const MasterSetup& setup);
+/// The requests of `setup`, merged (master::plan_requests) and phased
+/// (master::assign_phases) for its line and devices.
+std::vector<master::PlannedRequest> master_plan(const MasterSetup& setup);
 
 /// Bits per character on the RTU line: start, 8 data, parity, stop bits.
 unsigned bits_per_char(const RtuConfig& rtu);

@@ -5,4 +5,4 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh
 scripts/build.sh
-exec "${BUILD_DIR:-build}"/daemon/unima-bridged --config config/examples/demo.yaml
+exec "${BUILD_DIR:-build}"/bin/unima-bridged --config config/examples/demo.yaml

@@ -12,7 +12,7 @@
 //                then the bench's line (FC4, 64 registers, ~540 bytes) formatted and appended
 //                to a rotating file in batches, in this thread's CPU time (the kernel's
 //                share included), through the page cache and with whole blocks written
-//                past it (daemon/file_appender.hpp)
+//                past it (monitor/file_appender.hpp)
 // A real TCP transaction also costs the recv and send system calls (microseconds on
 // loopback), which this leaves out: the observe/serve ratio printed is an upper bound of
 // the monitor's share of the event loop's time.
@@ -32,11 +32,11 @@
 
 #include "banks/register_space.hpp"
 #include "config/config.hpp"
-#include "daemon/monitor.hpp"
-#include "daemon/monitor_sinks.hpp"
-#include "modbus/bank_model.hpp"
+#include "monitor/monitor.hpp"
+#include "monitor/monitor_sinks.hpp"
+#include "app/bank_model.hpp"
 #include "modbus/mbap.hpp"
-#include "modbus/monitor_line.hpp"
+#include "monitor/monitor_line.hpp"
 #include "modbus/request_handler.hpp"
 
 namespace {
@@ -71,7 +71,7 @@ double serve_cost(std::size_t n) {
                                         "monitor-cost");
   banks::RegisterStore store(config::bank_shapes(config));
   banks::RegisterSpace space(config::address_map(config), store, banks::AccessRules{true});
-  modbus::BankModel model(space);
+  app::BankModel model(space);
   modbus::HandlerOptions options;
   std::array<std::uint8_t, modbus::max_pdu_size> pdu{};
   std::array<std::uint8_t, modbus::max_tcp_adu_size> out{};
@@ -86,7 +86,7 @@ double serve_cost(std::size_t n) {
 }
 
 // observe() timed in batches; between batches (untimed) the writer catches up.
-double observe_cost(daemon::Monitor& monitor, std::size_t n, std::uint64_t& dropped) {
+double observe_cost(monitor::Monitor& monitor, std::size_t n, std::uint64_t& dropped) {
   const auto t = seed_transaction();
   constexpr std::size_t batch = 1000;
   double total_ns = 0;
@@ -112,7 +112,7 @@ int main(int argc, char** argv) {
   std::printf("%-44s %8.1f ns\n", "serve (MBAP + handler, no syscalls)", serve);
 
   const auto report = [&](const char* what, config::MonitorConfig c) {
-    daemon::Monitor monitor(c);
+    monitor::Monitor monitor(c);
     std::uint64_t dropped = 0;
     const double ns = observe_cost(monitor, n, dropped);
     std::printf("%-44s %8.1f ns  (%4.1f %% of serve; %llu dropped)\n", what, ns, 100.0 * ns / serve,
@@ -137,30 +137,30 @@ int main(int argc, char** argv) {
   // The writer thread's side.
   const auto t = seed_transaction();
   std::string port;
-  modbus::append_port_name(port, t.port, t.peer);
+  monitor::append_port_name(port, t.port, t.peer);
   std::string line;
   const double format_text = ns_per_op(n, [&](std::size_t i) {
     line.clear();
-    modbus::append_monitor_line(line, modbus::monitor_fields(t, static_cast<std::uint8_t>(i), port),
-                                modbus::MonitorFormat::text);
+    monitor::append_monitor_line(line, monitor::monitor_fields(t, static_cast<std::uint8_t>(i), port),
+                                monitor::MonitorFormat::text);
   });
   std::printf("%-44s %8.1f ns  (%zu bytes a line)\n", "writer: format a text line", format_text, line.size());
   const double format_json = ns_per_op(n, [&](std::size_t i) {
     line.clear();
-    modbus::append_monitor_line(line, modbus::monitor_fields(t, static_cast<std::uint8_t>(i), port),
-                                modbus::MonitorFormat::json);
+    monitor::append_monitor_line(line, monitor::monitor_fields(t, static_cast<std::uint8_t>(i), port),
+                                monitor::MonitorFormat::json);
   });
   std::printf("%-44s %8.1f ns\n", "writer: format a JSON line", format_json);
   {
-    daemon::RotatingFileSink sink((dir / "sink.log").string(), 10ull << 20, 2);
+    monitor::RotatingFileSink sink((dir / "sink.log").string(), 10ull << 20, 2);
     constexpr std::size_t batch = 256;
     std::string lines;
     const double ns = ns_per_op(n / batch, [&](std::size_t b) {
                         lines.clear();
                         for (std::size_t i = 0; i < batch; ++i)
-                          modbus::append_monitor_line(
-                              lines, modbus::monitor_fields(t, static_cast<std::uint8_t>(b + i), port),
-                              modbus::MonitorFormat::text);
+                          monitor::append_monitor_line(
+                              lines, monitor::monitor_fields(t, static_cast<std::uint8_t>(b + i), port),
+                              monitor::MonitorFormat::text);
                         sink.write(lines);
                       }) /
                       batch;
@@ -180,13 +180,13 @@ int main(int argc, char** argv) {
   std::string big_line;
   const double format_big = ns_per_op(n, [&](std::size_t i) {
     big_line.clear();
-    modbus::append_monitor_line(big_line, modbus::monitor_fields(big, static_cast<std::uint8_t>(i), port),
-                                modbus::MonitorFormat::text);
+    monitor::append_monitor_line(big_line, monitor::monitor_fields(big, static_cast<std::uint8_t>(i), port),
+                                monitor::MonitorFormat::text);
   });
   std::printf("%-44s %8.1f ns  (%zu bytes a line)\n", "writer: format a line of 64 registers", format_big,
               big_line.size());
-  for (const auto route : {daemon::FileAppender::Route::page_cache, daemon::FileAppender::Route::direct_where_possible}) {
-    daemon::RotatingFileSink sink((dir / "big.log").string(), 10ull << 20, 5, route);
+  for (const auto route : {monitor::FileAppender::Route::page_cache, monitor::FileAppender::Route::direct_where_possible}) {
+    monitor::RotatingFileSink sink((dir / "big.log").string(), 10ull << 20, 5, route);
     constexpr std::size_t batch = 2048;
     const std::size_t batches = std::max<std::size_t>(n / 200, 8);  // ~500 MB at the default n
     std::string lines;
@@ -195,8 +195,8 @@ int main(int argc, char** argv) {
     for (std::size_t b = 0; b < batches; ++b) {
       lines.clear();
       for (std::size_t i = 0; i < batch; ++i)
-        modbus::append_monitor_line(lines, modbus::monitor_fields(big, static_cast<std::uint8_t>(i), port),
-                                    modbus::MonitorFormat::text);
+        monitor::append_monitor_line(lines, monitor::monitor_fields(big, static_cast<std::uint8_t>(i), port),
+                                    monitor::MonitorFormat::text);
       sink.write(lines);
       bytes += lines.size();
     }
@@ -204,7 +204,7 @@ int main(int argc, char** argv) {
     const double ns = static_cast<double>(thread_cpu_ns() - cpu_start) / static_cast<double>(batches * batch);
     std::printf("%-44s %8.1f ns CPU  (%zu bytes a line, %s)\n", "writer: format + append, 64 registers", ns,
                 bytes / (batches * batch),
-                route == daemon::FileAppender::Route::page_cache ? "through the page cache" : "direct where possible");
+                route == monitor::FileAppender::Route::page_cache ? "through the page cache" : "direct where possible");
   }
   std::filesystem::remove_all(dir);
   return 0;

@@ -6,7 +6,7 @@
 
 #include <map>
 
-#include "daemon/rtu_slave_port.hpp"
+#include "io/rtu_slave_port.hpp"
 #include "tests/integration/rtu_line.hpp"
 #include "tests/support/map_registers.hpp"
 
@@ -26,7 +26,7 @@ class RtuPort : public ::testing::Test {
  protected:
   void SetUp() override {
     line = std::make_unique<PtyLine>(dir.path() / "tty");
-    daemon::SlaveContext context;
+    io::SlaveContext context;
     context.registers = &registers;
     context.unit_id = 1;
     context.options.max_read_registers = modbus::max_read_registers_rtu;
@@ -36,7 +36,7 @@ class RtuPort : public ::testing::Test {
     };
     config::RtuConfig rtu;
     rtu.device = line->link().string();
-    port = std::make_unique<daemon::RtuSlavePort>(io, rtu, context);
+    port = std::make_unique<io::RtuSlavePort>(io, rtu, context);
     port->set_foreign_listener([this](std::span<const std::uint8_t> q, std::span<const std::uint8_t> r) {
       foreign.emplace_back(Bytes(q.begin(), q.end()), Bytes(r.begin(), r.end()));
     });
@@ -59,7 +59,7 @@ class RtuPort : public ::testing::Test {
   asio::io_context io;
   // 0x0011..0x0012 readable (the seed's example), 0x0101 writable.
   test_support::MapRegisters registers{{{0x11, 0x0050}, {0x12, 0x7FFF}}, {{0x101, 0}}};
-  std::unique_ptr<daemon::RtuSlavePort> port;
+  std::unique_ptr<io::RtuSlavePort> port;
   std::vector<Seen> seen;
   std::vector<std::pair<Bytes, Bytes>> foreign;
   int faults = 0;
@@ -137,7 +137,7 @@ TEST_F(RtuPort, AForeignQueryWithoutResponseIsNot4MeAloneWhenTheNextQueryComes) 
 TEST_F(RtuPort, AForeignQueryWithoutResponseIsGivenUpAfterATimeOut) {
   line->write(rtu_adu(3, {0x04, 0x02, 0x00, 0x00, 0x01}));
   ASSERT_TRUE(run_until([&] { return !seen.empty(); },
-                        daemon::RtuSlavePort::foreign_response_timeout + std::chrono::milliseconds(3000)));
+                        io::RtuSlavePort::foreign_response_timeout + std::chrono::milliseconds(3000)));
   EXPECT_EQ(seen[0].state, TransactionState::not_for_me);
   EXPECT_TRUE(seen[0].response.empty());
 }

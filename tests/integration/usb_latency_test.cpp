@@ -5,7 +5,7 @@
 
 #include <fstream>
 
-#include "daemon/usb_latency.hpp"
+#include "io/usb_latency.hpp"
 #include "tests/integration/harness.hpp"
 
 namespace unima::test {
@@ -32,7 +32,7 @@ class UsbLatency : public ::testing::Test {
 };
 
 TEST_F(UsbLatency, FoundThroughTheDevicesRealPath) {
-  const auto timer = daemon::find_latency_timer((dir.path() / "dev/serial/by-id/usb-FTDI_FT232R-if00-port0").string(), sysfs);
+  const auto timer = io::find_latency_timer((dir.path() / "dev/serial/by-id/usb-FTDI_FT232R-if00-port0").string(), sysfs);
   ASSERT_TRUE(timer);
   EXPECT_EQ(timer->value, std::chrono::milliseconds(16));
   EXPECT_EQ(timer->file, sysfs / "bus/usb-serial/devices/ttyUSB3/latency_timer");
@@ -40,17 +40,17 @@ TEST_F(UsbLatency, FoundThroughTheDevicesRealPath) {
 
 TEST_F(UsbLatency, NoneForADeviceThatIsNoUsbAdapter) {
   std::ofstream(dir.path() / "dev" / "ttyS0");
-  EXPECT_FALSE(daemon::find_latency_timer((dir.path() / "dev/ttyS0").string(), sysfs));
-  EXPECT_FALSE(daemon::find_latency_timer((dir.path() / "dev/missing").string(), sysfs));
+  EXPECT_FALSE(io::find_latency_timer((dir.path() / "dev/ttyS0").string(), sysfs));
+  EXPECT_FALSE(io::find_latency_timer((dir.path() / "dev/missing").string(), sysfs));
 }
 
 TEST_F(UsbLatency, SetToOneMillisecond) {
-  auto timer = daemon::find_latency_timer((dir.path() / "dev/ttyUSB3").string(), sysfs);
+  auto timer = io::find_latency_timer((dir.path() / "dev/ttyUSB3").string(), sysfs);
   ASSERT_TRUE(timer);
   std::string error;
-  ASSERT_TRUE(daemon::set_latency_timer(*timer, std::chrono::milliseconds(1), error)) << error;
+  ASSERT_TRUE(io::set_latency_timer(*timer, std::chrono::milliseconds(1), error)) << error;
   EXPECT_EQ(timer->value, std::chrono::milliseconds(1));
-  EXPECT_EQ(daemon::find_latency_timer((dir.path() / "dev/ttyUSB3").string(), sysfs)->value, std::chrono::milliseconds(1));
+  EXPECT_EQ(io::find_latency_timer((dir.path() / "dev/ttyUSB3").string(), sysfs)->value, std::chrono::milliseconds(1));
 }
 
 }  // namespace

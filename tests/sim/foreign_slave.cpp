@@ -6,8 +6,8 @@ namespace unima::sim {
 
 namespace {
 
-using modbus::DataTable;
-using modbus::ValueType;
+using master::DataTable;
+using master::ValueType;
 
 Bytes exception(std::uint8_t function, std::uint8_t code) { return {static_cast<std::uint8_t>(function | 0x80), code}; }
 
@@ -17,10 +17,10 @@ std::uint16_t get16(std::span<const std::uint8_t> b, std::size_t at) {
 
 }  // namespace
 
-ForeignSlave::ForeignSlave(const modbus::DeviceProfile& profile) : profile_(&profile) {
+ForeignSlave::ForeignSlave(const master::DeviceProfile& profile) : profile_(&profile) {
   for (const auto& point : profile.points) {
     const auto mark = [&](std::uint8_t fn, bool reading) {
-      auto& t = table(*modbus::table_of_function(fn));
+      auto& t = table(*master::table_of_function(fn));
       for (std::uint32_t r = point.reg; r < std::uint32_t{point.reg} + point.extent(); ++r) {
         auto& cell = t[static_cast<std::uint16_t>(r)];
         (reading ? cell.readable : cell.writable) = true;
@@ -30,16 +30,16 @@ ForeignSlave::ForeignSlave(const modbus::DeviceProfile& profile) : profile_(&pro
     for (auto fn : point.write_functions) mark(fn, false);
     if (!point.example || point.length > 1) continue;
     const auto fn = point.read_functions.empty() ? point.write_functions.front() : point.read_functions.front();
-    auto& t = table(*modbus::table_of_function(fn));
+    auto& t = table(*master::table_of_function(fn));
     if (point.type == ValueType::bits) {
       const auto bits = static_cast<unsigned>(*point.example);
       for (unsigned i = 0; i < point.count; ++i) t[static_cast<std::uint16_t>(point.reg + i)].value = (bits >> i) & 1u;
       continue;
     }
     std::uint16_t words[2] = {0, 0};
-    modbus::encode_value(point.type, profile.word_order, *point.example,
-                         std::span<std::uint16_t>(words, modbus::register_span(point.type)));
-    for (unsigned i = 0; i < modbus::register_span(point.type); ++i)
+    master::encode_value(point.type, profile.word_order, *point.example,
+                         std::span<std::uint16_t>(words, master::register_span(point.type)));
+    for (unsigned i = 0; i < master::register_span(point.type); ++i)
       t[static_cast<std::uint16_t>(point.reg + i)].value = words[i];
   }
 }
@@ -47,7 +47,7 @@ ForeignSlave::ForeignSlave(const modbus::DeviceProfile& profile) : profile_(&pro
 Bytes ForeignSlave::answer(std::span<const std::uint8_t> request) {
   if (request.empty()) return {};
   const auto fn = request[0];
-  if (!profile_->implements(fn) || !modbus::table_of_function(fn)) return exception(fn, 0x01);
+  if (!profile_->implements(fn) || !master::table_of_function(fn)) return exception(fn, 0x01);
   if (fn <= 4) return read(fn, request);
   return write(fn, request);
 }
@@ -57,7 +57,7 @@ Bytes ForeignSlave::read(std::uint8_t fn, std::span<const std::uint8_t> request)
   const auto first = get16(request, 1), count = get16(request, 3);
   const bool bits = fn <= 2;
   if (count == 0 || count > (bits ? 2000 : 125)) return exception(fn, 0x03);
-  const auto& t = table(*modbus::table_of_function(fn));
+  const auto& t = table(*master::table_of_function(fn));
   for (std::uint32_t r = first; r < std::uint32_t{first} + count; ++r) {
     const auto cell = t.find(static_cast<std::uint16_t>(r));
     if (r > 0xFFFF || cell == t.end() || !cell->second.readable) return exception(fn, 0x02);
@@ -81,7 +81,7 @@ Bytes ForeignSlave::read(std::uint8_t fn, std::span<const std::uint8_t> request)
 
 Bytes ForeignSlave::write(std::uint8_t fn, std::span<const std::uint8_t> request) {
   if (request.size() < 5) return exception(fn, 0x03);
-  auto& t = table(*modbus::table_of_function(fn));
+  auto& t = table(*master::table_of_function(fn));
   const auto first = get16(request, 1);
   std::vector<std::uint16_t> values;
   if (fn == 5 || fn == 6) {

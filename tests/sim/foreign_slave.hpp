@@ -10,7 +10,7 @@
 #include <span>
 #include <vector>
 
-#include "modbus/device_profile.hpp"
+#include "master/device_profile.hpp"
 
 namespace unima::sim {
 
@@ -19,12 +19,12 @@ using Bytes = std::vector<std::uint8_t>;
 class ForeignSlave {
  public:
   /// Registers and coils from the profile's points, holding the values the seed quotes.
-  explicit ForeignSlave(const modbus::DeviceProfile& profile);
+  explicit ForeignSlave(const master::DeviceProfile& profile);
 
   /// The response PDU to `request` (a request PDU: function and data).
   Bytes answer(std::span<const std::uint8_t> request);
 
-  const modbus::DeviceProfile& profile() const { return *profile_; }
+  const master::DeviceProfile& profile() const { return *profile_; }
   /// A holding register (what functions 3, 6, 16 reach); nullopt outside the map.
   std::optional<std::uint16_t> holding(std::uint16_t reg) const;
   bool set_holding(std::uint16_t reg, std::uint16_t value);
@@ -39,12 +39,12 @@ class ForeignSlave {
   };
   using Table = std::map<std::uint16_t, Cell>;
 
-  Table& table(modbus::DataTable t) { return tables_[static_cast<std::size_t>(t)]; }
-  const Table& table(modbus::DataTable t) const { return tables_[static_cast<std::size_t>(t)]; }
+  Table& table(master::DataTable t) { return tables_[static_cast<std::size_t>(t)]; }
+  const Table& table(master::DataTable t) const { return tables_[static_cast<std::size_t>(t)]; }
   Bytes read(std::uint8_t function, std::span<const std::uint8_t> request);
   Bytes write(std::uint8_t function, std::span<const std::uint8_t> request);
 
-  const modbus::DeviceProfile* profile_;
+  const master::DeviceProfile* profile_;
   std::array<Table, 4> tables_;
 };
 

@@ -287,7 +287,7 @@ void add_slave(const std::string& spec) {
   std::vector<std::string> parts;
   std::stringstream rest(spec.substr(eq + 1));
   for (std::string part; std::getline(rest, part, ',');) parts.push_back(part);
-  const auto* profile = unima::modbus::find_profile(parts.at(0));
+  const auto* profile = unima::master::find_profile(parts.at(0));
   if (!profile) die("unknown profile '" + parts.at(0) + "'");
   Slave slave;
   slave.model = std::make_unique<unima::sim::ForeignSlave>(*profile);

@@ -5,9 +5,9 @@
 
 #include <vector>
 
-#include "modbus/command_filter.hpp"
+#include "monitor/command_filter.hpp"
 
-namespace unima::modbus {
+namespace unima::monitor {
 namespace {
 
 using Bytes = std::vector<std::uint8_t>;
@@ -126,4 +126,4 @@ TEST(CommandFilter, ReadCountZeroTouchesItsStart) {
 }
 
 }  // namespace
-}  // namespace unima::modbus
+}  // namespace unima::monitor

@@ -3,10 +3,10 @@
 
 #include <gtest/gtest.h>
 
-#include "modbus/device_profile.hpp"
+#include "master/device_profile.hpp"
 #include "tests/support/error_message.hpp"
 
-namespace unima::modbus {
+namespace unima::master {
 namespace {
 
 TEST(DeviceProfiles, AllThreeSeedsLoad) {
@@ -89,4 +89,4 @@ TEST(DeviceProfiles, BadFilesNameTheLine) {
 }
 
 }  // namespace
-}  // namespace unima::modbus
+}  // namespace unima::master

@@ -1,4 +1,4 @@
-// The monitor's file appender (daemon/file_appender.hpp): whatever way the bytes take —
+// The monitor's file appender (monitor/file_appender.hpp): whatever way the bytes take —
 // whole blocks past the page cache, the partial last block through it, or everything
 // through it where O_DIRECT is refused or a direct write failed — the file holds exactly
 // what was appended (less what a failed write lost — whole lines —, with no hole), in
@@ -18,10 +18,10 @@
 #include <string>
 #include <vector>
 
-#include "daemon/file_appender.hpp"
+#include "monitor/file_appender.hpp"
 #include "tests/support/temp_files.hpp"
 
-namespace unima::daemon {
+namespace unima::monitor {
 namespace {
 
 using test_support::read_file;
@@ -293,4 +293,4 @@ TEST(FileAppender, AFileThatCannotBeOpenedSaysWhy) {
 }
 
 }  // namespace
-}  // namespace unima::daemon
+}  // namespace unima::monitor

@@ -1,4 +1,4 @@
-// The monitor's hex text (modbus/hex_text.hpp): both ways — the portable one and the
+// The monitor's hex text (monitor/hex_text.hpp): both ways — the portable one and the
 // vector one where this CPU has it — write exactly "XX " per byte, for every length
 // around the vector width and every byte value, and nothing past their room.
 
@@ -8,9 +8,9 @@
 #include <string>
 #include <vector>
 
-#include "modbus/hex_text.hpp"
+#include "monitor/hex_text.hpp"
 
-namespace unima::modbus {
+namespace unima::monitor {
 namespace {
 
 using Writer = char* (*)(char*, const std::uint8_t*, std::size_t);
@@ -59,4 +59,4 @@ TEST(HexText, EveryByteValueHasItsDigits) {
 }
 
 }  // namespace
-}  // namespace unima::modbus
+}  // namespace unima::monitor

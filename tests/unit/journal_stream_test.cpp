@@ -2,9 +2,9 @@
 
 #include <gtest/gtest.h>
 
-#include "daemon/journal_stream.hpp"
+#include "platform/journal_stream.hpp"
 
-namespace unima::daemon {
+namespace unima::platform {
 namespace {
 
 TEST(JournalPriorityPrefix, FollowsSdDaemonForEveryLevel) {
@@ -34,4 +34,4 @@ TEST(JournalStream, RejectsMalformedValues) {
 }
 
 }  // namespace
-}  // namespace unima::daemon
+}  // namespace unima::platform

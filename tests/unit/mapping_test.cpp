@@ -282,7 +282,7 @@ TEST(RegisterReference, DocsRegistersMdIsUpToDate) {
   std::stringstream text;
   text << in.rdbuf();
   EXPECT_TRUE(text.str() == banks::tables_markdown())
-      << "docs/registers.md is out of date: run `build/daemon/unima-bridge tables > docs/registers.md`";
+      << "docs/registers.md is out of date: run `build/bin/unima-bridge tables > docs/registers.md`";
 }
 
 TEST(RegisterReference, EveryIdentifierOfTheDataIsInTheDocs) {

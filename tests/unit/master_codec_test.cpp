@@ -7,10 +7,11 @@
 #include <cmath>
 
 #include "modbus/crc16.hpp"
-#include "modbus/master_codec.hpp"
-#include "modbus/master_value.hpp"
+#include "master/master_codec.hpp"
+#include "master/master_value.hpp"
 
-namespace unima::modbus {
+namespace unima::master {
+using namespace unima::modbus;
 namespace {
 
 Bytes hex(std::string_view text) {
@@ -194,4 +195,4 @@ TEST(MasterValue, Names) {
 }
 
 }  // namespace
-}  // namespace unima::modbus
+}  // namespace unima::master

@@ -12,8 +12,8 @@ namespace unima::config {
 namespace {
 
 using namespace std::chrono_literals;
-using modbus::ValueType;
-using modbus::WordOrder;
+using master::ValueType;
+using master::WordOrder;
 
 const std::string rtu_master =
     "modbus:\n"
@@ -56,7 +56,7 @@ TEST(MasterConfig, ModeMasterWithTheMasterSection) {
   EXPECT_EQ(m.backoff_max, 20s);
   EXPECT_EQ(m.min_gap, 5ms);
   ASSERT_EQ(m.devices.size(), 2u);
-  EXPECT_EQ(m.devices.at(1).profile, modbus::find_profile("sic184-v3"));
+  EXPECT_EQ(m.devices.at(1).profile, master::find_profile("sic184-v3"));
   EXPECT_EQ(m.devices.at(3).min_gap, 50ms);
   EXPECT_EQ(m.devices.at(3).response_timeout, 300ms);
   EXPECT_TRUE(warnings(c).empty());  // the RTU line is the master's: no "TCP only" warning
@@ -105,7 +105,7 @@ TEST(MasterConfig, ProfilePoints) {
   EXPECT_EQ(b[0].scale, 10);  // the profile's scale into 0.1 units
   EXPECT_EQ(b[0].point, "POS_ACT_REAL");
   EXPECT_EQ(b[0].extent(), 2);
-  EXPECT_EQ(b[1].profile, modbus::find_profile("sic184-v3"));  // the device's, from the first block
+  EXPECT_EQ(b[1].profile, master::find_profile("sic184-v3"));  // the device's, from the first block
   EXPECT_EQ(b[1].function, 2);
   EXPECT_EQ(b[1].count, 8);
   EXPECT_EQ(b[2].function, 5);
@@ -213,7 +213,7 @@ TEST(MasterSetup, BlocksTimingAndLine) {
   ASSERT_EQ(setup.blocks.size(), 3u);
   EXPECT_EQ(setup.blocks[0].name, "STEP_ANGLE");
   EXPECT_EQ(setup.blocks[0].scale, 0.1);
-  EXPECT_EQ(setup.blocks[1].kind, modbus::MasterBlock::Kind::send);
+  EXPECT_EQ(setup.blocks[1].kind, master::MasterBlock::Kind::send);
   ASSERT_TRUE(setup.sources[1]);
   EXPECT_EQ(setup.sources[1]->text, "W+0x00");
   EXPECT_EQ(setup.stale_after[0], 5s);

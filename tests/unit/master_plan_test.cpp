@@ -5,9 +5,9 @@
 
 #include <set>
 
-#include "modbus/master_plan.hpp"
+#include "master/master_plan.hpp"
 
-namespace unima::modbus {
+namespace unima::master {
 namespace {
 
 using namespace std::chrono_literals;
@@ -148,9 +148,9 @@ TEST(MasterPlan, BusLoad) {
 }
 
 }  // namespace
-}  // namespace unima::modbus
+}  // namespace unima::master
 
-namespace unima::modbus {
+namespace unima::master {
 namespace {
 
 using namespace std::chrono_literals;
@@ -207,4 +207,4 @@ TEST(MasterPhases, TransactionEstimate) {
 }
 
 }  // namespace
-}  // namespace unima::modbus
+}  // namespace unima::master

@@ -9,9 +9,9 @@
 #include <functional>
 #include <map>
 
-#include "modbus/master_scheduler.hpp"
+#include "master/master_scheduler.hpp"
 
-namespace unima::modbus {
+namespace unima::master {
 namespace {
 
 using namespace std::chrono_literals;
@@ -486,4 +486,4 @@ TEST(MasterScheduler, ADeviceThatAnswersAgainResumesItsGridWithoutABurst) {
 }
 
 }  // namespace
-}  // namespace unima::modbus
+}  // namespace unima::master

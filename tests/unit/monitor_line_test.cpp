@@ -6,9 +6,10 @@
 #include <vector>
 
 #include "modbus/crc16.hpp"
-#include "modbus/monitor_line.hpp"
+#include "monitor/monitor_line.hpp"
 
-namespace unima::modbus {
+namespace unima::monitor {
+using namespace unima::modbus;
 namespace {
 
 using Bytes = std::vector<std::uint8_t>;
@@ -261,4 +262,4 @@ TEST(MonitorLine, SeedFramesCarryValidCrcs) {
 }
 
 }  // namespace
-}  // namespace unima::modbus
+}  // namespace unima::monitor

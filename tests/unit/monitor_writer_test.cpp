@@ -1,4 +1,4 @@
-// The monitor's writer and sinks (daemon/): a blocked writer never blocks the ports — the
+// The monitor's writer and sinks (monitor/): a blocked writer never blocks the ports — the
 // queue fills, the rest is dropped, counted, and the log says so; the file sink rotates
 // by size without splitting lines.
 
@@ -13,11 +13,12 @@
 #include <sstream>
 #include <thread>
 
-#include "daemon/monitor_sinks.hpp"
-#include "daemon/monitor_writer.hpp"
+#include "monitor/monitor_sinks.hpp"
+#include "monitor/monitor_writer.hpp"
 #include "tests/support/temp_files.hpp"
 
-namespace unima::daemon {
+namespace unima::monitor {
+using namespace unima::modbus;
 namespace {
 
 using namespace std::chrono_literals;
@@ -105,7 +106,7 @@ TEST(MonitorWriter, AnUnblockedWriterWritesEveryLineInOrder) {
   sinks.push_back(std::make_unique<BlockingSink>(gate));
   MonitorWriter::Options options;
   options.capacity = 1000;
-  options.format = modbus::MonitorFormat::json;
+  options.format = monitor::MonitorFormat::json;
   MonitorWriter writer(std::move(sinks), options);
   for (int i = 0; i < 500; ++i) ASSERT_TRUE(writer.push(transaction(), static_cast<std::uint8_t>(i)));
   writer.stop();
@@ -173,7 +174,7 @@ class RecordingSink : public MonitorSink {
 // hands on is whole, in order, and says exactly what was pushed (frames longer than an ADU cut, Rc
 // still their size; a peer longer than 64 characters cut).
 TEST(MonitorWriter, TransactionsOfEveryLengthComeOutWholeAndInOrder) {
-  for (const auto format : {modbus::MonitorFormat::text, modbus::MonitorFormat::json}) {
+  for (const auto format : {monitor::MonitorFormat::text, monitor::MonitorFormat::json}) {
     auto text = std::make_shared<std::string>();
     auto sink = std::make_unique<RecordingSink>(text);
     const auto* recorded = sink.get();
@@ -221,7 +222,7 @@ TEST(MonitorWriter, TransactionsOfEveryLengthComeOutWholeAndInOrder) {
         lines.push_back(line);
     ASSERT_EQ(lines.size(), accepted.size());
     for (std::size_t i = 0; i < lines.size(); ++i) {
-      const auto parsed = modbus::parse_monitor_line(lines[i]);
+      const auto parsed = monitor::parse_monitor_line(lines[i]);
       ASSERT_TRUE(parsed) << lines[i];
       const auto& p = accepted[i];
       EXPECT_EQ(parsed->ix, p.ix);
@@ -307,4 +308,4 @@ TEST(RotatingFileSink, AFileThatCannotBeOpenedIsAnErrorNamingIt) {
 }
 
 }  // namespace
-}  // namespace unima::daemon
+}  // namespace unima::monitor

@@ -5,10 +5,11 @@
 
 #include <vector>
 
-#include "modbus/capture_indicators.hpp"
+#include "monitor/capture_indicators.hpp"
 #include "modbus/register_capture.hpp"
 
 namespace unima::modbus {
+using namespace unima::monitor;
 namespace {
 
 using Bytes = std::vector<std::uint8_t>;

@@ -1,0 +1,373 @@
+#include "app/bridge.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include "banks/register_space.hpp"
+#include "banks/table_catalog.hpp"
+#include "app/bridge_core.hpp"
+#include "io/feed_transport.hpp"
+#include "io/sim_transport.hpp"
+#include "app/bank_model.hpp"
+#include "modbus/capture.hpp"
+#include "unimabus/feed_codec.hpp"
+
+namespace unima::app {
+
+using banks::BankId;
+
+namespace {
+
+std::vector<std::pair<BankId, std::uint8_t>> device_addresses(const config::Config& config) {
+  std::vector<std::pair<BankId, std::uint8_t>> addresses;
+  for (unsigned n = 1; n <= 4; ++n)
+    if (const auto& device = config.devices[n - 1]) addresses.emplace_back(banks::device_bank(n), device->address);
+  return addresses;
+}
+
+std::vector<modbus::CaptureRule> capture_rules(const config::Config& config) {
+  std::vector<modbus::CaptureRule> rules;
+  for (const auto* block : config.active_blocks())
+    if (block->type == config::Block::Type::capture) rules.push_back({block->device, block->reg, block->output});
+  return rules;
+}
+
+// In master mode the line belongs to the master (SPEC §3).
+std::optional<config::RtuConfig> slave_line(const config::Config& config) {
+  if (config.modbus.mode != config::ModbusMode::slave) return std::nullopt;
+  return config.modbus.rtu;
+}
+
+std::string describe_bank(const config::Config& config, BankId bank) {
+  if (banks::is_device_bank(bank)) {
+    const auto& device = config.devices[banks::bank_number(bank) - 1];
+    if (device) return fmt::format("{} ({} at UnimaBUS address {})", banks::bank_name(bank), device->table->id, device->address);
+  }
+  if (banks::is_module_bank(bank))
+    return fmt::format("{} (IO module in slot {} at address {})", banks::bank_name(bank), banks::bank_number(bank),
+                       config.unimabus.address);
+  return std::string(banks::bank_name(bank));
+}
+
+}  // namespace
+
+Bridge::Bridge(asio::io_context& io, config::Config config)
+    : io_(io),
+      core_(build_core(std::move(config))),
+      error_hold_(io, [this](bool error) { core_->store->set_modbus_error(error); }),
+      presence_timer_(io) {
+  monitor_ = std::make_unique<monitor::Monitor>(core_->config.monitor);
+  transport_ = make_transport(core_->config);
+  tcp_ = make_tcp_server(core_->config);
+  rtu_ = make_rtu_port(core_->config);
+  master_ = make_master(core_->config);
+  core_->store->set_change_listener([this](BankId bank, std::uint16_t offset, std::uint16_t value) {
+    if (transport_) transport_->publish(bank, offset, value);
+  });
+}
+
+Bridge::~Bridge() { stop(); }
+
+const config::Config& Bridge::config() const { return core_->config; }
+
+std::unique_ptr<Bridge::Core> Bridge::build_core(config::Config config) const {
+  auto core = std::make_unique<Core>();
+  core->store = std::make_unique<banks::RegisterStore>(config::bank_shapes(config));
+  core->store->set_mapping(config.mapping);
+  core->space = std::make_unique<banks::RegisterSpace>(config::address_map(config), *core->store,
+                                                       banks::AccessRules{config.modbus.readable_write_banks});
+  core->model = std::make_unique<app::BankModel>(*core->space);
+  core->router = std::make_unique<unimabus::TelegramRouter>(
+      unimabus::standard_routes(config.unimabus.address, *core->store, device_addresses(config)), *core->store);
+  core->presence = std::make_unique<unimabus::Presence>(config.unimabus.offline_after);
+  core->capture_rules = capture_rules(config);
+  core->config = std::move(config);
+  return core;
+}
+
+std::unique_ptr<unimabus::Transport> Bridge::make_transport(const config::Config& config) {
+  auto handler = [this](const unimabus::Telegram& t) { return on_telegram(t); };
+  if (config.unimabus.transport == config::TransportKind::feed)
+    return std::make_unique<io::FeedTransport>(io_, config.unimabus.listen, handler, [this] { return snapshot(); });
+  std::vector<unimabus::SimDevice> devices;
+  for (unsigned n = 1; n <= 4; ++n)
+    if (const auto& device = config.devices[n - 1])
+      devices.push_back({device->address, 0, device->table->length(), device->table});
+  for (unsigned slot : config.unimabus.sim.io_modules)
+    devices.push_back({config.unimabus.address, static_cast<std::uint8_t>(slot), banks::s_bank_length,
+                       banks::io_module_table()});
+  return std::make_unique<io::SimTransport>(io_, unimabus::SimGenerator(config.unimabus.sim.seed, std::move(devices)),
+                                        config.unimabus.sim.period, handler);
+}
+
+std::unique_ptr<io::TcpSlaveServer> Bridge::make_tcp_server(const config::Config& config) const {
+  if (!config.modbus.tcp) return nullptr;
+  const auto& tcp = *config.modbus.tcp;
+  io::TcpSlaveOptions options{tcp.listen, tcp.port, tcp.max_clients, tcp.idle_timeout};
+  try {
+    return std::make_unique<io::TcpSlaveServer>(io_, options, slave_context());
+  } catch (const boost::system::system_error& e) {
+    throw std::runtime_error(fmt::format("modbus tcp: cannot listen on {}:{}: {}", tcp.listen, tcp.port, e.code().message()));
+  }
+}
+
+std::unique_ptr<io::RtuSlavePort> Bridge::make_rtu_port(const config::Config& config) {
+  const auto line = slave_line(config);
+  if (!line) return nullptr;
+  auto port = std::make_unique<io::RtuSlavePort>(io_, *line, rtu_context());
+  port->set_foreign_listener([this](std::span<const std::uint8_t> query, std::span<const std::uint8_t> response) {
+    on_foreign_exchange(query, response);
+  });
+  return port;
+}
+
+io::SlaveContext Bridge::rtu_context() const {
+  auto context = slave_context();
+  context.options.max_read_registers = modbus::max_read_registers_rtu;
+  return context;
+}
+
+// Capture blocks (SPEC §4): a write is taken from the master's request, a read from the
+// foreign slave's response.
+void Bridge::on_foreign_exchange(std::span<const std::uint8_t> query, std::span<const std::uint8_t> response) {
+  const auto& rules = core_->capture_rules;
+  if (rules.empty()) return;
+  const auto captured = response.empty() ? modbus::captured_writes(rules, query)
+                                         : modbus::captured_reads(rules, query, response);
+  for (const auto& c : captured) {
+    core_->store->set_user_output(c.output, c.value);
+    spdlog::debug("capture: user output {} = {} ({} of device {})", c.output, c.value,
+                  c.via == modbus::Captured::Via::write ? "write" : "read", query[0]);
+  }
+}
+
+// In master mode the RTU line is the master's (SPEC §3); the TCP slave keeps serving.
+std::shared_ptr<io::MasterPort> Bridge::make_master(const config::Config& config) {
+  if (config.modbus.mode != config::ModbusMode::master) return nullptr;
+  io::MasterPort::Hooks hooks;
+  // The hooks read the running core at each call, so they follow a reload.
+  hooks.read_source = [this](const banks::SourceRef& source) -> std::optional<std::uint16_t> {
+    const auto value = core_->store->read_source(source);
+    if (!source.bit && value == banks::not_measured) return std::nullopt;
+    return value;
+  };
+  hooks.set_output = [this](unsigned output, std::uint16_t value) { core_->store->set_user_output(output, value); };
+  hooks.on_fault = [this] { error_hold_.fault(); };
+  hooks.on_transaction = [this](const modbus::Transaction& t) {
+    monitor_->observe(t);
+    if (spdlog::should_log(spdlog::level::debug)) spdlog::debug("modbus master: {}", io::describe_master_transaction(t));
+  };
+  return io::MasterPort::create(io_, config, std::move(hooks));
+}
+
+io::SlaveContext Bridge::slave_context() const {
+  io::SlaveContext context;
+  context.registers = core_->model.get();
+  context.unit_id = core_->config.modbus.address;
+  const auto& ext = core_->config.modbus.extensions;
+  context.options.max_read_registers = modbus::max_read_registers_tcp;
+  context.options.read_holding_registers = ext.function_3;
+  context.options.write_multiple_registers = ext.function_16;
+  context.options.device_identification = ext.function_43;
+  // The error hold lives as long as the bridge, and the ports never outlive the bridge.
+  auto* hold = const_cast<io::ErrorHold*>(&error_hold_);
+  context.on_fault = [hold] { hold->fault(); };
+  context.on_transaction = [monitor = monitor_.get()](const modbus::Transaction& t) { monitor->observe(t); };
+  return context;
+}
+
+void Bridge::start() {
+  started_ = true;
+  spdlog::info("bridge: UnimaBUS address {}, Modbus address {}, {} transport", core_->config.unimabus.address,
+               core_->config.modbus.address,
+               core_->config.unimabus.transport == config::TransportKind::feed ? "feed" : "sim");
+  for (const auto& warning : config::warnings(core_->config)) spdlog::warn("{}", warning);
+  for (unsigned n = 1; n <= 4; ++n)
+    if (core_->config.devices[n - 1])
+      spdlog::info("bridge: {} at 0x{:04X}, {} registers", describe_bank(core_->config, banks::device_bank(n)),
+                   core_->config.bank_bases[index_of(banks::device_bank(n))], core_->store->length(banks::device_bank(n)));
+  if (transport_) transport_->start();
+  if (tcp_) tcp_->start();
+  if (rtu_) rtu_->start();
+  if (master_) master_->start();
+  control_ = make_control_socket(core_->config.status.socket);
+}
+
+// The status socket is the operator's window, not part of the bridge's service: when it
+// cannot listen (no /run/unima-bridge outside systemd, say) the bridge serves on.
+std::unique_ptr<io::ControlSocket> Bridge::make_control_socket(const std::string& path) {
+  try {
+    auto control = std::make_unique<io::ControlSocket>(io_, path, [this] { return status_document(); });
+    control->start();
+    return control;
+  } catch (const std::exception& e) {
+    spdlog::warn("{}; `unima-bridge status` will not answer", e.what());
+    return nullptr;
+  }
+}
+
+void Bridge::stop() {
+  if (!started_) return;
+  started_ = false;
+  if (rtu_) rtu_->stop();
+  if (master_) master_->stop();
+  if (tcp_) tcp_->stop();
+  if (transport_) transport_->stop();
+  if (control_) control_->stop();
+  presence_timer_.cancel();
+  error_hold_.cancel();
+}
+
+namespace {
+bool same_endpoint(const std::optional<config::TcpSlaveConfig>& a, const std::optional<config::TcpSlaveConfig>& b) {
+  if (a.has_value() != b.has_value()) return false;
+  return !a || (a->listen == b->listen && a->port == b->port);
+}
+bool same_line(const std::optional<config::RtuConfig>& a, const std::optional<config::RtuConfig>& b) {
+  if (a.has_value() != b.has_value()) return false;
+  return !a || (a->device == b->device && a->baud == b->baud && a->parity == b->parity &&
+                a->stop_bits == b->stop_bits && a->rs485 == b->rs485 && a->low_latency == b->low_latency);
+}
+bool same_feed(const config::UnimabusConfig& a, const config::UnimabusConfig& b) {
+  return a.transport == config::TransportKind::feed && b.transport == config::TransportKind::feed && a.listen == b.listen;
+}
+}  // namespace
+
+void Bridge::reload(config::Config config) {
+  auto core = build_core(std::move(config));
+  const auto& old_config = core_->config;
+  const auto& new_config = core->config;
+
+  // Everything that can fail comes first, while the running ports are untouched.
+  const bool same_monitor_log = monitor::Monitor::same_log(old_config.monitor, new_config.monitor);
+  std::unique_ptr<monitor::MonitorWriter> new_monitor_writer;
+  if (!same_monitor_log) new_monitor_writer = monitor::Monitor::make_writer(new_config.monitor);
+  std::unique_ptr<unimabus::Transport> new_transport;
+  if (!same_feed(old_config.unimabus, new_config.unimabus)) new_transport = make_transport(new_config);
+  std::unique_ptr<io::TcpSlaveServer> new_tcp;
+  const bool same_tcp = same_endpoint(old_config.modbus.tcp, new_config.modbus.tcp);
+  const bool same_rtu = same_line(slave_line(old_config), slave_line(new_config));
+  if (!same_tcp) {
+    if (tcp_) tcp_->stop();  // the new server may want the same port on another address
+    try {
+      new_tcp = make_tcp_server(new_config);
+    } catch (...) {
+      if (tcp_) {
+        tcp_ = std::make_unique<io::TcpSlaveServer>(io_, tcp_->options(), slave_context());
+        tcp_->start();
+      }
+      throw;
+    }
+  }
+
+  // The master's line opens before anything is switched (a serial device may be missing).
+  std::shared_ptr<io::MasterPort> new_master;
+  try {
+    new_master = make_master(new_config);
+  } catch (...) {
+    if (!same_tcp && tcp_) {
+      new_tcp.reset();  // it may hold the port the old server needs again
+      tcp_ = std::make_unique<io::TcpSlaveServer>(io_, tcp_->options(), slave_context());
+      tcp_->start();
+    }
+    throw;
+  }
+
+  // Commit: values and presence carried over, then the ports switched.
+  core->store->take_state_from(*core_->store);
+  const auto now = unimabus::Presence::Clock::now();
+  for (BankId bank : banks::all_banks) {
+    if (core_->presence->online(bank) && core->store->online(bank)) core->presence->heard(bank, now);
+    else core->store->set_online(bank, false);
+  }
+  const bool same_status_socket = old_config.status.socket == new_config.status.socket;
+  core_ = std::move(core);
+  monitor_->reconfigure(core_->config.monitor, std::move(new_monitor_writer));
+  if (!same_status_socket || !control_) {
+    if (auto control = make_control_socket(core_->config.status.socket)) {
+      if (control_) control_->stop();
+      control_ = std::move(control);
+    }
+  }
+  core_->store->set_change_listener([this](BankId bank, std::uint16_t offset, std::uint16_t value) {
+    if (transport_) transport_->publish(bank, offset, value);
+  });
+  presence_timer_armed_ = false;
+  presence_timer_.cancel();
+  watch_presence();
+
+  if (new_transport) {
+    if (transport_) transport_->stop();
+    transport_ = std::move(new_transport);
+    transport_->start();
+  }
+  if (!same_tcp) {
+    tcp_ = std::move(new_tcp);
+    if (tcp_) tcp_->start();
+  }
+  if (tcp_) {
+    const auto& tcp = *core_->config.modbus.tcp;
+    tcp_->set_limits(tcp.max_clients, tcp.idle_timeout);
+    tcp_->set_context(slave_context());
+  }
+  // The serial line is reopened only when its settings changed; opening never throws (a
+  // line that cannot be opened is retried), so this comes after the commit.
+  if (!same_rtu) {
+    if (rtu_) rtu_->stop();
+    rtu_ = make_rtu_port(core_->config);
+    if (rtu_) rtu_->start();
+  } else if (rtu_) {
+    rtu_->set_context(rtu_context());
+  }
+  if (master_) master_->stop();
+  master_ = std::move(new_master);
+  if (master_) master_->start();
+  for (const auto& warning : config::warnings(core_->config)) spdlog::warn("{}", warning);
+  spdlog::info("bridge: reloaded {}", core_->config.file);
+}
+
+std::string Bridge::on_telegram(const unimabus::Telegram& telegram) {
+  auto outcome = core_->router->apply(telegram);
+  last_telegram_ = std::chrono::steady_clock::now();
+  if (!outcome.updated.empty()) {
+    const auto now = unimabus::Presence::Clock::now();
+    for (BankId bank : outcome.updated)
+      if (core_->presence->heard(bank, now)) set_online(bank, true);
+    watch_presence();
+  }
+  return outcome.error;
+}
+
+void Bridge::set_online(BankId bank, bool online) {
+  core_->store->set_online(bank, online);
+  spdlog::info("unimabus: {} {}", describe_bank(core_->config, bank), online ? "on-line" : "off-line");
+}
+
+// One timer for all devices, armed at the earliest moment one can go off-line. Telegrams
+// only push that moment later, so they never re-arm it; an early wake-up re-arms itself.
+void Bridge::watch_presence() {
+  if (presence_timer_armed_) return;
+  const auto next = core_->presence->next_expiry();
+  if (!next) return;
+  presence_timer_armed_ = true;
+  presence_timer_.expires_at(*next);
+  presence_timer_.async_wait([this](const boost::system::error_code& ec) {
+    if (ec) return;
+    presence_timer_armed_ = false;
+    for (BankId bank : core_->presence->expire(unimabus::Presence::Clock::now())) set_online(bank, false);
+    watch_presence();
+  });
+}
+
+std::string Bridge::snapshot() const {
+  std::string lines;
+  const auto& store = *core_->store;
+  for (std::uint16_t i = 0; i < store.length(BankId::W); ++i)
+    lines += unimabus::format_change(BankId::W, i, store.read(BankId::W, i));
+  for (std::uint16_t i = 0; i < store.length(BankId::X); ++i)
+    lines += unimabus::format_change(BankId::X, i, store.read(BankId::X, i));
+  for (std::uint16_t i = 0; i <= banks::c_bank::user_binary_outputs; ++i)
+    lines += unimabus::format_change(BankId::C, i, store.read(BankId::C, i));
+  return lines;
+}
+
+}  // namespace unima::app

@@ -1,0 +1,86 @@
+#pragma once
+// The running bridge: the banks of one config, the UnimaBUS transport feeding them, and
+// the Modbus ports serving them, on one io_context. A reload builds the new config's banks
+// beside the old, carries the values over, and swaps; ports whose settings did not change
+// keep their connections.
+
+#include <chrono>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "config/config.hpp"
+#include "platform/asio.hpp"
+#include "io/control_socket.hpp"
+#include "io/error_hold.hpp"
+#include "monitor/monitor.hpp"
+#include "io/rtu_slave_port.hpp"
+#include "io/master_port.hpp"
+#include "io/slave_context.hpp"
+#include "io/tcp_slave_server.hpp"
+#include "unimabus/presence.hpp"
+#include "unimabus/telegram_router.hpp"
+#include "unimabus/transport.hpp"
+
+namespace unima::banks {
+class RegisterSpace;
+}
+namespace unima::app {
+class BankModel;
+}
+
+namespace unima::app {
+
+class Bridge {
+ public:
+  /// Builds everything and binds the ports; throws (std::exception) when it cannot.
+  Bridge(asio::io_context& io, config::Config config);
+  ~Bridge();
+
+  void start();
+  void stop();
+  /// Switches to `config`; throws, leaving the running config untouched, when it cannot.
+  void reload(config::Config config);
+
+  const config::Config& config() const;
+  /// The bound Modbus TCP port, 0 when there is no TCP slave.
+  std::uint16_t tcp_port() const { return tcp_ ? tcp_->port() : 0; }
+  /// The front panel and counters as one JSON document (`unima-bridge status`);
+  /// app/bridge_status.cpp.
+  std::string status_document() const;
+  /// The Modbus master, in master mode; nullptr in slave mode.
+  const io::MasterPort* master() const { return master_.get(); }
+
+ private:
+  struct Core;
+  std::unique_ptr<Core> build_core(config::Config config) const;
+  std::unique_ptr<unimabus::Transport> make_transport(const config::Config& config);
+  std::unique_ptr<io::TcpSlaveServer> make_tcp_server(const config::Config& config) const;
+  std::unique_ptr<io::RtuSlavePort> make_rtu_port(const config::Config& config);
+  std::shared_ptr<io::MasterPort> make_master(const config::Config& config);
+  io::SlaveContext slave_context() const;
+  io::SlaveContext rtu_context() const;
+  void on_foreign_exchange(std::span<const std::uint8_t> query, std::span<const std::uint8_t> response);
+  std::string on_telegram(const unimabus::Telegram& telegram);
+  std::string snapshot() const;
+  void watch_presence();
+  void set_online(banks::BankId bank, bool online);
+  std::unique_ptr<io::ControlSocket> make_control_socket(const std::string& path);
+
+  asio::io_context& io_;
+  std::unique_ptr<Core> core_;
+  io::ErrorHold error_hold_;
+  std::unique_ptr<monitor::Monitor> monitor_;  // before the ports, whose hook points at it
+  std::unique_ptr<unimabus::Transport> transport_;
+  std::unique_ptr<io::TcpSlaveServer> tcp_;
+  std::unique_ptr<io::RtuSlavePort> rtu_;
+  std::shared_ptr<io::MasterPort> master_;
+  asio::steady_timer presence_timer_;
+  bool presence_timer_armed_ = false;
+  bool started_ = false;
+  std::unique_ptr<io::ControlSocket> control_;
+  std::chrono::steady_clock::time_point started_at_ = std::chrono::steady_clock::now();
+  std::optional<std::chrono::steady_clock::time_point> last_telegram_;
+};
+
+}  // namespace unima::app

@@ -1,0 +1,27 @@
+#pragma once
+// What one config of the bridge consists of; shared by bridge.cpp and bridge_status.cpp.
+
+#include <memory>
+
+#include "banks/register_space.hpp"
+#include "banks/register_store.hpp"
+#include "config/config.hpp"
+#include "app/bridge.hpp"
+#include "app/bank_model.hpp"
+#include "modbus/capture.hpp"
+#include "unimabus/presence.hpp"
+#include "unimabus/telegram_router.hpp"
+
+namespace unima::app {
+
+struct Bridge::Core {
+  config::Config config;
+  std::unique_ptr<banks::RegisterStore> store;
+  std::unique_ptr<banks::RegisterSpace> space;
+  std::unique_ptr<app::BankModel> model;
+  std::unique_ptr<unimabus::TelegramRouter> router;
+  std::unique_ptr<unimabus::Presence> presence;
+  std::vector<modbus::CaptureRule> capture_rules;
+};
+
+}  // namespace unima::app

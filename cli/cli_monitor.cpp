@@ -1,0 +1,170 @@
+#include "cli/cli_monitor.hpp"
+
+#include <cerrno>
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <deque>
+#include <optional>
+#include <thread>
+
+#include <fmt/format.h>
+
+#include "config/config.hpp"
+#include "cli/log_follower.hpp"
+#include "monitor/command_filter.hpp"
+#include "monitor/monitor_line.hpp"
+
+namespace unima::cli {
+
+namespace {
+
+constexpr const char* default_log = "/var/log/unima-bridge/monitor.log";
+constexpr const char* usage =
+    "usage: unima-bridge monitor [--follow] [--lines N] [--filter EXPR] [--json] [--config FILE] [LOG]\n"
+    "\n"
+    "  LOG            the monitor log (default: the config's monitor.file, else\n"
+    "                 /var/log/unima-bridge/monitor.log)\n"
+    "  -f, --follow   keep reading as lines arrive, across rotations (like tail -F);\n"
+    "                 starts with the last N lines (--lines, default 10)\n"
+    "  --filter EXPR  only queries matching 'ad=3 fn=6 from=0x0200 to=0x0210'\n"
+    "                 (any key may be left out; xx = any)\n"
+    "  --json         print JSON lines (default: text)\n";
+
+// How often a follower looks for new lines; an operator does not notice 100 ms.
+constexpr auto follow_interval = std::chrono::milliseconds(100);
+
+struct Options {
+  bool follow = false;
+  bool json = false;
+  std::size_t lines = 10;
+  monitor::CommandFilter filter;
+  std::string config;
+  std::string log;
+};
+
+class Printer {
+ public:
+  explicit Printer(const Options& options) : options_(options) {}
+
+  /// The line as it will be printed, or nullopt when the filter hides it.
+  std::optional<std::string> render(std::string_view line) const {
+    const auto parsed = monitor::parse_monitor_line(line);
+    if (!parsed) {
+      // Not a monitor line: shown as it is, unless the operator asked for some lines only.
+      if (!options_.filter.passes_everything() || options_.json) return std::nullopt;
+      return std::string(line) + "\n";
+    }
+    const auto format = options_.json ? monitor::MonitorFormat::json : monitor::MonitorFormat::text;
+    std::string out;
+    if (parsed->kind == monitor::MonitorLine::Kind::drop_notice) {
+      // Always shown: it tells the operator lines are missing.
+      monitor::append_drop_notice(out, parsed->time, parsed->dropped, format);
+      return out;
+    }
+    const auto fields = parsed->fields();
+    if (!options_.filter.matches(fields.query.address, fields.query.pdu)) return std::nullopt;
+    const bool is_json = !line.empty() && line.front() == '{';
+    if (is_json == options_.json) return std::string(line) + "\n";  // exactly as logged
+    monitor::append_monitor_line(out, fields, format);
+    return out;
+  }
+
+ private:
+  const Options& options_;
+};
+
+void print(const std::string& text) {
+  std::fwrite(text.data(), 1, text.size(), stdout);
+}
+
+}  // namespace
+
+int monitor_command(const std::vector<std::string>& args) {
+  Options options;
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    const auto& arg = args[i];
+    const bool has_value = i + 1 < args.size();
+    try {
+      if (arg == "--follow" || arg == "-f") {
+        options.follow = true;
+      } else if (arg == "--json") {
+        options.json = true;
+      } else if ((arg == "--filter") && has_value) {
+        options.filter = monitor::parse_command_filter(args[++i]);
+      } else if (arg.starts_with("--filter=")) {
+        options.filter = monitor::parse_command_filter(arg.substr(9));
+      } else if ((arg == "--lines" || arg == "-n") && has_value) {
+        options.lines = std::stoul(args[++i]);
+      } else if (arg == "--config" && has_value) {
+        options.config = args[++i];
+      } else if (arg.starts_with("--config=")) {
+        options.config = arg.substr(9);
+      } else if (arg == "--help" || arg == "-h") {
+        std::fputs(usage, stdout);
+        return 0;
+      } else if (!arg.starts_with("-") && options.log.empty()) {
+        options.log = arg;
+      } else {
+        std::fprintf(stderr, "unima-bridge monitor: unknown argument '%s'\n%s", arg.c_str(), usage);
+        return 2;
+      }
+    } catch (const monitor::FilterSyntaxError& e) {
+      std::fprintf(stderr, "unima-bridge monitor: %s\n", e.what());
+      return 2;
+    } catch (const std::exception&) {
+      std::fprintf(stderr, "unima-bridge monitor: '%s' is not a number of lines\n", args[i].c_str());
+      return 2;
+    }
+  }
+  if (options.log.empty()) {
+    options.log = default_log;
+    if (!options.config.empty()) {
+      try {
+        const auto config = config::load_file(options.config);
+        if (!config.monitor.file.empty()) options.log = config.monitor.file;
+      } catch (const std::exception& e) {
+        std::fprintf(stderr, "unima-bridge monitor: %s\n", e.what());
+        return 1;
+      }
+    }
+  }
+
+  Printer printer(options);
+  LogFollower follower(options.log);
+  if (!follower.open()) {
+    if (!options.follow) {
+      std::fprintf(stderr, "unima-bridge monitor: cannot open %s: %s\n", options.log.c_str(), std::strerror(errno));
+      return 1;
+    }
+    std::fprintf(stderr, "unima-bridge monitor: waiting for %s to appear\n", options.log.c_str());
+  }
+
+  if (!options.follow) {
+    follower.poll([&](std::string_view line) {
+      if (auto text = printer.render(line)) print(*text);
+    });
+    return std::fflush(stdout) == 0 ? 0 : 1;
+  }
+
+  // What is there already: its last lines only, as tail does.
+  std::deque<std::string> tail;
+  follower.poll([&](std::string_view line) {
+    if (options.lines == 0) return;
+    if (auto text = printer.render(line)) {
+      tail.push_back(std::move(*text));
+      if (tail.size() > options.lines) tail.pop_front();
+    }
+  });
+  for (const auto& text : tail) print(text);
+  std::fflush(stdout);
+  while (true) {
+    std::this_thread::sleep_for(follow_interval);
+    follower.poll([&](std::string_view line) {
+      if (auto text = printer.render(line)) print(*text);
+    });
+    if (std::fflush(stdout) != 0) return 1;  // the reader went away
+  }
+}
+
+}  // namespace unima::cli

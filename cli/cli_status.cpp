@@ -1,0 +1,229 @@
+#include "cli/cli_status.hpp"
+
+#include <poll.h>
+#include <sys/socket.h>
+#include <sys/un.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <optional>
+#include <thread>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "config/config.hpp"
+
+namespace unima::cli {
+
+namespace {
+
+constexpr const char* usage =
+    "usage: unima-bridge status [--watch] [--json] [--socket PATH | --config FILE]\n"
+    "\n"
+    "  shows what the Bridge's front panel shows: mode, Modbus and UnimaBUS activity, Error,\n"
+    "  D_N and S_N on-line, the capture indicators, and counters per port\n"
+    "  --socket PATH  the daemon's status socket (default: the config's status.socket, else\n"
+    "                 /run/unima-bridge/control.sock)\n"
+    "  --watch        refresh every second until interrupted\n"
+    "  --json         the daemon's JSON document\n";
+
+constexpr auto answer_timeout = std::chrono::seconds(3);
+constexpr auto watch_interval = std::chrono::seconds(1);
+
+struct Answer {
+  std::optional<std::string> text;
+  std::string error;
+};
+
+// One document per connection: connect, read to EOF.
+Answer ask(const std::string& path) {
+  Answer answer;
+  const int fd = ::socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
+  sockaddr_un address{};
+  address.sun_family = AF_UNIX;
+  std::strncpy(address.sun_path, path.c_str(), sizeof address.sun_path - 1);
+  if (::connect(fd, reinterpret_cast<sockaddr*>(&address), sizeof address) != 0) {
+    answer.error = fmt::format("cannot reach the daemon on {}: {}", path, std::strerror(errno));
+    ::close(fd);
+    return answer;
+  }
+  std::string text;
+  const auto deadline = std::chrono::steady_clock::now() + answer_timeout;
+  while (true) {
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+    pollfd p{fd, POLLIN, 0};
+    if (left.count() <= 0 || ::poll(&p, 1, static_cast<int>(left.count())) <= 0) {
+      answer.error = fmt::format("the daemon on {} did not answer within {} s", path, answer_timeout.count());
+      ::close(fd);
+      return answer;
+    }
+    char buffer[8192];
+    const auto n = ::read(fd, buffer, sizeof buffer);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) break;
+    text.append(buffer, static_cast<std::size_t>(n));
+  }
+  ::close(fd);
+  answer.text = std::move(text);
+  return answer;
+}
+
+std::string led(bool on) { return on ? "[*]" : "[ ]"; }
+
+std::string ago(const nlohmann::json& activity, const char* what) {
+  if (activity["last_ms_ago"].is_null()) return fmt::format("no {} yet", what);
+  return fmt::format("last {} {:.1f} s ago", what, activity["last_ms_ago"].get<double>() / 1000.0);
+}
+
+std::string uptime(long seconds) {
+  return fmt::format("{}h{:02}m{:02}s", seconds / 3600, seconds / 60 % 60, seconds % 60);
+}
+
+std::string counter(const nlohmann::json& port, const char* key) {
+  return port.contains(key) ? std::to_string(port[key].get<std::uint64_t>()) : "-";
+}
+
+}  // namespace
+
+std::string render_status_panel(const nlohmann::json& s) {
+  std::string out;
+  out += fmt::format("unima-bridge  {} mode  Modbus address {}  UnimaBUS address {}  up {}\n",
+                     s["mode"].get<std::string>(), s["modbus_address"].get<int>(), s["unimabus_address"].get<int>(),
+                     uptime(s["uptime_s"].get<long>()));
+  out += fmt::format("  Modbus    {}  {}\n", led(s["modbus"]["active"].get<bool>()), ago(s["modbus"], "transaction"));
+  out += fmt::format("  UnimaBUS  {}  {} ({} transport)\n", led(s["unimabus"]["active"].get<bool>()),
+                     ago(s["unimabus"], "telegram"), s["unimabus"]["transport"].get<std::string>());
+  const bool error = s["error"].get<bool>();
+  out += fmt::format("  Error     {}  {}\n", led(error),
+                     error ? "Modbus fault (C+0x13 bit 15; clears 2 s after the last one)" : "no fault in the last 2 s");
+  out += " ";
+  for (const auto& d : s["devices"]) {
+    if (d["type"].is_null()) out += fmt::format(" {} -  ", d["bank"].get<std::string>());
+    else
+      out += fmt::format(" {} {} {}@{}  ", d["bank"].get<std::string>(), led(d["online"].get<bool>()),
+                         d["type"].get<std::string>(), d["address"].get<int>());
+  }
+  out += "\n ";
+  for (const auto& m : s["modules"])
+    out += fmt::format(" {} {}", m["bank"].get<std::string>(), led(m["online"].get<bool>()));
+  out += "\n";
+
+  out += "Capture indicators\n";
+  if (s["indicators"].empty()) out += "  none configured (monitor.indicators)\n";
+  int n = 1;
+  for (const auto& i : s["indicators"]) {
+    out += fmt::format("  {}  Ad={:<3} Reg=0x{:04X}  ", n++, i["address"].get<int>(), i["register"].get<int>());
+    if (i["value"].is_null()) {
+      out += "-\n";
+    } else {
+      const auto value = i["value"].get<int>();
+      out += fmt::format("0x{:04X} ({:5})  {:<5}  {}\n", value, value, i["access"].get<std::string>(),
+                         i["time"].get<std::string>());
+    }
+  }
+
+  out += "Port        frames    Done  Not4Me   Err01   Err02   Err03   Err04  Timeout  clients\n";
+  if (s["ports"].empty()) out += "  none\n";
+  for (const auto& p : s["ports"]) {
+    out += fmt::format("  {:<8} {:>8} {:>7} {:>7} {:>7} {:>7} {:>7} {:>7} {:>8} {:>8}", p["port"].get<std::string>(),
+                       counter(p, "transactions"), counter(p, "Done"), counter(p, "Not4Me"), counter(p, "Err01"),
+                       counter(p, "Err02"), counter(p, "Err03"), counter(p, "Err04"), counter(p, "Timeout"),
+                       counter(p, "clients"));
+    if (p.contains("listen")) out += "  " + p["listen"].get<std::string>();
+    out += "\n";
+  }
+
+  const auto& m = s["monitor"];
+  std::string where;
+  if (!m["file"].is_null()) where = m["file"].get<std::string>();
+  if (m["stdout"].get<bool>()) where += where.empty() ? "stdout" : " and stdout";
+  if (where.empty()) {
+    out += "Monitor     off (set monitor.file)\n";
+  } else {
+    out += fmt::format("Monitor     {} ({}), filter {}\n", where, m["format"].get<std::string>(),
+                       m["filter"].get<std::string>());
+    out += fmt::format("            {} lines written, {} dropped\n", m["written"].get<std::uint64_t>(),
+                       m["dropped"].get<std::uint64_t>());
+  }
+  return out;
+}
+
+int status_command(const std::vector<std::string>& args) {
+  bool watch = false;
+  bool json = false;
+  std::string socket;
+  std::string config_path;
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    const auto& arg = args[i];
+    const bool has_value = i + 1 < args.size();
+    if (arg == "--watch" || arg == "-w") watch = true;
+    else if (arg == "--json") json = true;
+    else if (arg == "--socket" && has_value) socket = args[++i];
+    else if (arg.starts_with("--socket=")) socket = arg.substr(9);
+    else if (arg == "--config" && has_value) config_path = args[++i];
+    else if (arg.starts_with("--config=")) config_path = arg.substr(9);
+    else if (arg == "--help" || arg == "-h") {
+      std::fputs(usage, stdout);
+      return 0;
+    } else {
+      std::fprintf(stderr, "unima-bridge status: unknown argument '%s'\n%s", arg.c_str(), usage);
+      return 2;
+    }
+  }
+  if (!socket.empty() && !config_path.empty()) {
+    std::fprintf(stderr, "unima-bridge status: give --socket or --config, not both\n%s", usage);
+    return 2;
+  }
+  if (socket.empty()) {
+    socket = config::StatusConfig{}.socket;
+    if (!config_path.empty()) {
+      try {
+        socket = config::load_file(config_path).status.socket;
+      } catch (const std::exception& e) {
+        std::fprintf(stderr, "unima-bridge status: %s\n", e.what());
+        return 1;
+      }
+    }
+  }
+
+  const bool terminal = ::isatty(STDOUT_FILENO) != 0;
+  for (bool first = true;; first = false) {
+    if (!first) std::this_thread::sleep_for(watch_interval);
+    const auto answer = ask(socket);
+    std::string out;
+    int code = 0;
+    if (!answer.text) {
+      if (!watch) {
+        std::fprintf(stderr, "unima-bridge status: %s\n", answer.error.c_str());
+        return 1;
+      }
+      out = answer.error + "\n";
+    } else {
+      const auto document = nlohmann::json::parse(*answer.text, nullptr, false);
+      if (document.is_discarded()) {
+        std::fprintf(stderr, "unima-bridge status: the daemon on %s sent no JSON document\n", socket.c_str());
+        if (!watch) return 1;
+        code = 1;
+      } else {
+        try {
+          out = json ? document.dump(2) + "\n" : render_status_panel(document);
+        } catch (const nlohmann::json::exception& e) {
+          std::fprintf(stderr, "unima-bridge status: unexpected document from %s: %s\n", socket.c_str(), e.what());
+          if (!watch) return 1;
+          code = 1;
+        }
+      }
+    }
+    if (watch && terminal) out = "\033[H\033[2J" + out;  // redraw in place
+    else if (watch && !first) out = "\n" + out;
+    std::fwrite(out.data(), 1, out.size(), stdout);
+    if (std::fflush(stdout) != 0) return 1;
+    if (!watch) return code;
+  }
+}
+
+}  // namespace unima::cli

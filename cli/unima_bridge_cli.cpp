@@ -1,0 +1,136 @@
+// unima-bridge: the operator's command line (SPEC §8).
+
+#include <cstdio>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "banks/table_reference.hpp"
+#include "config/config.hpp"
+#include "config/register_map.hpp"
+#include "cli/master_format.hpp"
+#include "cli/register_map_format.hpp"
+#include "cli/cli_monitor.hpp"
+#include "cli/cli_status.hpp"
+
+namespace {
+
+constexpr const char* usage =
+    "usage: unima-bridge check --config FILE\n"
+    "       unima-bridge map --config FILE [--format table|csv|json]\n"
+    "       unima-bridge tables\n"
+    "       unima-bridge status [--watch] [--json] [--socket PATH | --config FILE]\n"
+    "       unima-bridge monitor [--follow] [--filter EXPR] [--json] [--config FILE] [LOG]\n"
+    "       unima-bridge profiles [ID]\n"
+    "\n"
+    "  check     validate a config; exit 0 when it is good, 1 with the errors when not;\n"
+    "            in master mode also the merge plan and the estimated bus load\n"
+    "  map       every register the config serves: address, bank, offset, identifier,\n"
+    "            label, unit, scale, access\n"
+    "  tables    the reference of every device table, in Markdown (docs/registers.md)\n"
+    "  status    the front panel of the running daemon: mode, activity, Error, D_N/S_N on-line,\n"
+    "            capture indicators, counters\n"
+    "  monitor   read, filter and follow the monitor log (one line per Modbus transaction)\n"
+    "  profiles  the device profiles of foreign slaves for master mode; with ID, its points\n";
+
+int check(const std::string& path) {
+  try {
+    const auto config = unima::config::load_file(path);
+    const auto map = unima::config::address_map(config);
+    for (const auto& warning : unima::config::warnings(config)) fmt::print(stderr, "warning: {}\n", warning);
+    fmt::print("{}: OK\n", path);
+    for (const auto& window : map.windows())
+      fmt::print("  0x{:04X}..0x{:04X}  {}\n", window.first, window.end() - 1, window.name);
+    if (config.modbus.mode == unima::config::ModbusMode::master) fmt::print("{}", unima::cli::format_master_plan(config));
+    return 0;
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "{}\n", e.what());
+    return 1;
+  }
+}
+
+int map(const std::string& path, unima::cli::MapFormat format) {
+  try {
+    const auto config = unima::config::load_file(path);
+    fmt::print("{}", unima::cli::format_register_map(unima::config::register_map(config), format));
+    return 0;
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "{}\n", e.what());
+    return 1;
+  }
+}
+
+// The options every config-reading command takes: --config FILE, and for map --format.
+struct Options {
+  std::string config;
+  std::optional<unima::cli::MapFormat> format;
+  std::string error;
+};
+
+Options parse_options(const std::vector<std::string>& args, bool takes_format) {
+  Options options;
+  for (std::size_t i = 1; i < args.size(); ++i) {
+    std::string value;
+    const auto& arg = args[i];
+    const auto take = [&](const std::string& name) {
+      if (arg == name && i + 1 < args.size()) return value = args[++i], true;
+      if (arg.starts_with(name + "=")) return value = arg.substr(name.size() + 1), true;
+      return false;
+    };
+    if (take("--config")) {
+      options.config = value;
+    } else if (takes_format && take("--format")) {
+      if (value == "table") options.format = unima::cli::MapFormat::table;
+      else if (value == "csv") options.format = unima::cli::MapFormat::csv;
+      else if (value == "json") options.format = unima::cli::MapFormat::json;
+      else return options.error = "unknown format '" + value + "' (table, csv or json)", options;
+    } else {
+      return options.error = "unknown argument '" + arg + "'", options;
+    }
+  }
+  if (options.config.empty()) options.error = "--config FILE is required";
+  return options;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const std::vector<std::string> args(argv + 1, argv + argc);
+  if (args.empty() || args[0] == "--help" || args[0] == "-h") {
+    std::fputs(usage, args.empty() ? stderr : stdout);
+    return args.empty() ? 2 : 0;
+  }
+  if (args[0] == "--version") {
+    std::puts("unima-bridge " UNIMA_VERSION);
+    return 0;
+  }
+  if (args[0] == "check" || args[0] == "map") {
+    const bool is_map = args[0] == "map";
+    const auto options = parse_options(args, is_map);
+    if (!options.error.empty()) {
+      std::fprintf(stderr, "unima-bridge %s: %s\n%s", args[0].c_str(), options.error.c_str(), usage);
+      return 2;
+    }
+    return is_map ? map(options.config, options.format.value_or(unima::cli::MapFormat::table))
+                  : check(options.config);
+  }
+  if (args[0] == "profiles") {
+    const auto text = unima::cli::format_profiles(args.size() > 1 ? args[1] : "");
+    if (text.empty()) {
+      std::fprintf(stderr, "unima-bridge profiles: no profile '%s'\n", args[1].c_str());
+      return 1;
+    }
+    fmt::print("{}", text);
+    return 0;
+  }
+  if (args[0] == "tables") {
+    fmt::print("{}", unima::banks::tables_markdown());
+    return 0;
+  }
+  if (args[0] == "status") return unima::cli::status_command({args.begin() + 1, args.end()});
+  if (args[0] == "monitor") return unima::cli::monitor_command({args.begin() + 1, args.end()});
+  std::fprintf(stderr, "unima-bridge: unknown command '%s'\n%s", args[0].c_str(), usage);
+  return 2;
+}

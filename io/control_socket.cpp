@@ -1,0 +1,86 @@
+#include "io/control_socket.hpp"
+
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <memory>
+#include <stdexcept>
+
+#include <spdlog/spdlog.h>
+
+namespace unima::io {
+
+using asio::local::stream_protocol;
+
+namespace {
+
+bool someone_answers(asio::io_context& io, const std::string& path) {
+  stream_protocol::socket probe(io);
+  boost::system::error_code ec;
+  probe.connect(stream_protocol::endpoint(path), ec);
+  return !ec;
+}
+
+}  // namespace
+
+ControlSocket::ControlSocket(asio::io_context& io, std::string path, DocumentFn document)
+    : path_(std::move(path)), document_(std::move(document)), acceptor_(io), accept_retry_(io) {
+  const auto directory = std::filesystem::path(path_).parent_path();
+  std::error_code ignored;  // the bind says what went wrong
+  if (!directory.empty()) std::filesystem::create_directories(directory, ignored);
+  if (someone_answers(io, path_))
+    throw std::runtime_error("status: " + path_ + " is answered by another process (is another daemon running?)");
+  ::unlink(path_.c_str());  // a socket file a previous run left behind
+  boost::system::error_code ec;
+  acceptor_.open(stream_protocol(), ec);
+  if (!ec) acceptor_.bind(stream_protocol::endpoint(path_), ec);
+  if (!ec) acceptor_.listen(asio::socket_base::max_listen_connections, ec);
+  if (ec) throw std::runtime_error("status: cannot listen on " + path_ + ": " + ec.message());
+  // Asking needs write permission on the socket: the daemon's user and group may ask (as
+  // for the monitor log, 0640), whatever the umask.
+  ::chmod(path_.c_str(), 0660);
+}
+
+ControlSocket::~ControlSocket() { stop(); }
+
+void ControlSocket::start() {
+  spdlog::info("status: answering on {}", path_);
+  accept();
+}
+
+void ControlSocket::stop() {
+  if (stopped_) return;
+  stopped_ = true;
+  boost::system::error_code ec;
+  acceptor_.close(ec);
+  accept_retry_.cancel();
+  ::unlink(path_.c_str());
+}
+
+void ControlSocket::accept() {
+  acceptor_.async_accept([this](const boost::system::error_code& ec, stream_protocol::socket socket) {
+    if (ec == asio::error::operation_aborted || stopped_) return;
+    if (ec) {
+      // Out of descriptors or memory: the pending connection stays in the backlog, so an
+      // immediate retry would fail again at once and spin (as for the TCP slave and feed).
+      spdlog::warn("status: accept failed: {}; retrying in 100 ms", ec.message());
+      accept_retry_.expires_after(std::chrono::milliseconds(100));
+      accept_retry_.async_wait([this](const boost::system::error_code& wait_ec) {
+        if (!wait_ec && !stopped_) accept();
+      });
+      return;
+    }
+    // A few kB: the kernel takes it at once, so a client that never reads holds nothing.
+    auto connection = std::make_shared<stream_protocol::socket>(std::move(socket));
+    auto text = std::make_shared<std::string>(document_() + "\n");
+    asio::async_write(*connection, asio::buffer(*text),
+                      [connection, text](const boost::system::error_code&, std::size_t) {
+                        boost::system::error_code ignored;
+                        connection->shutdown(stream_protocol::socket::shutdown_both, ignored);
+                      });
+    accept();
+  });
+}
+
+}  // namespace unima::io

@@ -1,0 +1,220 @@
+#include "io/feed_transport.hpp"
+
+#include <unistd.h>
+
+#include <array>
+#include <deque>
+
+#include <spdlog/spdlog.h>
+
+#include "unimabus/feed_codec.hpp"
+#include "unimabus/line_splitter.hpp"
+
+namespace unima::io {
+
+namespace {
+// A client this far behind is dropped rather than buffered without bound; when it comes
+// back its snapshot brings it up to date, so no published value is lost to it.
+constexpr std::size_t max_pending_bytes = 4 * 1024 * 1024;
+}  // namespace
+
+class FeedTransport::Session : public std::enable_shared_from_this<Session> {
+ public:
+  virtual ~Session() = default;
+  virtual void start() = 0;
+  virtual void send(std::string_view text) = 0;
+  virtual void close() = 0;
+};
+
+namespace {
+
+template <typename Socket>
+class SocketSession final : public FeedTransport::Session {
+ public:
+  SocketSession(Socket socket, std::string peer, unimabus::TelegramHandler& on_telegram,
+                std::function<void(Session*)> on_closed)
+      : socket_(std::move(socket)), peer_(std::move(peer)), on_telegram_(on_telegram), on_closed_(std::move(on_closed)) {}
+
+  void start() override { read(); }
+
+  void send(std::string_view text) override {
+    if (closed_) return;
+    if (pending_.size() + text.size() > max_pending_bytes) {
+      spdlog::warn("feed: {} is not reading; dropping it (it gets a fresh snapshot when it reconnects)", peer_);
+      close();
+      return;
+    }
+    pending_.append(text);
+    if (!writing_) write();
+  }
+
+  void close() override {
+    if (closed_) return;
+    closed_ = true;
+    boost::system::error_code ec;
+    socket_.close(ec);
+    spdlog::info("feed: {} disconnected", peer_);
+    on_closed_(this);
+  }
+
+ private:
+  void read() {
+    auto self = shared_from_this();
+    socket_.async_read_some(asio::buffer(in_), [this, self](const boost::system::error_code& ec, std::size_t n) {
+      if (ec) return close();
+      splitter_.feed(
+          std::string_view(in_.data(), n), [this](std::string_view line) { take_line(line); },
+          [this] { send(unimabus::format_error("line longer than 64 KiB, dropped")); });
+      if (!closed_) read();
+    });
+  }
+
+  void take_line(std::string_view line) {
+    if (line.find_first_not_of(" \t") == std::string_view::npos) return;  // blank lines are harmless
+    auto parsed = unimabus::parse_feed_line(line);
+    if (auto* error = std::get_if<std::string>(&parsed)) {
+      spdlog::warn("feed: {} sent a malformed line: {}", peer_, *error);
+      send(unimabus::format_error(*error));
+      return;
+    }
+    const auto refusal = on_telegram_(std::get<unimabus::Telegram>(parsed));
+    if (!refusal.empty()) send(unimabus::format_error(refusal));
+  }
+
+  void write() {
+    writing_ = true;
+    sending_.swap(pending_);
+    pending_.clear();
+    auto self = shared_from_this();
+    asio::async_write(socket_, asio::buffer(sending_), [this, self](const boost::system::error_code& ec, std::size_t) {
+      writing_ = false;
+      if (ec) return close();
+      if (!pending_.empty() && !closed_) write();
+    });
+  }
+
+  Socket socket_;
+  std::string peer_;
+  unimabus::TelegramHandler& on_telegram_;
+  std::function<void(Session*)> on_closed_;
+  std::array<char, 8192> in_{};
+  unimabus::LineSplitter splitter_;
+  std::string pending_;
+  std::string sending_;
+  bool writing_ = false;
+  bool closed_ = false;
+};
+
+}  // namespace
+
+FeedTransport::FeedTransport(asio::io_context& io, const std::string& listen, unimabus::TelegramHandler on_telegram,
+                             SnapshotFn snapshot)
+    : io_(io), listen_(listen), on_telegram_(std::move(on_telegram)), snapshot_(std::move(snapshot)), accept_retry_(io) {
+  if (listen_.starts_with("unix:")) {
+    unix_path_ = listen_.substr(5);
+    ::unlink(unix_path_.c_str());  // a socket file left by a previous run would block the bind
+    unix_acceptor_ = std::make_unique<asio::local::stream_protocol::acceptor>(
+        io_, asio::local::stream_protocol::endpoint(unix_path_));
+    return;
+  }
+  const auto colon = listen_.rfind(':');
+  const auto host = listen_.substr(0, colon);
+  const auto port = static_cast<std::uint16_t>(std::stoul(listen_.substr(colon + 1)));
+  const asio::ip::tcp::endpoint endpoint(asio::ip::make_address(host == "*" ? "0.0.0.0" : host), port);
+  tcp_acceptor_ = std::make_unique<asio::ip::tcp::acceptor>(io_);
+  tcp_acceptor_->open(endpoint.protocol());
+  tcp_acceptor_->set_option(asio::ip::tcp::acceptor::reuse_address(true));
+  tcp_acceptor_->bind(endpoint);
+  tcp_acceptor_->listen();
+}
+
+FeedTransport::~FeedTransport() { stop(); }
+
+std::uint16_t FeedTransport::port() const {
+  boost::system::error_code ec;
+  return tcp_acceptor_ ? tcp_acceptor_->local_endpoint(ec).port() : 0;
+}
+
+void FeedTransport::start() {
+  if (tcp_acceptor_) {
+    spdlog::info("feed: listening on {}:{}", listen_.substr(0, listen_.rfind(':')), port());
+    accept(*tcp_acceptor_);
+  } else {
+    spdlog::info("feed: listening on {}", listen_);
+    accept(*unix_acceptor_);
+  }
+}
+
+void FeedTransport::stop() {
+  if (stopped_) return;
+  stopped_ = true;
+  boost::system::error_code ec;
+  accept_retry_.cancel();
+  if (tcp_acceptor_) tcp_acceptor_->close(ec);
+  if (unix_acceptor_) {
+    unix_acceptor_->close(ec);
+    ::unlink(unix_path_.c_str());
+  }
+  auto sessions = std::move(sessions_);
+  for (const auto& s : sessions) s->close();
+}
+
+void FeedTransport::publish(banks::BankId bank, std::uint16_t offset, std::uint16_t value) {
+  if (sessions_.empty()) return;
+  const auto line = unimabus::format_change(bank, offset, value);
+  // Copy first: a session that is too slow closes itself and leaves the set.
+  for (const auto& s : std::vector(sessions_.begin(), sessions_.end())) s->send(line);
+}
+
+void FeedTransport::adopt(std::shared_ptr<Session> session) {
+  sessions_.insert(session);
+  session->send(snapshot_());
+  session->start();
+}
+
+namespace {
+std::string describe_peer(const asio::ip::tcp::socket& socket, const std::string&) {
+  boost::system::error_code ec;
+  const auto remote = socket.remote_endpoint(ec);
+  return ec ? std::string("?") : remote.address().to_string() + ":" + std::to_string(remote.port());
+}
+std::string describe_peer(const asio::local::stream_protocol::socket&, const std::string& listen) { return listen; }
+
+// Changes go out one small line at a time (a captured value, a W write) and a driver waits
+// for each: Nagle's algorithm would hold a line until the previous one is acknowledged.
+void send_at_once(asio::ip::tcp::socket& socket) {
+  boost::system::error_code ec;
+  socket.set_option(asio::ip::tcp::no_delay(true), ec);
+}
+void send_at_once(asio::local::stream_protocol::socket&) {}
+}  // namespace
+
+template <typename Acceptor>
+void FeedTransport::accept(Acceptor& acceptor) {
+  acceptor.async_accept([this, &acceptor](const boost::system::error_code& ec, typename Acceptor::protocol_type::socket socket) {
+    if (ec == asio::error::operation_aborted || stopped_) return;
+    if (ec) {
+      // As in the TCP slave: a failed accept (out of descriptors) fails again at once.
+      spdlog::warn("feed: accept failed: {}; retrying in 100 ms", ec.message());
+      accept_retry_.expires_after(std::chrono::milliseconds(100));
+      accept_retry_.async_wait([this, &acceptor](const boost::system::error_code& wait_ec) {
+        if (!wait_ec && !stopped_) accept(acceptor);
+      });
+      return;
+    }
+    auto peer = describe_peer(socket, listen_);
+    send_at_once(socket);
+    spdlog::info("feed: {} connected", peer);
+    using SessionType = SocketSession<typename Acceptor::protocol_type::socket>;
+    adopt(std::make_shared<SessionType>(std::move(socket), std::move(peer), on_telegram_,
+                                        [this](Session* s) { forget(s); }));
+    accept(acceptor);
+  });
+}
+
+void FeedTransport::forget(Session* session) {
+  for (auto it = sessions_.begin(); it != sessions_.end(); ++it)
+    if (it->get() == session) return void(sessions_.erase(it));
+}
+
+}  // namespace unima::io

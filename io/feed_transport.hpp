@@ -1,0 +1,54 @@
+#pragma once
+// The `feed` UnimaBUS transport (SPEC §6): external drivers connect over TCP (host:port) or
+// a unix socket (unix:/path) and exchange JSON lines. Each client gets a snapshot of what
+// the bridge publishes on connect, then every change; its telegrams update the banks.
+
+#include <functional>
+#include <memory>
+#include <set>
+#include <string>
+
+#include "platform/asio.hpp"
+#include "unimabus/transport.hpp"
+
+namespace unima::io {
+
+class FeedTransport final : public unimabus::Transport {
+ public:
+  /// The lines a new client gets first: one per published register.
+  using SnapshotFn = std::function<std::string()>;
+
+  /// Binds at once; throws boost::system::system_error when it cannot.
+  FeedTransport(asio::io_context& io, const std::string& listen, unimabus::TelegramHandler on_telegram,
+                SnapshotFn snapshot);
+  ~FeedTransport() override;
+
+  void start() override;
+  void stop() override;
+  void publish(banks::BankId bank, std::uint16_t offset, std::uint16_t value) override;
+
+  const std::string& listen() const { return listen_; }
+  /// The TCP port actually bound, 0 for a unix socket.
+  std::uint16_t port() const;
+
+  class Session;
+
+ private:
+  template <typename Acceptor>
+  void accept(Acceptor& acceptor);
+  void adopt(std::shared_ptr<Session> session);
+  void forget(Session* session);
+
+  asio::io_context& io_;
+  std::string listen_;
+  unimabus::TelegramHandler on_telegram_;
+  SnapshotFn snapshot_;
+  std::unique_ptr<asio::ip::tcp::acceptor> tcp_acceptor_;
+  std::unique_ptr<asio::local::stream_protocol::acceptor> unix_acceptor_;
+  std::string unix_path_;
+  std::set<std::shared_ptr<Session>> sessions_;
+  asio::steady_timer accept_retry_;
+  bool stopped_ = false;
+};
+
+}  // namespace unima::io

@@ -1,0 +1,95 @@
+#pragma once
+// The bridge as a Modbus master (seed 004 §7.2, SPEC §4, docs/master.md): the poll and send
+// blocks, planned into requests, sent by the scheduler over the RTU line or to a TCP
+// target, on the daemon's event loop. Polled values go to the user analog outputs; sends
+// take their source's value at the moment they go out.
+//
+// Faults (time-out, bad CRC, exception, short or wrong frame) go to the monitor hook, to
+// the fault hook (C+0x13 bit 15 and its 2 s hold) and to the counters. A value stays as
+// last read until `stale_after` without a good read, then reads 0x7FFF.
+
+#include <chrono>
+#include <functional>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "banks/source_ref.hpp"
+#include "config/config.hpp"
+#include "config/master_setup.hpp"
+#include "platform/asio.hpp"
+#include "io/master_link.hpp"
+#include "master/master_scheduler.hpp"
+#include "modbus/transaction.hpp"
+
+namespace unima::io {
+
+/// What the master has done with one device, for the log and `unima-bridge status`.
+struct MasterDeviceCounters {
+  std::uint64_t requests = 0;    // frames sent, retries and probes included
+  std::uint64_t answered = 0;    // good answers
+  std::uint64_t timeouts = 0;
+  std::uint64_t bad_frames = 0;  // bad CRC or length, too short, wrong function, address or echo
+  std::uint64_t exceptions = 0;
+  std::uint64_t retries = 0;
+  std::uint64_t probes = 0;
+  std::uint64_t skipped = 0;     // sends left out: their source was not measured
+  bool degraded = false;
+};
+
+class MasterPort : public std::enable_shared_from_this<MasterPort> {
+ public:
+  struct Hooks {
+    /// The value of a send's source now; nullopt while it is not measured (0x7FFF).
+    std::function<std::optional<std::uint16_t>(const banks::SourceRef&)> read_source;
+    /// User analog output n (1..16) = C+(n-1).
+    std::function<void(unsigned output, std::uint16_t value)> set_output;
+    /// Any fault: C+0x13 bit 15.
+    std::function<void()> on_fault;
+    /// Every transaction (the monitor). Must not block.
+    std::function<void(const modbus::Transaction&)> on_transaction;
+  };
+
+  /// Opens the line of `config` (in master mode); throws std::runtime_error when it cannot.
+  static std::shared_ptr<MasterPort> create(asio::io_context& io, const config::Config& config, Hooks hooks);
+  ~MasterPort();
+
+  void start();
+  void stop();
+
+  std::string describe() const { return link_->describe(); }
+  const std::map<std::uint8_t, MasterDeviceCounters>& counters() const { return counters_; }
+
+  MasterPort(asio::io_context& io, config::MasterSetup setup, std::shared_ptr<MasterLink> link, Hooks hooks);
+
+ private:
+  using Clock = master::MasterScheduler::Clock;
+  void pump();
+  void send(const master::MasterScheduler::Choice& choice);
+  void finished(const master::MasterScheduler::Choice& choice, const master::Bytes& pdu,
+                std::chrono::system_clock::time_point sent, master::Bytes query, master::Bytes response);
+  void take_values(const master::PlannedRequest& request, const master::MasterResponse& result, Clock::time_point now);
+  void publish(unsigned output, std::uint16_t value);
+  void watch_staleness(Clock::time_point now);
+
+  config::MasterSetup setup_;
+  std::shared_ptr<MasterLink> link_;
+  Hooks hooks_;
+  std::optional<master::MasterScheduler> scheduler_;
+  asio::steady_timer wake_timer_;
+  asio::steady_timer stale_timer_;
+  std::vector<Clock::time_point> last_good_;  // per block; the start counts as one
+  std::vector<bool> stale_;
+  std::map<unsigned, std::uint16_t> published_;
+  std::vector<bool> skip_warned_;
+  std::map<std::uint8_t, MasterDeviceCounters> counters_;
+  bool in_flight_ = false;
+  bool running_ = false;
+};
+
+/// One line for the log: "Timeout rtu 01 03 04 24 00 02 85 30 -> -".
+std::string describe_master_transaction(const modbus::Transaction& transaction);
+
+}  // namespace unima::io

@@ -1,0 +1,169 @@
+#include "io/master_rtu_link.hpp"
+
+#include <linux/serial.h>
+#include <sys/ioctl.h>
+#include <termios.h>
+
+#include <cerrno>
+#include <cstring>
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include "config/master_setup.hpp"
+
+namespace unima::io {
+
+namespace {
+
+char parity_letter(config::Parity p) { return p == config::Parity::even ? 'E' : p == config::Parity::odd ? 'O' : 'N'; }
+
+}  // namespace
+
+MasterRtuLink::MasterRtuLink(asio::io_context& io, const config::RtuConfig& line)
+    : line_(line),
+      timing_{line.baud, config::bits_per_char(line)},
+      port_(io),
+      deadline_(io),
+      silence_(io),
+      rts_timer_(io) {
+  using base = asio::serial_port_base;
+  try {
+    port_.open(line.device);
+  } catch (const boost::system::system_error& e) {
+    throw std::runtime_error(fmt::format("modbus master: cannot open {}: {}", line.device, e.code().message()));
+  }
+  try {
+    port_.set_option(base::baud_rate(line.baud));
+    port_.set_option(base::character_size(8));
+    port_.set_option(base::parity(line.parity == config::Parity::even  ? base::parity::even
+                                  : line.parity == config::Parity::odd ? base::parity::odd
+                                                                       : base::parity::none));
+    port_.set_option(base::stop_bits(line.stop_bits == 2 ? base::stop_bits::two : base::stop_bits::one));
+    port_.set_option(base::flow_control(base::flow_control::none));
+  } catch (const boost::system::system_error& e) {
+    throw std::runtime_error(fmt::format("modbus master: cannot set {} to {}: {}", line.device, describe(),
+                                         e.code().message()));
+  }
+  const int fd = port_.native_handle();
+  if (line.rs485 == config::Rs485Direction::kernel) {
+    serial_rs485 rs485{};
+    rs485.flags = SER_RS485_ENABLED | SER_RS485_RTS_ON_SEND;
+    if (::ioctl(fd, TIOCSRS485, &rs485) != 0)
+      spdlog::warn("modbus master: {}: the kernel cannot switch the RS-485 direction ({}); set rs485: off or rts",
+                   line.device, std::strerror(errno));
+  }
+  if (line.low_latency) {
+    serial_struct serial{};
+    if (::ioctl(fd, TIOCGSERIAL, &serial) == 0) {
+      serial.flags |= ASYNC_LOW_LATENCY;
+      if (::ioctl(fd, TIOCSSERIAL, &serial) != 0)
+        spdlog::warn("modbus master: {}: cannot set low latency: {}", line.device, std::strerror(errno));
+    } else {
+      spdlog::warn("modbus master: {}: cannot set low latency: {}", line.device, std::strerror(errno));
+    }
+  }
+  if (line.rs485 == config::Rs485Direction::rts) set_rts(false);
+}
+
+MasterRtuLink::~MasterRtuLink() { close(); }
+
+std::string MasterRtuLink::describe() const {
+  return fmt::format("rtu {} {} 8{}{}", line_.device, line_.baud, parity_letter(line_.parity), line_.stop_bits);
+}
+
+master::MasterResponse MasterRtuLink::check(std::span<const std::uint8_t> response, std::uint8_t unit,
+                                            std::span<const std::uint8_t> request_pdu) const {
+  return master::check_rtu_response(response, unit, request_pdu);
+}
+
+void MasterRtuLink::set_rts(bool on) {
+  int bit = TIOCM_RTS;
+  if (::ioctl(port_.native_handle(), on ? TIOCMBIS : TIOCMBIC, &bit) != 0 && !rts_warned_) {
+    rts_warned_ = true;
+    spdlog::warn("modbus master: {}: cannot switch RTS: {}", line_.device, std::strerror(errno));
+  }
+}
+
+void MasterRtuLink::transact(std::uint8_t unit, const master::Bytes& pdu, std::chrono::milliseconds timeout, Done done) {
+  const unsigned generation = ++generation_;
+  done_ = std::move(done);
+  query_ = master::rtu_frame(unit, pdu);
+  response_.clear();
+  function_ = pdu[0];
+  // Whatever a slave said after its time-out is not the answer to this request.
+  ::tcflush(port_.native_handle(), TCIFLUSH);
+  if (line_.rs485 == config::Rs485Direction::rts) set_rts(true);
+  const auto frame_time = timing_.char_time() * query_.size();
+  deadline_.expires_after(frame_time + timeout);
+  auto self = shared_from_this();
+  deadline_.async_wait([this, self, generation](const boost::system::error_code& ec) {
+    if (!ec) finish(generation);
+  });
+  asio::async_write(port_, asio::buffer(query_), [this, self, generation, frame_time](const boost::system::error_code& ec,
+                                                                                     std::size_t) {
+    if (generation != generation_) return;
+    if (ec) {
+      spdlog::warn("modbus master: {}: write failed: {}", line_.device, ec.message());
+      return;  // the deadline ends the transaction: no answer
+    }
+    if (line_.rs485 == config::Rs485Direction::rts) {
+      // The last bytes may still be in the UART when the write returns.
+      rts_timer_.expires_after(frame_time);
+      rts_timer_.async_wait([this, self](const boost::system::error_code& e) {
+        if (e) return;  // re-armed by the next frame, or closed
+        ::tcdrain(port_.native_handle());
+        set_rts(false);
+      });
+    }
+  });
+  read(generation);
+}
+
+void MasterRtuLink::read(unsigned generation) {
+  auto self = shared_from_this();
+  port_.async_read_some(asio::buffer(chunk_), [this, self, generation](const boost::system::error_code& ec, std::size_t n) {
+    if (generation != generation_ || !done_) return;
+    if (ec) {
+      if (ec != asio::error::operation_aborted) spdlog::warn("modbus master: {}: read failed: {}", line_.device, ec.message());
+      return;  // the deadline ends the transaction
+    }
+    response_.insert(response_.end(), chunk_.begin(), chunk_.begin() + static_cast<std::ptrdiff_t>(n));
+    const auto length = master::rtu_response_length(response_, function_);
+    if (length && response_.size() >= *length) {
+      response_.resize(*length);  // what follows is not part of this frame
+      return finish(generation);
+    }
+    // The frame goes on, or has ended without its length being known: a silence decides.
+    const auto tolerance = std::max<asio::steady_timer::duration>(timing_.silence(), late_byte_tolerance);
+    silence_.expires_after(tolerance);
+    silence_.async_wait([this, self, generation](const boost::system::error_code& e) {
+      if (!e) finish(generation);
+    });
+    read(generation);
+  });
+}
+
+void MasterRtuLink::finish(unsigned generation) {
+  if (generation != generation_ || !done_) return;
+  ++generation_;  // the read, timers and write of this transaction are over
+  deadline_.cancel();
+  silence_.cancel();
+  boost::system::error_code ignored;
+  port_.cancel(ignored);
+  auto done = std::move(done_);
+  done_ = nullptr;
+  done(std::move(query_), std::move(response_));
+}
+
+void MasterRtuLink::close() {
+  ++generation_;
+  done_ = nullptr;
+  deadline_.cancel();
+  silence_.cancel();
+  rts_timer_.cancel();
+  boost::system::error_code ignored;
+  port_.close(ignored);
+}
+
+}  // namespace unima::io

@@ -1,0 +1,317 @@
+#include "io/rtu_slave_port.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include "io/serial_line.hpp"
+#include "io/usb_latency.hpp"
+#include "modbus/protocol.hpp"
+#include "modbus/request_handler.hpp"
+#include "modbus/rtu_adu.hpp"
+
+namespace unima::io {
+
+using modbus::RtuClock;
+using modbus::RtuFrame;
+using modbus::TransactionState;
+
+namespace {
+
+modbus::RtuTiming timing_of(const config::RtuConfig& line) {
+  return modbus::rtu_timing(line.baud, line.parity != config::Parity::none, line.stop_bits);
+}
+
+std::string_view parity_letter(config::Parity parity) {
+  switch (parity) {
+    case config::Parity::even: return "E";
+    case config::Parity::odd: return "O";
+    case config::Parity::none: break;
+  }
+  return "N";
+}
+
+std::string hex(std::span<const std::uint8_t> bytes) {
+  std::string text;
+  for (std::uint8_t b : bytes) text += fmt::format("{}{:02X}", text.empty() ? "" : " ", b);
+  return text;
+}
+
+}  // namespace
+
+RtuSlavePort::RtuSlavePort(asio::io_context& io, const config::RtuConfig& line, const SlaveContext& context)
+    : io_(io),
+      line_(line),
+      context_(context),
+      timing_(timing_of(line)),
+      framer_(modbus::RtuFramerTiming::for_line(timing_, std::chrono::milliseconds(0)), context.unit_id),
+      port_(io),
+      silence_timer_(io),
+      reply_timer_(io),
+      reopen_timer_(io),
+      foreign_timer_(io) {}
+
+RtuSlavePort::~RtuSlavePort() { stop(); }
+
+void RtuSlavePort::set_context(const SlaveContext& context) {
+  context_ = context;
+  framer_.set_own_address(context.unit_id);
+}
+
+void RtuSlavePort::start() {
+  running_ = true;
+  open();
+}
+
+void RtuSlavePort::stop() {
+  if (!running_) return;
+  running_ = false;
+  reopen_timer_.cancel();
+  close();
+}
+
+void RtuSlavePort::open() {
+  std::vector<std::string> warnings;
+  try {
+    warnings = open_serial_line(port_, line_);
+  } catch (const std::exception& e) {
+    boost::system::error_code ignored;
+    port_.close(ignored);
+    if (!failing_)
+      spdlog::error("modbus rtu: {}; retrying, every {} s at most", e.what(), longest_reopen_delay.count() / 1000);
+    else
+      spdlog::debug("modbus rtu: {}", e.what());
+    failing_ = true;
+    schedule_reopen();
+    return;
+  }
+  for (const auto& warning : warnings) spdlog::warn("modbus rtu: {}", warning);
+  check_adapter_latency();
+  spdlog::info("modbus rtu: {}serving unit {} on {} at {} baud, 8{}{}", failing_ ? "line back, " : "",
+               context_.unit_id, line_.device, line_.baud, parity_letter(line_.parity), line_.stop_bits);
+  failing_ = false;
+  read();
+}
+
+// Behind a USB adapter the bytes come in bursts up to its latency timer apart: the
+// framer must not take such a pause for the end of a frame, and replies are late by it.
+void RtuSlavePort::check_adapter_latency() {
+  auto latency = std::chrono::milliseconds(0);
+  if (auto timer = find_latency_timer(line_.device)) {
+    if (line_.low_latency && timer->value > std::chrono::milliseconds(1)) {
+      std::string error;
+      if (set_latency_timer(*timer, std::chrono::milliseconds(1), error))
+        spdlog::info("modbus rtu: {}: USB adapter latency timer set to 1 ms", line_.device);
+      else
+        spdlog::warn("modbus rtu: {}: cannot set the USB adapter latency timer {} to 1 ms: {}", line_.device,
+                     timer->file.string(), error);
+    }
+    if (timer->value > timing_.frame_gap)
+      spdlog::warn("modbus rtu: {}: the USB adapter holds received bytes up to {} ms ({}), longer than the {} µs "
+                   "between frames at {} baud: replies are late by up to that; set low_latency: true, or write 1 there",
+                   line_.device, timer->value.count(), timer->file.string(), timing_.frame_gap.count(), line_.baud);
+    latency = timer->value;
+  }
+  framer_ = modbus::RtuFramer(modbus::RtuFramerTiming::for_line(timing_, latency), context_.unit_id);
+}
+
+void RtuSlavePort::schedule_reopen() {
+  if (!running_) return;
+  reopen_timer_.expires_after(reopen_delay_);
+  reopen_delay_ = std::min(reopen_delay_ * 2, longest_reopen_delay);
+  reopen_timer_.async_wait([this, g = guard()](const boost::system::error_code& ec) {
+    if (ec || !valid(g) || !running_) return;
+    open();
+  });
+}
+
+void RtuSlavePort::lost(const std::string& why) {
+  spdlog::warn("modbus rtu: {} lost: {}; reopening", line_.device, why);
+  flush_foreign_query();
+  close();
+  failing_ = true;
+  schedule_reopen();
+}
+
+void RtuSlavePort::close() {
+  ++generation_;
+  boost::system::error_code ignored;
+  if (port_.is_open()) {
+    if (line_.rs485 == config::Rs485Direction::rts) set_rts(port_.native_handle(), false);
+    port_.close(ignored);
+  }
+  silence_timer_.cancel();
+  reply_timer_.cancel();
+  silence_armed_ = false;
+  sending_ = false;
+  out_.clear();
+  foreign_query_.reset();
+  foreign_timer_.cancel();
+  framer_.reset();
+}
+
+void RtuSlavePort::read() {
+  port_.async_read_some(asio::buffer(in_), [this, g = guard()](const boost::system::error_code& ec, std::size_t n) {
+    if (!valid(g) || ec == asio::error::operation_aborted) return;
+    if (ec) return lost(ec == asio::error::eof ? "end of file" : ec.message());
+    // Only a line that delivers bytes has come back for good: one that opens and fails
+    // at once keeps its back-off growing.
+    reopen_delay_ = first_reopen_delay;
+    handle(framer_.feed(std::span<const std::uint8_t>(in_.data(), n), RtuClock::now()));
+    arm_silence_timer();
+    read();
+  });
+}
+
+// One timer at the framer's deadline. New bytes only move the deadline later, so the timer
+// is not re-armed per read: when it fires early, the framer says nothing and it re-arms.
+void RtuSlavePort::arm_silence_timer() {
+  const auto deadline = framer_.deadline();
+  if (!deadline || silence_armed_) return;
+  silence_armed_ = true;
+  silence_timer_.expires_at(*deadline);
+  silence_timer_.async_wait([this, g = guard()](const boost::system::error_code& ec) {
+    if (ec || !valid(g)) return;
+    silence_armed_ = false;
+    handle(framer_.tick(RtuClock::now()));
+    arm_silence_timer();
+  });
+}
+
+void RtuSlavePort::handle(const std::vector<RtuFrame>& frames) {
+  for (const auto& frame : frames) {
+    switch (frame.kind) {
+      case RtuFrame::Kind::query: {
+        flush_foreign_query();
+        const std::uint8_t address = frame.bytes[0];
+        if (address == modbus::broadcast_address) apply_broadcast(frame);
+        else if (address == context_.unit_id) answer(frame);
+        else heard_foreign_query(frame);
+        break;
+      }
+      case RtuFrame::Kind::response: heard_foreign_response(frame); break;
+      case RtuFrame::Kind::unpaired_response:
+        spdlog::debug("modbus rtu: a response to no query heard: {}", hex(frame.bytes));
+        break;
+      case RtuFrame::Kind::bad:
+        // Seed §5.3: Err03 also for a bad length or CRC. No reply: the address is not sure.
+        flush_foreign_query();
+        spdlog::debug("modbus rtu: bad frame dropped: {}", hex(frame.bytes));
+        if (context_.on_fault) context_.on_fault();
+        report(TransactionState::err03, frame.bytes, {});
+        break;
+    }
+  }
+}
+
+void RtuSlavePort::answer(const RtuFrame& query) {
+  const auto pdu = std::span<const std::uint8_t>(query.bytes).subspan(1, query.bytes.size() - 3);
+  std::array<std::uint8_t, modbus::max_pdu_size> response{};
+  const std::size_t length = modbus::handle_request(pdu, response, *context_.registers, context_.options);
+  std::vector<std::uint8_t> adu(length + 3);
+  modbus::write_rtu_adu(query.bytes[0], std::span<const std::uint8_t>(response.data(), length), adu);
+  const auto state = modbus::state_of_response(std::span<const std::uint8_t>(response.data(), length));
+  if (state != TransactionState::done && context_.on_fault) context_.on_fault();
+  report(state, query.bytes, adu);
+  send(std::move(adu), query.end + timing_.reply_delay);
+}
+
+// Writes apply, nothing is answered (SPEC §3). A broadcast write to a register the bridge
+// does not have is meant for the other slaves: no fault.
+void RtuSlavePort::apply_broadcast(const RtuFrame& query) {
+  const auto pdu = std::span<const std::uint8_t>(query.bytes).subspan(1, query.bytes.size() - 3);
+  std::array<std::uint8_t, modbus::max_pdu_size> response{};
+  const std::size_t length = modbus::handle_request(pdu, response, *context_.registers, context_.options);
+  report(modbus::state_of_response(std::span<const std::uint8_t>(response.data(), length)), query.bytes, {});
+  if (foreign_) foreign_(query.bytes, {});
+}
+
+void RtuSlavePort::heard_foreign_query(const RtuFrame& query) {
+  foreign_query_ = query.bytes;
+  if (foreign_) foreign_(query.bytes, {});
+  foreign_timer_.expires_after(foreign_response_timeout);
+  foreign_timer_.async_wait([this, g = guard()](const boost::system::error_code& ec) {
+    if (ec || !valid(g)) return;
+    flush_foreign_query();
+  });
+}
+
+void RtuSlavePort::heard_foreign_response(const RtuFrame& response) {
+  if (!foreign_query_) {
+    spdlog::debug("modbus rtu: a response after its query was given up: {}", hex(response.bytes));
+    return;
+  }
+  const auto query = std::move(*foreign_query_);
+  foreign_query_.reset();
+  foreign_timer_.cancel();
+  report(TransactionState::not_for_me, query, response.bytes);
+  if (foreign_) foreign_(query, response.bytes);
+}
+
+void RtuSlavePort::flush_foreign_query() {
+  if (!foreign_query_) return;
+  const auto query = std::move(*foreign_query_);
+  foreign_query_.reset();
+  foreign_timer_.cancel();
+  report(TransactionState::not_for_me, query, {});
+}
+
+void RtuSlavePort::report(TransactionState state, std::span<const std::uint8_t> query,
+                          std::span<const std::uint8_t> response) const {
+  if (!context_.on_transaction) return;
+  context_.on_transaction(
+      modbus::Transaction{modbus::PortKind::rtu, {}, std::chrono::system_clock::now(), state, query, response});
+}
+
+void RtuSlavePort::send(std::vector<std::uint8_t> adu, RtuClock::time_point not_before) {
+  out_.push_back({std::move(adu), not_before});
+  if (!sending_) write_next();
+}
+
+// The reply timer is armed only when the 2.5 characters after the request have not yet
+// passed (behind a USB adapter they usually have).
+void RtuSlavePort::write_next() {
+  if (out_.empty() || !port_.is_open()) return;
+  sending_ = true;
+  const auto& next = out_.front();
+  if (RtuClock::now() < next.not_before) {
+    reply_timer_.expires_at(next.not_before);
+    reply_timer_.async_wait([this, g = guard()](const boost::system::error_code& ec) {
+      if (ec || !valid(g)) return;
+      if (!out_.empty()) out_.front().not_before = RtuClock::time_point::min();
+      write_next();
+    });
+    return;
+  }
+  if (line_.rs485 == config::Rs485Direction::rts) set_rts(port_.native_handle(), true);
+  asio::async_write(port_, asio::buffer(next.bytes),
+                    [this, g = guard()](const boost::system::error_code& ec, std::size_t) {
+                      if (!valid(g) || ec == asio::error::operation_aborted) return;
+                      if (ec) return lost(ec.message());
+                      if (line_.rs485 == config::Rs485Direction::rts) return release_line_after_sending();
+                      out_.pop_front();
+                      sending_ = false;
+                      write_next();
+                    });
+}
+
+// With RTS direction control the driver must stay enabled until the last stop bit has
+// left the UART, which is later than the write's completion: wait for the bytes still
+// queued, then for the shift register, a character at a time.
+void RtuSlavePort::release_line_after_sending() {
+  const int fd = port_.native_handle();
+  const auto empty = transmitter_empty(fd);
+  if (empty.value_or(true) && output_queue(fd).value_or(0) == 0) {
+    set_rts(fd, false);
+    out_.pop_front();
+    sending_ = false;
+    write_next();
+    return;
+  }
+  const auto queued = std::max(output_queue(fd).value_or(0), 0);
+  reply_timer_.expires_after(timing_.character * (queued + 1));
+  reply_timer_.async_wait([this, g = guard()](const boost::system::error_code& ec) {
+    if (ec || !valid(g)) return;
+    release_line_after_sending();
+  });
+}
+
+}  // namespace unima::io

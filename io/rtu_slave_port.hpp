@@ -1,0 +1,112 @@
+#pragma once
+// Modbus RTU slave on a serial line (SPEC §3, seed 004 §4.1, §5, §7.1). Answers its own
+// address no sooner than 2.5 characters after the request; applies broadcasts (address 0)
+// without answering; and listens to the whole bus: a request for another slave is
+// Not4Me, paired with that slave's response when one follows, and handed to the foreign
+// listener (capture blocks). Framing is modbus::RtuFramer's; this adapter owns the port,
+// the timers and the clock.
+//
+// A port that cannot be opened or goes away (a USB adapter unplugged) is reopened with
+// back-off; the rest of the daemon runs on meanwhile.
+
+#include <chrono>
+#include <cstdint>
+#include <deque>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "config/config.hpp"
+#include "platform/asio.hpp"
+#include "io/slave_context.hpp"
+#include "modbus/rtu_framer.hpp"
+#include "modbus/rtu_timing.hpp"
+
+namespace unima::io {
+
+class RtuSlavePort {
+ public:
+  /// A request for another slave or a broadcast, as soon as it is heard (response empty),
+  /// and again with the foreign slave's response when one is heard. Whole ADUs, CRC checked.
+  using ForeignListener =
+      std::function<void(std::span<const std::uint8_t> query, std::span<const std::uint8_t> response)>;
+
+  static constexpr std::chrono::milliseconds first_reopen_delay{200};
+  static constexpr std::chrono::milliseconds longest_reopen_delay{5000};
+  /// A Not4Me request whose response has not come by then is reported without one.
+  static constexpr std::chrono::milliseconds foreign_response_timeout{1000};
+
+  RtuSlavePort(asio::io_context& io, const config::RtuConfig& line, const SlaveContext& context);
+  ~RtuSlavePort();
+  RtuSlavePort(const RtuSlavePort&) = delete;
+  RtuSlavePort& operator=(const RtuSlavePort&) = delete;
+
+  /// Opens the line, or keeps trying with back-off.
+  void start();
+  void stop();
+  void set_context(const SlaveContext& context);
+  void set_foreign_listener(ForeignListener listener) { foreign_ = std::move(listener); }
+  const config::RtuConfig& line() const { return line_; }
+  bool is_open() const { return port_.is_open(); }
+
+ private:
+  // What a queued handler checks before it touches the port: the port still exists, and
+  // has not been closed since (a port replaced on reload may still have handlers queued).
+  struct Guard {
+    std::weak_ptr<int> alive;
+    unsigned generation = 0;
+  };
+  Guard guard() const { return {alive_, generation_}; }
+  bool valid(const Guard& g) const { return !g.alive.expired() && g.generation == generation_; }
+
+  struct Outgoing {
+    std::vector<std::uint8_t> bytes;
+    modbus::RtuClock::time_point not_before;
+  };
+
+  void open();
+  void check_adapter_latency();
+  void schedule_reopen();
+  void lost(const std::string& why);
+  void close();
+  void read();
+  void arm_silence_timer();
+  void handle(const std::vector<modbus::RtuFrame>& frames);
+  void answer(const modbus::RtuFrame& query);
+  void apply_broadcast(const modbus::RtuFrame& query);
+  void heard_foreign_query(const modbus::RtuFrame& query);
+  void heard_foreign_response(const modbus::RtuFrame& response);
+  void flush_foreign_query();
+  void report(modbus::TransactionState state, std::span<const std::uint8_t> query,
+              std::span<const std::uint8_t> response) const;
+  void send(std::vector<std::uint8_t> adu, modbus::RtuClock::time_point not_before);
+  void write_next();
+  void release_line_after_sending();
+
+  asio::io_context& io_;
+  config::RtuConfig line_;
+  SlaveContext context_;
+  ForeignListener foreign_;
+  modbus::RtuTiming timing_;
+  modbus::RtuFramer framer_;
+  asio::serial_port port_;
+  asio::steady_timer silence_timer_;
+  asio::steady_timer reply_timer_;
+  asio::steady_timer reopen_timer_;
+  asio::steady_timer foreign_timer_;
+  std::array<std::uint8_t, 512> in_{};
+  std::deque<Outgoing> out_;
+  std::optional<std::vector<std::uint8_t>> foreign_query_;
+  std::chrono::milliseconds reopen_delay_ = first_reopen_delay;
+  bool silence_armed_ = false;
+  bool sending_ = false;
+  bool running_ = false;
+  bool failing_ = false;  // the last open failed: log again only when it works
+  unsigned generation_ = 0;
+  std::shared_ptr<int> alive_ = std::make_shared<int>(0);
+};
+
+}  // namespace unima::io

@@ -1,0 +1,24 @@
+#pragma once
+// What a Modbus slave port serves. The bridge replaces it on reload; ports read it at
+// every request, so a reload never drops a connection.
+
+#include <cstdint>
+#include <functional>
+
+#include "modbus/register_model.hpp"
+#include "modbus/request_handler.hpp"
+#include "modbus/transaction.hpp"
+
+namespace unima::io {
+
+struct SlaveContext {
+  modbus::RegisterModel* registers = nullptr;
+  modbus::HandlerOptions options;
+  std::uint8_t unit_id = 1;
+  /// Called on every fault a port sees (exception sent, bad frame): C+0x13 bit 15.
+  std::function<void()> on_fault;
+  /// Called after every transaction, when set (the monitor, indicators). Must not block.
+  std::function<void(const modbus::Transaction&)> on_transaction;
+};
+
+}  // namespace unima::io

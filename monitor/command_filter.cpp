@@ -1,0 +1,130 @@
+#include "monitor/command_filter.hpp"
+
+#include <algorithm>
+#include <charconv>
+
+#include "modbus/protocol.hpp"
+
+namespace unima::monitor {
+
+namespace {
+
+std::uint16_t be16(std::span<const std::uint8_t> bytes, std::size_t at) {
+  return static_cast<std::uint16_t>(bytes[at] << 8 | bytes[at + 1]);
+}
+
+RegisterRange range_of(std::uint16_t start, std::uint16_t count) {
+  const std::uint32_t last = std::uint32_t{start} + (count == 0 ? 0 : count - 1u);
+  return {start, static_cast<std::uint16_t>(std::min<std::uint32_t>(last, 0xFFFF))};
+}
+
+bool overlaps(RegisterRange a, std::uint16_t from, std::uint16_t to) { return a.first <= to && a.last >= from; }
+
+std::string hex4(std::uint16_t value) {
+  static constexpr char digits[] = "0123456789ABCDEF";
+  std::string s = "0x0000";
+  for (int i = 0; i < 4; ++i) s[5 - i] = digits[(value >> (4 * i)) & 0xF];
+  return s;
+}
+
+std::optional<unsigned long> parse_number(std::string_view text) {
+  const bool hex = text.size() > 2 && text[0] == '0' && (text[1] == 'x' || text[1] == 'X');
+  if (hex) text.remove_prefix(2);
+  unsigned long value = 0;
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value, hex ? 16 : 10);
+  if (text.empty() || ec != std::errc{} || end != text.data() + text.size()) return std::nullopt;
+  return value;
+}
+
+}  // namespace
+
+TouchedRanges touched_ranges(std::span<const std::uint8_t> pdu) {
+  TouchedRanges touched;
+  if (pdu.empty()) return touched;
+  const auto add = [&](RegisterRange range) { touched.ranges[touched.count++] = range; };
+  switch (pdu[0]) {
+    case modbus::function::read_coils:
+    case modbus::function::read_discrete_inputs:
+    case modbus::function::read_holding_registers:
+    case modbus::function::read_input_registers:
+    case modbus::function::write_multiple_coils:
+    case modbus::function::write_multiple_registers:
+      if (pdu.size() >= 5) add(range_of(be16(pdu, 1), be16(pdu, 3)));
+      break;
+    case modbus::function::write_single_coil:
+    case modbus::function::write_single_register:
+      if (pdu.size() >= 3) add(range_of(be16(pdu, 1), 1));
+      break;
+    case 0x17:  // read/write multiple registers: read start, count, write start, count
+      if (pdu.size() >= 5) add(range_of(be16(pdu, 1), be16(pdu, 3)));
+      if (pdu.size() >= 9) add(range_of(be16(pdu, 5), be16(pdu, 7)));
+      break;
+    default: break;
+  }
+  return touched;
+}
+
+bool CommandFilter::matches(std::optional<std::uint8_t> query_address, std::span<const std::uint8_t> pdu) const {
+  if (address && query_address != address) return false;
+  if (function && (pdu.empty() || pdu[0] != *function)) return false;
+  if (!filters_registers()) return true;
+  const auto touched = touched_ranges(pdu);
+  for (std::uint8_t i = 0; i < touched.count; ++i)
+    if (overlaps(touched.ranges[i], from, to)) return true;
+  return false;
+}
+
+std::string CommandFilter::describe() const {
+  std::string s = "ad=";
+  s += address ? std::to_string(*address) : "xx";
+  s += " fn=";
+  s += function ? std::to_string(*function) : "xx";
+  s += " from=" + hex4(from) + " to=" + hex4(to);
+  return s;
+}
+
+CommandFilter parse_command_filter(std::string_view expression) {
+  CommandFilter filter;
+  bool seen[4] = {};
+  std::size_t at = 0;
+  while (at < expression.size()) {
+    if (expression[at] == ' ' || expression[at] == '\t' || expression[at] == ',') {
+      ++at;
+      continue;
+    }
+    auto end = expression.find_first_of(" \t,", at);
+    if (end == std::string_view::npos) end = expression.size();
+    const auto term = expression.substr(at, end - at);
+    at = end;
+    const auto equals = term.find('=');
+    if (equals == std::string_view::npos)
+      throw FilterSyntaxError("filter: '" + std::string(term) + "' is not key=value (keys: ad, fn, from, to)");
+    const auto key = term.substr(0, equals);
+    const auto text = term.substr(equals + 1);
+    int index = -1;
+    unsigned long max = 0;
+    if (key == "ad") index = 0, max = 255;
+    else if (key == "fn") index = 1, max = 255;
+    else if (key == "from") index = 2, max = 0xFFFF;
+    else if (key == "to") index = 3, max = 0xFFFF;
+    else throw FilterSyntaxError("filter: unknown key '" + std::string(key) + "' (keys: ad, fn, from, to)");
+    if (seen[index]) throw FilterSyntaxError("filter: '" + std::string(key) + "' is given twice");
+    seen[index] = true;
+    if (text == "xx" || text == "XX") continue;  // any
+    const auto value = parse_number(text);
+    if (!value || *value > max)
+      throw FilterSyntaxError("filter: " + std::string(key) + "='" + std::string(text) + "' is not xx or a number 0.." +
+                              std::to_string(max));
+    switch (index) {
+      case 0: filter.address = static_cast<std::uint8_t>(*value); break;
+      case 1: filter.function = static_cast<std::uint8_t>(*value); break;
+      case 2: filter.from = static_cast<std::uint16_t>(*value); break;
+      default: filter.to = static_cast<std::uint16_t>(*value); break;
+    }
+  }
+  if (filter.from > filter.to)
+    throw FilterSyntaxError("filter: from=" + hex4(filter.from) + " is after to=" + hex4(filter.to));
+  return filter;
+}
+
+}  // namespace unima::monitor

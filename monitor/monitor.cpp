@@ -1,0 +1,84 @@
+#include "monitor/monitor.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include "monitor/monitor_sinks.hpp"
+#include "modbus/adu_view.hpp"
+#include "modbus/register_capture.hpp"
+
+namespace unima::monitor {
+
+namespace {
+
+monitor::CommandFilter filter_of(const config::MonitorFilterConfig& c) {
+  return monitor::CommandFilter{c.address, c.function, c.from, c.to};
+}
+
+std::vector<monitor::IndicatorSpec> indicator_specs(const config::MonitorConfig& c) {
+  std::vector<monitor::IndicatorSpec> specs;
+  for (const auto& i : c.indicators) specs.push_back({i.address, i.reg});
+  return specs;
+}
+
+}  // namespace
+
+Monitor::Monitor(const config::MonitorConfig& config)
+    : config_(config), filter_(filter_of(config.filter)), indicators_(indicator_specs(config)),
+      writer_(make_writer(config)) {}
+
+std::unique_ptr<MonitorWriter> Monitor::make_writer(const config::MonitorConfig& config) {
+  if (!config.enabled()) return nullptr;
+  std::vector<std::unique_ptr<MonitorSink>> sinks;
+  if (!config.file.empty()) sinks.push_back(std::make_unique<RotatingFileSink>(config.file, config.max_size, config.max_files));
+  if (config.to_stdout) sinks.push_back(std::make_unique<StdoutSink>());
+  MonitorWriter::Options options;
+  options.format = config.format == config::MonitorFormat::json ? monitor::MonitorFormat::json : monitor::MonitorFormat::text;
+  options.capacity = config.queue;
+  spdlog::info("monitor: logging to {}{}{} ({}, filter {})", config.file, !config.file.empty() && config.to_stdout ? " and " : "",
+               config.to_stdout ? "stdout" : "", config.format == config::MonitorFormat::json ? "json" : "text",
+               filter_of(config.filter).describe());
+  return std::make_unique<MonitorWriter>(std::move(sinks), options);
+}
+
+bool Monitor::same_log(const config::MonitorConfig& a, const config::MonitorConfig& b) {
+  return a.file == b.file && a.to_stdout == b.to_stdout && a.format == b.format && a.max_size == b.max_size &&
+         a.max_files == b.max_files && a.queue == b.queue;
+}
+
+void Monitor::reconfigure(const config::MonitorConfig& config, std::unique_ptr<MonitorWriter> writer) {
+  if (!same_log(config_, config)) replace_writer(std::move(writer));
+  const auto filter = filter_of(config.filter);
+  if (writer_ && !(filter == filter_)) spdlog::info("monitor: filter {}", filter.describe());
+  filter_ = filter;
+  monitor::CaptureIndicators indicators(indicator_specs(config));
+  indicators.take_readings_from(indicators_);
+  indicators_ = std::move(indicators);
+  config_ = config;
+}
+
+// The old writer writes what it still holds before it goes; that may wait for the disk,
+// which is acceptable once per reload.
+void Monitor::replace_writer(std::unique_ptr<MonitorWriter> writer) {
+  if (writer_) {
+    writer_->stop();
+    dropped_before_ += writer_->dropped();
+    written_before_ += writer_->written();
+  }
+  writer_ = std::move(writer);
+}
+
+void Monitor::observe(const modbus::Transaction& t) {
+  counters_[static_cast<std::size_t>(t.port)].count(t.state);
+  last_transaction_ = t.time;  // the port read the clock already
+  if (!indicators_.empty())
+    if (const auto captured = modbus::captured_registers(t)) indicators_.observe(*captured, t.time);
+  const auto ix = next_ix_++;  // wraps 255 -> 0 (seed 004 §8)
+  if (!writer_) return;
+  if (!filter_.passes_everything()) {
+    const auto query = modbus::view_adu(t.query, modbus::framing_of(t));
+    if (!filter_.matches(query.address, query.pdu)) return;
+  }
+  writer_->push(t, ix);
+}
+
+}  // namespace unima::monitor

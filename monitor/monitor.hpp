@@ -1,0 +1,65 @@
+#pragma once
+// The bridge's monitor (SPEC §5, seed 004 §8): every port hands each transaction to
+// observe() — the SlaveContext::on_transaction hook — which counts it, feeds the capture
+// indicators, and queues a line for the log when it passes the command filter. Ix counts
+// every transaction of every port (filtered and dropped ones leave gaps).
+// observe() runs on the event-loop thread, like the status requests that read the
+// counters; only the log writer has a thread of its own (monitor/monitor_writer.hpp).
+
+#include <array>
+#include <chrono>
+#include <memory>
+#include <optional>
+
+#include "config/config.hpp"
+#include "monitor/monitor_writer.hpp"
+#include "monitor/capture_indicators.hpp"
+#include "monitor/command_filter.hpp"
+#include "modbus/transaction.hpp"
+#include "modbus/transaction_counters.hpp"
+
+namespace unima::monitor {
+
+class Monitor {
+ public:
+  /// Throws std::runtime_error when the log file cannot be opened.
+  explicit Monitor(const config::MonitorConfig& config);
+
+  /// The log writer of `config`, or null when it logs nowhere; throws like the constructor.
+  static std::unique_ptr<MonitorWriter> make_writer(const config::MonitorConfig& config);
+  /// True when `a` and `b` write the same log the same way (a reload keeps the writer).
+  static bool same_log(const config::MonitorConfig& a, const config::MonitorConfig& b);
+  /// Switches to `config` (a reload). `writer` is make_writer(config) when the log changed
+  /// (built beforehand, as it can fail), ignored otherwise. Indicators that stay keep
+  /// their readings; counters and Ix go on.
+  void reconfigure(const config::MonitorConfig& config, std::unique_ptr<MonitorWriter> writer);
+
+  void observe(const modbus::Transaction& transaction);
+
+  const config::MonitorConfig& config() const { return config_; }
+  const monitor::CommandFilter& filter() const { return filter_; }
+  const monitor::CaptureIndicators& indicators() const { return indicators_; }
+  const modbus::TransactionCounters& counters(modbus::PortKind port) const {
+    return counters_[static_cast<std::size_t>(port)];
+  }
+  /// The port's time stamp of the last transaction (wall clock: the one ports stamp with).
+  std::optional<std::chrono::system_clock::time_point> last_transaction() const { return last_transaction_; }
+  bool logging() const { return writer_ != nullptr; }
+  std::uint64_t dropped() const { return dropped_before_ + (writer_ ? writer_->dropped() : 0); }
+  std::uint64_t written() const { return written_before_ + (writer_ ? writer_->written() : 0); }
+
+ private:
+  void replace_writer(std::unique_ptr<MonitorWriter> writer);
+
+  config::MonitorConfig config_;
+  monitor::CommandFilter filter_;
+  monitor::CaptureIndicators indicators_;
+  std::array<modbus::TransactionCounters, 3> counters_{};  // by PortKind
+  std::optional<std::chrono::system_clock::time_point> last_transaction_;
+  std::uint8_t next_ix_ = 0;
+  std::unique_ptr<MonitorWriter> writer_;
+  std::uint64_t dropped_before_ = 0;  // by writers replaced on reloads
+  std::uint64_t written_before_ = 0;
+};
+
+}  // namespace unima::monitor
