@@ -5,6 +5,7 @@
 #include "modbus/crc16.hpp"
 #include "modbus/rtu_adu.hpp"
 #include "modbus/mbap.hpp"
+#include "modbus/bytes.hpp"
 
 namespace unima::master {
 
@@ -18,10 +19,6 @@ void put16(Bytes& out, std::uint16_t value) {
 bool reads_bits(std::uint8_t fn) { return fn == modbus::function::read_coils || fn == modbus::function::read_discrete_inputs; }
 bool reads_registers(std::uint8_t fn) {
   return fn == modbus::function::read_holding_registers || fn == modbus::function::read_input_registers;
-}
-
-std::uint16_t get16(std::span<const std::uint8_t> b, std::size_t at) {
-  return static_cast<std::uint16_t>(b[at] << 8 | b[at + 1]);
 }
 
 MasterResponse status_only(ResponseStatus status) {
@@ -132,7 +129,7 @@ MasterResponse check_response_pdu(std::span<const std::uint8_t> pdu, std::span<c
   }
   if (pdu[0] != fn) return status_only(ResponseStatus::wrong_function);
   if (reads_bits(fn) || reads_registers(fn)) {
-    const auto count = get16(request_pdu, 3);
+    const auto count = modbus::be16(request_pdu, 3);
     const std::size_t expected = reads_bits(fn) ? (count + 7u) / 8u : 2u * count;
     if (pdu.size() < 2 || pdu[1] != expected || pdu.size() != 2 + expected)
       return status_only(ResponseStatus::bad_length);
@@ -168,7 +165,7 @@ MasterResponse check_tcp_response(std::span<const std::uint8_t> adu, std::uint8_
 std::vector<std::uint16_t> response_values(std::span<const std::uint8_t> pdu, std::uint8_t fn, std::uint16_t count) {
   std::vector<std::uint16_t> values(count);
   for (std::size_t i = 0; i < count; ++i)
-    values[i] = reads_bits(fn) ? static_cast<std::uint16_t>((pdu[2 + i / 8] >> (i % 8)) & 1u) : get16(pdu, 2 + 2 * i);
+    values[i] = reads_bits(fn) ? static_cast<std::uint16_t>((pdu[2 + i / 8] >> (i % 8)) & 1u) : modbus::be16(pdu, 2 + 2 * i);
   return values;
 }
 

@@ -1,5 +1,7 @@
 #include "modbus/adu_view.hpp"
 
+#include "modbus/bytes.hpp"
+
 namespace unima::modbus {
 
 Framing framing_of(const Transaction& transaction) {
@@ -15,11 +17,7 @@ AduView view_adu(std::span<const std::uint8_t> frame, Framing framing) {
   AduView view;
   if (framing == Framing::tcp) {
     if (frame.size() < mbap_header_size) return view;
-    MbapHeader header;
-    header.transaction_id = static_cast<std::uint16_t>(frame[0] << 8 | frame[1]);
-    header.protocol_id = static_cast<std::uint16_t>(frame[2] << 8 | frame[3]);
-    header.length = static_cast<std::uint16_t>(frame[4] << 8 | frame[5]);
-    header.unit_id = frame[6];
+    const auto header = read_mbap_header(frame);
     view.mbap = header;
     view.address = header.unit_id;
     view.pdu = frame.subspan(mbap_header_size);
@@ -32,7 +30,7 @@ AduView view_adu(std::span<const std::uint8_t> frame, Framing framing) {
     return view;
   }
   view.pdu = frame.subspan(1, frame.size() - 3);
-  view.crc_on_wire = static_cast<std::uint16_t>(frame[frame.size() - 2] << 8 | frame[frame.size() - 1]);
+  view.crc_on_wire = be16(frame, frame.size() - 2);
   return view;
 }
 

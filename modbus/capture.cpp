@@ -1,16 +1,13 @@
 #include "modbus/capture.hpp"
 
 #include "modbus/protocol.hpp"
+#include "modbus/bytes.hpp"
 
 namespace unima::modbus {
 
 namespace {
 
 constexpr std::size_t crc_size = 2;
-
-std::uint16_t be16(std::span<const std::uint8_t> bytes, std::size_t at) {
-  return static_cast<std::uint16_t>(bytes[at] << 8 | bytes[at + 1]);
-}
 
 // Values of registers [first, first + count) in `data` (big-endian pairs), for the rules of `device`.
 std::vector<Captured> take(std::span<const CaptureRule> rules, std::uint8_t device, std::uint16_t first,

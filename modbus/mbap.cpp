@@ -2,15 +2,18 @@
 
 #include <algorithm>
 
+#include "modbus/bytes.hpp"
+
 namespace unima::modbus {
+
+MbapHeader read_mbap_header(std::span<const std::uint8_t> bytes) {
+  return {be16(bytes, 0), be16(bytes, 2), be16(bytes, 4), bytes[6]};
+}
 
 TcpAdu parse_tcp_adu(std::span<const std::uint8_t> bytes) {
   TcpAdu adu;
   if (bytes.size() < mbap_header_size) return adu;
-  adu.header.transaction_id = static_cast<std::uint16_t>(bytes[0] << 8 | bytes[1]);
-  adu.header.protocol_id = static_cast<std::uint16_t>(bytes[2] << 8 | bytes[3]);
-  adu.header.length = static_cast<std::uint16_t>(bytes[4] << 8 | bytes[5]);
-  adu.header.unit_id = bytes[6];
+  adu.header = read_mbap_header(bytes);
   if (adu.header.protocol_id != 0 || adu.header.length < mbap_min_length || adu.header.length > mbap_max_length) {
     adu.status = TcpAdu::Status::bad_header;
     return adu;
@@ -26,12 +29,9 @@ TcpAdu parse_tcp_adu(std::span<const std::uint8_t> bytes) {
 std::size_t write_mbap_header(std::uint16_t transaction_id, std::uint8_t unit_id, std::size_t pdu_size,
                               std::span<std::uint8_t> out) {
   const std::size_t length = pdu_size + 1;
-  out[0] = static_cast<std::uint8_t>(transaction_id >> 8);
-  out[1] = static_cast<std::uint8_t>(transaction_id);
-  out[2] = 0;
-  out[3] = 0;
-  out[4] = static_cast<std::uint8_t>(length >> 8);
-  out[5] = static_cast<std::uint8_t>(length);
+  put_be16(out, 0, transaction_id);
+  put_be16(out, 2, 0);
+  put_be16(out, 4, static_cast<std::uint16_t>(length));
   out[6] = unit_id;
   return mbap_header_size;
 }

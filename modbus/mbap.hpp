@@ -29,6 +29,8 @@ struct TcpAdu {
   std::size_t size = 0;               // bytes the ADU takes, when complete
 };
 
+/// The seven header bytes at the start of `bytes` (at least that many), unchecked.
+MbapHeader read_mbap_header(std::span<const std::uint8_t> bytes);
 /// Looks for one ADU at the start of `bytes`. A header with protocol id other than 0 or a
 /// length outside 2..254 is bad: the stream cannot be re-synchronised, so the connection
 /// must be closed.

@@ -2,14 +2,9 @@
 
 #include "modbus/adu_view.hpp"
 #include "modbus/protocol.hpp"
+#include "modbus/bytes.hpp"
 
 namespace unima::modbus {
-
-namespace {
-std::uint16_t be16(std::span<const std::uint8_t> bytes, std::size_t at) {
-  return static_cast<std::uint16_t>(bytes[at] << 8 | bytes[at + 1]);
-}
-}  // namespace
 
 std::optional<std::uint16_t> CapturedRegisters::value_of(std::uint16_t reg) const {
   if (reg < first || std::size_t{reg} - first >= count()) return std::nullopt;

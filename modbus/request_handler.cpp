@@ -1,4 +1,5 @@
 #include "modbus/request_handler.hpp"
+#include "modbus/bytes.hpp"
 
 #include <algorithm>
 #include <array>
@@ -7,14 +8,6 @@
 namespace unima::modbus {
 
 namespace {
-
-std::uint16_t be16(std::span<const std::uint8_t> bytes, std::size_t at) {
-  return static_cast<std::uint16_t>(bytes[at] << 8 | bytes[at + 1]);
-}
-void put_be16(std::span<std::uint8_t> bytes, std::size_t at, std::uint16_t value) {
-  bytes[at] = static_cast<std::uint8_t>(value >> 8);
-  bytes[at + 1] = static_cast<std::uint8_t>(value);
-}
 
 std::size_t read_registers(std::span<const std::uint8_t> req, std::span<std::uint8_t> rsp, RegisterModel& registers,
                            const HandlerOptions& options) {

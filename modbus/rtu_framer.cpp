@@ -5,6 +5,7 @@
 #include "modbus/protocol.hpp"
 #include "modbus/rtu_adu.hpp"
 #include "modbus/rtu_frame_length.hpp"
+#include "modbus/bytes.hpp"
 
 namespace unima::modbus {
 
@@ -198,7 +199,7 @@ void RtuFramer::expect_after(const RtuFrame& frame) {
   e.address = address;
   e.function = frame.bytes[1];
   if (frame.bytes.size() == 8) {
-    const unsigned quantity = static_cast<unsigned>(frame.bytes[4] << 8 | frame.bytes[5]);
+    const unsigned quantity = be16(frame.bytes, 4);
     unsigned byte_count = 0;
     if (e.function == function::read_coils || e.function == function::read_discrete_inputs)
       byte_count = (quantity + 7) / 8;

@@ -4,14 +4,11 @@
 #include <charconv>
 
 #include "modbus/protocol.hpp"
+#include "modbus/bytes.hpp"
 
 namespace unima::monitor {
 
 namespace {
-
-std::uint16_t be16(std::span<const std::uint8_t> bytes, std::size_t at) {
-  return static_cast<std::uint16_t>(bytes[at] << 8 | bytes[at + 1]);
-}
 
 RegisterRange range_of(std::uint16_t start, std::uint16_t count) {
   const std::uint32_t last = std::uint32_t{start} + (count == 0 ? 0 : count - 1u);
@@ -49,15 +46,15 @@ TouchedRanges touched_ranges(std::span<const std::uint8_t> pdu) {
     case modbus::function::read_input_registers:
     case modbus::function::write_multiple_coils:
     case modbus::function::write_multiple_registers:
-      if (pdu.size() >= 5) add(range_of(be16(pdu, 1), be16(pdu, 3)));
+      if (pdu.size() >= 5) add(range_of(modbus::be16(pdu, 1), modbus::be16(pdu, 3)));
       break;
     case modbus::function::write_single_coil:
     case modbus::function::write_single_register:
-      if (pdu.size() >= 3) add(range_of(be16(pdu, 1), 1));
+      if (pdu.size() >= 3) add(range_of(modbus::be16(pdu, 1), 1));
       break;
     case 0x17:  // read/write multiple registers: read start, count, write start, count
-      if (pdu.size() >= 5) add(range_of(be16(pdu, 1), be16(pdu, 3)));
-      if (pdu.size() >= 9) add(range_of(be16(pdu, 5), be16(pdu, 7)));
+      if (pdu.size() >= 5) add(range_of(modbus::be16(pdu, 1), modbus::be16(pdu, 3)));
+      if (pdu.size() >= 9) add(range_of(modbus::be16(pdu, 5), modbus::be16(pdu, 7)));
       break;
     default: break;
   }
