@@ -54,7 +54,8 @@ Bridge::Bridge(asio::io_context& io, config::Config config)
     : io_(io),
       core_(build_core(std::move(config))),
       error_hold_(io, [this](bool error) { core_->store->set_modbus_error(error); }),
-      presence_timer_(io) {
+      presence_timer_(io.get_executor(), [this] { return core_->presence->next_expiry(); },
+                      [this] { expire_presence(); }) {
   monitor_ = std::make_unique<monitor::Monitor>(core_->config.monitor);
   transport_ = make_transport(core_->config);
   tcp_ = make_tcp_server(core_->config);
@@ -291,9 +292,8 @@ void Bridge::reload(config::Config config) {
   core_->store->set_change_listener([this](BankId bank, std::uint16_t offset, std::uint16_t value) {
     if (transport_) transport_->publish(bank, offset, value);
   });
-  presence_timer_armed_ = false;
   presence_timer_.cancel();
-  watch_presence();
+  presence_timer_.watch();
 
   if (new_transport) {
     if (transport_) transport_->stop();
@@ -332,7 +332,7 @@ std::string Bridge::on_telegram(const unimabus::Telegram& telegram) {
     const auto now = unimabus::Presence::Clock::now();
     for (BankId bank : outcome.updated)
       if (core_->presence->heard(bank, now)) set_online(bank, true);
-    watch_presence();
+    presence_timer_.watch();
   }
   return outcome.error;
 }
@@ -342,20 +342,11 @@ void Bridge::set_online(BankId bank, bool online) {
   spdlog::info("unimabus: {} {}", describe_bank(core_->config, bank), online ? "on-line" : "off-line");
 }
 
-// One timer for all devices, armed at the earliest moment one can go off-line. Telegrams
-// only push that moment later, so they never re-arm it; an early wake-up re-arms itself.
-void Bridge::watch_presence() {
-  if (presence_timer_armed_) return;
-  const auto next = core_->presence->next_expiry();
-  if (!next) return;
-  presence_timer_armed_ = true;
-  presence_timer_.expires_at(*next);
-  presence_timer_.async_wait([this](const boost::system::error_code& ec) {
-    if (ec) return;
-    presence_timer_armed_ = false;
-    for (BankId bank : core_->presence->expire(unimabus::Presence::Clock::now())) set_online(bank, false);
-    watch_presence();
-  });
+// One timer for all devices, at the earliest moment one can go off-line; telegrams only
+// push that moment later (LazyDeadline).
+void Bridge::expire_presence() {
+  for (BankId bank : core_->presence->expire(unimabus::Presence::Clock::now())) set_online(bank, false);
+  presence_timer_.watch();
 }
 
 std::string Bridge::snapshot() const {

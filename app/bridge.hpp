@@ -13,6 +13,7 @@
 #include "platform/asio.hpp"
 #include "io/control_socket.hpp"
 #include "io/error_hold.hpp"
+#include "io/lazy_deadline.hpp"
 #include "monitor/monitor.hpp"
 #include "io/rtu_slave_port.hpp"
 #include "io/master_port.hpp"
@@ -63,7 +64,7 @@ class Bridge {
   void on_foreign_exchange(std::span<const std::uint8_t> query, std::span<const std::uint8_t> response);
   std::string on_telegram(const unimabus::Telegram& telegram);
   std::string snapshot() const;
-  void watch_presence();
+  void expire_presence();
   void set_online(banks::BankId bank, bool online);
   std::unique_ptr<io::ControlSocket> make_control_socket(const std::string& path);
 
@@ -75,8 +76,7 @@ class Bridge {
   std::unique_ptr<io::TcpSlaveServer> tcp_;
   std::unique_ptr<io::RtuSlavePort> rtu_;
   std::shared_ptr<io::MasterPort> master_;
-  asio::steady_timer presence_timer_;
-  bool presence_timer_armed_ = false;
+  io::LazyDeadline presence_timer_;  // at the next moment a device can go off-line
   bool started_ = false;
   std::unique_ptr<io::ControlSocket> control_;
   std::chrono::steady_clock::time_point started_at_ = std::chrono::steady_clock::now();

@@ -25,7 +25,8 @@ bool someone_answers(asio::io_context& io, const std::string& path) {
 }  // namespace
 
 ControlSocket::ControlSocket(asio::io_context& io, std::string path, DocumentFn document)
-    : path_(std::move(path)), document_(std::move(document)), acceptor_(io), accept_retry_(io) {
+    : path_(std::move(path)), document_(std::move(document)), acceptor_(io),
+      accepting_(acceptor_, "status", [this](stream_protocol::socket socket) { answer(std::move(socket)); }) {
   const auto directory = std::filesystem::path(path_).parent_path();
   std::error_code ignored;  // the bind says what went wrong
   if (!directory.empty()) std::filesystem::create_directories(directory, ignored);
@@ -46,40 +47,25 @@ ControlSocket::~ControlSocket() { stop(); }
 
 void ControlSocket::start() {
   spdlog::info("status: answering on {}", path_);
-  accept();
+  accepting_.start();
 }
 
 void ControlSocket::stop() {
   if (stopped_) return;
   stopped_ = true;
   boost::system::error_code ec;
+  accepting_.stop();
   acceptor_.close(ec);
-  accept_retry_.cancel();
   ::unlink(path_.c_str());
 }
 
-void ControlSocket::accept() {
-  acceptor_.async_accept([this](const boost::system::error_code& ec, stream_protocol::socket socket) {
-    if (ec == asio::error::operation_aborted || stopped_) return;
-    if (ec) {
-      // Out of descriptors or memory: the pending connection stays in the backlog, so an
-      // immediate retry would fail again at once and spin (as for the TCP slave and feed).
-      spdlog::warn("status: accept failed: {}; retrying in 100 ms", ec.message());
-      accept_retry_.expires_after(std::chrono::milliseconds(100));
-      accept_retry_.async_wait([this](const boost::system::error_code& wait_ec) {
-        if (!wait_ec && !stopped_) accept();
-      });
-      return;
-    }
-    // A few kB: the kernel takes it at once, so a client that never reads holds nothing.
-    auto connection = std::make_shared<stream_protocol::socket>(std::move(socket));
-    auto text = std::make_shared<std::string>(document_() + "\n");
-    asio::async_write(*connection, asio::buffer(*text),
-                      [connection, text](const boost::system::error_code&, std::size_t) {
-                        boost::system::error_code ignored;
-                        connection->shutdown(stream_protocol::socket::shutdown_both, ignored);
-                      });
-    accept();
+// A few kB: the kernel takes it at once, so a client that never reads holds nothing.
+void ControlSocket::answer(stream_protocol::socket socket) {
+  auto connection = std::make_shared<stream_protocol::socket>(std::move(socket));
+  auto text = std::make_shared<std::string>(document_() + "\n");
+  asio::async_write(*connection, asio::buffer(*text), [connection, text](const boost::system::error_code&, std::size_t) {
+    boost::system::error_code ignored;
+    connection->shutdown(stream_protocol::socket::shutdown_both, ignored);
   });
 }
 

@@ -9,6 +9,7 @@
 #include <functional>
 #include <string>
 
+#include "io/retrying_acceptor.hpp"
 #include "platform/asio.hpp"
 
 namespace unima::io {
@@ -28,12 +29,12 @@ class ControlSocket {
   const std::string& path() const { return path_; }
 
  private:
-  void accept();
+  void answer(asio::local::stream_protocol::socket socket);
 
   std::string path_;
   DocumentFn document_;
   asio::local::stream_protocol::acceptor acceptor_;
-  asio::steady_timer accept_retry_;
+  RetryingAcceptor<asio::local::stream_protocol::acceptor> accepting_;
   bool stopped_ = false;
 };
 

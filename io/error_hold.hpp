@@ -5,48 +5,32 @@
 #include <chrono>
 #include <functional>
 
-#include "platform/asio.hpp"
+#include "io/lazy_deadline.hpp"
 
 namespace unima::io {
 
 class ErrorHold {
  public:
   static constexpr std::chrono::seconds hold{2};
-  using Clock = std::chrono::steady_clock;
+  using Clock = LazyDeadline::Clock;
 
+  // A client that keeps asking for a missing register faults on every request: the timer
+  // is armed once, not per fault (LazyDeadline).
   ErrorHold(asio::io_context& io, std::function<void(bool)> set_error)
-      : timer_(io), set_error_(std::move(set_error)) {}
+      : set_error_(std::move(set_error)),
+        clear_(io.get_executor(), [this] { return std::optional(last_fault_ + hold); }, [this] { set_error_(false); }) {}
 
-  // A client that keeps asking for a missing register faults on every request; the timer
-  // is armed once and not per fault (that would cost a timerfd call each time): on expiry
-  // it looks at the last fault and waits for the remainder of the hold.
   void fault() {
     last_fault_ = Clock::now();
     set_error_(true);
-    if (!armed_) arm(hold);
+    clear_.watch();
   }
-  void cancel() {
-    armed_ = false;
-    timer_.cancel();
-  }
+  void cancel() { clear_.cancel(); }
 
  private:
-  void arm(Clock::duration after) {
-    armed_ = true;
-    timer_.expires_after(after);
-    timer_.async_wait([this](const boost::system::error_code& ec) {
-      if (ec) return;  // cancelled: cancel() has cleared armed_
-      armed_ = false;
-      const auto quiet = Clock::now() - last_fault_;
-      if (quiet >= hold) return set_error_(false);
-      arm(hold - quiet);
-    });
-  }
-
-  asio::steady_timer timer_;
   std::function<void(bool)> set_error_;
   Clock::time_point last_fault_;
-  bool armed_ = false;
+  LazyDeadline clear_;
 };
 
 }  // namespace unima::io

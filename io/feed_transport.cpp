@@ -109,12 +109,14 @@ class SocketSession final : public FeedTransport::Session {
 
 FeedTransport::FeedTransport(asio::io_context& io, const std::string& listen, unimabus::TelegramHandler on_telegram,
                              SnapshotFn snapshot)
-    : io_(io), listen_(listen), on_telegram_(std::move(on_telegram)), snapshot_(std::move(snapshot)), accept_retry_(io) {
+    : io_(io), listen_(listen), on_telegram_(std::move(on_telegram)), snapshot_(std::move(snapshot)) {
   if (listen_.starts_with("unix:")) {
     unix_path_ = listen_.substr(5);
     ::unlink(unix_path_.c_str());  // a socket file left by a previous run would block the bind
     unix_acceptor_ = std::make_unique<asio::local::stream_protocol::acceptor>(
         io_, asio::local::stream_protocol::endpoint(unix_path_));
+    unix_accepting_ = std::make_unique<RetryingAcceptor<asio::local::stream_protocol::acceptor>>(
+        *unix_acceptor_, "feed", [this](asio::local::stream_protocol::socket socket) { accepted(std::move(socket)); });
     return;
   }
   const auto colon = listen_.rfind(':');
@@ -126,6 +128,8 @@ FeedTransport::FeedTransport(asio::io_context& io, const std::string& listen, un
   tcp_acceptor_->set_option(asio::ip::tcp::acceptor::reuse_address(true));
   tcp_acceptor_->bind(endpoint);
   tcp_acceptor_->listen();
+  tcp_accepting_ = std::make_unique<RetryingAcceptor<asio::ip::tcp::acceptor>>(
+      *tcp_acceptor_, "feed", [this](asio::ip::tcp::socket socket) { accepted(std::move(socket)); });
 }
 
 FeedTransport::~FeedTransport() { stop(); }
@@ -138,10 +142,10 @@ std::uint16_t FeedTransport::port() const {
 void FeedTransport::start() {
   if (tcp_acceptor_) {
     spdlog::info("feed: listening on {}:{}", listen_.substr(0, listen_.rfind(':')), port());
-    accept(*tcp_acceptor_);
+    tcp_accepting_->start();
   } else {
     spdlog::info("feed: listening on {}", listen_);
-    accept(*unix_acceptor_);
+    unix_accepting_->start();
   }
 }
 
@@ -149,7 +153,8 @@ void FeedTransport::stop() {
   if (stopped_) return;
   stopped_ = true;
   boost::system::error_code ec;
-  accept_retry_.cancel();
+  if (tcp_accepting_) tcp_accepting_->stop();
+  if (unix_accepting_) unix_accepting_->stop();
   if (tcp_acceptor_) tcp_acceptor_->close(ec);
   if (unix_acceptor_) {
     unix_acceptor_->close(ec);
@@ -189,27 +194,13 @@ void send_at_once(asio::ip::tcp::socket& socket) {
 void send_at_once(asio::local::stream_protocol::socket&) {}
 }  // namespace
 
-template <typename Acceptor>
-void FeedTransport::accept(Acceptor& acceptor) {
-  acceptor.async_accept([this, &acceptor](const boost::system::error_code& ec, typename Acceptor::protocol_type::socket socket) {
-    if (ec == asio::error::operation_aborted || stopped_) return;
-    if (ec) {
-      // As in the TCP slave: a failed accept (out of descriptors) fails again at once.
-      spdlog::warn("feed: accept failed: {}; retrying in 100 ms", ec.message());
-      accept_retry_.expires_after(std::chrono::milliseconds(100));
-      accept_retry_.async_wait([this, &acceptor](const boost::system::error_code& wait_ec) {
-        if (!wait_ec && !stopped_) accept(acceptor);
-      });
-      return;
-    }
-    auto peer = describe_peer(socket, listen_);
-    send_at_once(socket);
-    spdlog::info("feed: {} connected", peer);
-    using SessionType = SocketSession<typename Acceptor::protocol_type::socket>;
-    adopt(std::make_shared<SessionType>(std::move(socket), std::move(peer), on_telegram_,
-                                        [this](Session* s) { forget(s); }));
-    accept(acceptor);
-  });
+template <typename Socket>
+void FeedTransport::accepted(Socket socket) {
+  auto peer = describe_peer(socket, listen_);
+  send_at_once(socket);
+  spdlog::info("feed: {} connected", peer);
+  adopt(std::make_shared<SocketSession<Socket>>(std::move(socket), std::move(peer), on_telegram_,
+                                                [this](Session* s) { forget(s); }));
 }
 
 void FeedTransport::forget(Session* session) {

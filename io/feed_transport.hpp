@@ -8,6 +8,7 @@
 #include <set>
 #include <string>
 
+#include "io/retrying_acceptor.hpp"
 #include "platform/asio.hpp"
 #include "unimabus/transport.hpp"
 
@@ -34,8 +35,8 @@ class FeedTransport final : public unimabus::Transport {
   class Session;
 
  private:
-  template <typename Acceptor>
-  void accept(Acceptor& acceptor);
+  template <typename Socket>
+  void accepted(Socket socket);
   void adopt(std::shared_ptr<Session> session);
   void forget(Session* session);
 
@@ -47,7 +48,8 @@ class FeedTransport final : public unimabus::Transport {
   std::unique_ptr<asio::local::stream_protocol::acceptor> unix_acceptor_;
   std::string unix_path_;
   std::set<std::shared_ptr<Session>> sessions_;
-  asio::steady_timer accept_retry_;
+  std::unique_ptr<RetryingAcceptor<asio::ip::tcp::acceptor>> tcp_accepting_;
+  std::unique_ptr<RetryingAcceptor<asio::local::stream_protocol::acceptor>> unix_accepting_;
   bool stopped_ = false;
 };
 

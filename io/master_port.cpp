@@ -63,7 +63,8 @@ MasterPort::MasterPort(asio::io_context& io, config::MasterSetup setup, std::sha
       link_(std::move(link)),
       hooks_(std::move(hooks)),
       wake_timer_(io),
-      stale_timer_(io) {}
+      stale_timer_(io.get_executor(), [this] { return staleness_ ? staleness_->next_expiry() : std::nullopt; },
+                   [this] { expire_stale_values(); }) {}
 
 MasterPort::~MasterPort() { stop(); }
 
@@ -74,12 +75,14 @@ void MasterPort::start() {
   auto plan = config::master_plan(setup_);
   for (const auto& r : plan) counters_[r.device];
   scheduler_.emplace(std::move(plan), setup_.scheduler, setup_.devices, now);
-  last_good_.assign(setup_.blocks.size(), now);
-  stale_.assign(setup_.blocks.size(), false);
+  std::vector<std::optional<Clock::duration>> stale_limits;
+  for (std::size_t i = 0; i < setup_.blocks.size(); ++i)
+    stale_limits.push_back(setup_.blocks[i].is_read() ? std::optional<Clock::duration>(setup_.stale_after[i]) : std::nullopt);
+  staleness_.emplace(std::move(stale_limits), now);
   skip_warned_.assign(setup_.blocks.size(), false);
   spdlog::info("modbus master: {}, {} requests for {} blocks", link_->describe(), scheduler_->request_count(),
                setup_.blocks.size());
-  watch_staleness(now);
+  stale_timer_.watch();
   pump();
 }
 
@@ -215,10 +218,9 @@ void MasterPort::take_values(const master::PlannedRequest& request, const master
   for (const auto index : request.blocks) {
     const auto& block = setup_.blocks[index];
     publish(block.output, master::poll_output(block, request.first, values));
-    last_good_[index] = now;
-    stale_[index] = false;
+    staleness_->refreshed(index, now);
   }
-  watch_staleness(now);
+  stale_timer_.watch();
 }
 
 void MasterPort::publish(unsigned output, std::uint16_t value) {
@@ -228,29 +230,16 @@ void MasterPort::publish(unsigned output, std::uint16_t value) {
   hooks_.set_output(output, value);
 }
 
-// One timer, at the moment the next value goes stale; a good read only pushes that
-// moment later, so it is re-armed only when it fires or when nothing was armed.
-void MasterPort::watch_staleness(Clock::time_point now) {
-  auto next = Clock::time_point::max();
-  for (std::size_t i = 0; i < setup_.blocks.size(); ++i) {
-    if (!setup_.blocks[i].is_read() || stale_[i]) continue;
-    const auto limit = last_good_[i] + setup_.stale_after[i];
-    if (limit <= now) {
-      stale_[i] = true;
-      publish(setup_.blocks[i].output, banks::not_measured);
-      spdlog::warn("modbus master: {}: no good value from device {} for {} ms; output {} reads 0x7FFF",
-                   setup_.blocks[i].origin, setup_.blocks[i].device, setup_.stale_after[i].count(), setup_.blocks[i].output);
-      continue;
-    }
-    next = std::min(next, limit);
+// A good read only pushes the next expiry later, so the timer is armed once (LazyDeadline).
+void MasterPort::expire_stale_values() {
+  if (!running_) return;
+  for (const auto i : staleness_->expire(Clock::now())) {
+    const auto& block = setup_.blocks[i];
+    publish(block.output, banks::not_measured);
+    spdlog::warn("modbus master: {}: no good value from device {} for {} ms; output {} reads 0x7FFF", block.origin,
+                 block.device, setup_.stale_after[i].count(), block.output);
   }
-  if (next == Clock::time_point::max()) return;
-  if (stale_timer_.expiry() > now && stale_timer_.expiry() <= next) return;
-  stale_timer_.expires_at(next);
-  stale_timer_.async_wait([weak = weak_from_this()](const boost::system::error_code& ec) {
-    const auto self = weak.lock();
-    if (!ec && self && self->running_) self->watch_staleness(Clock::now());
-  });
+  stale_timer_.watch();
 }
 
 }  // namespace unima::io

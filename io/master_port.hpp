@@ -20,7 +20,9 @@
 #include "config/config.hpp"
 #include "config/master_setup.hpp"
 #include "platform/asio.hpp"
+#include "io/lazy_deadline.hpp"
 #include "io/master_link.hpp"
+#include "master/staleness.hpp"
 #include "master/master_scheduler.hpp"
 #include "modbus/transaction.hpp"
 
@@ -72,16 +74,15 @@ class MasterPort : public std::enable_shared_from_this<MasterPort> {
                 std::chrono::system_clock::time_point sent, master::Bytes query, master::Bytes response);
   void take_values(const master::PlannedRequest& request, const master::MasterResponse& result, Clock::time_point now);
   void publish(unsigned output, std::uint16_t value);
-  void watch_staleness(Clock::time_point now);
+  void expire_stale_values();
 
   config::MasterSetup setup_;
   std::shared_ptr<MasterLink> link_;
   Hooks hooks_;
   std::optional<master::MasterScheduler> scheduler_;
   asio::steady_timer wake_timer_;
-  asio::steady_timer stale_timer_;
-  std::vector<Clock::time_point> last_good_;  // per block; the start counts as one
-  std::vector<bool> stale_;
+  std::optional<master::Staleness> staleness_;
+  LazyDeadline stale_timer_;  // at staleness_->next_expiry()
   std::map<unsigned, std::uint16_t> published_;
   std::vector<bool> skip_warned_;
   std::map<std::uint8_t, MasterDeviceCounters> counters_;

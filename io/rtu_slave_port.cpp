@@ -44,7 +44,11 @@ RtuSlavePort::RtuSlavePort(asio::io_context& io, const config::RtuConfig& line, 
       timing_(timing_of(line)),
       framer_(modbus::RtuFramerTiming::for_line(timing_, std::chrono::milliseconds(0)), context.unit_id),
       port_(io),
-      silence_timer_(io),
+      silence_(io.get_executor(), [this] { return framer_.deadline(); },
+               [this] {
+                 handle(framer_.tick(RtuClock::now()));
+                 silence_.watch();
+               }),
       reply_timer_(io),
       reopen_timer_(io),
       foreign_timer_(io) {}
@@ -138,9 +142,8 @@ void RtuSlavePort::close() {
     if (line_.rs485 == config::Rs485Direction::rts) set_rts(port_.native_handle(), false);
     port_.close(ignored);
   }
-  silence_timer_.cancel();
+  silence_.cancel();
   reply_timer_.cancel();
-  silence_armed_ = false;
   sending_ = false;
   out_.clear();
   foreign_query_.reset();
@@ -156,23 +159,9 @@ void RtuSlavePort::read() {
     // at once keeps its back-off growing.
     reopen_delay_ = first_reopen_delay;
     handle(framer_.feed(std::span<const std::uint8_t>(in_.data(), n), RtuClock::now()));
-    arm_silence_timer();
+    // New bytes only move the framer's deadline later: one timer, armed when none is.
+    silence_.watch();
     read();
-  });
-}
-
-// One timer at the framer's deadline. New bytes only move the deadline later, so the timer
-// is not re-armed per read: when it fires early, the framer says nothing and it re-arms.
-void RtuSlavePort::arm_silence_timer() {
-  const auto deadline = framer_.deadline();
-  if (!deadline || silence_armed_) return;
-  silence_armed_ = true;
-  silence_timer_.expires_at(*deadline);
-  silence_timer_.async_wait([this, g = guard()](const boost::system::error_code& ec) {
-    if (ec || !valid(g)) return;
-    silence_armed_ = false;
-    handle(framer_.tick(RtuClock::now()));
-    arm_silence_timer();
   });
 }
 

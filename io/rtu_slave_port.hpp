@@ -21,6 +21,7 @@
 
 #include "config/config.hpp"
 #include "platform/asio.hpp"
+#include "io/lazy_deadline.hpp"
 #include "io/slave_context.hpp"
 #include "modbus/rtu_framer.hpp"
 #include "modbus/rtu_timing.hpp"
@@ -73,7 +74,6 @@ class RtuSlavePort {
   void lost(const std::string& why);
   void close();
   void read();
-  void arm_silence_timer();
   void handle(const std::vector<modbus::RtuFrame>& frames);
   void answer(const modbus::RtuFrame& query);
   void apply_broadcast(const modbus::RtuFrame& query);
@@ -93,7 +93,7 @@ class RtuSlavePort {
   modbus::RtuTiming timing_;
   modbus::RtuFramer framer_;
   asio::serial_port port_;
-  asio::steady_timer silence_timer_;
+  LazyDeadline silence_;  // at the framer's deadline
   asio::steady_timer reply_timer_;
   asio::steady_timer reopen_timer_;
   asio::steady_timer foreign_timer_;
@@ -101,7 +101,6 @@ class RtuSlavePort {
   std::deque<Outgoing> out_;
   std::optional<std::vector<std::uint8_t>> foreign_query_;
   std::chrono::milliseconds reopen_delay_ = first_reopen_delay;
-  bool silence_armed_ = false;
   bool sending_ = false;
   bool running_ = false;
   bool failing_ = false;  // the last open failed: log again only when it works

@@ -7,6 +7,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include "io/lazy_deadline.hpp"
 #include "modbus/mbap.hpp"
 
 namespace unima::io {
@@ -17,7 +18,9 @@ using Clock = std::chrono::steady_clock;
 class TcpSlaveServer::Connection : public std::enable_shared_from_this<Connection> {
  public:
   Connection(TcpSlaveServer& server, tcp::socket socket)
-      : server_(server), socket_(std::move(socket)), idle_timer_(socket_.get_executor()) {
+      : server_(server),
+        socket_(std::move(socket)),
+        idle_(socket_.get_executor(), [this] { return idle_deadline(); }, [this] { close_idle(); }) {
     boost::system::error_code ec;
     const auto remote = socket_.remote_endpoint(ec);
     peer_ = ec ? std::string("?") : remote.address().to_string() + ":" + std::to_string(remote.port());
@@ -28,7 +31,7 @@ class TcpSlaveServer::Connection : public std::enable_shared_from_this<Connectio
 
   void start() {
     last_activity_ = Clock::now();
-    arm_idle_timer(server_.options_.idle_timeout);
+    idle_.watch();
     read();
   }
 
@@ -36,7 +39,7 @@ class TcpSlaveServer::Connection : public std::enable_shared_from_this<Connectio
     boost::system::error_code ec;
     socket_.shutdown(tcp::socket::shutdown_both, ec);
     socket_.close(ec);
-    idle_timer_.cancel();
+    idle_.cancel();
   }
 
   // The server stops and may be gone before this connection's pending handlers run
@@ -143,23 +146,16 @@ class TcpSlaveServer::Connection : public std::enable_shared_from_this<Connectio
     });
   }
 
-  // The timer is not re-armed per request (that would cost a timerfd call each time); on
-  // expiry it looks at the last activity and waits for the remainder.
-  void arm_idle_timer(Clock::duration after) {
-    if (server_.options_.idle_timeout.count() == 0) return;
-    idle_timer_.expires_after(after);
-    std::weak_ptr<Connection> weak = shared_from_this();
-    idle_timer_.async_wait([this, weak](const boost::system::error_code& ec) {
-      const auto self = weak.lock();
-      if (ec || !self || !socket_.is_open() || server_.options_.idle_timeout.count() == 0) return;
-      const auto idle = Clock::now() - last_activity_;
-      if (idle >= server_.options_.idle_timeout) {
-        spdlog::info("modbus tcp: {} idle for {} ms, closing", peer_, server_.options_.idle_timeout.count());
-        close();
-        return;
-      }
-      arm_idle_timer(server_.options_.idle_timeout - idle);
-    });
+  // Requests only move the deadline later, so the timer is not re-armed per request
+  // (LazyDeadline). The limit is read at each check: a reload may have changed it.
+  std::optional<Clock::time_point> idle_deadline() const {
+    const auto limit = server_.options_.idle_timeout;
+    if (limit.count() == 0 || !socket_.is_open()) return std::nullopt;
+    return last_activity_ + limit;
+  }
+  void close_idle() {
+    spdlog::info("modbus tcp: {} idle for {} ms, closing", peer_, server_.options_.idle_timeout.count());
+    close();
   }
 
   void finish(const std::string& why) {
@@ -176,7 +172,7 @@ class TcpSlaveServer::Connection : public std::enable_shared_from_this<Connectio
 
   TcpSlaveServer& server_;
   tcp::socket socket_;
-  asio::steady_timer idle_timer_;
+  LazyDeadline idle_;
   std::string peer_;
   // A full ADU is at most 260 bytes; room for several pipelined ones per read. Left
   // uninitialised: only the in_used_ bytes a read filled are ever looked at, and a client
@@ -190,7 +186,8 @@ class TcpSlaveServer::Connection : public std::enable_shared_from_this<Connectio
 };
 
 TcpSlaveServer::TcpSlaveServer(asio::io_context& io, const TcpSlaveOptions& options, const SlaveContext& context)
-    : io_(io), options_(options), context_(context), acceptor_(io), accept_retry_(io) {
+    : io_(io), options_(options), context_(context), acceptor_(io),
+      accepting_(acceptor_, "modbus tcp", [this](asio::ip::tcp::socket socket) { adopt(std::move(socket)); }) {
   const tcp::endpoint endpoint(asio::ip::make_address(options_.listen), options_.port);
   acceptor_.open(endpoint.protocol());
   acceptor_.set_option(tcp::acceptor::reuse_address(true));
@@ -207,44 +204,30 @@ std::uint16_t TcpSlaveServer::port() const {
 
 void TcpSlaveServer::start() {
   spdlog::info("modbus tcp: serving unit {} on {}:{}", context_.unit_id, options_.listen, port());
-  accept();
+  accepting_.start();
 }
 
 void TcpSlaveServer::stop() {
   if (stopped_) return;
   stopped_ = true;
   boost::system::error_code ec;
+  accepting_.stop();
   acceptor_.close(ec);
-  accept_retry_.cancel();
   auto connections = std::move(connections_);
   for (const auto& c : connections) c->abandon();
 }
 
-void TcpSlaveServer::accept() {
-  acceptor_.async_accept([this](const boost::system::error_code& ec, tcp::socket socket) {
-    if (ec == asio::error::operation_aborted || stopped_) return;
-    if (ec) {
-      // Out of descriptors or memory: the pending connection stays in the backlog, so an
-      // immediate retry would fail again at once and spin. Wait a moment instead.
-      spdlog::warn("modbus tcp: accept failed: {}; retrying in 100 ms", ec.message());
-      accept_retry_.expires_after(std::chrono::milliseconds(100));
-      accept_retry_.async_wait([this](const boost::system::error_code& wait_ec) {
-        if (!wait_ec && !stopped_) accept();
-      });
-      return;
-    }
-    if (connections_.size() >= options_.max_clients) {
-      spdlog::warn("modbus tcp: refusing a client: {} connections is the limit", options_.max_clients);
-      boost::system::error_code ignored;
-      socket.close(ignored);
-    } else {
-      auto connection = std::make_shared<Connection>(*this, std::move(socket));
-      spdlog::debug("modbus tcp: {} connected", connection->peer());
-      connections_.insert(connection);
-      connection->start();
-    }
-    accept();
-  });
+void TcpSlaveServer::adopt(tcp::socket socket) {
+  if (connections_.size() >= options_.max_clients) {
+    spdlog::warn("modbus tcp: refusing a client: {} connections is the limit", options_.max_clients);
+    boost::system::error_code ignored;
+    socket.close(ignored);
+    return;
+  }
+  auto connection = std::make_shared<Connection>(*this, std::move(socket));
+  spdlog::debug("modbus tcp: {} connected", connection->peer());
+  connections_.insert(connection);
+  connection->start();
 }
 
 void TcpSlaveServer::forget(Connection* connection) {

@@ -11,6 +11,7 @@
 #include <string>
 
 #include "platform/asio.hpp"
+#include "io/retrying_acceptor.hpp"
 #include "io/slave_context.hpp"
 
 namespace unima::io {
@@ -44,14 +45,14 @@ class TcpSlaveServer {
   class Connection;
 
  private:
-  void accept();
+  void adopt(asio::ip::tcp::socket socket);
   void forget(Connection* connection);
 
   asio::io_context& io_;
   TcpSlaveOptions options_;
   SlaveContext context_;
   asio::ip::tcp::acceptor acceptor_;
-  asio::steady_timer accept_retry_;
+  RetryingAcceptor<asio::ip::tcp::acceptor> accepting_;
   std::set<std::shared_ptr<Connection>> connections_;
   bool stopped_ = false;
 };
