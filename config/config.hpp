@@ -17,6 +17,7 @@
 #include "banks/source_ref.hpp"
 #include "master/device_profile.hpp"
 #include "master/master_value.hpp"
+#include "modbus/rtu_timing.hpp"
 
 namespace unima::config {
 
@@ -58,6 +59,9 @@ struct RtuConfig {
   Rs485Direction rs485 = Rs485Direction::off;  // who switches the transceiver's direction
   bool low_latency = false;                    // set a USB adapter's latency timer to 1 ms
 };
+
+/// The character and gap times of `line` (modbus/rtu_timing: the one computation).
+modbus::RtuTiming line_timing(const RtuConfig& line);
 
 /// Functions beyond the seed's 4 and 6 (SPEC §3), each on by default.
 struct Extensions {

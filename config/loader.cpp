@@ -545,6 +545,10 @@ Config load_file(const std::string& path) {
   return load_text(text.str(), path);
 }
 
+modbus::RtuTiming line_timing(const RtuConfig& line) {
+  return modbus::rtu_timing(line.baud, line.parity != Parity::none, line.stop_bits);
+}
+
 banks::BankShapes bank_shapes(const Config& config) {
   std::array<const banks::DeviceTable*, 4> tables{};
   for (std::size_t i = 0; i < 4; ++i)

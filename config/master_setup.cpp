@@ -6,8 +6,6 @@
 
 namespace unima::config {
 
-unsigned bits_per_char(const RtuConfig& rtu) { return 1 + 8 + (rtu.parity == Parity::none ? 0 : 1) + rtu.stop_bits; }
-
 std::vector<master::PlannedRequest> master_plan(const MasterSetup& setup) {
   auto plan = master::plan_requests(setup.blocks, setup.plan);
   std::vector<std::chrono::microseconds> slots;
@@ -60,9 +58,9 @@ MasterSetup master_setup(const Config& config) {
   s.backoff_max = m.backoff_max;
   s.default_timing = {m.min_gap, m.response_timeout};
   if (const auto& rtu = config.modbus.rtu; rtu && m.tcp.empty()) {
-    setup.serial = master::SerialTiming{rtu->baud, bits_per_char(*rtu)};
-    s.frame_gap = setup.serial->silence();
-    s.char_time = setup.serial->char_time();
+    setup.serial = line_timing(*rtu);
+    s.frame_gap = setup.serial->frame_gap;
+    s.char_time = setup.serial->character;
     for (const auto& [address, profile] : profiles) s.frame_gap = std::max<master::MasterScheduler::Duration>(s.frame_gap, profile->frame_gap);
   }
   for (const auto& block : setup.blocks) {

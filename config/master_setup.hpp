@@ -18,7 +18,7 @@ struct MasterSetup {
   master::PlanOptions plan;
   master::MasterScheduler::Options scheduler;
   std::map<std::uint8_t, master::MasterScheduler::DeviceTiming> devices;
-  std::optional<master::SerialTiming> serial;            // the RTU line; nullopt for a TCP target
+  std::optional<modbus::RtuTiming> serial;            // the RTU line; nullopt for a TCP target
 };
 
 /// Everything the master needs from `config` (which is in master mode).
@@ -28,7 +28,5 @@ MasterSetup master_setup(const Config& config);
 /// (master::assign_phases) for its line and devices.
 std::vector<master::PlannedRequest> master_plan(const MasterSetup& setup);
 
-/// Bits per character on the RTU line: start, 8 data, parity, stop bits.
-unsigned bits_per_char(const RtuConfig& rtu);
 
 }  // namespace unima::config

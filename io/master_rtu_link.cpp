@@ -22,7 +22,7 @@ char parity_letter(config::Parity p) { return p == config::Parity::even ? 'E' : 
 
 MasterRtuLink::MasterRtuLink(asio::io_context& io, const config::RtuConfig& line)
     : line_(line),
-      timing_{line.baud, config::bits_per_char(line)},
+      timing_(config::line_timing(line)),
       port_(io),
       deadline_(io),
       silence_(io),
@@ -94,7 +94,7 @@ void MasterRtuLink::transact(std::uint8_t unit, const master::Bytes& pdu, std::c
   // Whatever a slave said after its time-out is not the answer to this request.
   ::tcflush(port_.native_handle(), TCIFLUSH);
   if (line_.rs485 == config::Rs485Direction::rts) set_rts(true);
-  const auto frame_time = timing_.char_time() * query_.size();
+  const auto frame_time = timing_.character * static_cast<long>(query_.size());
   deadline_.expires_after(frame_time + timeout);
   auto self = shared_from_this();
   deadline_.async_wait([this, self, generation](const boost::system::error_code& ec) {
@@ -129,13 +129,13 @@ void MasterRtuLink::read(unsigned generation) {
       return;  // the deadline ends the transaction
     }
     response_.insert(response_.end(), chunk_.begin(), chunk_.begin() + static_cast<std::ptrdiff_t>(n));
-    const auto length = master::rtu_response_length(response_, function_);
+    const auto length = master::expected_response_length(response_, function_);
     if (length && response_.size() >= *length) {
       response_.resize(*length);  // what follows is not part of this frame
       return finish(generation);
     }
     // The frame goes on, or has ended without its length being known: a silence decides.
-    const auto tolerance = std::max<asio::steady_timer::duration>(timing_.silence(), late_byte_tolerance);
+    const auto tolerance = std::max<asio::steady_timer::duration>(timing_.frame_gap, late_byte_tolerance);
     silence_.expires_after(tolerance);
     silence_.async_wait([this, self, generation](const boost::system::error_code& e) {
       if (!e) finish(generation);

@@ -36,7 +36,7 @@ class MasterRtuLink final : public MasterLink {
   void set_rts(bool on);
 
   config::RtuConfig line_;
-  master::SerialTiming timing_;
+  modbus::RtuTiming timing_;
   asio::serial_port port_;
   asio::steady_timer deadline_;
   asio::steady_timer silence_;

@@ -16,10 +16,6 @@ using modbus::TransactionState;
 
 namespace {
 
-modbus::RtuTiming timing_of(const config::RtuConfig& line) {
-  return modbus::rtu_timing(line.baud, line.parity != config::Parity::none, line.stop_bits);
-}
-
 std::string_view parity_letter(config::Parity parity) {
   switch (parity) {
     case config::Parity::even: return "E";
@@ -41,7 +37,7 @@ RtuSlavePort::RtuSlavePort(asio::io_context& io, const config::RtuConfig& line, 
     : io_(io),
       line_(line),
       context_(context),
-      timing_(timing_of(line)),
+      timing_(config::line_timing(line)),
       framer_(modbus::RtuFramerTiming::for_line(timing_, std::chrono::milliseconds(0)), context.unit_id),
       port_(io),
       silence_(io.get_executor(), [this] { return framer_.deadline(); },

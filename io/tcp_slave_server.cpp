@@ -62,7 +62,7 @@ class TcpSlaveServer::Connection : public std::enable_shared_from_this<Connectio
                               if (ec) return finish(ec == asio::error::eof ? "closed by the client" : ec.message());
                               in_used_ += n;
                               last_activity_ = Clock::now();
-                              if (!process()) return finish("sent a bad MBAP header");
+                              if (!process()) return finish_broken_stream();
                               if (out_used_ == 0) return read();
                               send();
                             });
@@ -162,12 +162,16 @@ class TcpSlaveServer::Connection : public std::enable_shared_from_this<Connectio
     if (finished_) return;
     finished_ = true;
     spdlog::debug("modbus tcp: {} disconnected: {}", peer_, why);
-    if (why == "sent a bad MBAP header") {
-      spdlog::warn("modbus tcp: {} sent a bad MBAP header; closing its connection", peer_);
-      if (server_.context_.on_fault) server_.context_.on_fault();
-    }
     close();
     server_.forget(this);
+  }
+  // A bad MBAP header cannot be skipped: the stream has no way back into step. It is a
+  // fault of the client's (C+0x13 bit 15), and only its own connection closes.
+  void finish_broken_stream() {
+    if (finished_) return;
+    spdlog::warn("modbus tcp: {} sent a bad MBAP header; closing its connection", peer_);
+    if (server_.context_.on_fault) server_.context_.on_fault();
+    finish("sent a bad MBAP header");
   }
 
   TcpSlaveServer& server_;

@@ -4,6 +4,7 @@
 
 #include "modbus/crc16.hpp"
 #include "modbus/rtu_adu.hpp"
+#include "modbus/rtu_frame_length.hpp"
 #include "modbus/mbap.hpp"
 #include "modbus/bytes.hpp"
 
@@ -107,16 +108,13 @@ bool slave_answered(const MasterResponse& r) {
   return r.status == ResponseStatus::ok || r.status == ResponseStatus::bad_length || r.status == ResponseStatus::wrong_echo;
 }
 
-std::optional<std::size_t> rtu_response_length(std::span<const std::uint8_t> bytes, std::uint8_t request_function) {
+std::optional<std::size_t> expected_response_length(std::span<const std::uint8_t> bytes, std::uint8_t request_function) {
   if (bytes.size() < 2) return std::nullopt;
-  const auto fn = bytes[1];
-  if (fn == (request_function | modbus::function::exception_flag)) return 5;
-  if (fn != request_function) return std::nullopt;
-  if (reads_bits(fn) || reads_registers(fn)) {
-    if (bytes.size() < 3) return std::nullopt;
-    return 5 + std::size_t{bytes[2]};
-  }
-  return 8;  // 5, 6, 15, 16: address, function, 4 bytes, CRC
+  // A reply of another function would be framed by rules that are not the answer's.
+  if ((bytes[1] & ~modbus::function::exception_flag) != request_function) return std::nullopt;
+  const auto length = modbus::rtu_response_length(bytes);
+  if (length.kind != modbus::RtuFrameLength::Kind::known) return std::nullopt;
+  return length.bytes;
 }
 
 MasterResponse check_response_pdu(std::span<const std::uint8_t> pdu, std::span<const std::uint8_t> request_pdu) {

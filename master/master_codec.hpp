@@ -56,8 +56,9 @@ modbus::TransactionState transaction_state(const MasterResponse& response);
 bool slave_answered(const MasterResponse& response);
 
 /// The length an RTU response to a request of `request_function` will have, once enough
-/// of it is there to tell; nullopt while unknown (then only silence ends the frame).
-std::optional<std::size_t> rtu_response_length(std::span<const std::uint8_t> bytes, std::uint8_t request_function);
+/// of it is there to tell (modbus::rtu_response_length); nullopt while unknown, and for a
+/// reply of another function: then only silence ends the frame.
+std::optional<std::size_t> expected_response_length(std::span<const std::uint8_t> bytes, std::uint8_t request_function);
 
 /// Checks an RTU response frame (as ended by its length or by silence) against the request.
 MasterResponse check_rtu_response(std::span<const std::uint8_t> frame, std::uint8_t address,

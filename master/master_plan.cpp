@@ -7,6 +7,7 @@
 #include <tuple>
 
 #include "modbus/protocol.hpp"
+#include "modbus/rtu_frame_length.hpp"
 
 namespace unima::master {
 
@@ -53,8 +54,6 @@ void merge_group(std::vector<std::size_t> indices, std::span<const MasterBlock> 
   }
   close();
 }
-
-std::size_t bit_bytes(std::uint16_t bits) { return (bits + 7u) / 8u; }
 
 }  // namespace
 
@@ -119,37 +118,13 @@ std::vector<PlannedRequest> split_request(const PlannedRequest& request, std::sp
   return parts;
 }
 
-std::size_t rtu_request_size(const PlannedRequest& r) {
-  switch (r.function) {
-    case modbus::function::write_multiple_registers: return 9 + 2u * r.count;
-    case modbus::function::write_multiple_coils: return 9 + bit_bytes(r.count);
-    default: return 8;
-  }
-}
+std::size_t rtu_request_size(const PlannedRequest& r) { return modbus::rtu_request_size(r.function, r.count); }
+std::size_t rtu_response_size(const PlannedRequest& r) { return modbus::rtu_response_size(r.function, r.count); }
 
-std::size_t rtu_response_size(const PlannedRequest& r) {
-  switch (r.function) {
-    case modbus::function::read_coils:
-    case modbus::function::read_discrete_inputs: return 5 + bit_bytes(r.count);
-    case modbus::function::read_holding_registers:
-    case modbus::function::read_input_registers: return 5 + 2u * r.count;
-    default: return 8;
-  }
-}
-
-std::chrono::microseconds SerialTiming::char_time() const {
-  return std::chrono::microseconds((1'000'000ull * bits_per_char + baud - 1) / baud);
-}
-
-std::chrono::microseconds SerialTiming::silence() const {
-  if (baud > 19200) return std::chrono::microseconds(1750);
-  return std::chrono::microseconds((3'500'000ull * bits_per_char + baud - 1) / baud);
-}
-
-BusLoad estimate_load(std::span<const PlannedRequest> requests, const SerialTiming& line) {
+BusLoad estimate_load(std::span<const PlannedRequest> requests, const modbus::RtuTiming& line) {
   BusLoad load;
-  const double char_s = static_cast<double>(line.bits_per_char) / line.baud;
-  const double silence_s = std::chrono::duration<double>(line.silence()).count();
+  const double char_s = static_cast<double>(line.bits_per_character) / line.baud;
+  const double silence_s = std::chrono::duration<double>(line.frame_gap).count();
   for (const auto& r : requests) {
     const double rate = 1000.0 / static_cast<double>(r.period.count());
     const double busy = static_cast<double>(rtu_request_size(r) + rtu_response_size(r)) * char_s + 2 * silence_s;
@@ -170,11 +145,11 @@ double device_request_rate(std::span<const PlannedRequest> requests, std::uint8_
 
 namespace unima::master {
 
-std::chrono::microseconds transaction_estimate(const PlannedRequest& request, const std::optional<SerialTiming>& line,
+std::chrono::microseconds transaction_estimate(const PlannedRequest& request, const std::optional<modbus::RtuTiming>& line,
                                                std::chrono::microseconds tcp_slot) {
   if (!line) return tcp_slot;
   const auto bytes = static_cast<long>(rtu_request_size(request) + rtu_response_size(request));
-  return line->char_time() * bytes + 2 * line->silence();
+  return line->character * bytes + 2 * line->frame_gap;
 }
 
 void assign_phases(std::vector<PlannedRequest>& requests, std::span<const std::chrono::microseconds> slots,

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "master/master_value.hpp"
+#include "modbus/rtu_timing.hpp"
 
 namespace unima::master {
 
@@ -73,25 +74,15 @@ std::vector<PlannedRequest> split_request(const PlannedRequest& request, std::sp
 std::size_t rtu_request_size(const PlannedRequest& request);
 std::size_t rtu_response_size(const PlannedRequest& request);
 
-/// Character and silence times of an RTU line (Modbus over Serial Line V1.02 §2.5.1.1).
-struct SerialTiming {
-  unsigned baud = 19200;
-  unsigned bits_per_char = 10;             // start + 8 data + parity + stop bits
-
-  std::chrono::microseconds char_time() const;
-  /// t3.5: 3.5 character times, fixed at 1.75 ms above 19200 baud.
-  std::chrono::microseconds silence() const;
-};
-
 struct BusLoad {
   double requests_per_second = 0;
   double busy_fraction = 0;  // of the line's time, frames and t3.5 gaps (not the slaves' think time)
 };
 
-BusLoad estimate_load(std::span<const PlannedRequest> requests, const SerialTiming& line);
+BusLoad estimate_load(std::span<const PlannedRequest> requests, const modbus::RtuTiming& line);
 
 /// How long a request holds the line: its frames and two t3.5 on RTU; `tcp_slot` on TCP.
-std::chrono::microseconds transaction_estimate(const PlannedRequest& request, const std::optional<SerialTiming>& line,
+std::chrono::microseconds transaction_estimate(const PlannedRequest& request, const std::optional<modbus::RtuTiming>& line,
                                                std::chrono::microseconds tcp_slot = std::chrono::microseconds(1000));
 
 /// Sets each request's phase so that requests which would come due at the same moments

@@ -26,4 +26,9 @@ RtuFrameLength rtu_request_length(std::span<const std::uint8_t> held);
 /// The length of a slave's response starting at `held[0]`. Address 0 never answers.
 RtuFrameLength rtu_response_length(std::span<const std::uint8_t> held);
 
+/// The sizes of a request of `function` for `count` registers or coils (1–6, 15, 16) and
+/// of its normal response, before a byte is on the line: for planning the line's time.
+std::size_t rtu_request_size(std::uint8_t function, std::uint16_t count);
+std::size_t rtu_response_size(std::uint8_t function, std::uint16_t count);
+
 }  // namespace unima::modbus

@@ -19,6 +19,8 @@ std::chrono::microseconds characters(std::uint64_t tenths, unsigned bits, unsign
 RtuTiming rtu_timing(unsigned baud, bool parity, unsigned stop_bits) {
   const unsigned bits = 1 + 8 + (parity ? 1 : 0) + stop_bits;
   RtuTiming timing;
+  timing.baud = baud;
+  timing.bits_per_character = bits;
   timing.character = characters(10, bits, baud);
   if (baud > fixed_timing_above_baud) {
     timing.frame_gap = std::chrono::microseconds(1750);

@@ -7,7 +7,10 @@
 namespace unima::modbus {
 
 struct RtuTiming {
-  /// One character on the wire: start bit, 8 data bits, the parity bit if any, stop bits.
+  unsigned baud = 0;
+  /// Start bit, 8 data bits, the parity bit if any, stop bits.
+  unsigned bits_per_character = 0;
+  /// One character on the wire.
   std::chrono::microseconds character{0};
   /// t3.5: the silence that ends a frame; fixed at 1750 µs above 19200 baud.
   std::chrono::microseconds frame_gap{0};

@@ -220,7 +220,7 @@ TEST(MasterSetup, BlocksTimingAndLine) {
   EXPECT_EQ(setup.stale_after[2], 20s);  // never shorter than two periods
   EXPECT_EQ(setup.plan.merge_gap, 3u);
   ASSERT_TRUE(setup.serial);
-  EXPECT_EQ(setup.serial->bits_per_char, 11u);
+  EXPECT_EQ(setup.serial->bits_per_character, 11u);
   // t3.5 at 9600 baud, 11 bits, is 4011 µs; the SIC184 v2.08 wants at least 1.75 ms.
   EXPECT_EQ(setup.scheduler.frame_gap, std::chrono::microseconds(4011));
   EXPECT_EQ(setup.devices.at(1).min_gap, 35ms);  // the stepper driver's profile

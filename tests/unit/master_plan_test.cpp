@@ -123,10 +123,8 @@ TEST(MasterPlan, SplitAfterIllegalDataAddress) {
 }
 
 TEST(MasterPlan, BusLoad) {
-  SerialTiming line{9600, 10};
-  EXPECT_EQ(line.char_time(), std::chrono::microseconds(1042));
-  EXPECT_EQ(line.silence(), std::chrono::microseconds(3646));
-  EXPECT_EQ((SerialTiming{38400, 10}.silence()), std::chrono::microseconds(1750));
+  // The line's times come from modbus::rtu_timing, pinned in rtu_framer_test.cpp.
+  const auto line = modbus::rtu_timing(9600, false, 1);
   // Stepper §6 (1): 8 + 9 bytes each second at 9600 8N1, plus two t3.5.
   PlannedRequest r;
   r.function = 3;
@@ -202,7 +200,7 @@ TEST(MasterPhases, TransactionEstimate) {
   r.function = 3;
   r.count = 2;
   // 8 + 9 bytes at 9600 8N1 and two t3.5.
-  EXPECT_EQ(transaction_estimate(r, SerialTiming{9600, 10}), 17 * 1042us + 2 * 3646us);
+  EXPECT_EQ(transaction_estimate(r, modbus::rtu_timing(9600, false, 1)), 17 * 1042us + 2 * 3646us);
   EXPECT_EQ(transaction_estimate(r, std::nullopt), 1000us);
 }
 

@@ -40,6 +40,8 @@ TEST(RtuTiming, CharacterGapAndReplyDelay) {
   EXPECT_EQ(t.frame_gap, 1823us);
   EXPECT_EQ(t.reply_delay, 1303us);
   const auto even = rtu_timing(9600, true, 1);  // 11 bits
+  EXPECT_EQ(even.baud, 9600u);
+  EXPECT_EQ(even.bits_per_character, 11u);
   EXPECT_EQ(even.character, 1146us);
   EXPECT_EQ(even.frame_gap, 4011us);
   const auto two_stop = rtu_timing(4800, false, 2);  // 11 bits
@@ -48,6 +50,20 @@ TEST(RtuTiming, CharacterGapAndReplyDelay) {
   EXPECT_EQ(fast.character, 87us);
   EXPECT_EQ(fast.frame_gap, 1750us);
   EXPECT_EQ(fast.reply_delay, 1250us);
+}
+
+// What the master plans its line time with must agree with what the framer cuts.
+TEST(RtuFrameLength, SizesKnownBeforeTheFrameAgreeWithTheFramesLengths) {
+  EXPECT_EQ(rtu_request_size(3, 2), 8u);
+  EXPECT_EQ(rtu_response_size(3, 2), 9u);                         // seed 002 §6 (1)
+  EXPECT_EQ(rtu_response_size(3, 2), rtu_response_length(Bytes{0x01, 0x03, 0x04}).bytes);
+  EXPECT_EQ(rtu_request_size(16, 2), 13u);                        // seed 002 §6 (4)
+  EXPECT_EQ(rtu_request_size(16, 2), rtu_request_length(Bytes{0x01, 0x10, 0, 9, 0, 2, 4}).bytes);
+  EXPECT_EQ(rtu_response_size(16, 2), 8u);
+  EXPECT_EQ(rtu_response_size(1, 9), 7u);                         // two bytes of coils
+  EXPECT_EQ(rtu_response_size(1, 9), rtu_response_length(Bytes{0x01, 0x01, 0x02}).bytes);
+  EXPECT_EQ(rtu_request_size(15, 9), 11u);
+  EXPECT_EQ(rtu_response_size(6, 1), 8u);
 }
 
 TEST(RtuFrameLength, RequestsOfEveryFunctionWithALength) {
