@@ -1,7 +1,5 @@
 #include "io/master_rtu_link.hpp"
 
-#include <linux/serial.h>
-#include <sys/ioctl.h>
 #include <termios.h>
 
 #include <cerrno>
@@ -11,14 +9,9 @@
 #include <spdlog/spdlog.h>
 
 #include "config/master_setup.hpp"
+#include "io/serial_line.hpp"
 
 namespace unima::io {
-
-namespace {
-
-char parity_letter(config::Parity p) { return p == config::Parity::even ? 'E' : p == config::Parity::odd ? 'O' : 'N'; }
-
-}  // namespace
 
 MasterRtuLink::MasterRtuLink(asio::io_context& io, const config::RtuConfig& line)
     : line_(line),
@@ -27,41 +20,12 @@ MasterRtuLink::MasterRtuLink(asio::io_context& io, const config::RtuConfig& line
       deadline_(io),
       silence_(io),
       rts_timer_(io) {
-  using base = asio::serial_port_base;
   try {
-    port_.open(line.device);
-  } catch (const boost::system::system_error& e) {
-    throw std::runtime_error(fmt::format("modbus master: cannot open {}: {}", line.device, e.code().message()));
-  }
-  try {
-    port_.set_option(base::baud_rate(line.baud));
-    port_.set_option(base::character_size(8));
-    port_.set_option(base::parity(line.parity == config::Parity::even  ? base::parity::even
-                                  : line.parity == config::Parity::odd ? base::parity::odd
-                                                                       : base::parity::none));
-    port_.set_option(base::stop_bits(line.stop_bits == 2 ? base::stop_bits::two : base::stop_bits::one));
-    port_.set_option(base::flow_control(base::flow_control::none));
-  } catch (const boost::system::system_error& e) {
-    throw std::runtime_error(fmt::format("modbus master: cannot set {} to {}: {}", line.device, describe(),
-                                         e.code().message()));
-  }
-  const int fd = port_.native_handle();
-  if (line.rs485 == config::Rs485Direction::kernel) {
-    serial_rs485 rs485{};
-    rs485.flags = SER_RS485_ENABLED | SER_RS485_RTS_ON_SEND;
-    if (::ioctl(fd, TIOCSRS485, &rs485) != 0)
-      spdlog::warn("modbus master: {}: the kernel cannot switch the RS-485 direction ({}); set rs485: off or rts",
-                   line.device, std::strerror(errno));
-  }
-  if (line.low_latency) {
-    serial_struct serial{};
-    if (::ioctl(fd, TIOCGSERIAL, &serial) == 0) {
-      serial.flags |= ASYNC_LOW_LATENCY;
-      if (::ioctl(fd, TIOCSSERIAL, &serial) != 0)
-        spdlog::warn("modbus master: {}: cannot set low latency: {}", line.device, std::strerror(errno));
-    } else {
-      spdlog::warn("modbus master: {}: cannot set low latency: {}", line.device, std::strerror(errno));
-    }
+    const auto opened = open_serial_line(port_, line);
+    for (const auto& note : opened.notes) spdlog::info("modbus master: {}", note);
+    for (const auto& warning : opened.warnings) spdlog::warn("modbus master: {}", warning);
+  } catch (const std::exception& e) {
+    throw std::runtime_error(fmt::format("modbus master: {}", e.what()));
   }
   if (line.rs485 == config::Rs485Direction::rts) set_rts(false);
 }
@@ -78,8 +42,7 @@ master::MasterResponse MasterRtuLink::check(std::span<const std::uint8_t> respon
 }
 
 void MasterRtuLink::set_rts(bool on) {
-  int bit = TIOCM_RTS;
-  if (::ioctl(port_.native_handle(), on ? TIOCMBIS : TIOCMBIC, &bit) != 0 && !rts_warned_) {
+  if (!io::set_rts(port_.native_handle(), on) && !rts_warned_) {
     rts_warned_ = true;
     spdlog::warn("modbus master: {}: cannot switch RTS: {}", line_.device, std::strerror(errno));
   }

@@ -3,7 +3,6 @@
 #include <spdlog/spdlog.h>
 
 #include "io/serial_line.hpp"
-#include "io/usb_latency.hpp"
 #include "modbus/protocol.hpp"
 #include "modbus/request_handler.hpp"
 #include "modbus/rtu_adu.hpp"
@@ -15,15 +14,6 @@ using modbus::RtuFrame;
 using modbus::TransactionState;
 
 namespace {
-
-std::string_view parity_letter(config::Parity parity) {
-  switch (parity) {
-    case config::Parity::even: return "E";
-    case config::Parity::odd: return "O";
-    case config::Parity::none: break;
-  }
-  return "N";
-}
 
 std::string hex(std::span<const std::uint8_t> bytes) {
   std::string text;
@@ -69,9 +59,9 @@ void RtuSlavePort::stop() {
 }
 
 void RtuSlavePort::open() {
-  std::vector<std::string> warnings;
+  OpenedLine opened;
   try {
-    warnings = open_serial_line(port_, line_);
+    opened = open_serial_line(port_, line_);
   } catch (const std::exception& e) {
     boost::system::error_code ignored;
     port_.close(ignored);
@@ -83,34 +73,14 @@ void RtuSlavePort::open() {
     schedule_reopen();
     return;
   }
-  for (const auto& warning : warnings) spdlog::warn("modbus rtu: {}", warning);
-  check_adapter_latency();
+  for (const auto& note : opened.notes) spdlog::info("modbus rtu: {}", note);
+  for (const auto& warning : opened.warnings) spdlog::warn("modbus rtu: {}", warning);
+  // The framer must not take the adapter's pauses for the end of a frame.
+  framer_ = modbus::RtuFramer(modbus::RtuFramerTiming::for_line(timing_, opened.adapter_latency), context_.unit_id);
   spdlog::info("modbus rtu: {}serving unit {} on {} at {} baud, 8{}{}", failing_ ? "line back, " : "",
                context_.unit_id, line_.device, line_.baud, parity_letter(line_.parity), line_.stop_bits);
   failing_ = false;
   read();
-}
-
-// Behind a USB adapter the bytes come in bursts up to its latency timer apart: the
-// framer must not take such a pause for the end of a frame, and replies are late by it.
-void RtuSlavePort::check_adapter_latency() {
-  auto latency = std::chrono::milliseconds(0);
-  if (auto timer = find_latency_timer(line_.device)) {
-    if (line_.low_latency && timer->value > std::chrono::milliseconds(1)) {
-      std::string error;
-      if (set_latency_timer(*timer, std::chrono::milliseconds(1), error))
-        spdlog::info("modbus rtu: {}: USB adapter latency timer set to 1 ms", line_.device);
-      else
-        spdlog::warn("modbus rtu: {}: cannot set the USB adapter latency timer {} to 1 ms: {}", line_.device,
-                     timer->file.string(), error);
-    }
-    if (timer->value > timing_.frame_gap)
-      spdlog::warn("modbus rtu: {}: the USB adapter holds received bytes up to {} ms ({}), longer than the {} µs "
-                   "between frames at {} baud: replies are late by up to that; set low_latency: true, or write 1 there",
-                   line_.device, timer->value.count(), timer->file.string(), timing_.frame_gap.count(), line_.baud);
-    latency = timer->value;
-  }
-  framer_ = modbus::RtuFramer(modbus::RtuFramerTiming::for_line(timing_, latency), context_.unit_id);
 }
 
 void RtuSlavePort::schedule_reopen() {

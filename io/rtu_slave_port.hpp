@@ -69,7 +69,6 @@ class RtuSlavePort {
   };
 
   void open();
-  void check_adapter_latency();
   void schedule_reopen();
   void lost(const std::string& why);
   void close();

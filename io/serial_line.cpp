@@ -8,6 +8,8 @@
 
 #include <fmt/format.h>
 
+#include "io/usb_latency.hpp"
+
 namespace unima::io {
 
 namespace {
@@ -50,9 +52,31 @@ std::optional<std::string> enable_kernel_rs485(int fd) {
   return std::nullopt;
 }
 
+// Behind a USB adapter the bytes come in bursts up to its latency timer apart: a framer
+// must not take such a pause for the end of a frame, and replies are late by it.
+void settle_adapter_latency(const config::RtuConfig& line, OpenedLine& opened) {
+  auto timer = find_latency_timer(line.device);
+  if (!timer) return;
+  if (line.low_latency && timer->value > std::chrono::milliseconds(1)) {
+    std::string error;
+    if (set_latency_timer(*timer, std::chrono::milliseconds(1), error))
+      opened.notes.push_back(fmt::format("{}: USB adapter latency timer set to 1 ms", line.device));
+    else
+      opened.warnings.push_back(fmt::format("{}: cannot set the USB adapter latency timer {} to 1 ms: {}", line.device,
+                                            timer->file.string(), error));
+  }
+  const auto frame_gap = config::line_timing(line).frame_gap;
+  if (timer->value > frame_gap)
+    opened.warnings.push_back(fmt::format(
+        "{}: the USB adapter holds received bytes up to {} ms ({}), longer than the {} µs between frames at {} baud: "
+        "replies are late by up to that; set low_latency: true, or write 1 there",
+        line.device, timer->value.count(), timer->file.string(), frame_gap.count(), line.baud));
+  opened.adapter_latency = timer->value;
+}
+
 }  // namespace
 
-std::vector<std::string> open_serial_line(Port& port, const config::RtuConfig& line) {
+OpenedLine open_serial_line(Port& port, const config::RtuConfig& line) {
   boost::system::error_code ec;
   port.open(line.device, ec);
   if (ec) throw std::runtime_error(fmt::format("{}: cannot open: {}", line.device, ec.message()));
@@ -67,7 +91,8 @@ std::vector<std::string> open_serial_line(Port& port, const config::RtuConfig& l
   port.set_option(Port::flow_control(Port::flow_control::none), ec);
   set_or_throw(line.device, "no flow control", ec);
 
-  std::vector<std::string> warnings;
+  OpenedLine opened;
+  auto& warnings = opened.warnings;
   const int fd = port.native_handle();
   switch (line.rs485) {
     case config::Rs485Direction::kernel:
@@ -83,7 +108,17 @@ std::vector<std::string> open_serial_line(Port& port, const config::RtuConfig& l
       break;
     case config::Rs485Direction::off: break;
   }
-  return warnings;
+  settle_adapter_latency(line, opened);
+  return opened;
+}
+
+char parity_letter(config::Parity parity) {
+  switch (parity) {
+    case config::Parity::even: return 'E';
+    case config::Parity::odd: return 'O';
+    case config::Parity::none: break;
+  }
+  return 'N';
 }
 
 bool set_rts(int fd, bool asserted) {

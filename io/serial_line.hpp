@@ -1,9 +1,11 @@
 #pragma once
-// The serial line under the RTU port: opening it with the seed's settings (seed §4.1: 8
-// data bits, parity, stop bits, baud), the transceiver's direction (the kernel's RS-485
-// mode, or RTS raised by the port while it sends), and what the UART tells about its
-// transmitter. Linux ioctls, kept apart from the port's protocol logic.
+// The serial line under the RTU slave port and the master's RTU link — the one way the
+// daemon opens a line: the seed's settings (seed §4.1: 8 data bits, parity, stop bits,
+// baud, 14400 included), the transceiver's direction (the kernel's RS-485 mode, or RTS
+// raised by the port while it sends), a USB adapter's latency timer, and what the UART
+// tells about its transmitter. Linux ioctls, kept apart from the ports' protocol logic.
 
+#include <chrono>
 #include <optional>
 #include <string>
 #include <vector>
@@ -13,9 +15,20 @@
 
 namespace unima::io {
 
-/// Opens `line.device` into `port` and sets it up. Throws std::runtime_error naming the
-/// device and what failed. Returns warnings: things that work, but maybe not as meant.
-std::vector<std::string> open_serial_line(asio::serial_port& port, const config::RtuConfig& line);
+struct OpenedLine {
+  std::vector<std::string> warnings;  // things that work, but maybe not as meant
+  std::vector<std::string> notes;     // what was changed on the way (the adapter's latency timer)
+  /// How long the USB adapter behind the line holds received bytes; 0 for a UART or pty.
+  std::chrono::milliseconds adapter_latency{0};
+};
+
+/// Opens `line.device` into `port` and sets it up; with `line.low_latency` sets a USB
+/// adapter's latency timer to 1 ms. Throws std::runtime_error naming the device and what
+/// failed.
+OpenedLine open_serial_line(asio::serial_port& port, const config::RtuConfig& line);
+
+/// "N", "E" or "O", as in "8N1".
+char parity_letter(config::Parity parity);
 
 /// Asserts (true) or releases RTS; false when the driver refuses.
 bool set_rts(int fd, bool asserted);
