@@ -3,7 +3,7 @@
 // hears the master talk to other slaves, and takes the value of register R of foreign
 // device D into user analog output n, without ever answering. Pure: the RTU port hands
 // in the frames it heard (whole ADUs, CRC checked), this says which outputs get which
-// values.
+// values. What an exchange carries is modbus/register_capture's rule.
 
 #include <cstdint>
 #include <span>

@@ -1,6 +1,5 @@
 #include "modbus/register_capture.hpp"
 
-#include "modbus/adu_view.hpp"
 #include "modbus/protocol.hpp"
 #include "modbus/bytes.hpp"
 
@@ -11,15 +10,9 @@ std::optional<std::uint16_t> CapturedRegisters::value_of(std::uint16_t reg) cons
   return be16(data, 2 * (std::size_t{reg} - first));
 }
 
-std::optional<CapturedRegisters> captured_registers(const Transaction& transaction) {
-  if (transaction.state != TransactionState::done && transaction.state != TransactionState::not_for_me)
-    return std::nullopt;
-  const auto framing = framing_of(transaction);
-  const auto query = view_adu(transaction.query, framing);
+std::optional<CapturedRegisters> exchange_registers(const AduView& query, const AduView& response) {
   if (!query.address || query.pdu.empty()) return std::nullopt;
-  const auto response = view_adu(transaction.response, framing);
   if (!response.pdu.empty() && (response.pdu[0] & function::exception_flag)) return std::nullopt;
-
   const auto pdu = query.pdu;
   CapturedRegisters captured;
   captured.address = *query.address;
@@ -41,7 +34,9 @@ std::optional<CapturedRegisters> captured_registers(const Transaction& transacti
     }
     case function::read_holding_registers:
     case function::read_input_registers: {
-      if (pdu.size() != 5) return std::nullopt;
+      if (pdu.size() != 5 || captured.address == broadcast_address) return std::nullopt;
+      // Only the queried slave's answer carries its registers.
+      if (response.address != query.address) return std::nullopt;
       const std::size_t count = be16(pdu, 3);
       const auto rsp = response.pdu;
       if (count == 0 || rsp.size() < 2 || rsp[0] != pdu[0] || rsp[1] != 2 * count || rsp.size() != 2 + 2 * count)
@@ -53,6 +48,13 @@ std::optional<CapturedRegisters> captured_registers(const Transaction& transacti
     }
     default: return std::nullopt;
   }
+}
+
+std::optional<CapturedRegisters> captured_registers(const Transaction& transaction) {
+  if (transaction.state != TransactionState::done && transaction.state != TransactionState::not_for_me)
+    return std::nullopt;
+  const auto framing = framing_of(transaction);
+  return exchange_registers(view_adu(transaction.query, framing), view_adu(transaction.response, framing));
 }
 
 }  // namespace unima::modbus

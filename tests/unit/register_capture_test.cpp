@@ -6,6 +6,8 @@
 #include <vector>
 
 #include "monitor/capture_indicators.hpp"
+#include "modbus/capture.hpp"
+#include "modbus/crc16.hpp"
 #include "modbus/register_capture.hpp"
 
 namespace unima::modbus {
@@ -55,6 +57,21 @@ TEST(RegisterCapture, AReadIsCapturedFromTheResponse) {
   const auto tc = captured_registers({PortKind::tcp, "127.0.0.1:1", t0, TransactionState::done, tq, tr});
   ASSERT_TRUE(tc);
   EXPECT_EQ(tc->value_of(0x0011), 0x0050);
+}
+
+// The capture indicators and capture blocks share this rule: a response from another
+// address is not the answer to the query, whatever its bytes (it once counted for indicators).
+TEST(RegisterCapture, AReadAnsweredFromAnotherAddressCarriesNothing) {
+  const Bytes q = {0x01, 0x04, 0x00, 0x11, 0x00, 0x02, 0x21, 0xCE};
+  Bytes r = {0x02, 0x04, 0x04, 0x00, 0x50, 0x7F, 0xFF, 0x00, 0x00};
+  const auto crc = crc16(std::span(r).first(r.size() - 2));
+  r[r.size() - 2] = static_cast<std::uint8_t>(crc & 0xFF);
+  r[r.size() - 1] = static_cast<std::uint8_t>(crc >> 8);
+  EXPECT_FALSE(captured_registers(rtu(TransactionState::not_for_me, q, r)));
+  const std::vector<CaptureRule> rules{{1, 0x0011, 5}};
+  EXPECT_TRUE(captured_reads(rules, q, r).empty());
+  r[0] = 0x01;  // the same answer from the queried slave counts for both
+  EXPECT_TRUE(captured_registers(rtu(TransactionState::not_for_me, q, r)));
 }
 
 TEST(RegisterCapture, NothingFromFaultsExceptionsOrMismatchedAnswers) {
