@@ -130,7 +130,7 @@ std::string Bridge::status_document() const {
   nlohmann::json monitor;
   monitor["file"] = m.file.empty() ? nlohmann::json(nullptr) : nlohmann::json(m.file);
   monitor["stdout"] = m.to_stdout;
-  monitor["format"] = m.format == config::MonitorFormat::json ? "json" : "text";
+  monitor["format"] = m.format == monitor::MonitorFormat::json ? "json" : "text";
   monitor["filter"] = monitor_->filter().describe();
   monitor["queue"] = m.queue;
   monitor["written"] = monitor_->written();

@@ -18,6 +18,7 @@
 #include "master/device_profile.hpp"
 #include "master/master_value.hpp"
 #include "modbus/rtu_timing.hpp"
+#include "monitor/monitor_config.hpp"
 
 namespace unima::config {
 
@@ -138,35 +139,6 @@ struct LogConfig {
   std::string level = "info";
 };
 
-/// The monitor's command filter (SPEC §5); nullopt is "xx", any.
-struct MonitorFilterConfig {
-  std::optional<std::uint8_t> address;
-  std::optional<std::uint8_t> function;
-  std::uint16_t from = 0x0000;
-  std::uint16_t to = 0xFFFF;
-};
-
-/// A capture indicator: the last value seen for this address + register (SPEC §5).
-struct IndicatorConfig {
-  std::uint8_t address = 0;
-  std::uint16_t reg = 0;
-};
-
-enum class MonitorFormat { text, json };
-
-/// The monitor log (SPEC §5, seed §8): off unless a file or stdout is set.
-struct MonitorConfig {
-  std::string file;             // size-rotated: file, file.1 .. file.<max_files>
-  bool to_stdout = false;       // key "stdout"
-  MonitorFormat format = MonitorFormat::text;
-  std::uint64_t max_size = 10ull << 20;
-  unsigned max_files = 5;
-  unsigned queue = 4096;        // transactions waiting for the writer; more are dropped and counted
-  MonitorFilterConfig filter;
-  std::vector<IndicatorConfig> indicators;  // at most 4
-  bool enabled() const { return !file.empty() || to_stdout; }
-};
-
 /// `unima-bridge status` asks the daemon on this unix socket.
 struct StatusConfig {
   std::string socket = "/run/unima-bridge/control.sock";
@@ -182,7 +154,7 @@ struct Config {
   banks::Mapping mapping;
   std::vector<Block> blocks;
   LogConfig log;
-  MonitorConfig monitor;
+  monitor::MonitorConfig monitor;
   StatusConfig status;
 
   /// The blocks that act in this mode; the others are ignored (with a warning, SPEC §4).

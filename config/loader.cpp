@@ -84,12 +84,7 @@ class Loader {
       if (s.size() <= 5) yaml_.fail(node, "unix: needs a socket path, e.g. unix:/run/unima-bridge/feed.sock");
       return;
     }
-    const auto colon = s.rfind(':');
-    if (colon == std::string::npos || colon == 0 || colon + 1 == s.size())
-      yaml_.fail(node, fmt::format("'{}' is not host:port or unix:/path", s));
-    const auto port = s.substr(colon + 1);
-    if (port.find_first_not_of("0123456789") != std::string::npos || port.size() > 5 || std::stoul(port) > 65535)
-      yaml_.fail(node, fmt::format("'{}' has no valid port", s));
+    check_host_port(node, s, "host:port or unix:/path", PortZero::any_free_port);
   }
 
   void modbus(const YAML::Node& node) {
@@ -142,7 +137,7 @@ class Loader {
     };
     if (node["tcp"]) {
       m.tcp = yaml_.text(node["tcp"]);
-      check_host_port(node["tcp"], m.tcp);
+      check_host_port(node["tcp"], m.tcp, "host:port", PortZero::invalid);
     }
     if (node["response_timeout"]) m.response_timeout = positive(node["response_timeout"]);
     if (node["retries"]) m.retries = static_cast<unsigned>(yaml_.number(node["retries"], 0, 5));
@@ -179,13 +174,15 @@ class Loader {
     return found;
   }
 
-  void check_host_port(const YAML::Node& node, const std::string& s) const {
+  // Port 0 means "any free port" where the daemon listens, and nothing where it connects.
+  enum class PortZero { any_free_port, invalid };
+  void check_host_port(const YAML::Node& node, const std::string& s, std::string_view expected, PortZero zero) const {
     const auto colon = s.rfind(':');
     if (colon == std::string::npos || colon == 0 || colon + 1 == s.size())
-      yaml_.fail(node, fmt::format("'{}' is not host:port", s));
+      yaml_.fail(node, fmt::format("'{}' is not {}", s, expected));
     const auto port = s.substr(colon + 1);
     if (port.find_first_not_of("0123456789") != std::string::npos || port.size() > 5 || std::stoul(port) > 65535 ||
-        std::stoul(port) == 0)
+        (zero == PortZero::invalid && std::stoul(port) == 0))
       yaml_.fail(node, fmt::format("'{}' has no valid port", s));
   }
 
@@ -472,23 +469,28 @@ class Loader {
       if (m.file.empty()) yaml_.fail(node["file"], "monitor.file must name a file");
     }
     if (node["stdout"]) m.to_stdout = yaml_.boolean(node["stdout"]);
-    if (node["format"]) m.format = yaml_.choice(node["format"], {"text", "json"}) == "json" ? MonitorFormat::json : MonitorFormat::text;
+    if (node["format"]) m.format = yaml_.choice(node["format"], {"text", "json"}) == "json" ? monitor::MonitorFormat::json : monitor::MonitorFormat::text;
     if (node["max_size"]) m.max_size = yaml_.byte_size(node["max_size"], 4096, 1ull << 40);
     if (node["max_files"]) m.max_files = static_cast<unsigned>(yaml_.number(node["max_files"], 1, 100));
     if (node["queue"]) m.queue = static_cast<unsigned>(yaml_.number(node["queue"], 16, 1'000'000));
     if (const auto filter = node["filter"]) {
       yaml_.expect_keys(filter, "monitor.filter", {"address", "function", "from", "to"});
-      const auto any_or_byte = [&](const YAML::Node& value) -> std::optional<std::uint8_t> {
-        if (value.IsScalar() && (value.Scalar() == "xx" || value.Scalar() == "XX")) return std::nullopt;
-        return static_cast<std::uint8_t>(yaml_.number(value, 0, 255));
-      };
-      if (filter["address"]) m.filter.address = any_or_byte(filter["address"]);
-      if (filter["function"]) m.filter.function = any_or_byte(filter["function"]);
-      if (filter["from"]) m.filter.from = static_cast<std::uint16_t>(yaml_.number(filter["from"], 0, 0xFFFF));
-      if (filter["to"]) m.filter.to = static_cast<std::uint16_t>(yaml_.number(filter["to"], 0, 0xFFFF));
-      if (m.filter.from > m.filter.to)
-        yaml_.fail(filter["to"] ? filter["to"] : filter["from"],
-                   fmt::format("monitor.filter: 'to' (0x{:04X}) is before 'from' (0x{:04X})", m.filter.to, m.filter.from));
+      using monitor::FilterField;
+      for (const auto& [key, field] : {std::pair{"address", FilterField::address}, std::pair{"function", FilterField::function},
+                                       std::pair{"from", FilterField::from}, std::pair{"to", FilterField::to}}) {
+        const auto value = filter[key];
+        if (!value) continue;
+        try {
+          monitor::set_filter_field(m.filter, field, yaml_.text(value));
+        } catch (const monitor::FilterSyntaxError& e) {
+          yaml_.fail(value, fmt::format("monitor.filter: {}", e.what()));
+        }
+      }
+      try {
+        monitor::check_filter_range(m.filter);
+      } catch (const monitor::FilterSyntaxError& e) {
+        yaml_.fail(filter["to"] ? filter["to"] : filter["from"], fmt::format("monitor.filter: {}", e.what()));
+      }
     }
     if (const auto indicators = node["indicators"]) {
       if (!indicators.IsSequence()) yaml_.fail(indicators, "indicators must be a list of { address, register }");

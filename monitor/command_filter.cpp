@@ -80,9 +80,37 @@ std::string CommandFilter::describe() const {
   return s;
 }
 
+void set_filter_field(CommandFilter& filter, FilterField field, std::string_view text) {
+  std::optional<unsigned long> value;  // nullopt: xx, any
+  if (text != "xx" && text != "XX") {
+    const unsigned long max = field == FilterField::address || field == FilterField::function ? 0xFF : 0xFFFF;
+    value = parse_number(text);
+    if (!value || *value > max)
+      throw FilterSyntaxError("'" + std::string(text) + "' is not xx or a number 0.." + std::to_string(max));
+  }
+  const auto byte = [&] { return value ? std::optional(static_cast<std::uint8_t>(*value)) : std::nullopt; };
+  switch (field) {
+    case FilterField::address: filter.address = byte(); break;
+    case FilterField::function: filter.function = byte(); break;
+    // Either end of the range at "any" is that end of the whole space.
+    case FilterField::from: filter.from = static_cast<std::uint16_t>(value.value_or(0x0000)); break;
+    case FilterField::to: filter.to = static_cast<std::uint16_t>(value.value_or(0xFFFF)); break;
+  }
+}
+
+void check_filter_range(const CommandFilter& filter) {
+  if (filter.from > filter.to) throw FilterSyntaxError("from=" + hex4(filter.from) + " is after to=" + hex4(filter.to));
+}
+
 CommandFilter parse_command_filter(std::string_view expression) {
+  struct Key {
+    std::string_view name;
+    FilterField field;
+  };
+  static constexpr Key keys[] = {{"ad", FilterField::address}, {"fn", FilterField::function},
+                                 {"from", FilterField::from}, {"to", FilterField::to}};
   CommandFilter filter;
-  bool seen[4] = {};
+  bool seen[std::size(keys)] = {};
   std::size_t at = 0;
   while (at < expression.size()) {
     if (expression[at] == ' ' || expression[at] == '\t' || expression[at] == ',') {
@@ -96,31 +124,24 @@ CommandFilter parse_command_filter(std::string_view expression) {
     const auto equals = term.find('=');
     if (equals == std::string_view::npos)
       throw FilterSyntaxError("filter: '" + std::string(term) + "' is not key=value (keys: ad, fn, from, to)");
-    const auto key = term.substr(0, equals);
-    const auto text = term.substr(equals + 1);
-    int index = -1;
-    unsigned long max = 0;
-    if (key == "ad") index = 0, max = 255;
-    else if (key == "fn") index = 1, max = 255;
-    else if (key == "from") index = 2, max = 0xFFFF;
-    else if (key == "to") index = 3, max = 0xFFFF;
-    else throw FilterSyntaxError("filter: unknown key '" + std::string(key) + "' (keys: ad, fn, from, to)");
-    if (seen[index]) throw FilterSyntaxError("filter: '" + std::string(key) + "' is given twice");
-    seen[index] = true;
-    if (text == "xx" || text == "XX") continue;  // any
-    const auto value = parse_number(text);
-    if (!value || *value > max)
-      throw FilterSyntaxError("filter: " + std::string(key) + "='" + std::string(text) + "' is not xx or a number 0.." +
-                              std::to_string(max));
-    switch (index) {
-      case 0: filter.address = static_cast<std::uint8_t>(*value); break;
-      case 1: filter.function = static_cast<std::uint8_t>(*value); break;
-      case 2: filter.from = static_cast<std::uint16_t>(*value); break;
-      default: filter.to = static_cast<std::uint16_t>(*value); break;
+    const auto name = term.substr(0, equals);
+    const auto key = std::find_if(std::begin(keys), std::end(keys), [&](const Key& k) { return k.name == name; });
+    if (key == std::end(keys))
+      throw FilterSyntaxError("filter: unknown key '" + std::string(name) + "' (keys: ad, fn, from, to)");
+    auto& seen_key = seen[key - std::begin(keys)];
+    if (seen_key) throw FilterSyntaxError("filter: '" + std::string(name) + "' is given twice");
+    seen_key = true;
+    try {
+      set_filter_field(filter, key->field, term.substr(equals + 1));
+    } catch (const FilterSyntaxError& e) {
+      throw FilterSyntaxError("filter: " + std::string(name) + "=" + e.what());
     }
   }
-  if (filter.from > filter.to)
-    throw FilterSyntaxError("filter: from=" + hex4(filter.from) + " is after to=" + hex4(filter.to));
+  try {
+    check_filter_range(filter);
+  } catch (const FilterSyntaxError& e) {
+    throw FilterSyntaxError(std::string("filter: ") + e.what());
+  }
   return filter;
 }
 

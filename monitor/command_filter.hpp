@@ -52,6 +52,17 @@ class FilterSyntaxError : public std::invalid_argument {
   using std::invalid_argument::invalid_argument;
 };
 
+/// The filter's fields, as the command line ("ad", "fn", "from", "to") and the YAML
+/// section monitor.filter ("address", "function", "from", "to") name them.
+enum class FilterField : std::uint8_t { address, function, from, to };
+
+/// Sets `field` from its text: "xx" (any) or a number, decimal or 0x hex, in the field's
+/// range. Throws FilterSyntaxError ("'256' is not xx or a number 0..255"). The one parser
+/// of filter values, for the command line and the config alike.
+void set_filter_field(CommandFilter& filter, FilterField field, std::string_view text);
+/// Throws FilterSyntaxError ("from=0x0300 is after to=0x0200") when the range is empty.
+void check_filter_range(const CommandFilter& filter);
+
 /// Reads "ad=3 fn=6 from=0x0200 to=0x0210" (SPEC §5): any key may be left out, values are
 /// decimal or 0x hex, "xx" means any; throws FilterSyntaxError naming the bad part.
 CommandFilter parse_command_filter(std::string_view expression);

@@ -8,49 +8,35 @@
 
 namespace unima::monitor {
 
-namespace {
-
-monitor::CommandFilter filter_of(const config::MonitorFilterConfig& c) {
-  return monitor::CommandFilter{c.address, c.function, c.from, c.to};
-}
-
-std::vector<monitor::IndicatorSpec> indicator_specs(const config::MonitorConfig& c) {
-  std::vector<monitor::IndicatorSpec> specs;
-  for (const auto& i : c.indicators) specs.push_back({i.address, i.reg});
-  return specs;
-}
-
-}  // namespace
-
-Monitor::Monitor(const config::MonitorConfig& config)
-    : config_(config), filter_(filter_of(config.filter)), indicators_(indicator_specs(config)),
+Monitor::Monitor(const MonitorConfig& config)
+    : config_(config), filter_(config.filter), indicators_(config.indicators),
       writer_(make_writer(config)) {}
 
-std::unique_ptr<MonitorWriter> Monitor::make_writer(const config::MonitorConfig& config) {
+std::unique_ptr<MonitorWriter> Monitor::make_writer(const MonitorConfig& config) {
   if (!config.enabled()) return nullptr;
   std::vector<std::unique_ptr<MonitorSink>> sinks;
   if (!config.file.empty()) sinks.push_back(std::make_unique<RotatingFileSink>(config.file, config.max_size, config.max_files));
   if (config.to_stdout) sinks.push_back(std::make_unique<StdoutSink>());
   MonitorWriter::Options options;
-  options.format = config.format == config::MonitorFormat::json ? monitor::MonitorFormat::json : monitor::MonitorFormat::text;
+  options.format = config.format;
   options.capacity = config.queue;
   spdlog::info("monitor: logging to {}{}{} ({}, filter {})", config.file, !config.file.empty() && config.to_stdout ? " and " : "",
-               config.to_stdout ? "stdout" : "", config.format == config::MonitorFormat::json ? "json" : "text",
-               filter_of(config.filter).describe());
+               config.to_stdout ? "stdout" : "", config.format == MonitorFormat::json ? "json" : "text",
+               config.filter.describe());
   return std::make_unique<MonitorWriter>(std::move(sinks), options);
 }
 
-bool Monitor::same_log(const config::MonitorConfig& a, const config::MonitorConfig& b) {
+bool Monitor::same_log(const MonitorConfig& a, const MonitorConfig& b) {
   return a.file == b.file && a.to_stdout == b.to_stdout && a.format == b.format && a.max_size == b.max_size &&
          a.max_files == b.max_files && a.queue == b.queue;
 }
 
-void Monitor::reconfigure(const config::MonitorConfig& config, std::unique_ptr<MonitorWriter> writer) {
+void Monitor::reconfigure(const MonitorConfig& config, std::unique_ptr<MonitorWriter> writer) {
   if (!same_log(config_, config)) replace_writer(std::move(writer));
-  const auto filter = filter_of(config.filter);
+  const auto filter = config.filter;
   if (writer_ && !(filter == filter_)) spdlog::info("monitor: filter {}", filter.describe());
   filter_ = filter;
-  monitor::CaptureIndicators indicators(indicator_specs(config));
+  monitor::CaptureIndicators indicators(config.indicators);
   indicators.take_readings_from(indicators_);
   indicators_ = std::move(indicators);
   config_ = config;

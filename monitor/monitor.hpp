@@ -11,7 +11,7 @@
 #include <memory>
 #include <optional>
 
-#include "config/config.hpp"
+#include "monitor/monitor_config.hpp"
 #include "monitor/monitor_writer.hpp"
 #include "monitor/capture_indicators.hpp"
 #include "monitor/command_filter.hpp"
@@ -23,20 +23,20 @@ namespace unima::monitor {
 class Monitor {
  public:
   /// Throws std::runtime_error when the log file cannot be opened.
-  explicit Monitor(const config::MonitorConfig& config);
+  explicit Monitor(const MonitorConfig& config);
 
   /// The log writer of `config`, or null when it logs nowhere; throws like the constructor.
-  static std::unique_ptr<MonitorWriter> make_writer(const config::MonitorConfig& config);
+  static std::unique_ptr<MonitorWriter> make_writer(const MonitorConfig& config);
   /// True when `a` and `b` write the same log the same way (a reload keeps the writer).
-  static bool same_log(const config::MonitorConfig& a, const config::MonitorConfig& b);
+  static bool same_log(const MonitorConfig& a, const MonitorConfig& b);
   /// Switches to `config` (a reload). `writer` is make_writer(config) when the log changed
   /// (built beforehand, as it can fail), ignored otherwise. Indicators that stay keep
   /// their readings; counters and Ix go on.
-  void reconfigure(const config::MonitorConfig& config, std::unique_ptr<MonitorWriter> writer);
+  void reconfigure(const MonitorConfig& config, std::unique_ptr<MonitorWriter> writer);
 
   void observe(const modbus::Transaction& transaction);
 
-  const config::MonitorConfig& config() const { return config_; }
+  const MonitorConfig& config() const { return config_; }
   const monitor::CommandFilter& filter() const { return filter_; }
   const monitor::CaptureIndicators& indicators() const { return indicators_; }
   const modbus::TransactionCounters& counters(modbus::PortKind port) const {
@@ -51,7 +51,7 @@ class Monitor {
  private:
   void replace_writer(std::unique_ptr<MonitorWriter> writer);
 
-  config::MonitorConfig config_;
+  MonitorConfig config_;
   monitor::CommandFilter filter_;
   monitor::CaptureIndicators indicators_;
   std::array<modbus::TransactionCounters, 3> counters_{};  // by PortKind

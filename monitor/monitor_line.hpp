@@ -22,10 +22,9 @@
 
 #include "modbus/adu_view.hpp"
 #include "modbus/transaction.hpp"
+#include "monitor/monitor_config.hpp"
 
 namespace unima::monitor {
-
-enum class MonitorFormat : std::uint8_t { text, json };
 
 /// "Done", "Not4Me", "Err01".."Err04", "Timeout".
 std::string_view state_name(modbus::TransactionState state);

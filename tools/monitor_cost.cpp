@@ -111,27 +111,27 @@ int main(int argc, char** argv) {
   const double serve = serve_cost(n);
   std::printf("%-44s %8.1f ns\n", "serve (MBAP + handler, no syscalls)", serve);
 
-  const auto report = [&](const char* what, config::MonitorConfig c) {
+  const auto report = [&](const char* what, monitor::MonitorConfig c) {
     monitor::Monitor monitor(c);
     std::uint64_t dropped = 0;
     const double ns = observe_cost(monitor, n, dropped);
     std::printf("%-44s %8.1f ns  (%4.1f %% of serve; %llu dropped)\n", what, ns, 100.0 * ns / serve,
                 static_cast<unsigned long long>(dropped));
   };
-  config::MonitorConfig off;
+  monitor::MonitorConfig off;
   report("observe, log off (counters, Ix)", off);
-  config::MonitorConfig indicators = off;
+  monitor::MonitorConfig indicators = off;
   indicators.indicators = {{1, 0x0011}, {1, 0x0012}, {3, 0x0202}, {4, 0x0000}};
   report("observe, log off, 4 indicators", indicators);
-  config::MonitorConfig file = off;
+  monitor::MonitorConfig file = off;
   file.file = (dir / "monitor.log").string();
   file.max_size = 64ull << 20;
   report("observe, log to file", file);
-  config::MonitorConfig filtered = file;
+  monitor::MonitorConfig filtered = file;
   filtered.filter.function = 6;  // the seed's read does not pass
   report("observe, log to file, filtered out", filtered);
-  config::MonitorConfig json = file;
-  json.format = config::MonitorFormat::json;
+  monitor::MonitorConfig json = file;
+  json.format = monitor::MonitorFormat::json;
   report("observe, log to file as JSON", json);
 
   // The writer thread's side.

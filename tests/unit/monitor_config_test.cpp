@@ -36,7 +36,7 @@ TEST(MonitorConfig, Defaults) {
   EXPECT_FALSE(c.monitor.enabled());
   EXPECT_EQ(c.monitor.max_size, 10u << 20);
   EXPECT_EQ(c.monitor.max_files, 5u);
-  EXPECT_EQ(c.monitor.format, MonitorFormat::text);
+  EXPECT_EQ(c.monitor.format, monitor::MonitorFormat::text);
   EXPECT_EQ(c.status.socket, "/run/unima-bridge/control.sock");
 }
 
@@ -53,7 +53,7 @@ TEST(MonitorConfig, EveryKey) {
       "bridge.yaml");
   EXPECT_TRUE(c.monitor.to_stdout);
   EXPECT_TRUE(c.monitor.enabled());
-  EXPECT_EQ(c.monitor.format, MonitorFormat::json);
+  EXPECT_EQ(c.monitor.format, monitor::MonitorFormat::json);
   EXPECT_EQ(c.monitor.max_size, 65536u);
   EXPECT_EQ(c.monitor.max_files, 2u);
   EXPECT_EQ(c.monitor.queue, 100u);
@@ -71,11 +71,11 @@ TEST(MonitorConfig, ErrorsNameTheirPosition) {
             "bridge.yaml:2:3: unknown key 'flie' in monitor (known: file, stdout, format, max_size, max_files, queue, "
             "filter, indicators)");
   EXPECT_EQ(error_of("monitor:\n  filter: { address: yy }\n"),
-            "bridge.yaml:2:22: 'yy' is not a number (write decimal or 0x hex)");
+            "bridge.yaml:2:22: monitor.filter: 'yy' is not xx or a number 0..255");
   EXPECT_EQ(error_of("monitor:\n  filter: { register: 5 }\n"),
             "bridge.yaml:2:13: unknown key 'register' in monitor.filter (known: address, function, from, to)");
   EXPECT_EQ(error_of("monitor:\n  filter: { from: 0x0300, to: 0x0200 }\n"),
-            "bridge.yaml:2:31: monitor.filter: 'to' (0x0200) is before 'from' (0x0300)");
+            "bridge.yaml:2:31: monitor.filter: from=0x0300 is after to=0x0200");
   EXPECT_EQ(error_of("monitor:\n  indicators:\n    - { address: 1, register: 1 }\n    - { address: 1, register: 2 }\n"
                      "    - { address: 1, register: 3 }\n    - { address: 1, register: 4 }\n"
                      "    - { address: 1, register: 5 }\n"),
