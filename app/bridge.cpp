@@ -2,14 +2,14 @@
 
 #include <spdlog/spdlog.h>
 
+#include "app/bank_model.hpp"
+#include "app/bridge_core.hpp"
+#include "app/reload_plan.hpp"
 #include "banks/register_space.hpp"
 #include "banks/table_catalog.hpp"
-#include "app/bridge_core.hpp"
 #include "io/feed_transport.hpp"
 #include "io/sim_transport.hpp"
-#include "app/bank_model.hpp"
 #include "modbus/capture.hpp"
-#include "unimabus/feed_codec.hpp"
 
 namespace unima::app {
 
@@ -61,9 +61,8 @@ Bridge::Bridge(asio::io_context& io, config::Config config)
   tcp_ = make_tcp_server(core_->config);
   rtu_ = make_rtu_port(core_->config);
   master_ = make_master(core_->config);
-  core_->store->set_change_listener([this](BankId bank, std::uint16_t offset, std::uint16_t value) {
-    if (transport_) transport_->publish(bank, offset, value);
-  });
+  publisher_.set_transport(transport_.get());
+  publisher_.watch(*core_->store);
 }
 
 Bridge::~Bridge() { stop(); }
@@ -88,7 +87,7 @@ std::unique_ptr<Bridge::Core> Bridge::build_core(config::Config config) const {
 std::unique_ptr<unimabus::Transport> Bridge::make_transport(const config::Config& config) {
   auto handler = [this](const unimabus::Telegram& t) { return on_telegram(t); };
   if (config.unimabus.transport == config::TransportKind::feed)
-    return std::make_unique<io::FeedTransport>(io_, config.unimabus.listen, handler, [this] { return snapshot(); });
+    return std::make_unique<io::FeedTransport>(io_, config.unimabus.listen, handler, [this] { return publisher_.snapshot(); });
   std::vector<unimabus::SimDevice> devices;
   for (unsigned n = 1; n <= 4; ++n)
     if (const auto& device = config.devices[n - 1])
@@ -100,7 +99,7 @@ std::unique_ptr<unimabus::Transport> Bridge::make_transport(const config::Config
                                         config.unimabus.sim.period, handler);
 }
 
-std::unique_ptr<io::TcpSlaveServer> Bridge::make_tcp_server(const config::Config& config) const {
+std::unique_ptr<io::TcpSlaveServer> Bridge::make_tcp_server(const config::Config& config) {
   if (!config.modbus.tcp) return nullptr;
   const auto& tcp = *config.modbus.tcp;
   io::TcpSlaveOptions options{tcp.listen, tcp.port, tcp.max_clients, tcp.idle_timeout};
@@ -121,7 +120,7 @@ std::unique_ptr<io::RtuSlavePort> Bridge::make_rtu_port(const config::Config& co
   return port;
 }
 
-io::SlaveContext Bridge::rtu_context() const {
+io::SlaveContext Bridge::rtu_context() {
   auto context = slave_context();
   context.options.max_read_registers = modbus::max_read_registers_rtu;
   return context;
@@ -160,7 +159,7 @@ std::shared_ptr<io::MasterPort> Bridge::make_master(const config::Config& config
   return io::MasterPort::create(io_, config, std::move(hooks));
 }
 
-io::SlaveContext Bridge::slave_context() const {
+io::SlaveContext Bridge::slave_context() {
   io::SlaveContext context;
   context.registers = core_->model.get();
   context.unit_id = core_->config.modbus.address;
@@ -170,8 +169,7 @@ io::SlaveContext Bridge::slave_context() const {
   context.options.write_multiple_registers = ext.function_16;
   context.options.device_identification = ext.function_43;
   // The error hold lives as long as the bridge, and the ports never outlive the bridge.
-  auto* hold = const_cast<io::ErrorHold*>(&error_hold_);
-  context.on_fault = [hold] { hold->fault(); };
+  context.on_fault = [this] { error_hold_.fault(); };
   context.on_transaction = [monitor = monitor_.get()](const modbus::Transaction& t) { monitor->observe(t); };
   return context;
 }
@@ -233,75 +231,63 @@ bool same_feed(const config::UnimabusConfig& a, const config::UnimabusConfig& b)
 }
 }  // namespace
 
-void Bridge::reload(config::Config config) {
-  auto core = build_core(std::move(config));
+void Bridge::reload(config::Config config) { commit(plan_reload(std::move(config))); }
+
+// Everything that can fail comes first, while the running ports are untouched.
+Bridge::ReloadPlan Bridge::plan_reload(config::Config config) {
+  ReloadPlan plan;
+  plan.core = build_core(std::move(config));
   const auto& old_config = core_->config;
-  const auto& new_config = core->config;
-
-  // Everything that can fail comes first, while the running ports are untouched.
-  const bool same_monitor_log = monitor::Monitor::same_log(old_config.monitor, new_config.monitor);
-  std::unique_ptr<monitor::MonitorWriter> new_monitor_writer;
-  if (!same_monitor_log) new_monitor_writer = monitor::Monitor::make_writer(new_config.monitor);
-  std::unique_ptr<unimabus::Transport> new_transport;
-  if (!same_feed(old_config.unimabus, new_config.unimabus)) new_transport = make_transport(new_config);
-  std::unique_ptr<io::TcpSlaveServer> new_tcp;
-  const bool same_tcp = same_endpoint(old_config.modbus.tcp, new_config.modbus.tcp);
-  const bool same_rtu = same_line(slave_line(old_config), slave_line(new_config));
-  if (!same_tcp) {
-    if (tcp_) tcp_->stop();  // the new server may want the same port on another address
-    try {
-      new_tcp = make_tcp_server(new_config);
-    } catch (...) {
-      if (tcp_) {
-        tcp_ = std::make_unique<io::TcpSlaveServer>(io_, tcp_->options(), slave_context());
-        tcp_->start();
-      }
-      throw;
-    }
-  }
-
-  // The master's line opens before anything is switched (a serial device may be missing).
-  std::shared_ptr<io::MasterPort> new_master;
-  try {
-    new_master = make_master(new_config);
-  } catch (...) {
-    if (!same_tcp && tcp_) {
-      new_tcp.reset();  // it may hold the port the old server needs again
+  const auto& new_config = plan.core->config;
+  plan.same_monitor_log = monitor::Monitor::same_log(old_config.monitor, new_config.monitor);
+  if (!plan.same_monitor_log) plan.monitor_writer = monitor::Monitor::make_writer(new_config.monitor);
+  if (!same_feed(old_config.unimabus, new_config.unimabus)) plan.transport = make_transport(new_config);
+  plan.same_tcp = same_endpoint(old_config.modbus.tcp, new_config.modbus.tcp);
+  plan.same_rtu = same_line(slave_line(old_config), slave_line(new_config));
+  if (!plan.same_tcp && tcp_) {
+    // The new server may want the same port on another address: the old one lets go
+    // until the plan commits or is dropped.
+    tcp_->stop();
+    plan.restore_tcp = Rollback([this] {
       tcp_ = std::make_unique<io::TcpSlaveServer>(io_, tcp_->options(), slave_context());
       tcp_->start();
-    }
-    throw;
+    });
   }
+  if (!plan.same_tcp) plan.tcp = make_tcp_server(new_config);
+  // The master's line opens before anything is switched (a serial device may be missing).
+  plan.master = make_master(new_config);
+  return plan;
+}
 
-  // Commit: values and presence carried over, then the ports switched.
+// Nothing here can fail: values and presence carried over, then the ports switched.
+void Bridge::commit(ReloadPlan plan) {
+  plan.restore_tcp.commit();
+  auto& core = plan.core;
   core->store->take_state_from(*core_->store);
-  const auto now = unimabus::Presence::Clock::now();
-  for (BankId bank : banks::all_banks) {
-    if (core_->presence->online(bank) && core->store->online(bank)) core->presence->heard(bank, now);
-    else core->store->set_online(bank, false);
-  }
-  const bool same_status_socket = old_config.status.socket == new_config.status.socket;
+  for (BankId bank : core->presence->take_over(*core_->presence, [&](BankId b) { return core->store->online(b); },
+                                               unimabus::Presence::Clock::now()))
+    core->store->set_online(bank, false);
+  const bool same_status_socket = core_->config.status.socket == core->config.status.socket;
   core_ = std::move(core);
-  monitor_->reconfigure(core_->config.monitor, std::move(new_monitor_writer));
+  monitor_->reconfigure(core_->config.monitor, std::move(plan.monitor_writer));
   if (!same_status_socket || !control_) {
     if (auto control = make_control_socket(core_->config.status.socket)) {
       if (control_) control_->stop();
       control_ = std::move(control);
     }
   }
-  core_->store->set_change_listener([this](BankId bank, std::uint16_t offset, std::uint16_t value) {
-    if (transport_) transport_->publish(bank, offset, value);
-  });
+  publisher_.watch(*core_->store);
   presence_timer_.cancel();
   presence_timer_.watch();
 
-  if (new_transport) {
+  if (plan.transport) {
     if (transport_) transport_->stop();
-    transport_ = std::move(new_transport);
+    transport_ = std::move(plan.transport);
+    publisher_.set_transport(transport_.get());
     transport_->start();
   }
-  if (!same_tcp) {
-    tcp_ = std::move(new_tcp);
+  if (!plan.same_tcp) {
+    tcp_ = std::move(plan.tcp);
     if (tcp_) tcp_->start();
   }
   if (tcp_) {
@@ -311,7 +297,7 @@ void Bridge::reload(config::Config config) {
   }
   // The serial line is reopened only when its settings changed; opening never throws (a
   // line that cannot be opened is retried), so this comes after the commit.
-  if (!same_rtu) {
+  if (!plan.same_rtu) {
     if (rtu_) rtu_->stop();
     rtu_ = make_rtu_port(core_->config);
     if (rtu_) rtu_->start();
@@ -319,7 +305,7 @@ void Bridge::reload(config::Config config) {
     rtu_->set_context(rtu_context());
   }
   if (master_) master_->stop();
-  master_ = std::move(new_master);
+  master_ = std::move(plan.master);
   if (master_) master_->start();
   for (const auto& warning : config::warnings(core_->config)) spdlog::warn("{}", warning);
   spdlog::info("bridge: reloaded {}", core_->config.file);
@@ -347,18 +333,6 @@ void Bridge::set_online(BankId bank, bool online) {
 void Bridge::expire_presence() {
   for (BankId bank : core_->presence->expire(unimabus::Presence::Clock::now())) set_online(bank, false);
   presence_timer_.watch();
-}
-
-std::string Bridge::snapshot() const {
-  std::string lines;
-  const auto& store = *core_->store;
-  for (std::uint16_t i = 0; i < store.length(BankId::W); ++i)
-    lines += unimabus::format_change(BankId::W, i, store.read(BankId::W, i));
-  for (std::uint16_t i = 0; i < store.length(BankId::X); ++i)
-    lines += unimabus::format_change(BankId::X, i, store.read(BankId::X, i));
-  for (std::uint16_t i = 0; i <= banks::c_bank::user_binary_outputs; ++i)
-    lines += unimabus::format_change(BankId::C, i, store.read(BankId::C, i));
-  return lines;
 }
 
 }  // namespace unima::app

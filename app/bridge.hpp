@@ -20,6 +20,7 @@
 #include "io/slave_context.hpp"
 #include "io/tcp_slave_server.hpp"
 #include "unimabus/presence.hpp"
+#include "unimabus/publisher.hpp"
 #include "unimabus/telegram_router.hpp"
 #include "unimabus/transport.hpp"
 
@@ -54,16 +55,18 @@ class Bridge {
 
  private:
   struct Core;
+  struct ReloadPlan;  // app/reload_plan.hpp
   std::unique_ptr<Core> build_core(config::Config config) const;
+  ReloadPlan plan_reload(config::Config config);
+  void commit(ReloadPlan plan);
   std::unique_ptr<unimabus::Transport> make_transport(const config::Config& config);
-  std::unique_ptr<io::TcpSlaveServer> make_tcp_server(const config::Config& config) const;
+  std::unique_ptr<io::TcpSlaveServer> make_tcp_server(const config::Config& config);
   std::unique_ptr<io::RtuSlavePort> make_rtu_port(const config::Config& config);
   std::shared_ptr<io::MasterPort> make_master(const config::Config& config);
-  io::SlaveContext slave_context() const;
-  io::SlaveContext rtu_context() const;
+  io::SlaveContext slave_context();
+  io::SlaveContext rtu_context();
   void on_foreign_exchange(std::span<const std::uint8_t> query, std::span<const std::uint8_t> response);
   std::string on_telegram(const unimabus::Telegram& telegram);
-  std::string snapshot() const;
   void expire_presence();
   void set_online(banks::BankId bank, bool online);
   std::unique_ptr<io::ControlSocket> make_control_socket(const std::string& path);
@@ -72,6 +75,7 @@ class Bridge {
   std::unique_ptr<Core> core_;
   io::ErrorHold error_hold_;
   std::unique_ptr<monitor::Monitor> monitor_;  // before the ports, whose hook points at it
+  unimabus::Publisher publisher_;  // before the transport it publishes to
   std::unique_ptr<unimabus::Transport> transport_;
   std::unique_ptr<io::TcpSlaveServer> tcp_;
   std::unique_ptr<io::RtuSlavePort> rtu_;

@@ -341,6 +341,28 @@ TEST_F(MasterTest, ANewConfigOnSighupChangesThePlan) {
   EXPECT_TRUE(daemon->running());
 }
 
+// The reload's rollback: the new TCP listener was bound and the master's new line cannot
+// open, so the plan is dropped — the new port closes again and the old one serves on.
+TEST_F(MasterTest, AReloadWhoseLineCannotOpenKeepsTheOldPortAndPlan) {
+  simulate({"1=sic184-v3"});
+  config.blocks = "  - { type: poll, device: 1, profile: sic184-v3, point: STATUS, period: 100ms, output: 1 }\n";
+  start();
+  ASSERT_TRUE(output_becomes(1, 1)) << diagnostics();
+  const auto old_port = config.modbus_port;
+  auto next = config;
+  next.modbus_port = free_port();
+  next.line = "rtu: { device: " + (dir.path() / "no-such-tty").string() + ", baud: 9600 }";
+  daemon->rewrite_config(next.yaml());
+  daemon->signal(SIGHUP);
+  ASSERT_TRUE(daemon->wait_for_log("reload failed")) << diagnostics();
+  EXPECT_TRUE(wait_for_port(old_port)) << diagnostics();
+  ModbusClient fresh(old_port);
+  EXPECT_TRUE(fresh.read_input(online_bits, 1)) << diagnostics();
+  EXPECT_FALSE(wait_for_port(next.modbus_port, 200ms)) << diagnostics();
+  const auto polls = sim->frames().size();
+  EXPECT_TRUE(eventually([&] { return sim->frames().size() > polls; })) << diagnostics();  // the old plan polls on
+}
+
 TEST_F(MasterTest, AMissingSerialDeviceStopsTheStartWithAClearError) {
   config.line = "rtu: { device: " + (dir.path() / "no-such-tty").string() + ", baud: 9600 }";
   config.blocks = "  - { type: poll, device: 1, register: 0, function: 3, period: 1s, output: 1 }\n";

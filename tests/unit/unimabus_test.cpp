@@ -5,6 +5,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <map>
 #include <set>
@@ -17,6 +18,7 @@
 #include "unimabus/feed_codec.hpp"
 #include "unimabus/line_splitter.hpp"
 #include "unimabus/presence.hpp"
+#include "unimabus/publisher.hpp"
 #include "unimabus/sim_generator.hpp"
 #include "unimabus/telegram_router.hpp"
 
@@ -404,6 +406,22 @@ TEST(Presence, HearingAgainPostponesTheExpiry) {
   EXPECT_EQ(presence.expire(t0 + 9s), (std::vector<BankId>{BankId::D1}));
 }
 
+// A reload keeps a device on-line only when it was on-line and the new config kept its values.
+TEST(Presence, TakeOverKeepsOnlyOnlineBanksTheNewConfigKept) {
+  Presence old(5s);
+  old.heard(BankId::D1, t0);
+  old.heard(BankId::D2, t0);
+  Presence fresh(10s);
+  const auto offline = fresh.take_over(old, [](BankId bank) { return bank != BankId::D2; }, t0 + 3s);
+  EXPECT_TRUE(fresh.online(BankId::D1));
+  EXPECT_FALSE(fresh.online(BankId::D2));  // its table changed
+  EXPECT_FALSE(fresh.online(BankId::D3));  // never heard
+  EXPECT_EQ(fresh.next_expiry(), t0 + 13s);  // heard at the reload, under the new limit
+  EXPECT_EQ(std::count(offline.begin(), offline.end(), BankId::D1), 0);
+  EXPECT_EQ(std::count(offline.begin(), offline.end(), BankId::D2), 1);
+  EXPECT_EQ(offline.size(), banks::bank_count - 1);
+}
+
 TEST(Presence, NextExpiryIsTheEarliest) {
   Presence presence(5s);
   EXPECT_FALSE(presence.next_expiry().has_value());
@@ -532,6 +550,46 @@ TEST(SimGenerator, ThirtyTwoBitCountersOnlyGoUp) {
     }
     previous = counter;
   }
+}
+
+struct RecordingTransport : Transport {
+  void start() override {}
+  void stop() override {}
+  void publish(BankId bank, std::uint16_t offset, std::uint16_t value) override { published.push_back({bank, offset, value}); }
+  std::vector<std::tuple<BankId, std::uint16_t, std::uint16_t>> published;
+};
+
+TEST(Publisher, ChangesOfTheWatchedStoreGoToTheTransport) {
+  banks::RegisterStore store(shapes());
+  RecordingTransport transport;
+  Publisher publisher;
+  publisher.set_transport(&transport);
+  publisher.watch(store);
+  store.write(BankId::W, 3, 1234);
+  store.set_user_output(2, 7);
+  ASSERT_EQ(transport.published.size(), 2u);
+  EXPECT_EQ(transport.published[0], std::make_tuple(BankId::W, std::uint16_t{3}, std::uint16_t{1234}));
+  EXPECT_EQ(transport.published[1], std::make_tuple(BankId::C, std::uint16_t{1}, std::uint16_t{7}));
+  // A reload watches the new store: changes of the new one go out, with no transport nothing.
+  banks::RegisterStore next(shapes());
+  publisher.watch(next);
+  publisher.set_transport(nullptr);
+  next.write(BankId::X, 0, 1);
+  EXPECT_EQ(transport.published.size(), 2u);
+}
+
+TEST(Publisher, TheSnapshotHoldsWXAndTheUserOutputsOfTheWatchedStore) {
+  banks::RegisterStore store(shapes());
+  Publisher publisher;
+  EXPECT_EQ(publisher.snapshot(), "");
+  publisher.watch(store);
+  store.write(BankId::W, 0, 0x1234);
+  const auto snapshot = publisher.snapshot();
+  const auto lines = static_cast<std::size_t>(std::count(snapshot.begin(), snapshot.end(), '\n'));
+  EXPECT_EQ(lines, std::size_t{store.length(BankId::W)} + store.length(BankId::X) + banks::c_bank::user_binary_outputs + 1);
+  EXPECT_NE(snapshot.find(format_change(BankId::W, 0, 0x1234)), std::string::npos);
+  EXPECT_NE(snapshot.find(format_change(BankId::C, banks::c_bank::user_binary_outputs, 0)), std::string::npos);
+  EXPECT_EQ(snapshot.find("\"bank\":\"A\""), std::string::npos);
 }
 
 }  // namespace

@@ -1,0 +1,29 @@
+#pragma once
+// A reload in two halves (SIGHUP, Bridge::reload): the plan builds every part of the new
+// config that can fail — banks, monitor log, transport, TCP listener, master line — while
+// the running bridge keeps serving; committing it then switches without a step that can
+// fail. A plan dropped before commit (a step threw) gives back what it took: the running
+// TCP slave, stopped so that the new one could bind its port, is brought back.
+
+#include <memory>
+
+#include "app/bridge.hpp"
+#include "app/bridge_core.hpp"
+#include "app/rollback.hpp"
+
+namespace unima::app {
+
+struct Bridge::ReloadPlan {
+  // First, so that it is undone last: after a new TCP listener on the same port is gone.
+  Rollback restore_tcp;  // brings the running TCP slave back
+  std::unique_ptr<Core> core;
+  bool same_monitor_log = true;
+  std::unique_ptr<monitor::MonitorWriter> monitor_writer;  // when the log changed
+  std::unique_ptr<unimabus::Transport> transport;          // when the feed changed; else keep
+  bool same_tcp = true;
+  std::unique_ptr<io::TcpSlaveServer> tcp;                 // when the endpoint changed
+  bool same_rtu = true;
+  std::shared_ptr<io::MasterPort> master;
+};
+
+}  // namespace unima::app
