@@ -4,7 +4,6 @@
 
 #include "io/serial_line.hpp"
 #include "modbus/protocol.hpp"
-#include "modbus/request_handler.hpp"
 #include "modbus/rtu_adu.hpp"
 
 namespace unima::io {
@@ -136,10 +135,11 @@ void RtuSlavePort::handle(const std::vector<RtuFrame>& frames) {
     switch (frame.kind) {
       case RtuFrame::Kind::query: {
         flush_foreign_query();
-        const std::uint8_t address = frame.bytes[0];
-        if (address == modbus::broadcast_address) apply_broadcast(frame);
-        else if (address == context_.unit_id) answer(frame);
-        else heard_foreign_query(frame);
+        switch (modbus::recipient_of(modbus::Link::rtu, frame.bytes[0], context_.unit_id)) {
+          case modbus::Recipient::this_slave: answer(frame); break;
+          case modbus::Recipient::broadcast: apply_broadcast(frame); break;
+          case modbus::Recipient::another_slave: heard_foreign_query(frame); break;
+        }
         break;
       }
       case RtuFrame::Kind::response: heard_foreign_response(frame); break;
@@ -157,25 +157,26 @@ void RtuSlavePort::handle(const std::vector<RtuFrame>& frames) {
   }
 }
 
-void RtuSlavePort::answer(const RtuFrame& query) {
+modbus::Served RtuSlavePort::serve(const RtuFrame& query, modbus::Recipient recipient,
+                                   std::span<std::uint8_t> response) const {
   const auto pdu = std::span<const std::uint8_t>(query.bytes).subspan(1, query.bytes.size() - 3);
+  return modbus::serve_request(modbus::Link::rtu, recipient, pdu, response, *context_.registers, context_.options);
+}
+
+void RtuSlavePort::answer(const RtuFrame& query) {
   std::array<std::uint8_t, modbus::max_pdu_size> response{};
-  const std::size_t length = modbus::handle_request(pdu, response, *context_.registers, context_.options);
-  std::vector<std::uint8_t> adu(length + 3);
-  modbus::write_rtu_adu(query.bytes[0], std::span<const std::uint8_t>(response.data(), length), adu);
-  const auto state = modbus::state_of_response(std::span<const std::uint8_t>(response.data(), length));
-  if (state != TransactionState::done && context_.on_fault) context_.on_fault();
-  report(state, query.bytes, adu);
+  const auto served = serve(query, modbus::Recipient::this_slave, response);
+  std::vector<std::uint8_t> adu(served.length + 3);
+  modbus::write_rtu_adu(query.bytes[0], std::span<const std::uint8_t>(response.data(), served.length), adu);
+  if (served.fault && context_.on_fault) context_.on_fault();
+  report(served.state, query.bytes, adu);
   send(std::move(adu), query.end + timing_.reply_delay);
 }
 
-// Writes apply, nothing is answered (SPEC §3). A broadcast write to a register the bridge
-// does not have is meant for the other slaves: no fault.
+// Writes apply, nothing is answered (SPEC §3); the capture blocks hear it too.
 void RtuSlavePort::apply_broadcast(const RtuFrame& query) {
-  const auto pdu = std::span<const std::uint8_t>(query.bytes).subspan(1, query.bytes.size() - 3);
   std::array<std::uint8_t, modbus::max_pdu_size> response{};
-  const std::size_t length = modbus::handle_request(pdu, response, *context_.registers, context_.options);
-  report(modbus::state_of_response(std::span<const std::uint8_t>(response.data(), length)), query.bytes, {});
+  report(serve(query, modbus::Recipient::broadcast, response).state, query.bytes, {});
   if (foreign_) foreign_(query.bytes, {});
 }
 

@@ -24,6 +24,7 @@
 #include "io/lazy_deadline.hpp"
 #include "io/slave_context.hpp"
 #include "modbus/rtu_framer.hpp"
+#include "modbus/slave_session.hpp"
 #include "modbus/rtu_timing.hpp"
 
 namespace unima::io {
@@ -74,6 +75,7 @@ class RtuSlavePort {
   void close();
   void read();
   void handle(const std::vector<modbus::RtuFrame>& frames);
+  modbus::Served serve(const modbus::RtuFrame& query, modbus::Recipient recipient, std::span<std::uint8_t> response) const;
   void answer(const modbus::RtuFrame& query);
   void apply_broadcast(const modbus::RtuFrame& query);
   void heard_foreign_query(const modbus::RtuFrame& query);

@@ -9,6 +9,7 @@
 
 #include "io/lazy_deadline.hpp"
 #include "modbus/mbap.hpp"
+#include "modbus/slave_session.hpp"
 
 namespace unima::io {
 
@@ -89,20 +90,15 @@ class TcpSlaveServer::Connection : public std::enable_shared_from_this<Connectio
       if (out_.size() < out_used_ + modbus::max_tcp_adu_size) out_.resize(out_used_ + modbus::max_tcp_adu_size);
       const auto adu_out = std::span(out_.data() + out_used_, modbus::max_tcp_adu_size);
       const auto pdu_out = adu_out.subspan(modbus::mbap_header_size, modbus::max_pdu_size);
-      std::size_t length = 0;
       const auto unit = adu.header.unit_id;
-      if (unit == context.unit_id || unit == modbus::unit_id_any || unit == modbus::unit_id_not_used) {
-        length = modbus::handle_request(adu.pdu, pdu_out, *context.registers, context.options);
-      } else {
-        // SPEC §3: a unit id that is not ours is Not4Me, answered "gateway target failed".
-        length = modbus::write_exception(adu.pdu[0], modbus::ExceptionCode::gateway_target_failed, pdu_out);
-      }
-      const auto state = modbus::state_of_response(pdu_out.first(length));
-      if (state != modbus::TransactionState::done && context.on_fault) context.on_fault();
-      const auto size = modbus::write_mbap_header(adu.header.transaction_id, unit, length, adu_out) + length;
+      const auto served =
+          modbus::serve_request(modbus::Link::tcp, modbus::recipient_of(modbus::Link::tcp, unit, context.unit_id),
+                                adu.pdu, pdu_out, *context.registers, context.options);
+      if (served.fault && context.on_fault) context.on_fault();
+      const auto size = modbus::write_mbap_header(adu.header.transaction_id, unit, served.length, adu_out) + served.length;
       if (context.on_transaction) {
         context.on_transaction(modbus::Transaction{modbus::PortKind::tcp, peer_, std::chrono::system_clock::now(),
-                                                   state, std::span<const std::uint8_t>(in_.data() + at, adu.size),
+                                                   served.state, std::span<const std::uint8_t>(in_.data() + at, adu.size),
                                                    adu_out.first(size)});
       }
       out_used_ += size;

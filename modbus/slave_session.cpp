@@ -1,0 +1,35 @@
+#include "modbus/slave_session.hpp"
+
+namespace unima::modbus {
+
+Recipient recipient_of(Link link, std::uint8_t address, std::uint8_t own_address) {
+  if (address == own_address) return Recipient::this_slave;
+  if (link == Link::tcp)
+    return address == unit_id_any || address == unit_id_not_used ? Recipient::this_slave : Recipient::another_slave;
+  return address == broadcast_address ? Recipient::broadcast : Recipient::another_slave;
+}
+
+Served serve_request(Link link, Recipient recipient, std::span<const std::uint8_t> pdu, std::span<std::uint8_t> out,
+                     RegisterModel& registers, const HandlerOptions& options) {
+  Served served;
+  switch (recipient) {
+    case Recipient::this_slave:
+      served.length = handle_request(pdu, out, registers, options);
+      served.state = state_of_response(out.first(served.length));
+      served.fault = served.state != TransactionState::done;
+      break;
+    case Recipient::broadcast:
+      served.state = state_of_response(out.first(handle_request(pdu, out, registers, options)));
+      break;
+    case Recipient::another_slave:
+      served.state = TransactionState::not_for_me;
+      if (link == Link::rtu) break;
+      // SPEC §3: a unit id that is not ours is Not4Me, answered "gateway target failed".
+      served.length = write_exception(pdu[0], ExceptionCode::gateway_target_failed, out);
+      served.fault = true;
+      break;
+  }
+  return served;
+}
+
+}  // namespace unima::modbus

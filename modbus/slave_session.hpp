@@ -1,0 +1,41 @@
+#pragma once
+// What the bridge as a Modbus slave does with one request, the same on the TCP slave and
+// the RTU port (SPEC §3, seed 004 §5): whose request it is by its unit id or address,
+// the answer, the state the monitor logs and whether it counts as a fault (C+0x13 bit
+// 15). Pure: the ports frame the bytes and send what this says.
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+
+#include "modbus/request_handler.hpp"
+#include "modbus/transaction.hpp"
+
+namespace unima::modbus {
+
+enum class Link : std::uint8_t { tcp, rtu };
+
+enum class Recipient : std::uint8_t {
+  this_slave,     // answered
+  broadcast,      // RTU address 0: writes apply, nothing is answered
+  another_slave,  // TCP: answered "gateway target failed"; RTU: Not4Me, silence
+};
+
+/// On TCP the own unit id, 0 and 255 are this slave's; on RTU only the own address, and
+/// 0 is a broadcast.
+Recipient recipient_of(Link link, std::uint8_t address, std::uint8_t own_address);
+
+struct Served {
+  std::size_t length = 0;  // of the response PDU in `out`; 0: nothing to send
+  TransactionState state = TransactionState::done;
+  bool fault = false;      // C+0x13 bit 15
+};
+
+/// Serves a request PDU (at least its function code) for `recipient` into `out` (at
+/// least max_pdu_size bytes). A broadcast never faults: a write to a register the bridge
+/// does not have is meant for the other slaves. Another slave's request on RTU is not
+/// served (the port listens to it, modbus/bus_listener).
+Served serve_request(Link link, Recipient recipient, std::span<const std::uint8_t> pdu, std::span<std::uint8_t> out,
+                     RegisterModel& registers, const HandlerOptions& options);
+
+}  // namespace unima::modbus
