@@ -36,7 +36,11 @@ RtuSlavePort::RtuSlavePort(asio::io_context& io, const config::RtuConfig& line, 
                }),
       reply_timer_(io),
       reopen_timer_(io),
-      foreign_timer_(io) {}
+      give_up_(io.get_executor(), [this] { return listener_.deadline(); },
+               [this] {
+                 if (const auto unanswered = listener_.expire(RtuClock::now()))
+                   report(TransactionState::not_for_me, unanswered->query, {});
+               }) {}
 
 RtuSlavePort::~RtuSlavePort() { stop(); }
 
@@ -111,8 +115,8 @@ void RtuSlavePort::close() {
   reply_timer_.cancel();
   sending_ = false;
   out_.clear();
-  foreign_query_.reset();
-  foreign_timer_.cancel();
+  (void)listener_.interrupted();  // a line lost mid-exchange logs nothing more of it
+  give_up_.cancel();
   framer_.reset();
 }
 
@@ -181,33 +185,23 @@ void RtuSlavePort::apply_broadcast(const RtuFrame& query) {
 }
 
 void RtuSlavePort::heard_foreign_query(const RtuFrame& query) {
-  foreign_query_ = query.bytes;
+  listener_.heard_query(query.bytes, query.end);
+  give_up_.watch();
   if (foreign_) foreign_(query.bytes, {});
-  foreign_timer_.expires_after(foreign_response_timeout);
-  foreign_timer_.async_wait([this, g = guard()](const boost::system::error_code& ec) {
-    if (ec || !valid(g)) return;
-    flush_foreign_query();
-  });
 }
 
 void RtuSlavePort::heard_foreign_response(const RtuFrame& response) {
-  if (!foreign_query_) {
+  const auto exchange = listener_.heard_response(response.bytes);
+  if (!exchange) {
     spdlog::debug("modbus rtu: a response after its query was given up: {}", hex(response.bytes));
     return;
   }
-  const auto query = std::move(*foreign_query_);
-  foreign_query_.reset();
-  foreign_timer_.cancel();
-  report(TransactionState::not_for_me, query, response.bytes);
-  if (foreign_) foreign_(query, response.bytes);
+  report(TransactionState::not_for_me, exchange->query, exchange->response);
+  if (foreign_) foreign_(exchange->query, exchange->response);
 }
 
 void RtuSlavePort::flush_foreign_query() {
-  if (!foreign_query_) return;
-  const auto query = std::move(*foreign_query_);
-  foreign_query_.reset();
-  foreign_timer_.cancel();
-  report(TransactionState::not_for_me, query, {});
+  if (const auto unanswered = listener_.interrupted()) report(TransactionState::not_for_me, unanswered->query, {});
 }
 
 void RtuSlavePort::report(TransactionState state, std::span<const std::uint8_t> query,

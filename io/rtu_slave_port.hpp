@@ -23,6 +23,7 @@
 #include "platform/asio.hpp"
 #include "io/lazy_deadline.hpp"
 #include "io/slave_context.hpp"
+#include "modbus/bus_listener.hpp"
 #include "modbus/rtu_framer.hpp"
 #include "modbus/slave_session.hpp"
 #include "modbus/rtu_timing.hpp"
@@ -97,10 +98,10 @@ class RtuSlavePort {
   LazyDeadline silence_;  // at the framer's deadline
   asio::steady_timer reply_timer_;
   asio::steady_timer reopen_timer_;
-  asio::steady_timer foreign_timer_;
+  modbus::BusListener listener_{foreign_response_timeout};
+  LazyDeadline give_up_;  // at listener_.deadline()
   std::array<std::uint8_t, 512> in_{};
   std::deque<Outgoing> out_;
-  std::optional<std::vector<std::uint8_t>> foreign_query_;
   std::chrono::milliseconds reopen_delay_ = first_reopen_delay;
   bool sending_ = false;
   bool running_ = false;
