@@ -50,46 +50,9 @@ std::optional<DeviceTable::BitRef> DeviceTable::find_bit(std::string_view field_
 
 namespace {
 
-class Parser {
+class Parser : public banks::YamlFields<TableError> {
  public:
-  explicit Parser(std::string_view origin) : origin_(origin) {}
-
-  [[noreturn]] void fail(const YAML::Node& node, std::string_view message) const {
-    const auto mark = node.Mark();
-    throw TableError(fmt::format("{}:{}:{}: {}", origin_, mark.line + 1, mark.column + 1, message));
-  }
-
-  void only_keys(const YAML::Node& map, std::initializer_list<std::string_view> allowed) const {
-    if (!map.IsMap()) fail(map, "expected a mapping");
-    for (const auto& entry : map) {
-      const auto key = entry.first.as<std::string>();
-      bool known = false;
-      for (auto a : allowed) known = known || a == key;
-      if (!known) fail(entry.first, fmt::format("unknown key '{}'", key));
-    }
-  }
-
-  std::string text(const YAML::Node& map, const char* key, bool required) const {
-    const auto node = map[key];
-    if (!node) {
-      if (required) fail(map, fmt::format("missing key '{}'", key));
-      return {};
-    }
-    if (!node.IsScalar()) fail(node, fmt::format("'{}' must be a string", key));
-    return node.as<std::string>();
-  }
-
-  unsigned long number(const YAML::Node& node, unsigned long max) const {
-    if (!node.IsScalar()) fail(node, "expected a number");
-    const auto s = node.Scalar();
-    unsigned long value = 0;
-    const bool hex = s.size() > 2 && s[0] == '0' && (s[1] == 'x' || s[1] == 'X');
-    const char* begin = s.data() + (hex ? 2 : 0);
-    const auto [end, ec] = std::from_chars(begin, s.data() + s.size(), value, hex ? 16 : 10);
-    if (ec != std::errc{} || end != s.data() + s.size() || value > max)
-      fail(node, fmt::format("'{}' is not a number from 0 to {}", s, max));
-    return value;
-  }
+  using YamlFields::YamlFields;
 
   RegisterKind kind(const YAML::Node& node) const {
     static constexpr RegisterKind kinds[] = {RegisterKind::analog,    RegisterKind::bits,     RegisterKind::u32_low,
@@ -200,7 +163,6 @@ class Parser {
 
  private:
   static constexpr unsigned long max_offset = max_table_length - 1;
-  std::string origin_;
 };
 
 }  // namespace

@@ -1,9 +1,10 @@
 #include "config/source_ref_parser.hpp"
 
 #include <cctype>
-#include <charconv>
 
 #include <fmt/format.h>
+
+#include "banks/number_text.hpp"
 
 namespace unima::config {
 
@@ -11,14 +12,7 @@ namespace {
 
 using banks::BankId;
 
-std::optional<unsigned long> parse_number(std::string_view s) {
-  const bool hex = s.size() > 2 && s[0] == '0' && (s[1] == 'x' || s[1] == 'X');
-  if (hex) s.remove_prefix(2);
-  unsigned long value = 0;
-  const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), value, hex ? 16 : 10);
-  if (s.empty() || ec != std::errc{} || end != s.data() + s.size()) return std::nullopt;
-  return value;
-}
+using banks::parse_number;
 
 bool is_name(std::string_view s) {
   if (s.empty() || !(std::islower(static_cast<unsigned char>(s[0])) || s[0] == '_')) return false;

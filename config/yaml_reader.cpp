@@ -1,9 +1,12 @@
 #include "config/yaml_reader.hpp"
 
+
 #include <charconv>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
+
+#include "banks/number_text.hpp"
 
 namespace unima::config {
 
@@ -32,12 +35,10 @@ void YamlReader::expect_keys(const YAML::Node& map, std::string_view what,
 unsigned long YamlReader::number(const YAML::Node& node, unsigned long min, unsigned long max) const {
   if (!node.IsScalar()) fail(node, "expected a number");
   const auto& s = node.Scalar();
+  const auto parsed = banks::parse_number(s);
+  if (!parsed) fail(node, fmt::format("'{}' is not a number (write decimal or 0x hex)", s));
+  const auto value = *parsed;
   const bool hex = s.size() > 2 && s[0] == '0' && (s[1] == 'x' || s[1] == 'X');
-  unsigned long value = 0;
-  const char* begin = s.data() + (hex ? 2 : 0);
-  const auto [end, ec] = std::from_chars(begin, s.data() + s.size(), value, hex ? 16 : 10);
-  if (ec != std::errc{} || end != s.data() + s.size() || begin == end)
-    fail(node, fmt::format("'{}' is not a number (write decimal or 0x hex)", s));
   if (value < min || value > max) {
     if (hex || max > 255) fail(node, fmt::format("{} is out of range 0x{:X}..0x{:X} ({}..{})", s, min, max, min, max));
     fail(node, fmt::format("{} is out of range {}..{}", s, min, max));

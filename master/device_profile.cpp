@@ -60,46 +60,9 @@ std::vector<std::string_view> DeviceProfile::point_names() const {
 
 namespace {
 
-class Parser {
+class Parser : public banks::YamlFields<ProfileError> {
  public:
-  explicit Parser(std::string_view origin) : origin_(origin) {}
-
-  std::string position(const YAML::Node& node) const {
-    const auto mark = node.Mark();
-    return fmt::format("{}:{}:{}", origin_, mark.line + 1, mark.column + 1);
-  }
-  [[noreturn]] void fail(const YAML::Node& node, std::string_view message) const {
-    throw ProfileError(fmt::format("{}: {}", position(node), message));
-  }
-
-  void only_keys(const YAML::Node& map, std::initializer_list<std::string_view> allowed) const {
-    if (!map.IsMap()) fail(map, "expected a mapping");
-    for (const auto& entry : map) {
-      const auto key = entry.first.Scalar();
-      if (std::find(allowed.begin(), allowed.end(), key) == allowed.end())
-        fail(entry.first, fmt::format("unknown key '{}' (known: {})", key, fmt::join(allowed, ", ")));
-    }
-  }
-
-  std::string text(const YAML::Node& map, const char* key, bool required) const {
-    const auto node = map[key];
-    if (!node) {
-      if (required) fail(map, fmt::format("missing key '{}'", key));
-      return {};
-    }
-    if (!node.IsScalar()) fail(node, fmt::format("'{}' must be a single value", key));
-    return node.Scalar();
-  }
-
-  unsigned long number(const YAML::Node& node, unsigned long max) const {
-    if (!node.IsScalar()) fail(node, "expected a number");
-    const auto& s = node.Scalar();
-    unsigned long value = 0;
-    const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), value);
-    if (ec != std::errc{} || end != s.data() + s.size() || value > max)
-      fail(node, fmt::format("'{}' is not a number from 0 to {}", s, max));
-    return value;
-  }
+  using YamlFields::YamlFields;
 
   double real(const YAML::Node& node) const {
     try {
@@ -217,8 +180,6 @@ class Parser {
     return d;
   }
 
- private:
-  std::string origin_;
 };
 
 }  // namespace

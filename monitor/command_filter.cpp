@@ -1,8 +1,8 @@
 #include "monitor/command_filter.hpp"
 
 #include <algorithm>
-#include <charconv>
 
+#include "banks/number_text.hpp"
 #include "modbus/protocol.hpp"
 #include "modbus/bytes.hpp"
 
@@ -24,14 +24,6 @@ std::string hex4(std::uint16_t value) {
   return s;
 }
 
-std::optional<unsigned long> parse_number(std::string_view text) {
-  const bool hex = text.size() > 2 && text[0] == '0' && (text[1] == 'x' || text[1] == 'X');
-  if (hex) text.remove_prefix(2);
-  unsigned long value = 0;
-  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value, hex ? 16 : 10);
-  if (text.empty() || ec != std::errc{} || end != text.data() + text.size()) return std::nullopt;
-  return value;
-}
 
 }  // namespace
 
@@ -84,7 +76,7 @@ void set_filter_field(CommandFilter& filter, FilterField field, std::string_view
   std::optional<unsigned long> value;  // nullopt: xx, any
   if (text != "xx" && text != "XX") {
     const unsigned long max = field == FilterField::address || field == FilterField::function ? 0xFF : 0xFFFF;
-    value = parse_number(text);
+    value = banks::parse_number(text);
     if (!value || *value > max)
       throw FilterSyntaxError("'" + std::string(text) + "' is not xx or a number 0.." + std::to_string(max));
   }
