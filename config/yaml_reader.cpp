@@ -1,6 +1,5 @@
 #include "config/yaml_reader.hpp"
 
-
 #include <charconv>
 
 #include <fmt/format.h>
