@@ -182,15 +182,11 @@ void MasterPort::finished(const MasterScheduler::Choice& choice, const master::B
   if (state != TransactionState::done && hooks_.on_fault) hooks_.on_fault();
 
   if (result.status == ResponseStatus::ok && request.is_read()) take_values(request, result, now);
-  if (result.status == ResponseStatus::exception && result.exception == modbus::ExceptionCode::illegal_data_address &&
-      request.is_read() && request.blocks.size() > 1) {
-    auto parts = master::split_request(request, setup_.blocks);
-    if (!parts.empty()) {
-      spdlog::warn("modbus master: device {} answered exception 02 to function {} {}; reading it in {} requests "
-                   "from now on",
-                   request.device, request.function, range(request), parts.size());
-      scheduler_->replace(choice.request, std::move(parts));
-    }
+  if (auto parts = master::split_after(request, result, setup_.blocks); !parts.empty()) {
+    spdlog::warn("modbus master: device {} answered exception 02 to function {} {}; reading it in {} requests "
+                 "from now on",
+                 request.device, request.function, range(request), parts.size());
+    scheduler_->replace(choice.request, std::move(parts));
   }
   const auto outcome = master::slave_answered(result) ? MasterScheduler::Outcome::answered : MasterScheduler::Outcome::failed;
   switch (scheduler_->end(choice, outcome, now)) {

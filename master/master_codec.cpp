@@ -117,6 +117,14 @@ std::optional<std::size_t> expected_response_length(std::span<const std::uint8_t
   return length.bytes;
 }
 
+std::vector<PlannedRequest> split_after(const PlannedRequest& request, const MasterResponse& response,
+                                        std::span<const MasterBlock> blocks) {
+  if (response.status != ResponseStatus::exception || response.exception != modbus::ExceptionCode::illegal_data_address ||
+      !request.is_read() || request.blocks.size() < 2)
+    return {};
+  return split_request(request, blocks);
+}
+
 MasterResponse check_response_pdu(std::span<const std::uint8_t> pdu, std::span<const std::uint8_t> request_pdu) {
   if (pdu.empty()) return status_only(ResponseStatus::too_short);
   const auto fn = request_pdu[0];

@@ -51,6 +51,12 @@ struct MasterResponse {
 /// a bad CRC or length, Err04 for a short frame, a wrong function (seed §8) or another
 /// slave's or a wrong echo, Timeout when nothing came.
 modbus::TransactionState transaction_state(const MasterResponse& response);
+/// A merged read answered with exception 02 reaches a register the slave does not have:
+/// its blocks are read apart from then on (docs/master.md). The requests that replace
+/// `request`, or none when the rule does not apply.
+std::vector<PlannedRequest> split_after(const PlannedRequest& request, const MasterResponse& response,
+                                        std::span<const MasterBlock> blocks);
+
 /// Whether the slave is alive by this response: it answered something it meant for us
 /// (a gateway's exception 0x0A or 0x0B says the slave behind it did not).
 bool slave_answered(const MasterResponse& response);

@@ -5,6 +5,7 @@
 
 #include <set>
 
+#include "master/master_codec.hpp"
 #include "master/master_plan.hpp"
 
 namespace unima::master {
@@ -120,6 +121,26 @@ TEST(MasterPlan, SplitAfterIllegalDataAddress) {
   EXPECT_EQ(singles[1].first, 1003);
   EXPECT_EQ(singles[1].period, 2s);
   EXPECT_TRUE(split_request(singles[0], blocks).empty());
+}
+
+// When the split applies: exception 02 to a merged read, nothing else.
+TEST(MasterPlan, SplitAfterOnlyForExceptionTwoToAMergedRead) {
+  const std::vector<MasterBlock> blocks{poll(1, 1002, 1s, 1, 3), poll(1, 1020, 500ms, 2, 3)};
+  PlanOptions options;
+  options.merge_gap = 20;
+  const auto merged = plan_requests(blocks, options).at(0);
+  MasterResponse exception_02;
+  exception_02.status = ResponseStatus::exception;
+  exception_02.exception = modbus::ExceptionCode::illegal_data_address;
+  EXPECT_EQ(split_after(merged, exception_02, blocks).size(), 2u);
+  auto exception_03 = exception_02;
+  exception_03.exception = modbus::ExceptionCode::illegal_data_value;
+  EXPECT_TRUE(split_after(merged, exception_03, blocks).empty());
+  MasterResponse timeout;
+  timeout.status = ResponseStatus::timeout;
+  EXPECT_TRUE(split_after(merged, timeout, blocks).empty());
+  const auto single = split_request(merged, blocks).at(0);
+  EXPECT_TRUE(split_after(single, exception_02, blocks).empty());  // the address is wrong, not the merge
 }
 
 TEST(MasterPlan, BusLoad) {
