@@ -56,7 +56,7 @@ class TcpSlaveServer::Connection : public std::enable_shared_from_this<Connectio
   // Boost 1.74's reactor tries the read at once (a recv) before it waits on epoll; when
   // the client waits for each answer, that try finds nothing. Waiting without it
   // (async_wait) would cost an epoll_ctl instead: this is the cheapest Asio allows
-  // (docs/performance.md, "Why not more at depth 1").
+  // (docs/performance.md, "Tried and not kept").
   void read() {
     socket_.async_read_some(asio::buffer(in_.data() + in_used_, in_.size() - in_used_),
                             [this, self = shared_from_this()](const boost::system::error_code& ec, std::size_t n) {

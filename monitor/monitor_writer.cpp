@@ -75,7 +75,7 @@ bool MonitorWriter::push(const modbus::Transaction& t, std::uint8_t ix) {
 // them (or they left this one's caches): storing into them waits for the lines, and the
 // loop's next locked instruction — each system call's cancellation bookkeeping, a
 // shared_ptr's count — waits for those stores to land: 150 – 200 ns a request at 8
-// connections, measured (docs/performance.md, "Fifth pass"). Asking for the lines now, a
+// connections, measured (docs/performance.md, "What the daemon does for speed"). Asking for the lines now, a
 // transaction ahead, takes that wait off the serving path; the next transaction is most
 // likely as long as this one.
 void MonitorWriter::prepare_slot(const Entry& slot, std::size_t extent) {
