@@ -33,6 +33,8 @@
 #include <thread>
 #include <vector>
 
+#include "tests/support/child_process.hpp"
+#include "tests/support/pseudo_terminal.hpp"
 #include "modbus/rtu_adu.hpp"
 #include "modbus/rtu_timing.hpp"
 
@@ -86,13 +88,10 @@ struct Line {
   int master = -1;
   int slave = -1;
   explicit Line(const fs::path& link) {
-    char name[256];
-    if (::openpty(&master, &slave, name, nullptr, nullptr) != 0) fail("openpty");
-    termios tio{};
-    ::tcgetattr(slave, &tio);
-    ::cfmakeraw(&tio);
-    ::tcsetattr(slave, TCSANOW, &tio);
-    fs::create_symlink(name, link);
+    const auto pty = unima::test_support::open_raw_pseudo_terminal();
+    master = pty.master;
+    slave = pty.slave;
+    unima::test_support::point_link_at(link, pty.name);
   }
   ~Line() {
     ::close(master);
@@ -109,23 +108,10 @@ struct Line {
 };
 
 struct Daemon {
-  pid_t pid = -1;
   fs::path log;
-  Daemon(const fs::path& config, const fs::path& log_path) : log(log_path) {
-    pid = ::fork();
-    if (pid < 0) fail("fork");
-    if (pid == 0) {
-      const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-      ::dup2(fd, STDOUT_FILENO);
-      ::dup2(fd, STDERR_FILENO);
-      ::execl(UNIMA_BRIDGED, UNIMA_BRIDGED, "--config", config.c_str(), static_cast<char*>(nullptr));
-      ::_exit(127);
-    }
-  }
-  ~Daemon() {
-    ::kill(pid, SIGTERM);
-    ::waitpid(pid, nullptr, 0);
-  }
+  unima::test_support::ChildProcess process;
+  Daemon(const fs::path& config, const fs::path& log_path)
+      : log(log_path), process({UNIMA_BRIDGED, "--config", config.string()}, unima::test_support::stopped_by_sigterm(log_path)) {}
   std::string text() const {
     std::ifstream in(log);
     std::stringstream s;

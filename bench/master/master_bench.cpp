@@ -32,7 +32,10 @@
 #include <thread>
 #include <vector>
 
+#include "tests/support/child_process.hpp"
+
 namespace {
+
 
 using namespace std::chrono_literals;
 namespace fs = std::filesystem;
@@ -79,21 +82,6 @@ blocks:
 log: { level: info }
 )";
 
-pid_t spawn(const std::vector<std::string>& args, const fs::path& out) {
-  const pid_t pid = ::fork();
-  if (pid == 0) {
-    const int fd = ::open(out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    ::dup2(fd, STDOUT_FILENO);
-    ::dup2(fd, STDERR_FILENO);
-    std::vector<char*> argv;
-    for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-    argv.push_back(nullptr);
-    ::execv(argv[0], argv.data());
-    ::_exit(127);
-  }
-  return pid;
-}
-
 std::string slurp(const fs::path& path) {
   std::ifstream in(path);
   std::stringstream s;
@@ -108,12 +96,6 @@ bool wait_for(const fs::path& file, const std::string& text, std::chrono::millis
     std::this_thread::sleep_for(20ms);
   }
   return false;
-}
-
-void stop(pid_t pid, int signo) {
-  if (pid <= 0) return;
-  ::kill(pid, signo);
-  ::waitpid(pid, nullptr, 0);
 }
 
 double percentile(std::vector<double> v, double p) {
@@ -185,30 +167,28 @@ int main(int argc, char** argv) {
   if (!::mkdtemp(pattern)) return 2;
   const fs::path dir = pattern;
   const auto pty = dir / "ttySIM", frames = dir / "frames.log", sim_out = dir / "sim.out", log = dir / "daemon.log";
-  const pid_t sim = spawn({UNIMA_SLAVE_SIM, "--pty", pty.string(), "--frames", frames.string(), "--slave", "1=sic184-v3",
-                           "--slave", "2=sic184-v2,dead", "--slave", "3=stepper-driver"},
-                          sim_out);
+  using unima::test_support::ChildProcess;
+  ChildProcess sim({UNIMA_SLAVE_SIM, "--pty", pty.string(), "--frames", frames.string(), "--slave", "1=sic184-v3",
+                    "--slave", "2=sic184-v2,dead", "--slave", "3=stepper-driver"},
+                   unima::test_support::writing_to(sim_out));
   if (!wait_for(sim_out, "ready", 5s)) {
     std::fprintf(stderr, "master_bench: the simulator did not start:\n%s", slurp(sim_out).c_str());
-    stop(sim, SIGKILL);
     return 2;
   }
   std::string config = config_template;
   config.replace(config.find("@PTY@"), 5, pty.string());
   config += "status: { socket: " + (dir / "control.sock").string() + " }\n";  // never the system's /run
   std::ofstream(dir / "bridge.yaml") << config;
-  const pid_t daemon = spawn({UNIMA_BRIDGED, "--config", (dir / "bridge.yaml").string()}, log);
+  ChildProcess daemon({UNIMA_BRIDGED, "--config", (dir / "bridge.yaml").string()}, unima::test_support::writing_to(log));
   if (!wait_for(log, "running", 5s)) {
     std::fprintf(stderr, "master_bench: the daemon did not start:\n%s", slurp(log).c_str());
-    stop(daemon, SIGKILL);
-    stop(sim, SIGKILL);
     return 2;
   }
   std::printf("master_bench: %d s, 3 slaves on %s at 38400 baud, slave 2 dead\n", seconds, pty.c_str());
   std::fflush(stdout);
   const auto host = host_latency(std::chrono::seconds(seconds));
-  stop(daemon, SIGTERM);
-  stop(sim, SIGTERM);
+  daemon.stop(SIGTERM, 5s);
+  sim.stop(SIGTERM, 5s);
 
   // Frames by request, arrival times in µs.
   std::map<std::string, std::vector<std::int64_t>> arrivals;

@@ -110,44 +110,15 @@ bool eventually(const std::function<bool()>& condition, std::chrono::millisecond
 Daemon::Daemon(const TempDir& dir, const std::string& config_yaml, const std::vector<std::string>& environment)
     : config_path_(dir.path() / "bridge.yaml"), log_path_(dir.path() / "daemon.log") {
   rewrite_config(config_yaml);
-  // Built before fork: the child only calls what is safe between fork and exec.
-  std::vector<std::string> variables;
-  const auto overridden = [&](std::string_view inherited) {
-    for (const auto& v : environment)
-      if (inherited.substr(0, inherited.find('=') + 1) == v.substr(0, v.find('=') + 1)) return true;
-    return false;
-  };
-  for (char** v = environ; *v != nullptr; ++v)
-    if (!overridden(*v)) variables.emplace_back(*v);
-  variables.insert(variables.end(), environment.begin(), environment.end());
-  std::vector<char*> envp;
-  for (auto& v : variables) envp.push_back(v.data());
-  envp.push_back(nullptr);
-  const char* const argv[] = {UNIMA_BRIDGED, "--config", config_path_.c_str(), nullptr};
-  rlim_t max_files = 0;  // the harness's own variable: a descriptor limit for the daemon
-  for (const auto& v : environment)
-    if (v.starts_with("UNIMA_TEST_MAX_FILES=")) max_files = std::stoul(v.substr(21));
-  pid_ = ::fork();
-  if (pid_ < 0) throw std::runtime_error("fork");
-  if (pid_ == 0) {
-    const int log = ::open(log_path_.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    ::dup2(log, STDOUT_FILENO);
-    ::dup2(log, STDERR_FILENO);
-    if (max_files != 0) {
-      const rlimit limit{max_files, max_files};
-      ::setrlimit(RLIMIT_NOFILE, &limit);
-    }
-    ::execve(UNIMA_BRIDGED, const_cast<char* const*>(argv), envp.data());
-    ::_exit(127);
-  }
+  auto options = test_support::writing_to(log_path_);
+  options.environment = environment;
+  for (const auto& v : environment)  // the harness's own variable: a descriptor limit for the daemon
+    if (v.starts_with("UNIMA_TEST_MAX_FILES=")) options.max_files = std::stoul(v.substr(21));
+  process_ = std::make_unique<test_support::ChildProcess>(
+      std::vector<std::string>{UNIMA_BRIDGED, "--config", config_path_.string()}, std::move(options));
 }
 
-Daemon::~Daemon() {
-  if (pid_ > 0 && !exit_code_) {
-    ::kill(pid_, SIGKILL);
-    ::waitpid(pid_, nullptr, 0);
-  }
-}
+Daemon::~Daemon() = default;
 
 void Daemon::rewrite_config(const std::string& config_yaml) const {
   // Written beside and renamed, so that a reload never reads half a file.
@@ -156,28 +127,12 @@ void Daemon::rewrite_config(const std::string& config_yaml) const {
   std::filesystem::rename(tmp, config_path_);
 }
 
-void Daemon::signal(int signo) const { ::kill(pid_, signo); }
+void Daemon::signal(int signo) const { process_->signal(signo); }
 
-bool Daemon::running() {
-  if (exit_code_) return false;
-  int status = 0;
-  if (::waitpid(pid_, &status, WNOHANG) == pid_) {
-    exit_code_ = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-    return false;
-  }
-  return true;
-}
+bool Daemon::running() { return process_->running(); }
 
 std::optional<std::chrono::milliseconds> Daemon::terminate(std::chrono::milliseconds timeout) {
-  const auto start = std::chrono::steady_clock::now();
-  signal(SIGTERM);
-  if (!eventually([&] { return !running(); }, timeout)) {
-    ::kill(pid_, SIGKILL);
-    ::waitpid(pid_, nullptr, 0);
-    exit_code_ = -1;
-    return std::nullopt;
-  }
-  return std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - start);
+  return process_->stop(SIGTERM, timeout);
 }
 
 std::string Daemon::log() const {

@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "tests/support/child_process.hpp"
 #include "tests/support/temp_files.hpp"
 
 namespace unima::test {
@@ -62,7 +63,8 @@ class Daemon {
   /// within `timeout` (it is then killed).
   std::optional<std::chrono::milliseconds> terminate(std::chrono::milliseconds timeout = 5000ms);
   bool running();
-  std::optional<int> exit_code() const { return exit_code_; }
+  std::optional<int> exit_code() const { return process_->exit_code(); }
+  pid_t pid() const { return process_->pid(); }
   std::string log() const;
   bool wait_for_log(const std::string& text, std::chrono::milliseconds timeout = 5000ms) const;
   /// How many times `text` stands in the log so far.
@@ -76,8 +78,7 @@ class Daemon {
  private:
   std::filesystem::path config_path_;
   std::filesystem::path log_path_;
-  pid_t pid_ = -1;
-  std::optional<int> exit_code_;
+  std::unique_ptr<test_support::ChildProcess> process_;
 };
 
 /// Waits until something accepts TCP connections on 127.0.0.1:port.

@@ -16,18 +16,7 @@ SlaveSim::SlaveSim(const TempDir& dir, const std::vector<std::string>& slaves, b
   if (pty) args.insert(args.end(), {"--pty", (dir.path() / "ttySIM").string()});
   if (tcp) args.insert(args.end(), {"--tcp", "0"});
   for (const auto& s : slaves) args.insert(args.end(), {"--slave", s});
-  pid_ = ::fork();
-  if (pid_ < 0) throw std::runtime_error("fork");
-  if (pid_ == 0) {
-    const int out = ::open(out_path_.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    ::dup2(out, STDOUT_FILENO);
-    ::dup2(out, STDERR_FILENO);
-    std::vector<char*> argv;
-    for (auto& a : args) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    ::execv(UNIMA_SLAVE_SIM, argv.data());
-    ::_exit(127);
-  }
+  process_ = std::make_unique<test_support::ChildProcess>(args, test_support::writing_to(out_path_));
   ready_ = eventually([&] { return output().find("ready ") != std::string::npos; });
   if (!ready_) return;
   const auto text = output();
@@ -36,12 +25,7 @@ SlaveSim::SlaveSim(const TempDir& dir, const std::vector<std::string>& slaves, b
   tcp_port_ = static_cast<std::uint16_t>(std::stoul(text.substr(text.find("tcp=") + 4)));
 }
 
-SlaveSim::~SlaveSim() {
-  if (pid_ > 0) {
-    ::kill(pid_, SIGKILL);
-    ::waitpid(pid_, nullptr, 0);
-  }
-}
+SlaveSim::~SlaveSim() = default;
 
 std::string SlaveSim::output() const { return read_file(out_path_); }
 

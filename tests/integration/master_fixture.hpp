@@ -44,7 +44,7 @@ class SlaveSim {
   std::filesystem::path out_path_, frames_path_, control_path_;
   std::string pty_;
   std::uint16_t tcp_port_ = 0;
-  pid_t pid_ = -1;
+  std::unique_ptr<test_support::ChildProcess> process_;
   bool ready_ = false;
 };
 

@@ -22,28 +22,17 @@ namespace {
 /// `unima-bridge ARGS...` running beside the test, its output going to a file.
 class CliProcess {
  public:
-  CliProcess(const std::filesystem::path& output, std::vector<std::string> args) : output_(output) {
-    pid_ = ::fork();
-    if (pid_ == 0) {
-      const int fd = ::open(output.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-      ::dup2(fd, STDOUT_FILENO);
-      ::dup2(fd, STDERR_FILENO);
-      std::vector<char*> argv{const_cast<char*>(UNIMA_BRIDGE_CLI)};
-      for (auto& a : args) argv.push_back(a.data());
-      argv.push_back(nullptr);
-      ::execv(UNIMA_BRIDGE_CLI, argv.data());
-      ::_exit(127);
-    }
-  }
-  ~CliProcess() {
-    ::kill(pid_, SIGTERM);
-    ::waitpid(pid_, nullptr, 0);
-  }
+  CliProcess(const std::filesystem::path& output, std::vector<std::string> args)
+      : output_(output), process_(with_program(std::move(args)), test_support::stopped_by_sigterm(output)) {}
   std::string output() const { return read_file(output_); }
 
  private:
+  static std::vector<std::string> with_program(std::vector<std::string> args) {
+    args.insert(args.begin(), UNIMA_BRIDGE_CLI);
+    return args;
+  }
   std::filesystem::path output_;
-  pid_t pid_ = -1;
+  test_support::ChildProcess process_;
 };
 
 Bytes read_query(std::uint16_t transaction, std::uint8_t unit, std::uint16_t first, std::uint16_t count) {

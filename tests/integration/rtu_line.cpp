@@ -13,6 +13,8 @@
 
 #include "modbus/rtu_adu.hpp"
 
+#include "tests/support/pseudo_terminal.hpp"
+
 namespace unima::test {
 
 namespace fs = std::filesystem;
@@ -32,22 +34,10 @@ PtyLine::~PtyLine() {
 }
 
 void PtyLine::open_terminal() {
-  char name[256];
-  if (::openpty(&master_, &slave_, name, nullptr, nullptr) != 0) throw std::runtime_error("openpty");
-  // Raw from the start: a fresh terminal echoes, and would answer the test's own bytes
-  // before the daemon has set it up.
-  termios tio{};
-  ::tcgetattr(slave_, &tio);
-  ::cfmakeraw(&tio);
-  ::tcsetattr(slave_, TCSANOW, &tio);
-  ::fcntl(master_, F_SETFD, FD_CLOEXEC);
-  ::fcntl(slave_, F_SETFD, FD_CLOEXEC);
-  // Re-pointed by a rename, so the daemon never sees the link missing or half made.
-  const auto tmp = fs::path(link_.string() + ".new");
-  std::error_code ec;
-  fs::remove(tmp, ec);
-  fs::create_symlink(name, tmp);
-  fs::rename(tmp, link_);
+  const auto pty = test_support::open_raw_pseudo_terminal();
+  master_ = pty.master;
+  slave_ = pty.slave;
+  test_support::point_link_at(link_, pty.name);
 }
 
 void PtyLine::close_terminal() {
@@ -92,26 +82,18 @@ Bytes PtyLine::read(std::size_t n, std::chrono::milliseconds timeout) const {
   return out;
 }
 
-SocatLink::SocatLink(const fs::path& a, const fs::path& b) {
-  pid_ = ::fork();
-  if (pid_ < 0) throw std::runtime_error("fork");
-  if (pid_ == 0) {
-    const int null = ::open("/dev/null", O_WRONLY);
-    ::dup2(null, STDOUT_FILENO);
-    ::dup2(null, STDERR_FILENO);
-    const std::string end_a = "pty,rawer,link=" + a.string();
-    const std::string end_b = "pty,rawer,link=" + b.string();
-    ::execlp("socat", "socat", end_a.c_str(), end_b.c_str(), static_cast<char*>(nullptr));
-    ::_exit(127);
-  }
-  ready_ = eventually([&] { return fs::exists(a) && fs::exists(b); });
+namespace {
+test_support::SpawnOptions socat_options() {
+  auto options = test_support::stopped_by_sigterm({});
+  options.search_path = true;
+  return options;
 }
+}  // namespace
 
-SocatLink::~SocatLink() {
-  if (pid_ > 0) {
-    ::kill(pid_, SIGTERM);
-    ::waitpid(pid_, nullptr, 0);
-  }
+SocatLink::SocatLink(const fs::path& a, const fs::path& b)
+    : socat_({"socat", "pty,rawer,link=" + a.string(), "pty,rawer,link=" + b.string()},
+             socat_options()) {
+  ready_ = eventually([&] { return fs::exists(a) && fs::exists(b); });
 }
 
 }  // namespace unima::test

@@ -49,13 +49,10 @@ class PtyLine {
 class SocatLink {
  public:
   SocatLink(const std::filesystem::path& a, const std::filesystem::path& b);
-  ~SocatLink();
-  SocatLink(const SocatLink&) = delete;
-  SocatLink& operator=(const SocatLink&) = delete;
   bool ready() const { return ready_; }
 
  private:
-  pid_t pid_ = -1;
+  test_support::ChildProcess socat_;
   bool ready_ = false;
 };
 

@@ -34,6 +34,7 @@
 #include <string>
 #include <vector>
 
+#include "tests/support/pseudo_terminal.hpp"
 #include "modbus/crc16.hpp"
 #include "modbus/rtu_adu.hpp"
 #include "modbus/mbap.hpp"
@@ -359,15 +360,15 @@ int main(int argc, char** argv) {
 
   int pty_master = -1, pty_slave = -1;
   if (!pty_link.empty()) {
-    char name[256];
-    if (::openpty(&pty_master, &pty_slave, name, nullptr, nullptr) != 0) die(std::string("openpty: ") + std::strerror(errno));
-    termios raw{};
-    ::tcgetattr(pty_slave, &raw);
-    ::cfmakeraw(&raw);
-    ::tcsetattr(pty_slave, TCSANOW, &raw);
-    ::fcntl(pty_master, F_SETFL, ::fcntl(pty_master, F_GETFL) | O_NONBLOCK);
-    ::unlink(pty_link.c_str());
-    if (::symlink(name, pty_link.c_str()) != 0) die("symlink " + pty_link + ": " + std::strerror(errno));
+    try {
+      const auto pty = unima::test_support::open_raw_pseudo_terminal();
+      pty_master = pty.master;
+      pty_slave = pty.slave;
+      ::fcntl(pty_master, F_SETFL, ::fcntl(pty_master, F_GETFL) | O_NONBLOCK);
+      unima::test_support::point_link_at(pty_link, pty.name);
+    } catch (const std::exception& e) {
+      die(std::string("the line at ") + pty_link + ": " + e.what());
+    }
     // pty_slave stays open, so that the master side keeps working while the bridge reopens.
   }
   int tcp_listener = -1;
