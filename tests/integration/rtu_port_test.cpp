@@ -9,6 +9,7 @@
 #include "io/rtu_slave_port.hpp"
 #include "tests/integration/rtu_line.hpp"
 #include "tests/support/map_registers.hpp"
+#include "tests/support/seed_frames.hpp"
 
 namespace unima::test {
 namespace {
@@ -65,8 +66,8 @@ class RtuPort : public ::testing::Test {
   int faults = 0;
 };
 
-const Bytes seed_read = {0x01, 0x04, 0x00, 0x11, 0x00, 0x02, 0x21, 0xCE};
-const Bytes seed_read_response = {0x01, 0x04, 0x04, 0x00, 0x50, 0x7F, 0xFF, 0x9B, 0xE5};
+const Bytes seed_read = test_support::seed::read_query;
+const Bytes seed_read_response = test_support::seed::read_response;
 
 TEST_F(RtuPort, AnAnsweredQueryIsDoneWithBothFramesAsOnTheWire) {
   line->write(seed_read);

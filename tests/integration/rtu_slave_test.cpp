@@ -6,15 +6,16 @@
 #include <csignal>
 
 #include "tests/integration/rtu_fixture.hpp"
+#include "tests/support/seed_frames.hpp"
 
 namespace unima::test {
 namespace {
 
 using Clock = std::chrono::steady_clock;
 
-const Bytes seed_read = {0x01, 0x04, 0x00, 0x11, 0x00, 0x02, 0x21, 0xCE};
-const Bytes seed_read_response = {0x01, 0x04, 0x04, 0x00, 0x50, 0x7F, 0xFF, 0x9B, 0xE5};
-const Bytes seed_write = {0x01, 0x06, 0x01, 0x01, 0x09, 0x29, 0x1E, 0x78};
+const Bytes seed_read = test_support::seed::read_query;
+const Bytes seed_read_response = test_support::seed::read_response;
+const Bytes seed_write = test_support::seed::write_query;
 constexpr std::uint16_t not_measured = 0x7FFF;
 
 // Banks {D1: 0x0011, W: 0x0100}, D1 fed 80 at offset 0 (seed 004 §5.1).

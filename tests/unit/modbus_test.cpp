@@ -10,6 +10,7 @@
 #include "modbus/mbap.hpp"
 #include "modbus/request_handler.hpp"
 #include "tests/support/map_registers.hpp"
+#include "tests/support/seed_frames.hpp"
 
 namespace unima::modbus {
 namespace {
@@ -22,9 +23,9 @@ std::uint16_t crc_on_wire(const Bytes& frame) {  // low byte first on the wire
 
 TEST(Crc16, SeedFramesCarryTheirCrc) {
   const std::vector<Bytes> frames = {
-      {0x01, 0x04, 0x00, 0x11, 0x00, 0x02, 0x21, 0xCE},              // seed 004 §5.1 query
-      {0x01, 0x04, 0x04, 0x00, 0x50, 0x7F, 0xFF, 0x9B, 0xE5},        // seed 004 §5.1 response
-      {0x01, 0x06, 0x01, 0x01, 0x09, 0x29, 0x1E, 0x78},              // seed 004 §5.2
+      test_support::seed::read_query,              // seed 004 §5.1 query
+      test_support::seed::read_response,        // seed 004 §5.1 response
+      test_support::seed::write_query,              // seed 004 §5.2
   };
   for (const auto& frame : frames) {
     const Bytes body(frame.begin(), frame.end() - 2);

@@ -7,6 +7,7 @@
 
 #include "modbus/crc16.hpp"
 #include "monitor/monitor_line.hpp"
+#include "tests/support/seed_frames.hpp"
 
 namespace unima::monitor {
 using namespace unima::modbus;
@@ -33,8 +34,8 @@ std::string line(PortKind port, std::string_view peer, TransactionState state, c
 const Bytes tcp_query = {0x12, 0x34, 0x00, 0x00, 0x00, 0x06, 0x01, 0x04, 0x00, 0x11, 0x00, 0x02};
 const Bytes tcp_response = {0x12, 0x34, 0x00, 0x00, 0x00, 0x07, 0x01, 0x04, 0x04, 0x00, 0x50, 0x7F, 0xFF};
 // The same over RTU.
-const Bytes rtu_query = {0x01, 0x04, 0x00, 0x11, 0x00, 0x02, 0x21, 0xCE};
-const Bytes rtu_response = {0x01, 0x04, 0x04, 0x00, 0x50, 0x7F, 0xFF, 0x9B, 0xE5};
+const Bytes rtu_query = test_support::seed::read_query;
+const Bytes rtu_response = test_support::seed::read_response;
 
 TEST(MonitorLine, SeedTcpReadIsDone) {
   EXPECT_EQ(line(PortKind::tcp, "127.0.0.1:40000", TransactionState::done, tcp_query, tcp_response),

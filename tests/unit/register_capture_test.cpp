@@ -9,6 +9,7 @@
 #include "modbus/capture.hpp"
 #include "modbus/crc16.hpp"
 #include "modbus/register_capture.hpp"
+#include "tests/support/seed_frames.hpp"
 
 namespace unima::modbus {
 using namespace unima::monitor;
@@ -44,8 +45,8 @@ TEST(RegisterCapture, AWriteMultipleIsCapturedFromTheQuery) {
 }
 
 TEST(RegisterCapture, AReadIsCapturedFromTheResponse) {
-  const Bytes q = {0x01, 0x04, 0x00, 0x11, 0x00, 0x02, 0x21, 0xCE};
-  const Bytes r = {0x01, 0x04, 0x04, 0x00, 0x50, 0x7F, 0xFF, 0x9B, 0xE5};
+  const Bytes q = test_support::seed::read_query;
+  const Bytes r = test_support::seed::read_response;
   const auto c = captured_registers(rtu(TransactionState::done, q, r));
   ASSERT_TRUE(c);
   EXPECT_EQ(c->access, CaptureAccess::read);
@@ -62,7 +63,7 @@ TEST(RegisterCapture, AReadIsCapturedFromTheResponse) {
 // The capture indicators and capture blocks share this rule: a response from another
 // address is not the answer to the query, whatever its bytes (it once counted for indicators).
 TEST(RegisterCapture, AReadAnsweredFromAnotherAddressCarriesNothing) {
-  const Bytes q = {0x01, 0x04, 0x00, 0x11, 0x00, 0x02, 0x21, 0xCE};
+  const Bytes q = test_support::seed::read_query;
   Bytes r = {0x02, 0x04, 0x04, 0x00, 0x50, 0x7F, 0xFF, 0x00, 0x00};
   const auto crc = crc16(std::span(r).first(r.size() - 2));
   r[r.size() - 2] = static_cast<std::uint8_t>(crc & 0xFF);
@@ -75,7 +76,7 @@ TEST(RegisterCapture, AReadAnsweredFromAnotherAddressCarriesNothing) {
 }
 
 TEST(RegisterCapture, NothingFromFaultsExceptionsOrMismatchedAnswers) {
-  const Bytes q = {0x01, 0x04, 0x00, 0x11, 0x00, 0x02, 0x21, 0xCE};
+  const Bytes q = test_support::seed::read_query;
   EXPECT_FALSE(captured_registers(rtu(TransactionState::done, q, {})));                               // no answer
   EXPECT_FALSE(captured_registers(rtu(TransactionState::err02, q, {0x01, 0x84, 0x02, 0xC2, 0xC1})));  // exception
   EXPECT_FALSE(captured_registers(rtu(TransactionState::done, q, {0x01, 0x04, 0x02, 0x00, 0x50, 0x00, 0x00})));  // count
@@ -87,8 +88,8 @@ TEST(RegisterCapture, NothingFromFaultsExceptionsOrMismatchedAnswers) {
 TEST(CaptureIndicators, KeepTheLastValueReadOrWrittenForTheirAddressAndRegister) {
   CaptureIndicators indicators({{3, 0x0202}, {1, 0x0012}, {1, 0x0300}});
   const Bytes write = {0x03, 0x06, 0x02, 0x02, 0x12, 0x34, 0x25, 0x27};
-  const Bytes read_q = {0x01, 0x04, 0x00, 0x11, 0x00, 0x02, 0x21, 0xCE};
-  const Bytes read_r = {0x01, 0x04, 0x04, 0x00, 0x50, 0x7F, 0xFF, 0x9B, 0xE5};
+  const Bytes read_q = test_support::seed::read_query;
+  const Bytes read_r = test_support::seed::read_response;
   indicators.observe(*captured_registers(rtu(TransactionState::not_for_me, write, {})), t0);
   indicators.observe(*captured_registers(rtu(TransactionState::done, read_q, read_r)), t0 + seconds(1));
   ASSERT_TRUE(indicators.reading(0));

@@ -10,6 +10,7 @@
 #include "modbus/rtu_frame_length.hpp"
 #include "modbus/rtu_framer.hpp"
 #include "modbus/rtu_timing.hpp"
+#include "tests/support/seed_frames.hpp"
 
 namespace unima::modbus {
 namespace {
@@ -30,9 +31,9 @@ Bytes cat(std::initializer_list<Bytes> parts) {
 }
 
 // Seed 004 §5.1, §5.2: the bridge is address 1.
-const Bytes seed_read = {0x01, 0x04, 0x00, 0x11, 0x00, 0x02, 0x21, 0xCE};
-const Bytes seed_read_response = {0x01, 0x04, 0x04, 0x00, 0x50, 0x7F, 0xFF, 0x9B, 0xE5};
-const Bytes seed_write = {0x01, 0x06, 0x01, 0x01, 0x09, 0x29, 0x1E, 0x78};
+const Bytes seed_read = test_support::seed::read_query;
+const Bytes seed_read_response = test_support::seed::read_response;
+const Bytes seed_write = test_support::seed::write_query;
 
 TEST(RtuTiming, CharacterGapAndReplyDelay) {
   const auto t = rtu_timing(19200, false, 1);  // 10 bits: 520.8 µs
