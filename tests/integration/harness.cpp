@@ -280,20 +280,4 @@ Bytes round_trip(std::uint16_t port, const Bytes& query) {
   return response;
 }
 
-std::string BridgeConfig::yaml() const {
-  std::ostringstream out;
-  out << "unimabus:\n"
-      << "  address: 5\n"
-      << "  transport: feed\n"
-      << "  listen: " << (feed_listen.empty() ? "127.0.0.1:" + std::to_string(feed_port) : feed_listen) << "\n"
-      << unimabus_extra << "modbus:\n"
-      << "  address: 1\n"
-      << "  tcp: { listen: 127.0.0.1, port: " << modbus_port << tcp_extra << " }\n"
-      << modbus_extra << "banks: " << banks << "\n"
-      << "devices: " << devices << "\n";
-  if (!status_socket.empty()) out << "status: { socket: " << status_socket << " }\n";
-  out << monitor_section;
-  return out.str();
-}
-
 }  // namespace unima::test

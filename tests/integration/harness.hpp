@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "tests/support/bridge_config.hpp"
 #include "tests/support/child_process.hpp"
 #include "tests/support/temp_files.hpp"
 
@@ -125,20 +126,6 @@ std::vector<Socket> tcp_clients(std::uint16_t port, int count);
 /// response as received (MBAP + PDU; the MBAP length says how many to wait for).
 Bytes round_trip(std::uint16_t port, const Bytes& query);
 
-/// A minimal bridge config with a feed transport and a Modbus TCP slave; `extra` is
-/// appended at top level (more sections), `modbus_extra` inside modbus:.
-struct BridgeConfig {
-  std::uint16_t modbus_port = 0;
-  std::uint16_t feed_port = 0;
-  std::string feed_listen;  // overrides 127.0.0.1:feed_port when set
-  std::string banks = "{ D1: 0x0011, W: 0x0100 }";
-  std::string devices = "{ D1: { type: unigen-chp, address: 5 } }";
-  std::string tcp_extra;
-  std::string unimabus_extra;
-  std::string modbus_extra;
-  std::string status_socket;   // status: { socket: ... } when set
-  std::string monitor_section;  // "monitor:\n  file: ...\n" when set
-  std::string yaml() const;
-};
+using test_support::BridgeConfig;
 
 }  // namespace unima::test

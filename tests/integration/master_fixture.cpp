@@ -64,26 +64,6 @@ std::string SlaveSim::control(const std::string& line) const {
   return socket.read_line().value_or("(no answer)");
 }
 
-std::string MasterBridgeConfig::yaml() const {
-  std::ostringstream out;
-  out << "unimabus: { address: 5, transport: feed, listen: 127.0.0.1:" << feed_port << " }\n"
-      << "modbus:\n"
-      << "  mode: master\n"
-      << "  tcp: { listen: 127.0.0.1, port: " << modbus_port << " }\n";
-  std::string master_body = master;
-  if (line.starts_with("master-tcp: ")) {
-    const auto target = line.substr(12);
-    master_body = master_body.empty() ? "tcp: " + target : master_body + ", tcp: " + target;
-  } else {
-    out << "  " << line << "\n";
-  }
-  if (!master_body.empty()) out << "  master: { " << master_body << " }\n";
-  out << "blocks:\n" << blocks << "log: { level: debug }\n";
-  if (!status_socket.empty()) out << "status: { socket: " << status_socket << " }\n";
-  out << extra;
-  return out.str();
-}
-
 void MasterTest::simulate(const std::vector<std::string>& slaves, bool tcp) {
   sim = std::make_unique<SlaveSim>(dir, slaves, true, tcp);
   ASSERT_TRUE(sim->ready()) << sim->output();

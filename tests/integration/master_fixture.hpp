@@ -48,21 +48,14 @@ class SlaveSim {
   bool ready_ = false;
 };
 
-/// What a master config holds besides its blocks.
-struct MasterBridgeConfig {
-  std::uint16_t modbus_port = 0;  // the TCP slave, serving the banks in master mode too
-  std::uint16_t feed_port = 0;
-  std::string line;               // "rtu: { device: ..., baud: 38400 }" or "master-tcp: host:port"
-  std::string master;             // the body of modbus.master, without tcp
-  std::string blocks;             // YAML list items, each "  - { ... }\n"
-  std::string status_socket;      // in the test's temp dir, never the system's /run
-  std::string extra;              // more top-level sections
-  std::string yaml() const;
-};
 
 class MasterTest : public ::testing::Test {
  protected:
   void SetUp() override {
+    config.mode = "master";
+    config.banks.clear();  // the default layout: C at 0x1020, W at 0x3000, X at 0x3010
+    config.devices.clear();
+    config.log_level = "debug";
     config.modbus_port = free_port();
     config.feed_port = free_port();
     config.status_socket = (dir.path() / "control.sock").string();
@@ -82,7 +75,7 @@ class MasterTest : public ::testing::Test {
   static constexpr int x_bank = 0x3010;
 
   TempDir dir;
-  MasterBridgeConfig config;
+  BridgeConfig config;
   std::unique_ptr<SlaveSim> sim;
   std::unique_ptr<Daemon> daemon;
 };
