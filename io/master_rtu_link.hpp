@@ -1,6 +1,6 @@
 #pragma once
 // The master's RTU line (SPEC §3, Modbus over Serial Line V1.02 §2.5): a serial port in
-// raw mode. A response ends when its length, known from its first bytes, is there; a
+// raw mode, opened as the slave port's is (io/serial_line). A response ends when its length, known from its first bytes, is there; a
 // frame whose length cannot be known (wrong function, garbage) or that stops short ends
 // at a silence of t3.5 — stretched to `late_byte_tolerance`, because USB adapters deliver
 // bytes in bursts with gaps of their latency timer.

@@ -3,8 +3,9 @@
 // address no sooner than 2.5 characters after the request; applies broadcasts (address 0)
 // without answering; and listens to the whole bus: a request for another slave is
 // Not4Me, paired with that slave's response when one follows, and handed to the foreign
-// listener (capture blocks). Framing is modbus::RtuFramer's; this adapter owns the port,
-// the timers and the clock.
+// listener (capture blocks). The decisions are pure: framing modbus::RtuFramer's, whose
+// request it is and its answer modbus/slave_session's, the pairing modbus::BusListener's;
+// this adapter owns the port (opened by io/serial_line), the timers and the clock.
 //
 // A port that cannot be opened or goes away (a USB adapter unplugged) is reopened with
 // back-off; the rest of the daemon runs on meanwhile.
