@@ -4,9 +4,9 @@
 // pending connection in the backlog, so an immediate retry would fail again at once and
 // spin: it is logged and retried after a pause.
 //
-// Lifetime: the owner owns the acceptor and this object, and may destroy both at any time
-// on the loop's thread after stop(); a handler already queued then sees its token expired
-// and touches nothing.
+// Lifetime (io/handler_guard): the owner owns the acceptor and this object, and may
+// destroy both at any time on the loop's thread after stop(); a handler already queued
+// then sees its token invalid and touches nothing.
 
 #include <chrono>
 #include <functional>
@@ -15,6 +15,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include "io/handler_guard.hpp"
 #include "platform/asio.hpp"
 
 namespace unima::io {
@@ -44,19 +45,19 @@ class RetryingAcceptor {
 
  private:
   void accept() {
-    acceptor_.async_accept([this, alive = std::weak_ptr(alive_)](const boost::system::error_code& ec, Socket socket) {
-      if (alive.expired() || ec == asio::error::operation_aborted || stopped_) return;
+    acceptor_.async_accept([this, token = guard_.token()](const boost::system::error_code& ec, Socket socket) {
+      if (!guard_.valid(token) || ec == asio::error::operation_aborted || stopped_) return;
       if (ec) return retry_later(ec);
       on_accepted_(std::move(socket));
-      if (!alive.expired() && !stopped_) accept();
+      if (guard_.valid(token) && !stopped_) accept();
     });
   }
 
   void retry_later(const boost::system::error_code& ec) {
     spdlog::warn("{}: accept failed: {}; retrying in {} ms", what_, ec.message(), retry_after.count());
     retry_.expires_after(retry_after);
-    retry_.async_wait([this, alive = std::weak_ptr(alive_)](const boost::system::error_code& wait_ec) {
-      if (!alive.expired() && !wait_ec && !stopped_) accept();
+    retry_.async_wait([this, token = guard_.token()](const boost::system::error_code& wait_ec) {
+      if (guard_.valid(token) && !wait_ec && !stopped_) accept();
     });
   }
 
@@ -64,7 +65,7 @@ class RetryingAcceptor {
   asio::steady_timer retry_;
   std::string what_;
   std::function<void(Socket)> on_accepted_;
-  std::shared_ptr<int> alive_ = std::make_shared<int>(0);
+  HandlerGuard guard_;
   bool stopped_ = true;
 };
 

@@ -105,7 +105,7 @@ void RtuSlavePort::lost(const std::string& why) {
 }
 
 void RtuSlavePort::close() {
-  ++generation_;
+  guard_.invalidate();
   boost::system::error_code ignored;
   if (port_.is_open()) {
     if (line_.rs485 == config::Rs485Direction::rts) set_rts(port_.native_handle(), false);

@@ -22,6 +22,7 @@
 
 #include "config/config.hpp"
 #include "platform/asio.hpp"
+#include "io/handler_guard.hpp"
 #include "io/lazy_deadline.hpp"
 #include "io/slave_context.hpp"
 #include "modbus/bus_listener.hpp"
@@ -57,14 +58,8 @@ class RtuSlavePort {
   bool is_open() const { return port_.is_open(); }
 
  private:
-  // What a queued handler checks before it touches the port: the port still exists, and
-  // has not been closed since (a port replaced on reload may still have handlers queued).
-  struct Guard {
-    std::weak_ptr<int> alive;
-    unsigned generation = 0;
-  };
-  Guard guard() const { return {alive_, generation_}; }
-  bool valid(const Guard& g) const { return !g.alive.expired() && g.generation == generation_; }
+  HandlerGuard::Token guard() const { return guard_.token(); }
+  bool valid(const HandlerGuard::Token& token) const { return guard_.valid(token); }
 
   struct Outgoing {
     std::vector<std::uint8_t> bytes;
@@ -107,8 +102,7 @@ class RtuSlavePort {
   bool sending_ = false;
   bool running_ = false;
   bool failing_ = false;  // the last open failed: log again only when it works
-  unsigned generation_ = 0;
-  std::shared_ptr<int> alive_ = std::make_shared<int>(0);
+  HandlerGuard guard_;  // invalidated when the line closes
 };
 
 }  // namespace unima::io

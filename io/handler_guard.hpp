@@ -1,0 +1,34 @@
+#pragma once
+// The lifetime rule of io/'s handlers (docs/architecture.md, "Lifetimes of handlers"), for
+// an object owned by another through a unique_ptr — a port, an acceptor — whose queued
+// handlers may run after it was closed or destroyed (a reload replaces ports while their
+// handlers wait in the loop). A handler captures a token and touches the object only
+// while the token is valid: the object still exists, and has not been closed since.
+// Objects that live by their own I/O (a TCP connection, a feed session, the master's
+// links) hold themselves in their handlers with shared_from_this instead, as Asio's
+// examples do.
+
+#include <memory>
+
+namespace unima::io {
+
+class HandlerGuard {
+ public:
+  struct Token {
+    std::weak_ptr<int> alive;
+    unsigned generation = 0;
+  };
+
+  Token token() const { return {alive_, generation_}; }
+  /// The token's own weak pointer is looked at first: when the object is gone, nothing of
+  /// it is read.
+  bool valid(const Token& token) const { return !token.alive.expired() && token.generation == generation_; }
+  /// Handlers queued before this see their tokens invalid (the object was closed).
+  void invalidate() { ++generation_; }
+
+ private:
+  std::shared_ptr<int> alive_ = std::make_shared<int>(0);
+  unsigned generation_ = 0;
+};
+
+}  // namespace unima::io
