@@ -239,8 +239,8 @@ Bridge::ReloadPlan Bridge::plan_reload(config::Config config) {
   plan.core = build_core(std::move(config));
   const auto& old_config = core_->config;
   const auto& new_config = plan.core->config;
-  plan.same_monitor_log = monitor::Monitor::same_log(old_config.monitor, new_config.monitor);
-  if (!plan.same_monitor_log) plan.monitor_writer = monitor::Monitor::make_writer(new_config.monitor);
+  if (!monitor::Monitor::same_log(old_config.monitor, new_config.monitor))
+    plan.monitor_writer = monitor::Monitor::make_writer(new_config.monitor);
   if (!same_feed(old_config.unimabus, new_config.unimabus)) plan.transport = make_transport(new_config);
   plan.same_tcp = same_endpoint(old_config.modbus.tcp, new_config.modbus.tcp);
   plan.same_rtu = same_line(slave_line(old_config), slave_line(new_config));

@@ -17,7 +17,6 @@ struct Bridge::ReloadPlan {
   // First, so that it is undone last: after a new TCP listener on the same port is gone.
   Rollback restore_tcp;  // brings the running TCP slave back
   std::unique_ptr<Core> core;
-  bool same_monitor_log = true;
   std::unique_ptr<monitor::MonitorWriter> monitor_writer;  // when the log changed
   std::unique_ptr<unimabus::Transport> transport;          // when the feed changed; else keep
   bool same_tcp = true;

@@ -5,14 +5,16 @@
 // armed; when it fires it asks for the deadline again and, if that has moved, waits for the
 // rest. Every timer of the daemon whose deadline moves with traffic goes through here.
 //
-// Lifetime: the handler captures `this` and touches nothing before it has seen that the
-// wait was not cancelled; the destructor cancels. So the owner may destroy it at any time
-// on the loop's thread, and callbacks never run after that.
+// Lifetime (io/handler_guard): the handler holds a token and touches nothing once the
+// object is gone or the wait was cancelled, even when the timer had already fired and its
+// handler was waiting in the loop. So the owner may cancel or destroy it at any time on
+// the loop's thread.
 
 #include <chrono>
 #include <functional>
 #include <optional>
 
+#include "io/handler_guard.hpp"
 #include "platform/asio.hpp"
 
 namespace unima::io {
@@ -37,8 +39,8 @@ class LazyDeadline {
     if (!due) return;
     armed_ = true;
     timer_.expires_at(*due);
-    timer_.async_wait([this](const boost::system::error_code& ec) {
-      if (ec) return;  // cancelled: cancel() has cleared armed_, or the owner is gone
+    timer_.async_wait([this, token = guard_.token()](const boost::system::error_code& ec) {
+      if (ec || !HandlerGuard::alive(token) || !guard_.current(token)) return;
       armed_ = false;
       const auto due = deadline_();
       if (!due) return;
@@ -49,6 +51,7 @@ class LazyDeadline {
 
   void cancel() {
     armed_ = false;
+    guard_.invalidate();
     timer_.cancel();
   }
 
@@ -56,6 +59,7 @@ class LazyDeadline {
   asio::steady_timer timer_;
   DeadlineFn deadline_;
   std::function<void()> on_due_;
+  HandlerGuard guard_;
   bool armed_ = false;
 };
 

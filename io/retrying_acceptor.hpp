@@ -46,10 +46,10 @@ class RetryingAcceptor {
  private:
   void accept() {
     acceptor_.async_accept([this, token = guard_.token()](const boost::system::error_code& ec, Socket socket) {
-      if (!guard_.valid(token) || ec == asio::error::operation_aborted || stopped_) return;
+      if (!HandlerGuard::alive(token) || ec == asio::error::operation_aborted || stopped_) return;
       if (ec) return retry_later(ec);
       on_accepted_(std::move(socket));
-      if (guard_.valid(token) && !stopped_) accept();
+      if (HandlerGuard::alive(token) && !stopped_) accept();
     });
   }
 
@@ -57,7 +57,7 @@ class RetryingAcceptor {
     spdlog::warn("{}: accept failed: {}; retrying in {} ms", what_, ec.message(), retry_after.count());
     retry_.expires_after(retry_after);
     retry_.async_wait([this, token = guard_.token()](const boost::system::error_code& wait_ec) {
-      if (guard_.valid(token) && !wait_ec && !stopped_) accept();
+      if (HandlerGuard::alive(token) && !wait_ec && !stopped_) accept();
     });
   }
 

@@ -91,7 +91,7 @@ void RtuSlavePort::schedule_reopen() {
   reopen_timer_.expires_after(reopen_delay_);
   reopen_delay_ = std::min(reopen_delay_ * 2, longest_reopen_delay);
   reopen_timer_.async_wait([this, g = guard()](const boost::system::error_code& ec) {
-    if (ec || !valid(g) || !running_) return;
+    if (ec || !HandlerGuard::alive(g) || !guard_.current(g) || !running_) return;
     open();
   });
 }
@@ -122,7 +122,7 @@ void RtuSlavePort::close() {
 
 void RtuSlavePort::read() {
   port_.async_read_some(asio::buffer(in_), [this, g = guard()](const boost::system::error_code& ec, std::size_t n) {
-    if (!valid(g) || ec == asio::error::operation_aborted) return;
+    if (!HandlerGuard::alive(g) || !guard_.current(g) || ec == asio::error::operation_aborted) return;
     if (ec) return lost(ec == asio::error::eof ? "end of file" : ec.message());
     // Only a line that delivers bytes has come back for good: one that opens and fails
     // at once keeps its back-off growing.
@@ -225,7 +225,7 @@ void RtuSlavePort::write_next() {
   if (RtuClock::now() < next.not_before) {
     reply_timer_.expires_at(next.not_before);
     reply_timer_.async_wait([this, g = guard()](const boost::system::error_code& ec) {
-      if (ec || !valid(g)) return;
+      if (ec || !HandlerGuard::alive(g) || !guard_.current(g)) return;
       if (!out_.empty()) out_.front().not_before = RtuClock::time_point::min();
       write_next();
     });
@@ -234,7 +234,7 @@ void RtuSlavePort::write_next() {
   if (line_.rs485 == config::Rs485Direction::rts) set_rts(port_.native_handle(), true);
   asio::async_write(port_, asio::buffer(next.bytes),
                     [this, g = guard()](const boost::system::error_code& ec, std::size_t) {
-                      if (!valid(g) || ec == asio::error::operation_aborted) return;
+                      if (!HandlerGuard::alive(g) || !guard_.current(g) || ec == asio::error::operation_aborted) return;
                       if (ec) return lost(ec.message());
                       if (line_.rs485 == config::Rs485Direction::rts) return release_line_after_sending();
                       out_.pop_front();
@@ -259,7 +259,7 @@ void RtuSlavePort::release_line_after_sending() {
   const auto queued = std::max(output_queue(fd).value_or(0), 0);
   reply_timer_.expires_after(timing_.character * (queued + 1));
   reply_timer_.async_wait([this, g = guard()](const boost::system::error_code& ec) {
-    if (ec || !valid(g)) return;
+    if (ec || !HandlerGuard::alive(g) || !guard_.current(g)) return;
     release_line_after_sending();
   });
 }

@@ -59,7 +59,6 @@ class RtuSlavePort {
 
  private:
   HandlerGuard::Token guard() const { return guard_.token(); }
-  bool valid(const HandlerGuard::Token& token) const { return guard_.valid(token); }
 
   struct Outgoing {
     std::vector<std::uint8_t> bytes;

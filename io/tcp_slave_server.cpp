@@ -144,9 +144,12 @@ class TcpSlaveServer::Connection : public std::enable_shared_from_this<Connectio
 
   // Requests only move the deadline later, so the timer is not re-armed per request
   // (LazyDeadline). The limit is read at each check: a reload may have changed it.
+  // A closed connection may outlive its server (stop() abandons it): it looks at nothing
+  // of the server's once its socket is closed.
   std::optional<Clock::time_point> idle_deadline() const {
+    if (!socket_.is_open()) return std::nullopt;
     const auto limit = server_.options_.idle_timeout;
-    if (limit.count() == 0 || !socket_.is_open()) return std::nullopt;
+    if (limit.count() == 0) return std::nullopt;
     return last_activity_ + limit;
   }
   void close_idle() {

@@ -33,9 +33,8 @@ bool Monitor::same_log(const MonitorConfig& a, const MonitorConfig& b) {
 
 void Monitor::reconfigure(const MonitorConfig& config, std::unique_ptr<MonitorWriter> writer) {
   if (!same_log(config_, config)) replace_writer(std::move(writer));
-  const auto filter = config.filter;
-  if (writer_ && !(filter == filter_)) spdlog::info("monitor: filter {}", filter.describe());
-  filter_ = filter;
+  if (writer_ && !(config.filter == filter_)) spdlog::info("monitor: filter {}", config.filter.describe());
+  filter_ = config.filter;
   monitor::CaptureIndicators indicators(config.indicators);
   indicators.take_readings_from(indicators_);
   indicators_ = std::move(indicators);
