@@ -90,7 +90,7 @@ std::unique_ptr<unimabus::Transport> Bridge::make_transport(const config::Config
     return std::make_unique<io::FeedTransport>(io_, config.unimabus.listen, handler, [this] { return publisher_.snapshot(); });
   std::vector<unimabus::SimDevice> devices;
   for (unsigned n = 1; n <= 4; ++n)
-    if (const auto& device = config.devices[n - 1])
+    if (const auto& device = config.devices[n - 1])  // each D_N on its own, even at a shared address
       devices.push_back({device->address, 0, device->table->length(), device->table});
   for (unsigned slot : config.unimabus.sim.io_modules)
     devices.push_back({config.unimabus.address, static_cast<std::uint8_t>(slot), banks::s_bank_length,
@@ -314,6 +314,9 @@ void Bridge::commit(ReloadPlan plan) {
 std::string Bridge::on_telegram(const unimabus::Telegram& telegram) {
   auto outcome = core_->router->apply(telegram);
   last_telegram_ = std::chrono::steady_clock::now();
+  if (outcome.ignored) ++telegram_counts_.ignored;
+  if (!outcome.error.empty()) ++telegram_counts_.refused;
+  for (BankId bank : outcome.updated) ++telegram_counts_.taken[banks::index_of(bank)];
   if (!outcome.updated.empty()) {
     const auto now = unimabus::Presence::Clock::now();
     for (BankId bank : outcome.updated)

@@ -85,6 +85,11 @@ class Bridge {
   std::unique_ptr<io::ControlSocket> control_;
   std::chrono::steady_clock::time_point started_at_ = std::chrono::steady_clock::now();
   std::optional<std::chrono::steady_clock::time_point> last_telegram_;
+  struct TelegramCounts {
+    std::array<std::uint64_t, banks::bank_count> taken{};  // by the bank that took them
+    std::uint64_t ignored = 0;  // for no configured D_N or S_N: another device's
+    std::uint64_t refused = 0;  // answered with an error (ambiguous, past a bank's end)
+  } telegram_counts_;
 };
 
 }  // namespace unima::app

@@ -69,6 +69,8 @@ std::string Bridge::status_document() const {
   doc["modbus"] = activity(age<std::chrono::system_clock>(monitor_->last_transaction()));
   doc["unimabus"] = activity(age<SteadyClock>(last_telegram_));
   doc["unimabus"]["transport"] = config.unimabus.transport == config::TransportKind::feed ? "feed" : "sim";
+  doc["unimabus"]["telegrams_ignored"] = telegram_counts_.ignored;
+  doc["unimabus"]["telegrams_refused"] = telegram_counts_.refused;
 
   doc["devices"] = nlohmann::json::array();
   for (unsigned n = 1; n <= 4; ++n) {
@@ -79,6 +81,7 @@ std::string Bridge::status_document() const {
       d["type"] = device->table->id;
       d["address"] = device->address;
       d["online"] = store.online(bank);
+      d["telegrams"] = telegram_counts_.taken[banks::index_of(bank)];
     } else {
       d["type"] = nullptr;
       d["online"] = false;
@@ -89,7 +92,8 @@ std::string Bridge::status_document() const {
   for (unsigned n = 1; n <= 7; ++n)
     doc["modules"].push_back(nlohmann::json{{"bank", banks::bank_name(banks::module_bank(n))},
                                             {"slot", n},
-                                            {"online", store.online(banks::module_bank(n))}});
+                                            {"online", store.online(banks::module_bank(n))},
+                                            {"telegrams", telegram_counts_.taken[banks::index_of(banks::module_bank(n))]}});
 
   doc["indicators"] = nlohmann::json::array();
   const auto& indicators = monitor_->indicators();

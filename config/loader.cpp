@@ -241,6 +241,15 @@ class Loader {
         yaml_.fail(dev["type"], fmt::format("unknown device type '{}' (known: {})", type,
                                             fmt::join(banks::device_type_ids(), ", ")));
       device.address = static_cast<std::uint8_t>(yaml_.number(dev["address"], 0, 255));
+      // A D_N is identified by its type and address (SPEC §6): a unit's CHP controller, USC
+      // and UVR share its address, but two of one type there could not be told apart.
+      for (unsigned n = 1; n <= 4; ++n) {
+        const auto& other = config_.devices[n - 1];
+        if (other && other->table == device.table && other->address == device.address)
+          yaml_.fail(dev, fmt::format("devices.{} and devices.D{} are both a {} at UnimaBUS address {}: a D_N is "
+                                      "identified by its type and address, so telegrams could not tell them apart",
+                                      name, n, device.table->id, device.address));
+      }
       config_.devices[banks::bank_number(*bank) - 1] = device;
     }
   }

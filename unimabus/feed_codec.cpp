@@ -3,6 +3,9 @@
 #include <nlohmann/json.hpp>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include "banks/table_catalog.hpp"
 
 namespace unima::unimabus {
 
@@ -37,8 +40,8 @@ FeedLine parse_feed_line(std::string_view line) {
   if (!object.is_object()) return std::string("expected an object like {\"addr\":5,\"slot\":0,\"offset\":33,\"values\":[853]}");
   for (const auto& [key, value] : object.items()) {
     (void)value;
-    if (key != "addr" && key != "slot" && key != "offset" && key != "values" && key != "t")
-      return fmt::format("unknown field \"{}\" (fields: addr, slot, offset, values)", key);
+    if (key != "addr" && key != "slot" && key != "device" && key != "offset" && key != "values" && key != "t")
+      return fmt::format("unknown field \"{}\" (fields: addr, slot, device, offset, values)", key);
   }
   long address = 0, slot = 0, offset = 0;
   for (auto error : {integer(object, "addr", 0, 255, address), integer(object, "slot", 0, 7, slot),
@@ -49,6 +52,14 @@ FeedLine parse_feed_line(std::string_view line) {
   if (!values->is_array() || values->empty()) return std::string("\"values\" must be a non-empty array of integers");
   if (offset + values->size() > 0x10000) return std::string("\"offset\" + the number of values runs past 0xFFFF");
   Telegram telegram;
+  if (const auto device = object.find("device"); device != object.end()) {
+    if (!device->is_string()) return std::string("\"device\" must be a device type like \"usc\"");
+    telegram.device = banks::find_device_type(device->get_ref<const std::string&>());
+    if (!telegram.device)
+      return fmt::format("unknown device type \"{}\" (known: {})", device->get_ref<const std::string&>(),
+                         fmt::join(banks::device_type_ids(), ", "));
+    if (slot != 0) return std::string("\"device\" names a D_N device (slot 0); IO modules are named by their slot");
+  }
   telegram.address = static_cast<std::uint8_t>(address);
   telegram.slot = static_cast<std::uint8_t>(slot);
   telegram.offset = static_cast<std::uint16_t>(offset);

@@ -1,6 +1,7 @@
 #pragma once
 // The feed protocol's JSON lines (SPEC §6). In:
 //   {"addr":5,"slot":0,"offset":33,"values":[853,854]}
+//   {"addr":5,"slot":0,"device":"usc","offset":3,"values":[1500]}  (one of a unit's components)
 // Out: {"bank":"W","offset":3,"value":1234} per published register, {"error":"…"} per
 // rejected line. Pure; the socket lives in the daemon.
 

@@ -29,6 +29,7 @@ std::vector<Telegram> SimGenerator::tick() {
     t.address = device.address;
     t.slot = device.slot;
     t.offset = 0;
+    if (device.slot == 0) t.device = device.table;  // a unit's components share its address
     t.values.reserve(device.length);
     for (std::uint16_t offset = 0; offset < device.length; ++offset) t.values.push_back(value(device, d, offset));
     telegrams.push_back(std::move(t));

@@ -1,6 +1,6 @@
 #pragma once
-// Puts telegram values into the banks (SPEC §6): D_N by device address (slot 0), S_N by
-// slot N at the bridge's own address.
+// Puts telegram values into the banks (SPEC §6): D_N by device type and address (slot 0),
+// S_N by slot N at the bridge's own address.
 
 #include <cstdint>
 #include <string>
@@ -15,6 +15,7 @@ struct Route {
   banks::BankId bank;
   std::uint8_t address;
   std::uint8_t slot;
+  const banks::DeviceTable* table = nullptr;  // D_N: its device type
 };
 
 /// The routes of a config: each configured D_N, and S1..S7 at the bridge's address.
@@ -27,10 +28,13 @@ class TelegramRouter {
 
   struct Outcome {
     std::vector<banks::BankId> updated;  // banks that took the values (their device was heard)
-    std::string error;                   // non-empty when a matching bank refused them
+    std::string error;                   // non-empty when the telegram was refused
+    bool ignored = false;                // it was for no configured bank: another device's
   };
-  /// A telegram is taken whole by each matching bank or refused by it (values past the
-  /// end of its table); one for no bank at all is ignored, as it is another device's.
+  /// A telegram is taken whole by the bank of its device or refused (values past the end
+  /// of its table). One naming its device type goes to the D_N of that type at its
+  /// address; one that does not name it, to the one D_N at its address, and is refused
+  /// when several D_N share that address. One for no bank at all is ignored.
   Outcome apply(const Telegram& telegram);
 
  private:

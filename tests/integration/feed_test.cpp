@@ -76,6 +76,55 @@ TEST_F(Feed, TelegramsOfOtherDevicesAreIgnored) {
   EXPECT_EQ((*online)[0], 0x0001);
 }
 
+// Seed §3.2.1: a unit's control system, its speed regulator and voltage regulator all sit
+// at the unit's address; each D_N is chosen by type and address (SPEC §6).
+TEST_F(Feed, AUnitsComponentsAtOneAddressEachFillTheirOwnBank) {
+  config.banks = "{ D1: 0x0011, D2: 0x0111, W: 0x0100 }";
+  config.devices = "{ D1: { type: unigen-chp, address: 5 }, D2: { type: usc, address: 5 } }";
+  start();
+  auto feed = feed_client();
+  feed_and_wait(feed, R"({"addr":5,"slot":0,"device":"usc","offset":3,"values":[1500]})", 0x0111 + 3, 1500);
+  ModbusClient client(config.modbus_port);
+  EXPECT_EQ(client.read_input(0x0011 + 3, 1), std::vector<std::uint16_t>{0x7FFF});  // the CHP heard nothing
+  EXPECT_EQ(client.read_input(0x1033, 1), std::vector<std::uint16_t>{0x0002});     // only D2 on-line
+
+  // Not naming the component is ambiguous here: answered, applied to neither.
+  feed.send(std::string(R"({"addr":5,"slot":0,"offset":3,"values":[999]})") + "\n");
+  const auto answer = feed.read_line();
+  ASSERT_TRUE(answer);
+  EXPECT_TRUE(answer->starts_with(R"({"error":"address 5 holds D1 (unigen-chp), D2 (usc))")) << *answer;
+  EXPECT_EQ(client.read_input(0x0111 + 3, 1), std::vector<std::uint16_t>{1500});
+
+  feed_and_wait(feed, R"({"addr":5,"slot":0,"device":"microgen-chp","offset":3,"values":[42]})", 0x0011 + 3, 42);
+  EXPECT_EQ(client.read_input(0x0111 + 3, 1), std::vector<std::uint16_t>{1500});
+  EXPECT_EQ(client.read_input(0x1033, 1), std::vector<std::uint16_t>{0x0003});
+  // A component that is not configured at the address is another device's: no answer.
+  feed.send(std::string(R"({"addr":5,"slot":0,"device":"uvr","offset":0,"values":[1]})") + "\n");
+  feed_and_wait(feed, R"({"addr":5,"slot":0,"device":"usc","offset":3,"values":[1501]})", 0x0111 + 3, 1501);
+}
+
+TEST_F(Feed, EachComponentGoesOffLineOnItsOwn) {
+  config.unimabus_extra = "  offline_after: 400ms\n";
+  config.banks = "{ D1: 0x0011, D2: 0x0111, W: 0x0100 }";
+  config.devices = "{ D1: { type: unigen-chp, address: 5 }, D2: { type: uvr, address: 5 } }";
+  start();
+  auto feed = feed_client();
+  ModbusClient client(config.modbus_port);
+  // Keep the UVR talking while the CHP controller falls silent.
+  bool chp_went_offline = false;
+  for (int i = 0; i < 40 && !chp_went_offline; ++i) {
+    if (i == 0) feed.send(std::string(R"({"addr":5,"slot":0,"device":"unigen-chp","offset":1,"values":[1500]})") + "\n");
+    feed.send(std::string(R"({"addr":5,"slot":0,"device":"uvr","offset":0,"values":[7]})") + "\n");
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    const auto online = client.read_input(0x1033, 1);
+    ASSERT_TRUE(online);
+    chp_went_offline = i > 0 && (*online)[0] == 0x0002;
+  }
+  EXPECT_TRUE(chp_went_offline) << daemon->log();
+  EXPECT_TRUE(daemon->wait_for_log("D1 (unigen-chp at UnimaBUS address 5) off-line"));
+  EXPECT_EQ(client.read_input(0x0012, 1), std::vector<std::uint16_t>{0x7FFF});
+}
+
 TEST_F(Feed, SilentDevicesGoOffLine) {
   config.unimabus_extra = "  offline_after: 300ms\n";
   start();

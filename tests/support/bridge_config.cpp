@@ -8,9 +8,10 @@ std::string BridgeConfig::yaml() const {
   std::ostringstream out;
   out << "unimabus:\n"
       << "  address: 5\n"
-      << "  transport: feed\n"
-      << "  listen: " << (feed_listen.empty() ? "127.0.0.1:" + std::to_string(feed_port) : feed_listen) << "\n"
-      << unimabus_extra << "modbus:\n";
+      << "  transport: " << transport << "\n";
+  if (transport == "feed")
+    out << "  listen: " << (feed_listen.empty() ? "127.0.0.1:" + std::to_string(feed_port) : feed_listen) << "\n";
+  out << unimabus_extra << "modbus:\n";
   if (!mode.empty()) out << "  mode: " << mode << "\n";
   out << "  address: 1\n"
       << "  tcp: { listen: 127.0.0.1, port: " << modbus_port << tcp_extra << " }\n";

@@ -12,6 +12,7 @@ struct BridgeConfig {
   std::uint16_t modbus_port = 0;
   std::uint16_t feed_port = 0;
   std::string feed_listen;  // overrides 127.0.0.1:feed_port when set
+  std::string transport = "feed";  // sim or replay take their keys from unimabus_extra
   std::string mode;         // "master", or empty for the default (slave)
   std::string banks = "{ D1: 0x0011, W: 0x0100 }";   // empty: the default layout
   std::string devices = "{ D1: { type: unigen-chp, address: 5 } }";

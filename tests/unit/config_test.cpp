@@ -257,6 +257,28 @@ TEST(ConfigErrors, UnknownDeviceTypeListsTheKnownOnes) {
   for (auto id : banks::device_type_ids()) EXPECT_TRUE(contains(m, std::string(id))) << id << ": " << m;
 }
 
+TEST(ConfigLoad, AUnitsComponentsShareItsAddress) {
+  const Config c = load_text(
+      "devices:\n"
+      "  D1: { type: unigen-chp, address: 5 }\n"
+      "  D2: { type: usc, address: 5 }\n"
+      "  D3: { type: uvr, address: 5 }\n",
+      "cfg.yaml");
+  ASSERT_TRUE(c.devices[0] && c.devices[1] && c.devices[2]);
+  EXPECT_EQ(c.devices[1]->table->id, "usc");
+  EXPECT_EQ(c.devices[2]->address, 5);
+}
+
+TEST(ConfigErrors, TwoDevicesOfOneTypeAtOneAddressNameEachOther) {
+  const auto m = load_error(
+      "devices:\n"
+      "  D1: { type: unigen-chp, address: 5 }\n"
+      "  D3: { type: microgen-chp, address: 5 }\n");
+  EXPECT_TRUE(starts_with(m, "cfg.yaml:3:7: ")) << m;
+  EXPECT_TRUE(contains(m, "devices.D3 and devices.D1")) << m;
+  EXPECT_TRUE(contains(m, "unigen-chp at UnimaBUS address 5")) << m;
+}
+
 TEST(ConfigErrors, UnknownBankName) {
   const auto m = load_error(
       "banks:\n"

@@ -82,6 +82,23 @@ TEST(FeedCodec, TimeFieldIsAccepted) {
   (void)parsed(R"({"t":17,"addr":5,"slot":1,"offset":2,"values":[3]})");
 }
 
+TEST(FeedCodec, ADeviceTypeNamesOneOfTheUnitsComponents) {
+  const Telegram usc = parsed(R"({"addr":5,"slot":0,"device":"usc","offset":3,"values":[1500]})");
+  ASSERT_NE(usc.device, nullptr);
+  EXPECT_EQ(usc.device->id, "usc");
+  EXPECT_EQ(usc.offset, 3);
+  const Telegram alias = parsed(R"({"addr":5,"slot":0,"device":"microgen-chp","offset":0,"values":[1]})");
+  ASSERT_NE(alias.device, nullptr);
+  EXPECT_EQ(alias.device->id, "unigen-chp");
+  EXPECT_EQ(parsed(R"({"addr":5,"slot":0,"offset":0,"values":[1]})").device, nullptr);
+}
+
+TEST(FeedCodec, ABadDeviceIsAnError) {
+  EXPECT_TRUE(contains(refused(R"({"addr":5,"slot":0,"device":"turbine","offset":0,"values":[1]})"), "unknown device type \"turbine\""));
+  EXPECT_TRUE(contains(refused(R"({"addr":5,"slot":0,"device":7,"offset":0,"values":[1]})"), "\"device\" must be"));
+  EXPECT_TRUE(contains(refused(R"({"addr":5,"slot":2,"device":"usc","offset":0,"values":[1]})"), "slot"));
+}
+
 TEST(FeedCodec, Errors) {
   EXPECT_TRUE(contains(refused("this is not json"), "JSON"));
   EXPECT_FALSE(refused("").empty());
@@ -361,14 +378,64 @@ TEST_F(RouterFixture, ValuesPastTheBankAreRefusedWhole) {
   EXPECT_EQ(store.read(BankId::D1, 63), 2);
 }
 
-TEST(TelegramRouter, TwoDevicesAtOneAddressBothTakeTheTelegram) {
-  banks::RegisterStore store(shapes());
-  all_online(store);
-  TelegramRouter router(standard_routes(1, store, {{BankId::D1, 5}, {BankId::D2, 5}}), store);
-  const auto outcome = router.apply(Telegram{5, 0, 0, {77}});
-  EXPECT_EQ(outcome.updated, (std::vector<BankId>{BankId::D1, BankId::D2}));
-  EXPECT_EQ(store.read(BankId::D1, 0), 77);
+// A unit's CHP controller and its voltage regulator share the unit's address (seed §3.2.1).
+struct SharedAddressRouter : ::testing::Test {
+  SharedAddressRouter() : store(shapes()), router(standard_routes(1, store, {{BankId::D1, 5}, {BankId::D2, 5}}), store) {
+    all_online(store);
+  }
+  Telegram to(const char* device, std::uint16_t offset, std::vector<std::uint16_t> values) {
+    Telegram t{5, 0, offset, std::move(values)};
+    t.device = device ? &table(device) : nullptr;
+    return t;
+  }
+  banks::RegisterStore store;
+  TelegramRouter router;
+};
+
+TEST_F(SharedAddressRouter, ATelegramNamingItsDeviceFillsOnlyThatDevice) {
+  const auto before = snapshot(store);
+  const auto uvr = router.apply(to("uvr", 0, {77}));
+  EXPECT_TRUE(uvr.error.empty()) << uvr.error;
+  EXPECT_EQ(uvr.updated, (std::vector<BankId>{BankId::D2}));
   EXPECT_EQ(store.read(BankId::D2, 0), 77);
+  EXPECT_EQ(store.read(BankId::D1, 0), before.at({BankId::D1, 0}));
+
+  const auto chp = router.apply(to("microgen-chp", 0, {88}));  // an alias names the same type
+  EXPECT_EQ(chp.updated, (std::vector<BankId>{BankId::D1}));
+  EXPECT_EQ(store.read(BankId::D1, 0), 88);
+  EXPECT_EQ(store.read(BankId::D2, 0), 77);
+}
+
+TEST_F(SharedAddressRouter, ATelegramNotNamingItsDeviceIsRefusedAndAppliedToNone) {
+  const auto before = snapshot(store);
+  const auto outcome = router.apply(to(nullptr, 0, {77}));
+  EXPECT_TRUE(outcome.updated.empty());
+  EXPECT_FALSE(outcome.ignored);
+  EXPECT_TRUE(contains(outcome.error, "D1 (unigen-chp)")) << outcome.error;
+  EXPECT_TRUE(contains(outcome.error, "D2 (uvr)")) << outcome.error;
+  EXPECT_TRUE(contains(outcome.error, "\"device\"")) << outcome.error;
+  EXPECT_EQ(snapshot(store), before);
+}
+
+TEST_F(SharedAddressRouter, ADeviceTypeNotConfiguredAtTheAddressIsIgnoredNotAnError) {
+  const auto before = snapshot(store);
+  const auto usc = router.apply(to("usc", 0, {77}));
+  EXPECT_TRUE(usc.error.empty()) << usc.error;
+  EXPECT_TRUE(usc.ignored);
+  EXPECT_TRUE(usc.updated.empty());
+  Telegram elsewhere = to("uvr", 0, {77});
+  elsewhere.address = 6;
+  EXPECT_TRUE(router.apply(elsewhere).ignored);
+  EXPECT_EQ(snapshot(store), before);
+}
+
+TEST_F(RouterFixture, ATelegramNamingTheRightDeviceAtAnUnsharedAddressIsTaken) {
+  Telegram t{5, 0, 1, {42}};
+  t.device = &table("unigen-chp");
+  EXPECT_EQ(router.apply(t).updated, (std::vector<BankId>{BankId::D1}));
+  t.device = &table("uvr");  // D2 is a uvr, but at address 6
+  EXPECT_TRUE(router.apply(t).ignored);
+  EXPECT_EQ(store.read(BankId::D1, 1), 42);
 }
 
 // ---------------------------------------------------------------------------------------
@@ -470,6 +537,8 @@ TEST(SimGenerator, OneTelegramPerDeviceWithAllItsRegisters) {
       EXPECT_EQ(telegrams[i].slot, devices[i].slot);
       EXPECT_EQ(telegrams[i].offset, 0);
       EXPECT_EQ(telegrams[i].values.size(), devices[i].length);
+      // Each D_N names its type, so a unit's components at one address stay apart.
+      EXPECT_EQ(telegrams[i].device, devices[i].slot == 0 ? devices[i].table : nullptr);
     }
   }
   SimGenerator nothing(1, {});
