@@ -64,12 +64,27 @@ class Parser : public banks::YamlFields<TableError> {
     fail(node, fmt::format("unknown kind '{}'", s));
   }
 
-  Field field(const YAML::Node& node) const {
-    only_keys(node, {"bits", "id", "label", "inferred"});
+  double scale(const YAML::Node& node, double otherwise) const {
+    const auto scale = node["scale"];
+    if (!scale) return otherwise;
+    try {
+      return scale.as<double>();
+    } catch (const YAML::Exception&) {
+      fail(scale, "scale must be a number");
+    }
+  }
+
+  Field field(const YAML::Node& node, const RegisterDef& reg) const {
+    only_keys(node, {"bits", "id", "label", "inferred", "unit", "scale", "only"});
     Field f;
     f.id = text(node, "id", true);
     f.label = text(node, "label", false);
     f.inferred = text(node, "inferred", false);
+    f.only = text(node, "only", false);
+    if ((node["unit"] || node["scale"]) && reg.kind != RegisterKind::byte_pair)
+      fail(node, "a field has a unit and scale of its own only in a byte_pair");
+    f.unit = node["unit"] ? text(node, "unit", false) : reg.unit;
+    f.scale = scale(node, reg.scale);
     const auto bits_node = node["bits"];
     if (!bits_node) fail(node, "missing key 'bits'");
     const auto bits = bits_node.as<std::string>();
@@ -90,7 +105,8 @@ class Parser : public banks::YamlFields<TableError> {
   }
 
   RegisterDef reg(const YAML::Node& node) const {
-    only_keys(node, {"offset", "id", "label", "kind", "unit", "scale", "seed_unit", "pair", "fields", "inferred"});
+    only_keys(node, {"offset", "id", "label", "kind", "signed", "only", "unit", "scale", "seed_unit", "pair", "fields",
+                     "inferred"});
     RegisterDef r;
     if (!node["offset"]) fail(node, "missing key 'offset'");
     r.offset = static_cast<std::uint16_t>(number(node["offset"], max_offset));
@@ -102,18 +118,21 @@ class Parser : public banks::YamlFields<TableError> {
     r.seed_unit = text(node, "seed_unit", false);
     r.pair = text(node, "pair", false);
     r.inferred = text(node, "inferred", false);
-    if (const auto scale = node["scale"]) {
-      try {
-        r.scale = scale.as<double>();
-      } catch (const YAML::Exception&) {
-        fail(scale, "scale must be a number");
-      }
+    r.only = text(node, "only", false);
+    r.scale = scale(node, 1.0);
+    if (r.scale <= 0) fail(node["scale"], "scale must be above 0");
+    // Bank A converts analog values by their sign (SPEC §1): every analog register says it.
+    if (const auto is_signed = node["signed"]) {
+      if (r.kind != RegisterKind::analog) fail(is_signed, "'signed' is only for kind analog");
+      r.is_signed = boolean(is_signed);
+    } else if (r.kind == RegisterKind::analog) {
+      fail(node, fmt::format("analog register '{}' needs 'signed: true' or 'signed: false'", r.id));
     }
     if (const auto fields = node["fields"]) {
       if (!fields.IsSequence()) fail(fields, "fields must be a list");
       if (r.kind != RegisterKind::bits && r.kind != RegisterKind::byte_pair && r.kind != RegisterKind::ascii_pair)
         fail(fields, fmt::format("fields are only for kinds bits, byte_pair and ascii_pair, not {}", kind_name(r.kind)));
-      for (const auto& f : fields) r.fields.push_back(field(f));
+      for (const auto& f : fields) r.fields.push_back(field(f, r));
     }
     const bool paired = r.kind == RegisterKind::u32_low || r.kind == RegisterKind::u32_high;
     if (paired == r.pair.empty()) fail(node, "'pair' is required exactly for kinds u32_low and u32_high");

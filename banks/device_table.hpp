@@ -27,6 +27,11 @@ struct Field {
   std::string id;
   std::string label;
   std::string inferred;
+  // A byte of a byte pair may hold another quantity than its sibling (UIS: a cylinder
+  // number beside a knock level in 0.78125 %); the register's unit and scale otherwise.
+  std::string unit;
+  double scale = 1.0;
+  std::string only;  // the device variants that have it (seed footnotes), "" for all
 };
 
 struct RegisterDef {
@@ -38,6 +43,10 @@ struct RegisterDef {
   double scale = 1.0;
   std::string seed_unit;  // the seed's unit column as printed
   std::string pair;       // id of the 32-bit quantity, for u32_low / u32_high
+  /// Analog only: the raw value is two's complement. The seed never says; the tables mark
+  /// the quantities that can go below zero (temperatures, powers, angles, corrections).
+  bool is_signed = false;
+  std::string only;       // the device variants that have it (seed footnotes), "" for all
   std::vector<Field> fields;
   std::string inferred;   // why the offset was reconstructed, when it was
 };

@@ -49,9 +49,12 @@ void RegisterStore::read(BankId id, std::uint16_t offset, std::span<std::uint16_
   }
   switch (id) {
     case BankId::A:
+      // Not measured, whatever the source's kind, while the source is not (SPEC §1).
       for (std::size_t i = 0; i < out.size(); ++i) {
         const auto& source = mapping_.analog[offset + i];
-        out[i] = source ? read_source(*source) : not_measured;
+        out[i] = source && measured(source->bank, source->offset)
+                     ? to_tenths(read(source->bank, source->offset), analog_conversions_[offset + i])
+                     : not_measured;
       }
       return;
     case BankId::B: out[0] = mapped_bits(mapping_.bits); return;
@@ -74,6 +77,17 @@ bool RegisterStore::measured(BankId id, std::uint16_t offset) const {
   if (is_device_bank(id) || is_module_bank(id)) return bank.online && bank.carried[offset];
   if (id == BankId::A) return mapping_.analog[offset] && measured(mapping_.analog[offset]->bank, mapping_.analog[offset]->offset);
   return true;
+}
+
+void RegisterStore::set_mapping(const Mapping& mapping) {
+  mapping_ = mapping;
+  for (std::size_t n = 0; n < Mapping::entries; ++n) {
+    const auto& source = mapping_.analog[n];
+    const auto* table = source ? shapes_[index_of(source->bank)].table : nullptr;
+    const auto* reg = table && source->offset < table->length() ? &table->registers[source->offset] : nullptr;
+    analog_conversions_[n] = tenths_conversion(reg, mapping_.analog_raw[n]);
+  }
+  publish_mapped_bits();
 }
 
 std::uint16_t RegisterStore::read_source(const SourceRef& source) const {

@@ -12,6 +12,7 @@
 #include "banks/bank_id.hpp"
 #include "banks/device_table.hpp"
 #include "banks/source_ref.hpp"
+#include "banks/tenths.hpp"
 
 namespace unima::banks {
 
@@ -64,10 +65,8 @@ class RegisterStore {
   void set_user_output(unsigned n, std::uint16_t value);
   /// Banks A, B and C+0x10/+0x12 read their sources at every read, so a mapped register
   /// changes the moment its source does. Sources must not be A, B, C+0x10 or C+0x12.
-  void set_mapping(const Mapping& mapping) {
-    mapping_ = mapping;
-    publish_mapped_bits();
-  }
+  /// Bank A shows its sources in tenths of their unit (banks/tenths.hpp).
+  void set_mapping(const Mapping& mapping);
   /// The value of a source: a register, or 0/1 for a bit source. A bit of a register that
   /// is not measured reads 0, as bits of an off-line device do (SPEC §1).
   std::uint16_t read_source(const SourceRef& source) const;
@@ -114,6 +113,7 @@ class RegisterStore {
 
   bool modbus_error_ = false;
   Mapping mapping_;
+  std::array<TenthsConversion, Mapping::entries> analog_conversions_{};  // of mapping_.analog
   ChangeListener listener_;
 };
 

@@ -26,6 +26,7 @@ struct SourceRef {
 struct Mapping {
   static constexpr std::size_t entries = 16;
   std::array<std::optional<SourceRef>, entries> analog;        // bank A, registers 0..15
+  std::array<bool, entries> analog_raw{};                      // bank A entries copied unconverted
   std::array<std::optional<SourceRef>, entries> bits;          // bank B, bits 0..15
   std::array<std::optional<SourceRef>, entries> user_inputs;   // C+0x10, bits 0..15
   std::array<std::optional<SourceRef>, entries> user_outputs;  // C+0x12, bits 0..15

@@ -21,6 +21,16 @@ std::string bits_text(const Field& f) {
   return f.first_bit == f.last_bit ? fmt::format(".{}", f.first_bit) : fmt::format(".{}-{}", f.first_bit, f.last_bit);
 }
 
+void append_note(std::string& note, std::string_view more) {
+  if (more.empty()) return;
+  if (!note.empty()) note += "; ";
+  note += more;
+}
+
+std::string only_text(std::string_view variants) {
+  return variants.empty() ? std::string() : fmt::format("Only on {}", variants);
+}
+
 void write_table(std::string& out, const DeviceTable& table) {
   out += fmt::format("## `{}`", table.id);
   if (!table.devices.empty()) out += fmt::format(" — {}", table.devices);
@@ -37,13 +47,19 @@ void write_table(std::string& out, const DeviceTable& table) {
   out += "|---|---|---|---|---|---|---|\n";
   for (const auto& reg : table.registers) {
     std::string note = reg.pair.empty() ? "" : fmt::format("32-bit `{}`", reg.pair);
-    if (!reg.inferred.empty()) note += fmt::format("{}Inferred: {}", note.empty() ? "" : "; ", reg.inferred);
-    out += fmt::format("| +0x{:02X} | `{}` | {} | {} | {} | {} | {} |\n", reg.offset, reg.id, cell(reg.label),
-                       kind_name(reg.kind), cell(reg.unit), reg.scale, cell(note));
+    append_note(note, only_text(reg.only));
+    if (!reg.inferred.empty()) append_note(note, fmt::format("Inferred: {}", reg.inferred));
+    const std::string kind = reg.kind == RegisterKind::analog ? (reg.is_signed ? "analog, signed" : "analog, unsigned")
+                                                              : std::string(kind_name(reg.kind));
+    out += fmt::format("| +0x{:02X} | `{}` | {} | {} | {} | {} | {} |\n", reg.offset, reg.id, cell(reg.label), kind,
+                       cell(reg.unit), reg.scale, cell(note));
     for (const auto& field : reg.fields) {
-      const std::string field_note = field.inferred.empty() ? "" : fmt::format("Inferred: {}", field.inferred);
-      out += fmt::format("| {} | `{}` | {} | | | | {} |\n", bits_text(field), field.id, cell(field.label),
-                         cell(field_note));
+      std::string field_note = only_text(field.only);
+      if (!field.inferred.empty()) append_note(field_note, fmt::format("Inferred: {}", field.inferred));
+      // A byte of a pair is a quantity of its own; bits have no unit.
+      const bool byte = reg.kind == RegisterKind::byte_pair;
+      out += fmt::format("| {} | `{}` | {} | | {} | {} | {} |\n", bits_text(field), field.id, cell(field.label),
+                         byte ? cell(field.unit) : "", byte ? fmt::format("{}", field.scale) : "", cell(field_note));
     }
   }
   out += "\n";
@@ -58,7 +74,15 @@ std::string tables_markdown() {
       "compares this file with the data). Offsets are relative to the bank's base address (SPEC §1).\n"
       "Labels are the seed's Czech text. Physical value = raw × scale, in the unit given.\n"
       "An off-line device reads 0x7FFF in analog registers, 0 in bit registers, 0xFFFF in byte\n"
-      "pairs, 0x2020 in ASCII pairs and 0xFFFF/0x7FFF in 32-bit low/high words.\n\n";
+      "pairs, 0x2020 in ASCII pairs and 0xFFFF/0x7FFF in 32-bit low/high words. In the UIS's\n"
+      "byte pairs of firing success and knock, a byte of 255 means \"not measured\" (seed §6.2.4.6).\n\n"
+      "*Signed* analog values are two's complement (−32768..32767); the seed does not say which\n"
+      "are, so the tables mark the quantities that can go below zero: temperatures, active and\n"
+      "reactive power, angles, power factor, corrections, regulator outputs, level differences,\n"
+      "user analog outputs and IO signals. Bank A converts by this sign (SPEC §1). \"Only on\"\n"
+      "repeats the seed's footnotes: registers and bits that exist on some variants only (a\n"
+      "MicroGEN-CHP lacks the UniGEN-CHP's, a UIS1 has the cylinder masks, …); other variants\n"
+      "send 0 or do not send them.\n\n";
   out += "Device types (`devices.DN.type`):";
   for (const auto id : device_type_ids()) out += fmt::format(" `{}`", id);
   out += ".\n\n";

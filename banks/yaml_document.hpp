@@ -75,6 +75,11 @@ class YamlFields {
     if (!value || *value > max) fail(node, fmt::format("'{}' is not a number from 0 to {}", node.Scalar(), max));
     return *value;
   }
+  /// `true` or `false`, as YAML writes them.
+  bool boolean(const YAML::Node& node) const {
+    if (node.IsScalar() && (node.Scalar() == "true" || node.Scalar() == "false")) return node.Scalar() == "true";
+    fail(node, "expected true or false");
+  }
 
  private:
   std::string origin_;

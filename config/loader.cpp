@@ -269,10 +269,30 @@ class Loader {
       if (!node[n].IsNull()) entries[n] = source(node[n], use);  // ~ leaves an entry unmapped
   }
 
+  // Bank A's entries: a source, converted to tenths of its unit, or `{ source: …, raw: true }`
+  // copied unchanged (SPEC §1).
+  void analog_mapping(const YAML::Node& node, banks::Mapping& m) const {
+    if (!node.IsSequence()) yaml_.fail(node, "mapping.A must be a list of sources");
+    if (node.size() > m.analog.size())
+      yaml_.fail(node, fmt::format("mapping.A has {} entries; there are {}", node.size(), m.analog.size()));
+    for (std::size_t n = 0; n < node.size(); ++n) {
+      const auto& entry = node[n];
+      if (entry.IsNull()) continue;  // ~ leaves an entry unmapped
+      if (!entry.IsMap()) {
+        m.analog[n] = source(entry, SourceUse::analog);
+        continue;
+      }
+      yaml_.expect_keys(entry, fmt::format("mapping.A entry {}", n), {"source", "raw"});
+      if (!entry["source"]) yaml_.fail(entry, "a mapping.A entry written as a map needs a source, e.g. { source: D1+0x02, raw: true }");
+      m.analog[n] = source(entry["source"], SourceUse::analog);
+      if (entry["raw"]) m.analog_raw[n] = yaml_.boolean(entry["raw"]);
+    }
+  }
+
   void mapping(const YAML::Node& node) {
     yaml_.expect_keys(node, "mapping", {"A", "B", "user_inputs", "user_outputs"});
     auto& m = config_.mapping;
-    if (node["A"]) mapping_list(node["A"], "A", SourceUse::analog, m.analog);
+    if (node["A"]) analog_mapping(node["A"], m);
     if (node["B"]) mapping_list(node["B"], "B", SourceUse::bit, m.bits);
     if (node["user_inputs"]) mapping_list(node["user_inputs"], "user_inputs", SourceUse::bit, m.user_inputs);
     if (node["user_outputs"]) mapping_list(node["user_outputs"], "user_outputs", SourceUse::bit, m.user_outputs);

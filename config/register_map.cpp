@@ -74,8 +74,12 @@ std::vector<MapRow> register_map(const Config& config) {
             if (const auto* reg = source_register(shapes, *source)) {
               row.label = reg->label;
               row.unit = reg->unit;
-              row.scale = reg->scale;
+              // A holds an analog source in tenths of its unit, anything else as it is.
+              const bool converted = reg->kind == banks::RegisterKind::analog && !config.mapping.analog_raw[offset];
+              row.scale = converted ? 0.1 : reg->scale;
+              row.kind = std::string(banks::kind_name(reg->kind));
             }
+            if (config.mapping.analog_raw[offset]) row.source += " (raw)";
           }
           rows.push_back(std::move(row));
           break;

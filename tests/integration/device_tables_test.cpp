@@ -58,6 +58,15 @@ TEST_F(BridgeTest, UscEndsAt0x27) {
             (Bytes{0, 1, 0, 0, 0, 3, 1, 0x84, 0x02}));
 }
 
+// Seed §6.2.4.6: the UIS's cylinder masks are bit registers, 0 while the UIS is off-line.
+TEST_F(BridgeTest, AnOffLineUisReadsZeroInItsCylinderMasks) {
+  config.banks = "{ D1: 0x1100 }";
+  config.devices = "{ D1: { type: uis, address: 5 } }";
+  start();
+  ModbusClient client(config.modbus_port);
+  EXPECT_EQ(client.read_input(0x1108, 8), (std::vector<std::uint16_t>{0xFFFF, 0xFFFF, 0xFFFF, 0x7FFF, 0, 0, 0x7FFF, 0}));
+}
+
 TEST_F(BridgeTest, AnUnconfiguredDeviceBankDoesNotExist) {
   start();
   ModbusClient client(config.modbus_port);
@@ -90,8 +99,9 @@ TEST_F(MappingAndBlocks, BankAShowsItsSources) {
   ModbusClient client(config.modbus_port);
   EXPECT_EQ(client.read_input(0x1000, 3), (std::vector<std::uint16_t>{0x7FFF, 0x7FFF, 0x7FFF}));
   feed_and_wait(*feed, R"({"addr":5,"slot":0,"offset":33,"values":[853]})", 0x1000, 853);
-  feed_and_wait(*feed, R"({"addr":5,"slot":0,"offset":1,"values":[1500]})", 0x1001, 1500);
-  EXPECT_EQ(client.read_input(0x1000, 3), (std::vector<std::uint16_t>{853, 1500, 0x7FFF}));
+  // Bank A is in 0.1 of the source's unit (seed §6.2.1): the speed, in 1 min⁻¹, times 10.
+  feed_and_wait(*feed, R"({"addr":5,"slot":0,"offset":1,"values":[1500]})", 0x1001, 15000);
+  EXPECT_EQ(client.read_input(0x1000, 3), (std::vector<std::uint16_t>{853, 15000, 0x7FFF}));
   // The register changes with its source, read right after the telegram took effect.
   feed_and_wait(*feed, R"({"addr":5,"slot":0,"offset":33,"values":[854]})", 0x1121, 854);
   EXPECT_EQ(client.read_input(0x1000, 1), std::vector<std::uint16_t>{854});

@@ -303,6 +303,54 @@ TEST(TableCatalog, UnigenChpOilTemperature) {
   EXPECT_EQ(chp->find("no_such_register"), nullptr);
 }
 
+// Seed §6.2.4.6: the cylinder masks are bits (an off-line UIS reads 0 there, like any bit
+// register); in a knock rank only the level byte is in 0.78125 %, the other is a cylinder.
+TEST(TableCatalog, UisMasksAreBitsAndTheKnockRankBytesHaveTheirOwnUnits) {
+  const DeviceTable* uis = find_device_type("uis");
+  ASSERT_NE(uis, nullptr);
+  for (std::uint16_t offset : {0x0C, 0x0D}) {
+    EXPECT_EQ(uis->registers[offset].kind, RegisterKind::bits) << offset;
+    EXPECT_EQ(offline_value(uis->registers[offset].kind), 0) << offset;
+    EXPECT_EQ(uis->registers[offset].only, "UIS1");
+  }
+  for (std::uint16_t offset : {0x08, 0x09, 0x0A}) {
+    const auto& rank = uis->registers[offset];
+    ASSERT_EQ(rank.fields.size(), 2u);
+    EXPECT_EQ(rank.fields[0].unit, "") << rank.fields[0].id;
+    EXPECT_DOUBLE_EQ(rank.fields[0].scale, 1.0);
+    EXPECT_EQ(rank.fields[1].unit, "%") << rank.fields[1].id;
+    EXPECT_DOUBLE_EQ(rank.fields[1].scale, 0.78125);
+    EXPECT_EQ(rank.only, "UIS3");
+  }
+  EXPECT_EQ(uis->registers[0x28].fields[1].scale, 0.78125);  // firing success: both bytes in %
+  EXPECT_EQ(uis->registers[0x3C].only, "UIS4");
+}
+
+TEST(TableCatalog, TheSeedsVariantFootnotesAreRecorded) {
+  const DeviceTable* chp = find_device_type("unigen-chp");
+  ASSERT_NE(chp, nullptr);
+  std::set<std::string> only_unigen;
+  for (const auto& reg : chp->registers)
+    for (const auto& field : reg.fields)
+      if (field.only == "UniGEN-CHP") only_unigen.insert(field.id);
+  EXPECT_EQ(only_unigen, (std::set<std::string>{"user_generator_contactor_control", "full_power_request",
+                                                "stepper_motor_closed", "user_external_start"}));
+  const auto mve = find_device_type("unigen-mve");
+  ASSERT_NE(mve, nullptr);
+  const auto& inputs = mve->registers[0x12].fields;
+  const auto stepper = std::find_if(inputs.begin(), inputs.end(), [](const Field& f) { return f.id == "stepper_motor_closed"; });
+  ASSERT_NE(stepper, inputs.end());
+  EXPECT_EQ(stepper->only, "UniGEN-MVE");
+}
+
+TEST(TableCatalog, EveryAnalogRegisterSaysItsSign) {
+  const DeviceTable* chp = find_device_type("unigen-chp");
+  ASSERT_NE(chp, nullptr);
+  EXPECT_TRUE(chp->find("oil_temperature")->is_signed);
+  EXPECT_TRUE(chp->find("mains_active_power")->is_signed);
+  EXPECT_FALSE(chp->find("engine_speed")->is_signed);
+}
+
 TEST(TableCatalog, EveryTableIsWellFormed) {
   for (const auto* table : all_tables()) {
     const auto& t = *table;
@@ -369,7 +417,7 @@ TEST(ParseDeviceTable, MinimalTable) {
       "aliases: [demo-2]\n"
       "registers:\n"
       "  - { offset: 0x00, id: status, kind: bits, fields: [ { bits: \"0-7\", id: state }, { bits: \"9\", id: run } ] }\n"
-      "  - { offset: 0x01, id: power, kind: analog, unit: kW, scale: 0.1 }\n"
+      "  - { offset: 0x01, id: power, kind: analog, signed: true, unit: kW, scale: 0.1 }\n"
       "  - { offset: 0x02, id: hours_low, kind: u32_low, pair: hours }\n"
       "  - { offset: 0x03, id: hours_high, kind: u32_high, pair: hours }\n",
       "demo.yaml");
@@ -402,8 +450,9 @@ TEST(ParseDeviceTable, UnknownKey) {
       "  - offset: 0x00\n"
       "    id: a\n"
       "    kind: analog\n"
+      "    signed: false\n"
       "    colour: red\n");
-  EXPECT_TRUE(starts_with(message, "tables/t.yaml:6:5: ")) << message;
+  EXPECT_TRUE(starts_with(message, "tables/t.yaml:7:5: ")) << message;
   EXPECT_NE(message.find("colour"), std::string::npos) << message;
 }
 
@@ -414,10 +463,12 @@ TEST(ParseDeviceTable, DuplicateId) {
       "  - offset: 0x00\n"
       "    id: a\n"
       "    kind: analog\n"
+      "    signed: false\n"
       "  - offset: 0x01\n"
       "    id: a\n"
-      "    kind: analog\n");
-  EXPECT_TRUE(starts_with(message, "tables/t.yaml:6:5: ")) << message;
+      "    kind: analog\n"
+      "    signed: false\n");
+  EXPECT_TRUE(starts_with(message, "tables/t.yaml:7:5: ")) << message;
   EXPECT_NE(message.find("duplicate"), std::string::npos) << message;
 }
 
@@ -425,7 +476,7 @@ TEST(ParseDeviceTable, DuplicateFieldId) {
   const auto message = table_error(
       "id: t\n"
       "registers:\n"
-      "  - { offset: 0x00, id: a, kind: analog }\n"
+      "  - { offset: 0x00, id: a, kind: analog, signed: false }\n"
       "  - { offset: 0x01, id: b, kind: bits, fields: [ { bits: \"0\", id: a } ] }\n");
   EXPECT_TRUE(starts_with(message, "tables/t.yaml:4:5: ")) << message;
   EXPECT_NE(message.find("'a'"), std::string::npos) << message;
@@ -438,10 +489,12 @@ TEST(ParseDeviceTable, OffsetOutOfOrder) {
       "  - offset: 0x00\n"
       "    id: a\n"
       "    kind: analog\n"
+      "    signed: false\n"
       "  - offset: 0x02\n"
       "    id: b\n"
-      "    kind: analog\n");
-  EXPECT_TRUE(starts_with(message, "tables/t.yaml:6:5: ")) << message;
+      "    kind: analog\n"
+      "    signed: false\n");
+  EXPECT_TRUE(starts_with(message, "tables/t.yaml:7:5: ")) << message;
   EXPECT_NE(message.find("0x02"), std::string::npos) << message;
 }
 
@@ -455,7 +508,8 @@ TEST(ParseDeviceTable, U32LowWithoutItsHigh) {
       "    pair: energy\n"
       "  - offset: 0x01\n"
       "    id: power\n"
-      "    kind: analog\n");
+      "    kind: analog\n"
+      "    signed: false\n");
   EXPECT_TRUE(starts_with(message, "tables/t.yaml:3:5: ")) << message;
   EXPECT_NE(message.find("energy_low"), std::string::npos) << message;
 }
@@ -464,7 +518,7 @@ TEST(ParseDeviceTable, U32LowAsTheLastRegister) {
   const auto message = table_error(
       "id: t\n"
       "registers:\n"
-      "  - { offset: 0x00, id: power, kind: analog }\n"
+      "  - { offset: 0x00, id: power, kind: analog, signed: false }\n"
       "  - { offset: 0x01, id: energy_low, kind: u32_low, pair: energy }\n");
   EXPECT_TRUE(starts_with(message, "tables/t.yaml:4:5: ")) << message;
 }
@@ -476,9 +530,58 @@ TEST(ParseDeviceTable, FieldsOnAnAnalogRegister) {
       "  - offset: 0x00\n"
       "    id: a\n"
       "    kind: analog\n"
+      "    signed: false\n"
       "    fields: [ { bits: \"0\", id: f } ]\n");
-  EXPECT_TRUE(starts_with(message, "tables/t.yaml:6:13: ")) << message;
+  EXPECT_TRUE(starts_with(message, "tables/t.yaml:7:13: ")) << message;
   EXPECT_NE(message.find("analog"), std::string::npos) << message;
+}
+
+TEST(ParseDeviceTable, AnAnalogRegisterSaysWhetherItIsSigned) {
+  const auto missing = table_error(
+      "id: t\n"
+      "registers:\n"
+      "  - { offset: 0x00, id: power, kind: analog, unit: kW, scale: 0.1 }\n");
+  EXPECT_TRUE(starts_with(missing, "tables/t.yaml:3:5: ")) << missing;
+  EXPECT_NE(missing.find("'power' needs 'signed: true' or 'signed: false'"), std::string::npos) << missing;
+  const auto on_bits = table_error(
+      "id: t\n"
+      "registers:\n"
+      "  - { offset: 0x00, id: status, kind: bits, signed: true }\n");
+  EXPECT_TRUE(starts_with(on_bits, "tables/t.yaml:3:53: ")) << on_bits;
+  const auto t = parse_device_table(
+      "id: t\n"
+      "registers:\n"
+      "  - { offset: 0x00, id: temperature, kind: analog, signed: true, unit: \"°C\", scale: 0.1 }\n"
+      "  - { offset: 0x01, id: speed, kind: analog, signed: false, unit: min-1, scale: 1 }\n",
+      "t.yaml");
+  EXPECT_TRUE(t.registers[0].is_signed);
+  EXPECT_FALSE(t.registers[1].is_signed);
+}
+
+TEST(ParseDeviceTable, TheBytesOfAPairHaveUnitsOfTheirOwnAndVariantsAreRecorded) {
+  const auto t = parse_device_table(
+      "id: t\n"
+      "registers:\n"
+      "  - offset: 0x00\n"
+      "    id: knock_rank\n"
+      "    kind: byte_pair\n"
+      "    only: \"UIS3\"\n"
+      "    fields:\n"
+      "      - { bits: \"0-7\", id: cylinder }\n"
+      "      - { bits: \"8-15\", id: level, unit: \"%\", scale: 0.78125, only: \"UIS3\" }\n",
+      "t.yaml");
+  const auto& reg = t.registers[0];
+  EXPECT_EQ(reg.only, "UIS3");
+  EXPECT_EQ(reg.fields[0].unit, "");
+  EXPECT_DOUBLE_EQ(reg.fields[0].scale, 1.0);
+  EXPECT_EQ(reg.fields[1].unit, "%");
+  EXPECT_DOUBLE_EQ(reg.fields[1].scale, 0.78125);
+  EXPECT_EQ(reg.fields[1].only, "UIS3");
+  const auto on_bits = table_error(
+      "id: t\n"
+      "registers:\n"
+      "  - { offset: 0x00, id: status, kind: bits, fields: [ { bits: \"0\", id: run, unit: \"%\" } ] }\n");
+  EXPECT_NE(on_bits.find("only in a byte_pair"), std::string::npos) << on_bits;
 }
 
 TEST(ParseDeviceTable, BadBits) {

@@ -142,6 +142,63 @@ TEST_F(Mapped, BankAFollowsItsSourcesAtOnce) {
   EXPECT_EQ(read(0x1000), 0x7FFF);  // source device off-line
 }
 
+// SPEC §1: A shows a quantity in 0.1 of its unit; 0x7FFF while its source is off-line or
+// not measured, whatever the source's kind.
+TEST(BankA, ConvertsToTenthsAndReadsNotMeasuredForEveryKindOfSourceOffLine) {
+  const auto config = load(
+      "devices:\n"
+      "  D1: { type: unigen-chp, address: 5 }\n"
+      "  D2: { type: uis, address: 5 }\n"
+      "  D3: { type: nsu2, address: 5 }\n"
+      "mapping:\n"
+      "  A: [ D1.engine_speed, D1.oil_temperature, { source: D1.engine_speed, raw: true }, D1+0x00,\n"
+      "       D1.operating_hours_low, D1.operating_hours_high, D2+0x28, D3+0x28, W+0x00 ]\n");
+  banks::RegisterStore store(config::bank_shapes(config));
+  store.set_mapping(config.mapping);
+  // Off-line (never heard): every entry, of every kind, reads "not measured".
+  for (std::uint16_t entry = 0; entry < 9; ++entry) EXPECT_EQ(store.read(BankId::A, entry), 0x7FFF) << entry;
+
+  store.set_online(BankId::D1, true);
+  store.set_online(BankId::D2, true);
+  store.set_online(BankId::D3, true);
+  const std::uint16_t d1[] = {0x0081, 1500, 0x1234, 0x0002};
+  store.store_telegram(BankId::D1, 0x00, d1);
+  const std::uint16_t oil = static_cast<std::uint16_t>(-53);  // -5.3 °C
+  store.store_telegram(BankId::D1, 0x21, std::span(&oil, 1));
+  const std::uint16_t firing = 0x6480;
+  store.store_telegram(BankId::D2, 0x28, std::span(&firing, 1));
+  EXPECT_EQ(store.read(BankId::A, 0), 15000);  // 1500 min⁻¹ in 0.1 min⁻¹
+  EXPECT_EQ(store.read(BankId::A, 1), oil);     // 0.1 °C already, sign kept
+  EXPECT_EQ(store.read(BankId::A, 2), 1500);    // raw: true
+  EXPECT_EQ(store.read(BankId::A, 3), 0x0081);  // a bit word is copied
+  EXPECT_EQ(store.read(BankId::A, 4), 0x1234);  // so are the halves of a 32-bit value
+  EXPECT_EQ(store.read(BankId::A, 5), 0x0002);
+  EXPECT_EQ(store.read(BankId::A, 6), 0x6480);  // and byte pairs
+  EXPECT_EQ(store.read(BankId::A, 7), 0x7FFF);  // on-line, but the ASCII pair never carried
+  EXPECT_EQ(store.read(BankId::A, 8), 0x7FFF);  // W+0x00 never written
+
+  store.set_online(BankId::D1, false);
+  store.set_online(BankId::D2, false);
+  for (std::uint16_t entry = 0; entry < 7; ++entry) EXPECT_EQ(store.read(BankId::A, entry), 0x7FFF) << entry;
+}
+
+TEST(BankA, TheMapShowsTheUnitBankAHoldsItIn) {
+  const auto config = load(
+      "devices: { D1: { type: unigen-chp, address: 5 } }\n"
+      "mapping:\n"
+      "  A: [ D1.engine_speed, { source: D1.engine_speed, raw: true }, D1+0x00 ]\n");
+  const auto rows = config::register_map(config);
+  std::vector<config::MapRow> a;
+  for (const auto& row : rows)
+    if (row.bank == "A") a.push_back(row);
+  ASSERT_EQ(a.size(), 16u);
+  EXPECT_EQ(a[0].unit, "min-1");
+  EXPECT_DOUBLE_EQ(a[0].scale, 0.1);
+  EXPECT_DOUBLE_EQ(a[1].scale, 1.0);
+  EXPECT_EQ(a[1].source, "D1.engine_speed (raw)");
+  EXPECT_EQ(a[2].kind, "bits");
+}
+
 TEST_F(Mapped, BankBAndUserBitsComposeTheirSourceBits) {
   EXPECT_EQ(read(0x1010), 0);
   telegram(BankId::D1, 0x11, 0x0081);  // bits 0 and 7
