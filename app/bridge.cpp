@@ -8,6 +8,7 @@
 #include "banks/register_space.hpp"
 #include "banks/table_catalog.hpp"
 #include "io/feed_transport.hpp"
+#include "io/replay_transport.hpp"
 #include "io/sim_transport.hpp"
 #include "modbus/capture.hpp"
 
@@ -58,6 +59,7 @@ Bridge::Bridge(asio::io_context& io, config::Config config)
                       [this] { expire_presence(); }) {
   monitor_ = std::make_unique<monitor::Monitor>(core_->config.monitor);
   transport_ = make_transport(core_->config);
+  recorder_ = make_recorder(core_->config);
   tcp_ = make_tcp_server(core_->config);
   rtu_ = make_rtu_port(core_->config);
   master_ = make_master(core_->config);
@@ -88,6 +90,10 @@ std::unique_ptr<unimabus::Transport> Bridge::make_transport(const config::Config
   auto handler = [this](const unimabus::Telegram& t) { return on_telegram(t); };
   if (config.unimabus.transport == config::TransportKind::feed)
     return std::make_unique<io::FeedTransport>(io_, config.unimabus.listen, handler, [this] { return publisher_.snapshot(); });
+  if (config.unimabus.transport == config::TransportKind::replay) {
+    const auto& replay = config.unimabus.replay;
+    return std::make_unique<io::ReplayTransport>(io_, replay.recording, replay.speed, replay.loop, handler);
+  }
   std::vector<unimabus::SimDevice> devices;
   for (unsigned n = 1; n <= 4; ++n)
     if (const auto& device = config.devices[n - 1])  // each D_N on its own, even at a shared address
@@ -178,7 +184,7 @@ void Bridge::start() {
   started_ = true;
   spdlog::info("bridge: UnimaBUS address {}, Modbus address {}, {} transport", core_->config.unimabus.address,
                core_->config.modbus.address,
-               core_->config.unimabus.transport == config::TransportKind::feed ? "feed" : "sim");
+               config::transport_name(core_->config.unimabus.transport));
   for (const auto& warning : config::warnings(core_->config)) spdlog::warn("{}", warning);
   for (unsigned n = 1; n <= 4; ++n)
     if (core_->config.devices[n - 1])
@@ -226,8 +232,18 @@ bool same_line(const std::optional<config::RtuConfig>& a, const std::optional<co
   return !a || (a->device == b->device && a->baud == b->baud && a->parity == b->parity &&
                 a->stop_bits == b->stop_bits && a->rs485 == b->rs485 && a->low_latency == b->low_latency);
 }
-bool same_feed(const config::UnimabusConfig& a, const config::UnimabusConfig& b) {
-  return a.transport == config::TransportKind::feed && b.transport == config::TransportKind::feed && a.listen == b.listen;
+// A feed keeps its connections across a reload, and a replay its place, when their
+// settings did not change; the simulator starts again.
+bool same_transport(const config::UnimabusConfig& a, const config::UnimabusConfig& b) {
+  if (a.transport != b.transport) return false;
+  if (a.transport == config::TransportKind::feed) return a.listen == b.listen;
+  if (a.transport == config::TransportKind::replay)
+    return a.replay.file == b.replay.file && a.replay.loop == b.replay.loop && a.replay.speed == b.replay.speed &&
+           *a.replay.recording == *b.replay.recording;
+  return false;
+}
+bool same_record(const config::RecordConfig& a, const config::RecordConfig& b) {
+  return a.file == b.file && a.max_size == b.max_size && a.max_files == b.max_files;
 }
 }  // namespace
 
@@ -241,7 +257,9 @@ Bridge::ReloadPlan Bridge::plan_reload(config::Config config) {
   const auto& new_config = plan.core->config;
   if (!monitor::Monitor::same_log(old_config.monitor, new_config.monitor))
     plan.monitor_writer = monitor::Monitor::make_writer(new_config.monitor);
-  if (!same_feed(old_config.unimabus, new_config.unimabus)) plan.transport = make_transport(new_config);
+  if (!same_transport(old_config.unimabus, new_config.unimabus)) plan.transport = make_transport(new_config);
+  plan.same_recorder = same_record(old_config.unimabus.record, new_config.unimabus.record);
+  if (!plan.same_recorder) plan.recorder = make_recorder(new_config);
   plan.same_tcp = same_endpoint(old_config.modbus.tcp, new_config.modbus.tcp);
   plan.same_rtu = same_line(slave_line(old_config), slave_line(new_config));
   if (!plan.same_tcp && tcp_) {
@@ -280,6 +298,7 @@ void Bridge::commit(ReloadPlan plan) {
   presence_timer_.cancel();
   presence_timer_.watch();
 
+  if (!plan.same_recorder) recorder_ = std::move(plan.recorder);
   if (plan.transport) {
     if (transport_) transport_->stop();
     transport_ = std::move(plan.transport);
@@ -314,6 +333,7 @@ void Bridge::commit(ReloadPlan plan) {
 std::string Bridge::on_telegram(const unimabus::Telegram& telegram) {
   auto outcome = core_->router->apply(telegram);
   last_telegram_ = std::chrono::steady_clock::now();
+  if (recorder_) recorder_->record(telegram, *last_telegram_);
   if (outcome.ignored) ++telegram_counts_.ignored;
   if (!outcome.error.empty()) ++telegram_counts_.refused;
   for (BankId bank : outcome.updated) ++telegram_counts_.taken[banks::index_of(bank)];
@@ -324,6 +344,11 @@ std::string Bridge::on_telegram(const unimabus::Telegram& telegram) {
     presence_timer_.watch();
   }
   return outcome.error;
+}
+
+std::unique_ptr<io::TelegramRecorder> Bridge::make_recorder(const config::Config& config) const {
+  if (config.unimabus.record.file.empty()) return nullptr;
+  return std::make_unique<io::TelegramRecorder>(config.unimabus.record, started_at_);
 }
 
 void Bridge::set_online(BankId bank, bool online) {

@@ -19,6 +19,7 @@
 #include "io/master_port.hpp"
 #include "io/slave_context.hpp"
 #include "io/tcp_slave_server.hpp"
+#include "io/telegram_recorder.hpp"
 #include "unimabus/presence.hpp"
 #include "unimabus/publisher.hpp"
 #include "unimabus/telegram_router.hpp"
@@ -70,6 +71,7 @@ class Bridge {
   void expire_presence();
   void set_online(banks::BankId bank, bool online);
   std::unique_ptr<io::ControlSocket> make_control_socket(const std::string& path);
+  std::unique_ptr<io::TelegramRecorder> make_recorder(const config::Config& config) const;
 
   asio::io_context& io_;
   std::unique_ptr<Core> core_;
@@ -77,6 +79,7 @@ class Bridge {
   std::unique_ptr<monitor::Monitor> monitor_;  // before the ports, whose hook points at it
   unimabus::Publisher publisher_;  // before the transport it publishes to
   std::unique_ptr<unimabus::Transport> transport_;
+  std::unique_ptr<io::TelegramRecorder> recorder_;  // unimabus.record
   std::unique_ptr<io::TcpSlaveServer> tcp_;
   std::unique_ptr<io::RtuSlavePort> rtu_;
   std::shared_ptr<io::MasterPort> master_;

@@ -68,7 +68,9 @@ std::string Bridge::status_document() const {
   doc["online_bits"] = online_bits;
   doc["modbus"] = activity(age<std::chrono::system_clock>(monitor_->last_transaction()));
   doc["unimabus"] = activity(age<SteadyClock>(last_telegram_));
-  doc["unimabus"]["transport"] = config.unimabus.transport == config::TransportKind::feed ? "feed" : "sim";
+  doc["unimabus"]["transport"] = config::transport_name(config.unimabus.transport);
+  doc["unimabus"]["recording"] =
+      config.unimabus.record.file.empty() ? nlohmann::json(nullptr) : nlohmann::json(config.unimabus.record.file);
   doc["unimabus"]["telegrams_ignored"] = telegram_counts_.ignored;
   doc["unimabus"]["telegrams_refused"] = telegram_counts_.refused;
 

@@ -18,7 +18,9 @@ struct Bridge::ReloadPlan {
   Rollback restore_tcp;  // brings the running TCP slave back
   std::unique_ptr<Core> core;
   std::unique_ptr<monitor::MonitorWriter> monitor_writer;  // when the log changed
-  std::unique_ptr<unimabus::Transport> transport;          // when the feed changed; else keep
+  std::unique_ptr<unimabus::Transport> transport;          // when the transport changed; else keep
+  bool same_recorder = true;
+  std::unique_ptr<io::TelegramRecorder> recorder;          // when unimabus.record changed
   bool same_tcp = true;
   std::unique_ptr<io::TcpSlaveServer> tcp;                 // when the endpoint changed
   bool same_rtu = true;

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cstdint>
 #include <map>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -19,12 +20,16 @@
 #include "master/master_value.hpp"
 #include "modbus/rtu_timing.hpp"
 #include "monitor/monitor_config.hpp"
+#include "unimabus/recording.hpp"
 
 namespace unima::config {
 
 using Duration = std::chrono::milliseconds;
 
 enum class TransportKind { sim, feed, replay };
+constexpr const char* transport_name(TransportKind kind) {
+  return kind == TransportKind::feed ? "feed" : kind == TransportKind::replay ? "replay" : "sim";
+}
 enum class ModbusMode { slave, master };
 
 struct SimConfig {
@@ -33,12 +38,28 @@ struct SimConfig {
   std::vector<unsigned> io_modules;  // slots 1..7 the simulator fills besides the D_N devices
 };
 
+struct ReplayConfig {
+  std::string file;
+  bool loop = false;
+  double speed = 1.0;
+  std::shared_ptr<const unimabus::Recording> recording;  // read and checked by the loader
+};
+
+/// unimabus.record: every telegram received, appended in the replay format.
+struct RecordConfig {
+  std::string file;  // empty: no recording
+  std::uint64_t max_size = 10ull << 20;
+  unsigned max_files = 5;
+};
+
 struct UnimabusConfig {
   std::uint8_t address = 1;  // the bridge's own UnimaBUS address, seed "Addr"
   TransportKind transport = TransportKind::sim;
   std::string listen;        // feed: "host:port" or "unix:/path"
   Duration offline_after = std::chrono::seconds(5);
   SimConfig sim;
+  ReplayConfig replay;
+  RecordConfig record;
 };
 
 struct TcpSlaveConfig {

@@ -44,14 +44,49 @@ class Loader {
   }
 
  private:
+  // The replay transport's keys; its file is read and checked now, so that `check` and a
+  // reload see a bad line before anything starts (SPEC §6).
+  void replay(const YAML::Node& node) {
+    auto& r = config_.unimabus.replay;
+    const bool replaying = config_.unimabus.transport == TransportKind::replay;
+    for (const char* key : {"file", "loop", "speed"})
+      if (node[key] && !replaying) yaml_.fail(node[key], fmt::format("'{}' is a key of the replay transport", key));
+    if (!replaying) return;
+    if (!node["file"]) yaml_.fail(node, "the replay transport needs 'file', the recording to play");
+    r.file = yaml_.text(node["file"]);
+    if (node["loop"]) r.loop = yaml_.boolean(node["loop"]);
+    if (node["speed"]) {
+      r.speed = yaml_.decimal(node["speed"]);
+      if (r.speed < 0.001 || r.speed > 1000) yaml_.fail(node["speed"], "speed must be 0.001..1000 (1 plays in real time)");
+    }
+    std::ifstream in(r.file, std::ios::binary);
+    if (!in) yaml_.fail(node["file"], fmt::format("cannot read the recording {}: {}", r.file, std::strerror(errno)));
+    std::ostringstream text;
+    text << in.rdbuf();
+    try {
+      r.recording = std::make_shared<const unimabus::Recording>(unimabus::parse_recording(text.str(), r.file));
+    } catch (const unimabus::RecordingError& e) {
+      throw ConfigError(e.what());
+    }
+  }
+
   void unimabus(const YAML::Node& node) {
-    yaml_.expect_keys(node, "unimabus", {"address", "transport", "listen", "offline_after", "sim"});
+    yaml_.expect_keys(node, "unimabus",
+                      {"address", "transport", "listen", "offline_after", "sim", "file", "loop", "speed", "record"});
     auto& u = config_.unimabus;
     if (node["address"]) u.address = static_cast<std::uint8_t>(yaml_.number(node["address"], 0, 255));
     if (node["transport"]) {
       const auto t = yaml_.choice(node["transport"], {"sim", "feed", "replay"});
-      if (t == "replay") yaml_.fail(node["transport"], "the replay transport is not available in this version");
-      u.transport = t == "feed" ? TransportKind::feed : TransportKind::sim;
+      u.transport = t == "feed" ? TransportKind::feed : t == "replay" ? TransportKind::replay : TransportKind::sim;
+    }
+    replay(node);
+    if (const auto record = node["record"]) {
+      yaml_.expect_keys(record, "unimabus.record", {"file", "max_size", "max_files"});
+      if (!record["file"]) yaml_.fail(record, "unimabus.record needs the file to record to");
+      u.record.file = yaml_.text(record["file"]);
+      if (u.record.file.empty()) yaml_.fail(record["file"], "unimabus.record.file must name a file");
+      if (record["max_size"]) u.record.max_size = yaml_.byte_size(record["max_size"], 4096, 1ull << 40);
+      if (record["max_files"]) u.record.max_files = static_cast<unsigned>(yaml_.number(record["max_files"], 1, 100));
     }
     if (node["listen"]) u.listen = yaml_.text(node["listen"]);
     if (node["offline_after"]) {
@@ -379,15 +414,8 @@ class Loader {
     if (block.profile && !seen.first) profile_of_device_[block.device] = {block.profile, block.origin};
 
     if (b["scale"]) {
-      const auto text = yaml_.text(b["scale"]);
-      try {
-        std::size_t used = 0;
-        block.scale = std::stod(text, &used);
-        if (used != text.size()) throw std::invalid_argument(text);
-      } catch (const std::exception&) {
-        yaml_.fail(b["scale"], fmt::format("'{}' is not a number", text));
-      }
-      if (block.scale == 0 || !std::isfinite(block.scale)) yaml_.fail(b["scale"], "scale must be a number other than 0");
+      block.scale = yaml_.decimal(b["scale"]);
+      if (block.scale == 0) yaml_.fail(b["scale"], "scale must be a number other than 0");
     }
     if (b["point"]) point_block(b, block, poll);
     else register_block(b, block, poll);

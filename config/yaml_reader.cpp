@@ -1,6 +1,8 @@
 #include "config/yaml_reader.hpp"
 
 #include <charconv>
+#include <cmath>
+#include <stdexcept>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -29,6 +31,17 @@ void YamlReader::expect_keys(const YAML::Node& map, std::string_view what,
     for (auto a : allowed) known = known || a == key;
     if (!known) fail(entry.first, fmt::format("unknown key '{}' in {} (known: {})", key, what, fmt::join(allowed, ", ")));
   }
+}
+
+double YamlReader::decimal(const YAML::Node& node) const {
+  const auto text = this->text(node);
+  try {
+    std::size_t used = 0;
+    const double value = std::stod(text, &used);
+    if (used == text.size() && std::isfinite(value)) return value;
+  } catch (const std::exception&) {
+  }
+  fail(node, fmt::format("'{}' is not a number", text));
 }
 
 unsigned long YamlReader::number(const YAML::Node& node, unsigned long min, unsigned long max) const {

@@ -25,6 +25,8 @@ class YamlReader {
   /// Decimal or 0x hex, within [min, max].
   unsigned long number(const YAML::Node& node, unsigned long min, unsigned long max) const;
   bool boolean(const YAML::Node& node) const;
+  /// A finite decimal number such as 0.5 or 2.5e3.
+  double decimal(const YAML::Node& node) const;
   std::string text(const YAML::Node& node) const;
   /// "200ms", "1s", "5m", "1h".
   Duration duration(const YAML::Node& node) const;

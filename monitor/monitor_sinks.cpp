@@ -29,12 +29,12 @@ bool write_all(int fd, std::string_view bytes) {
 }  // namespace
 
 RotatingFileSink::RotatingFileSink(std::string path, std::uint64_t max_size, unsigned max_files,
-                                   FileAppender::Route route)
-    : path_(std::move(path)), max_size_(max_size), max_files_(max_files), route_(route) {
+                                   FileAppender::Route route, std::string purpose)
+    : path_(std::move(path)), max_size_(max_size), max_files_(max_files), route_(route), purpose_(std::move(purpose)) {
   const auto directory = std::filesystem::path(path_).parent_path();
   std::error_code ignored;  // open() says what went wrong
   if (!directory.empty()) std::filesystem::create_directories(directory, ignored);
-  if (!open()) throw std::runtime_error("monitor: cannot open " + path_ + ": " + std::strerror(errno));
+  if (!open()) throw std::runtime_error(purpose_ + ": cannot open " + path_ + ": " + std::strerror(errno));
 }
 
 RotatingFileSink::~RotatingFileSink() { close(); }
@@ -63,13 +63,13 @@ void RotatingFileSink::rotate() {
   ::rename(path_.c_str(), (path_ + ".1").c_str());
   if (!open() && !failing_) {
     failing_ = true;
-    spdlog::error("monitor: cannot reopen {} after rotating it: {}", path_, std::strerror(errno));
+    spdlog::error("{}: cannot reopen {} after rotating it: {}", purpose_, path_, std::strerror(errno));
   }
 }
 
 void RotatingFileSink::report_write_error() {
   if (!failing_)
-    spdlog::error("monitor: cannot write {}: {}; lines are lost until it works again", path_, std::strerror(errno));
+    spdlog::error("{}: cannot write {}: {}; lines are lost until it works again", purpose_, path_, std::strerror(errno));
   failing_ = true;
 }
 
@@ -77,7 +77,7 @@ void RotatingFileSink::append(std::string_view bytes) {
   if (bytes.empty()) return;
   if (!file_ && !open()) return;  // still failing; logged once
   if (!file_->append(bytes)) return report_write_error();
-  if (failing_) spdlog::info("monitor: writing {} again", path_);
+  if (failing_) spdlog::info("{}: writing {} again", purpose_, path_);
   failing_ = false;
 }
 

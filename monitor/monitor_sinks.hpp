@@ -20,8 +20,10 @@ namespace unima::monitor {
 class RotatingFileSink : public MonitorSink {
  public:
   /// Opens (creating the directory if needed); throws std::runtime_error naming the path.
+  /// `purpose` begins its log messages ("monitor", "unimabus record").
   RotatingFileSink(std::string path, std::uint64_t max_size, unsigned max_files,
-                   FileAppender::Route route = FileAppender::Route::direct_where_possible);
+                   FileAppender::Route route = FileAppender::Route::direct_where_possible,
+                   std::string purpose = "monitor");
   ~RotatingFileSink() override;
 
   void write(std::string_view lines) override;
@@ -39,6 +41,7 @@ class RotatingFileSink : public MonitorSink {
   std::uint64_t max_size_;
   unsigned max_files_;
   FileAppender::Route route_;
+  std::string purpose_;
   std::unique_ptr<FileAppender> file_;
   FileAppender::Stage spare_stage_;  // the closed file's, for the next one
   bool failing_ = false;  // a write error was logged; the next success is logged too

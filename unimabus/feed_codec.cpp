@@ -30,18 +30,15 @@ std::string integer(const nlohmann::json& object, const char* key, long min, lon
 
 }  // namespace
 
-FeedLine parse_feed_line(std::string_view line) {
-  nlohmann::json object;
-  try {
-    object = nlohmann::json::parse(line);
-  } catch (const nlohmann::json::parse_error& e) {
-    return fmt::format("not JSON: {}", e.what());
-  }
+namespace {
+
+// The fields of a telegram in a parsed line; "t" is allowed when `timed`.
+std::variant<Telegram, std::string> telegram_of(const nlohmann::json& object, bool timed) {
   if (!object.is_object()) return std::string("expected an object like {\"addr\":5,\"slot\":0,\"offset\":33,\"values\":[853]}");
   for (const auto& [key, value] : object.items()) {
     (void)value;
     if (key != "addr" && key != "slot" && key != "device" && key != "offset" && key != "values" && key != "t")
-      return fmt::format("unknown field \"{}\" (fields: addr, slot, device, offset, values)", key);
+      return fmt::format("unknown field \"{}\" (fields: addr, slot, device, offset, values{})", key, timed ? ", t" : "");
   }
   long address = 0, slot = 0, offset = 0;
   for (auto error : {integer(object, "addr", 0, 255, address), integer(object, "slot", 0, 7, slot),
@@ -72,6 +69,45 @@ FeedLine parse_feed_line(std::string_view line) {
     telegram.values.push_back(static_cast<std::uint16_t>(n));
   }
   return telegram;
+}
+
+// Every exception a parser can throw is an answer, never the daemon's end.
+std::variant<nlohmann::json, std::string> json_of(std::string_view line) {
+  try {
+    return nlohmann::json::parse(line);
+  } catch (const nlohmann::json::parse_error& e) {
+    return fmt::format("not JSON: {}", e.what());
+  } catch (const nlohmann::json::exception& e) {
+    return fmt::format("not a telegram: {}", e.what());
+  }
+}
+
+}  // namespace
+
+FeedLine parse_feed_line(std::string_view line) {
+  auto parsed = json_of(line);
+  if (auto* error = std::get_if<std::string>(&parsed)) return std::move(*error);
+  return telegram_of(std::get<nlohmann::json>(parsed), true);
+}
+
+RecordedLine parse_recorded_line(std::string_view line) {
+  auto parsed = json_of(line);
+  if (auto* error = std::get_if<std::string>(&parsed)) return std::move(*error);
+  const auto& object = std::get<nlohmann::json>(parsed);
+  auto telegram = telegram_of(object, true);
+  if (auto* error = std::get_if<std::string>(&telegram)) return std::move(*error);
+  const auto t = object.find("t");
+  if (t == object.end()) return std::string("missing \"t\", the seconds since the recording began");
+  if (!t->is_number() || !(t->get<double>() >= 0) || t->get<double>() > 1e9)
+    return std::string("\"t\" must be a number of seconds from 0");
+  return RecordedTelegram{t->get<double>(), std::get<Telegram>(std::move(telegram))};
+}
+
+std::string format_recorded(const Telegram& telegram, double t) {
+  std::string line = fmt::format("{{\"t\":{:.6f},\"addr\":{},\"slot\":{},", t, telegram.address, telegram.slot);
+  if (telegram.device) line += fmt::format("\"device\":\"{}\",", telegram.device->id);
+  line += fmt::format("\"offset\":{},\"values\":[{}]}}\n", telegram.offset, fmt::join(telegram.values, ","));
+  return line;
 }
 
 std::string format_change(banks::BankId bank, std::uint16_t offset, std::uint16_t value) {

@@ -1,6 +1,6 @@
 #pragma once
 // A directory of its own for a test, removed with everything in it when the test ends, and
-// a whole file read back.
+// a whole file read back or written.
 
 #include <stdlib.h>
 
@@ -36,6 +36,12 @@ inline std::string read_file(const std::filesystem::path& path) {
   std::stringstream text;
   text << in.rdbuf();
   return text.str();
+}
+
+inline void write_file(const std::filesystem::path& path, const std::string& text) {
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  out << text;
+  if (!out) throw std::runtime_error("cannot write " + path.string());
 }
 
 }  // namespace unima::test_support

@@ -279,6 +279,37 @@ TEST(ConfigErrors, TwoDevicesOfOneTypeAtOneAddressNameEachOther) {
   EXPECT_TRUE(contains(m, "unigen-chp at UnimaBUS address 5")) << m;
 }
 
+TEST(ConfigErrors, ReplayKeysBelongToTheReplayTransport) {
+  const auto stray = load_error(
+      "unimabus:\n"
+      "  transport: sim\n"
+      "  speed: 2\n");
+  EXPECT_TRUE(starts_with(stray, "cfg.yaml:3:10: ")) << stray;
+  EXPECT_TRUE(contains(stray, "replay")) << stray;
+  const auto no_file = load_error(
+      "unimabus:\n"
+      "  transport: replay\n");
+  EXPECT_TRUE(starts_with(no_file, "cfg.yaml:2:3: ")) << no_file;
+  EXPECT_TRUE(contains(no_file, "needs 'file'")) << no_file;
+  const auto missing = load_error(
+      "unimabus:\n"
+      "  transport: replay\n"
+      "  file: /nonexistent/recording.jsonl\n");
+  EXPECT_TRUE(starts_with(missing, "cfg.yaml:3:9: cannot read the recording /nonexistent/recording.jsonl")) << missing;
+  const auto record = load_error(
+      "unimabus:\n"
+      "  record: { max_files: 3 }\n");
+  EXPECT_TRUE(starts_with(record, "cfg.yaml:2:11: ")) << record;
+}
+
+TEST(ConfigLoad, RecordKeys) {
+  const Config c = load_text("unimabus:\n  record: { file: /var/lib/x/rec.jsonl, max_size: 1MB, max_files: 3 }\n", "cfg.yaml");
+  EXPECT_EQ(c.unimabus.record.file, "/var/lib/x/rec.jsonl");
+  EXPECT_EQ(c.unimabus.record.max_size, 1u << 20);
+  EXPECT_EQ(c.unimabus.record.max_files, 3u);
+  EXPECT_TRUE(load_text("", "cfg.yaml").unimabus.record.file.empty());
+}
+
 TEST(ConfigErrors, UnknownBankName) {
   const auto m = load_error(
       "banks:\n"

@@ -18,6 +18,7 @@
 #include "unimabus/feed_codec.hpp"
 #include "unimabus/line_splitter.hpp"
 #include "unimabus/presence.hpp"
+#include "unimabus/recording.hpp"
 #include "unimabus/publisher.hpp"
 #include "unimabus/sim_generator.hpp"
 #include "unimabus/telegram_router.hpp"
@@ -659,6 +660,111 @@ TEST(Publisher, TheSnapshotHoldsWXAndTheUserOutputsOfTheWatchedStore) {
   EXPECT_NE(snapshot.find(format_change(BankId::W, 0, 0x1234)), std::string::npos);
   EXPECT_NE(snapshot.find(format_change(BankId::C, banks::c_bank::user_binary_outputs, 0)), std::string::npos);
   EXPECT_EQ(snapshot.find("\"bank\":\"A\""), std::string::npos);
+}
+
+}  // namespace
+}  // namespace unima::unimabus
+
+namespace unima::unimabus {
+namespace {
+
+// ---------------------------------------------------------------------------------------
+// Recordings (SPEC §6 record, replay)
+
+using namespace std::chrono_literals;
+
+TEST(Recording, AFormattedTelegramReadsBackTheSame) {
+  Telegram t{5, 0, 3, {1500, 65531, 0}};
+  t.device = banks::find_device_type("usc");
+  const auto line = format_recorded(t, 1.25);
+  EXPECT_EQ(line, "{\"t\":1.250000,\"addr\":5,\"slot\":0,\"device\":\"usc\",\"offset\":3,\"values\":[1500,65531,0]}\n");
+  const auto parsed = parse_recorded_line(std::string_view(line).substr(0, line.size() - 1));
+  ASSERT_TRUE(std::holds_alternative<RecordedTelegram>(parsed));
+  const auto& back = std::get<RecordedTelegram>(parsed);
+  EXPECT_DOUBLE_EQ(back.t, 1.25);
+  EXPECT_EQ(back.telegram.values, t.values);
+  EXPECT_EQ(back.telegram.device, t.device);
+  EXPECT_EQ(format_recorded(Telegram{9, 2, 0, {1}}, 0), "{\"t\":0.000000,\"addr\":9,\"slot\":2,\"offset\":0,\"values\":[1]}\n");
+}
+
+std::string recording_error(std::string_view text) {
+  try {
+    (void)parse_recording(text, "rec.jsonl");
+  } catch (const RecordingError& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "accepted: " << text;
+  return {};
+}
+
+TEST(Recording, BlankLinesAreSkippedAndLinesCounted) {
+  const auto r = parse_recording(
+      "{\"t\":0,\"addr\":5,\"slot\":0,\"offset\":1,\"values\":[1]}\n"
+      "\n"
+      "   \r\n"
+      "{\"t\":0,\"addr\":5,\"slot\":0,\"offset\":1,\"values\":[2]}\r\n"
+      "{\"t\":2.5,\"addr\":5,\"slot\":1,\"offset\":0,\"values\":[3]}",
+      "rec.jsonl");
+  ASSERT_EQ(r.entries.size(), 3u);
+  EXPECT_EQ(r.entries[1].line, 4u);
+  EXPECT_EQ(r.entries[2].line, 5u);
+  EXPECT_DOUBLE_EQ(r.duration(), 2.5);
+}
+
+TEST(Recording, ABadLineOrATimeGoingBackNamesFileAndLine) {
+  EXPECT_EQ(recording_error("{\"t\":1,\"addr\":5,\"slot\":0,\"offset\":1,\"values\":[1]}\n"
+                            "{\"t\":0.5,\"addr\":5,\"slot\":0,\"offset\":1,\"values\":[1]}\n"),
+            "rec.jsonl:2: \"t\" goes back from 1 to 0.5; a recording's times never decrease");
+  EXPECT_EQ(recording_error("\n{\"addr\":5,\"slot\":0,\"offset\":1,\"values\":[1]}\n"),
+            "rec.jsonl:2: missing \"t\", the seconds since the recording began");
+  EXPECT_TRUE(recording_error("{\"t\":-1,\"addr\":5,\"slot\":0,\"offset\":1,\"values\":[1]}").starts_with(
+      "rec.jsonl:1: \"t\" must be"));
+  EXPECT_TRUE(recording_error("{\"t\":1,\"addr\":5,\"slot\":0,\"offset\":1,\"values\":[1e400]}").starts_with(
+      "rec.jsonl:1: "));
+  EXPECT_TRUE(recording_error("not json").starts_with("rec.jsonl:1: not JSON"));
+}
+
+Recording three_telegrams() {
+  return parse_recording(
+      "{\"t\":0,\"addr\":5,\"slot\":0,\"offset\":0,\"values\":[1]}\n"
+      "{\"t\":1,\"addr\":5,\"slot\":0,\"offset\":0,\"values\":[2]}\n"
+      "{\"t\":1,\"addr\":5,\"slot\":0,\"offset\":0,\"values\":[3]}\n",
+      "rec.jsonl");
+}
+
+TEST(ReplaySchedule, EachTelegramIsDueAtItsTimeDividedByTheSpeedAndTakenOnce) {
+  const auto r = three_telegrams();
+  ReplaySchedule schedule(r, 2.0, false);
+  EXPECT_EQ(schedule.next_due(), ReplaySchedule::Duration{0});
+  ASSERT_NE(schedule.take_due(0ms), nullptr);
+  EXPECT_EQ(schedule.next_due(), std::chrono::milliseconds(500));
+  EXPECT_EQ(schedule.take_due(499ms), nullptr);
+  const auto* second = schedule.take_due(500ms);
+  ASSERT_NE(second, nullptr);
+  EXPECT_EQ(second->telegram.values[0], 2);
+  const auto* third = schedule.take_due(500ms);
+  ASSERT_NE(third, nullptr);
+  EXPECT_EQ(third->telegram.values[0], 3);
+  EXPECT_EQ(schedule.next_due(), std::nullopt);  // over: the devices fall silent
+  EXPECT_EQ(schedule.take_due(10s), nullptr);
+}
+
+TEST(ReplaySchedule, ALoopStartsAgainAfterTheLastLine) {
+  const auto r = three_telegrams();
+  ReplaySchedule schedule(r, 1.0, true);
+  for (int i = 0; i < 3; ++i) ASSERT_NE(schedule.take_due(1s), nullptr);
+  // Lines 0, 1, 1 s apart on average 0.5 s: the second pass's t = 0 comes at 1.5 s.
+  EXPECT_EQ(schedule.next_due(), std::chrono::milliseconds(1500));
+  EXPECT_EQ(schedule.take_due(1500ms)->telegram.values[0], 1);
+  EXPECT_EQ(schedule.next_due(), std::chrono::milliseconds(2500));
+}
+
+TEST(ReplaySchedule, ALoopedRecordingOfOneInstantStillTakesTime) {
+  const auto r = parse_recording("{\"t\":0,\"addr\":5,\"slot\":0,\"offset\":0,\"values\":[1]}\n", "rec.jsonl");
+  ReplaySchedule schedule(r, 1.0, true);
+  ASSERT_NE(schedule.take_due(0ms), nullptr);
+  EXPECT_EQ(schedule.take_due(0ms), nullptr);
+  EXPECT_EQ(schedule.next_due(), ReplaySchedule::shortest_pass);
 }
 
 }  // namespace
