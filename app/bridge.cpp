@@ -230,7 +230,8 @@ bool same_endpoint(const std::optional<config::TcpSlaveConfig>& a, const std::op
 bool same_line(const std::optional<config::RtuConfig>& a, const std::optional<config::RtuConfig>& b) {
   if (a.has_value() != b.has_value()) return false;
   return !a || (a->device == b->device && a->baud == b->baud && a->parity == b->parity &&
-                a->stop_bits == b->stop_bits && a->rs485 == b->rs485 && a->low_latency == b->low_latency);
+                a->stop_bits == b->stop_bits && a->rs485 == b->rs485 && a->low_latency == b->low_latency &&
+                a->frame_gap == b->frame_gap);
 }
 // A feed keeps its connections across a reload, and a replay its place, when their
 // settings did not change; the simulator starts again.

@@ -80,6 +80,9 @@ struct RtuConfig {
   unsigned stop_bits = 1;
   Rs485Direction rs485 = Rs485Direction::off;  // who switches the transceiver's direction
   bool low_latency = false;                    // set a USB adapter's latency timer to 1 ms
+  /// The silence that ends an incomplete frame, used exactly; nullopt: `auto`
+  /// (modbus::RtuFramerTiming::for_line, t3.5 plus the adapter's latency and a margin).
+  std::optional<std::chrono::microseconds> frame_gap;
 };
 
 /// The character and gap times of `line` (modbus/rtu_timing: the one computation).

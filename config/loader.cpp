@@ -147,6 +147,10 @@ class Loader {
       m.tcp = t;
     }
     if (const auto rtu = node["rtu"]) m.rtu = rtu_line(rtu);
+    // An RTU slave answers one address of 1..247 (0 is broadcast, 248..255 reserved).
+    if (m.rtu && m.mode == ModbusMode::slave && (m.address < 1 || m.address > 247))
+      yaml_.fail(node["address"] ? node["address"] : node,
+                 fmt::format("modbus.address {} cannot be an RTU slave's address (1..247)", m.address));
     if (const auto master_node = node["master"]) master(master_node);
     if (m.mode == ModbusMode::master) {
       // SPEC §3: in master mode the RTU line belongs to the master; a TCP target is the extension.
@@ -222,7 +226,7 @@ class Loader {
   }
 
   RtuConfig rtu_line(const YAML::Node& node) const {
-    yaml_.expect_keys(node, "modbus.rtu", {"device", "baud", "parity", "stop_bits", "rs485", "low_latency"});
+    yaml_.expect_keys(node, "modbus.rtu", {"device", "baud", "parity", "stop_bits", "rs485", "low_latency", "frame_gap"});
     RtuConfig r;
     if (!node["device"]) yaml_.fail(node, "modbus.rtu needs the serial device, e.g. device: /dev/ttyUSB0");
     r.device = yaml_.text(node["device"]);
@@ -244,6 +248,14 @@ class Loader {
       r.rs485 = d == "kernel" ? Rs485Direction::kernel : d == "rts" ? Rs485Direction::rts : Rs485Direction::off;
     }
     if (node["low_latency"]) r.low_latency = yaml_.boolean(node["low_latency"]);
+    if (const auto gap = node["frame_gap"]; gap && yaml_.text(gap) != "auto") {
+      r.frame_gap = yaml_.fine_duration(gap);
+      // Shorter than t3.5, a pause the Modbus rule allows inside a frame would cut it.
+      const auto t3_5 = line_timing(r).frame_gap;
+      if (*r.frame_gap < t3_5)
+        yaml_.fail(gap, fmt::format("frame_gap {} µs is shorter than t3.5 at {} baud ({} µs)", r.frame_gap->count(),
+                                    r.baud, t3_5.count()));
+    }
     return r;
   }
 

@@ -2,6 +2,7 @@
 
 #include <charconv>
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -70,21 +71,37 @@ std::string YamlReader::text(const YAML::Node& node) const {
   return node.Scalar();
 }
 
-Duration YamlReader::duration(const YAML::Node& node) const {
-  const auto s = text(node);
+namespace {
+
+std::optional<std::chrono::microseconds> parse_duration(std::string_view s) {
   std::size_t digits = 0;
   while (digits < s.size() && s[digits] >= '0' && s[digits] <= '9') ++digits;
-  const std::string_view unit = std::string_view(s).substr(digits);
+  const std::string_view unit = s.substr(digits);
   unsigned long long value = 0;
   const auto [end, ec] = std::from_chars(s.data(), s.data() + digits, value);
-  const bool number_ok = digits > 0 && ec == std::errc{} && end == s.data() + digits && value < 1'000'000'000ULL;
-  if (number_ok) {
-    if (unit == "ms") return Duration(value);
-    if (unit == "s") return Duration(value * 1000);
-    if (unit == "m" || unit == "min") return Duration(value * 60'000);
-    if (unit == "h") return Duration(value * 3'600'000);
-  }
+  if (digits == 0 || ec != std::errc{} || end != s.data() + digits || value >= 1'000'000'000ULL) return std::nullopt;
+  using std::chrono::microseconds;
+  if (unit == "us" || unit == "µs") return microseconds(value);
+  if (unit == "ms") return microseconds(value * 1000);
+  if (unit == "s") return microseconds(value * 1'000'000);
+  if (unit == "m" || unit == "min") return microseconds(value * 60'000'000);
+  if (unit == "h") return microseconds(value * 3'600'000'000ULL);
+  return std::nullopt;
+}
+
+}  // namespace
+
+Duration YamlReader::duration(const YAML::Node& node) const {
+  const auto s = text(node);
+  const auto parsed = parse_duration(s);
+  if (parsed && *parsed % Duration(1) == std::chrono::microseconds(0)) return std::chrono::duration_cast<Duration>(*parsed);
   fail(node, fmt::format("'{}' is not a duration (write e.g. 200ms, 1s, 5m)", s));
+}
+
+std::chrono::microseconds YamlReader::fine_duration(const YAML::Node& node) const {
+  const auto s = text(node);
+  if (const auto parsed = parse_duration(s)) return *parsed;
+  fail(node, fmt::format("'{}' is not a duration (write e.g. 1750us, 2ms)", s));
 }
 
 std::uint64_t YamlReader::byte_size(const YAML::Node& node, std::uint64_t min, std::uint64_t max) const {

@@ -30,6 +30,8 @@ class YamlReader {
   std::string text(const YAML::Node& node) const;
   /// "200ms", "1s", "5m", "1h".
   Duration duration(const YAML::Node& node) const;
+  /// The same, and "1750us" too, for the timing of a serial line.
+  std::chrono::microseconds fine_duration(const YAML::Node& node) const;
   /// Bytes: "1048576", "64k"/"64kB", "10M"/"10MB", "1G"/"1GB" (powers of 1024), within [min, max].
   std::uint64_t byte_size(const YAML::Node& node, std::uint64_t min, std::uint64_t max) const;
   /// One of `choices`; the error lists them.

@@ -78,8 +78,11 @@ void RtuSlavePort::open() {
   }
   for (const auto& note : opened.notes) spdlog::info("modbus rtu: {}", note);
   for (const auto& warning : opened.warnings) spdlog::warn("modbus rtu: {}", warning);
-  // The framer must not take the adapter's pauses for the end of a frame.
-  framer_ = modbus::RtuFramer(modbus::RtuFramerTiming::for_line(timing_, opened.adapter_latency), context_.unit_id);
+  // The framer must not take the adapter's pauses for the end of a frame, unless the
+  // line's gap is set exactly (a real UART).
+  framer_ = modbus::RtuFramer(line_.frame_gap ? modbus::RtuFramerTiming::exact(timing_, *line_.frame_gap)
+                                              : modbus::RtuFramerTiming::for_line(timing_, opened.adapter_latency),
+                              context_.unit_id);
   spdlog::info("modbus rtu: {}serving unit {} on {} at {} baud, 8{}{}", failing_ ? "line back, " : "",
                context_.unit_id, line_.device, line_.baud, parity_letter(line_.parity), line_.stop_bits);
   failing_ = false;

@@ -17,6 +17,14 @@ RtuFramerTiming RtuFramerTiming::for_line(const RtuTiming& line, RtuClock::durat
   return timing;
 }
 
+RtuFramerTiming RtuFramerTiming::exact(const RtuTiming& line, RtuClock::duration gap) {
+  RtuFramerTiming timing;
+  timing.character = line.character;
+  timing.frame_gap = gap;
+  timing.stall_timeout = gap;
+  return timing;
+}
+
 RtuFramer::RtuFramer(const RtuFramerTiming& timing, std::optional<std::uint8_t> own_address)
     : timing_(timing), own_address_(own_address) {}
 

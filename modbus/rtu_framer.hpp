@@ -49,7 +49,12 @@ struct RtuFramerTiming {
   /// Bytes can be held back by a USB adapter (its latency timer) and by the scheduling
   /// of the reading process: a few milliseconds that no line timing accounts for.
   static constexpr std::chrono::milliseconds scheduling_margin{5};
+  /// `frame_gap: auto`: an incomplete frame is dropped after t3.5 + the adapter's latency +
+  /// scheduling_margin of silence, so that bursts of a USB adapter are joined.
   static RtuFramerTiming for_line(const RtuTiming& line, RtuClock::duration adapter_latency);
+  /// `frame_gap: <duration>`: the Modbus rule on a real UART; `gap` (at least t3.5) of
+  /// silence ends or breaks any frame.
+  static RtuFramerTiming exact(const RtuTiming& line, RtuClock::duration gap);
 };
 
 class RtuFramer {

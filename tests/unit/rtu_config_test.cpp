@@ -25,5 +25,38 @@ TEST(RtuConfig, ACaptureBlockWithoutALineIsInactiveWithAWarning) {
   EXPECT_EQ(w[0], "t.yaml:2:5: capture block inactive: capture listens on a Modbus RTU line, and modbus.rtu is not set");
 }
 
+std::string load_error(const std::string& yaml) {
+  try {
+    (void)load(yaml);
+  } catch (const config::ConfigError& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "accepted: " << yaml;
+  return {};
+}
+
+TEST(RtuConfig, FrameGapIsAutoOrADurationOfAtLeastT35) {
+  EXPECT_FALSE(load("modbus:\n  rtu: { device: /dev/ttyS0 }\n").modbus.rtu->frame_gap);
+  EXPECT_FALSE(load("modbus:\n  rtu: { device: /dev/ttyS0, frame_gap: auto }\n").modbus.rtu->frame_gap);
+  EXPECT_EQ(load("modbus:\n  rtu: { device: /dev/ttyS0, frame_gap: 2ms }\n").modbus.rtu->frame_gap,
+            std::chrono::microseconds(2000));
+  EXPECT_EQ(load("modbus:\n  rtu: { device: /dev/ttyS0, baud: 115200, frame_gap: 1750us }\n").modbus.rtu->frame_gap,
+            std::chrono::microseconds(1750));
+  EXPECT_EQ(load_error("modbus:\n  rtu: { device: /dev/ttyS0, baud: 9600, frame_gap: 2ms }\n"),
+            "t.yaml:2:53: frame_gap 2000 µs is shorter than t3.5 at 9600 baud (3646 µs)");
+  EXPECT_EQ(load_error("modbus:\n  rtu: { device: /dev/ttyS0, frame_gap: soon }\n"),
+            "t.yaml:2:41: 'soon' is not a duration (write e.g. 1750us, 2ms)");
+}
+
+TEST(RtuConfig, AnRtuSlaveAnswersAnAddressOf1To247) {
+  for (const char* address : {"0", "248", "255"}) {
+    const auto error = load_error(std::string("modbus:\n  address: ") + address + "\n  rtu: { device: /dev/ttyS0 }\n");
+    EXPECT_EQ(error, std::string("t.yaml:2:12: modbus.address ") + address + " cannot be an RTU slave's address (1..247)");
+  }
+  EXPECT_EQ(load("modbus:\n  address: 247\n  rtu: { device: /dev/ttyS0 }\n").modbus.address, 247);
+  // A TCP slave answers unit id 0 and 255 anyway; without a line, any address stays allowed.
+  EXPECT_EQ(load("modbus:\n  address: 0\n").modbus.address, 0);
+}
+
 }  // namespace
 }  // namespace unima

@@ -130,6 +130,52 @@ TEST_F(Framer, SeedQueryEndsByItsLengthWithoutWaitingForSilence) {
   EXPECT_EQ(framer.deadline(), std::nullopt);
 }
 
+// SPEC §3 frame_gap: two halves of a request 5 ms apart at 19200 baud (t3.5 = 1.8 ms).
+// `auto` waits t3.5 + the adapter's latency + 5 ms for the rest of a frame whose length is
+// known, and joins them; an exact gap of 2 ms makes them two bad frames.
+std::vector<RtuFrame> halves_5ms_apart(RtuFramer& framer) {
+  constexpr RtuClock::time_point t0{std::chrono::seconds(1000)};
+  const Bytes first(seed_read.begin(), seed_read.begin() + 4), second(seed_read.begin() + 4, seed_read.end());
+  auto frames = framer.feed(first, t0);
+  auto more = framer.tick(t0 + 5ms - 4 * 521us);  // the silence before the second half
+  frames.insert(frames.end(), more.begin(), more.end());
+  more = framer.feed(second, t0 + 5ms);
+  frames.insert(frames.end(), more.begin(), more.end());
+  more = framer.tick(t0 + 1s);
+  frames.insert(frames.end(), more.begin(), more.end());
+  return frames;
+}
+
+TEST(FrameGap, AutoJoinsHalvesOfARequestFiveMillisecondsApart) {
+  RtuFramer framer(RtuFramerTiming::for_line(rtu_timing(19200, false, 1), 0ms), 1);
+  const auto frames = halves_5ms_apart(framer);
+  ASSERT_EQ(frames.size(), 1u);
+  EXPECT_EQ(frames[0].kind, Kind::query);
+  EXPECT_EQ(frames[0].bytes, seed_read);
+}
+
+TEST(FrameGap, AnExactGapNeverJoinsThem) {
+  RtuFramer framer(RtuFramerTiming::exact(rtu_timing(19200, false, 1), 2ms), 1);
+  const auto frames = halves_5ms_apart(framer);
+  for (const auto& f : frames) EXPECT_EQ(f.kind, Kind::bad);
+  EXPECT_EQ(framer.counters().frames, 0u);
+  // Each half is dropped on its own: a bad frame, or noise when shorter than any frame.
+  EXPECT_GE(framer.counters().bad_frames, 1u);
+  EXPECT_EQ(framer.held(), 0u);
+  // A whole request right after is answered as usual.
+  const auto next = framer.feed(seed_read, RtuClock::time_point{std::chrono::seconds(1002)});
+  ASSERT_EQ(next.size(), 1u);
+  EXPECT_EQ(next[0].kind, Kind::query);
+}
+
+TEST(FrameGap, AnExactGapIsTheSilenceThatEndsAFrameOfUnknownLength) {
+  const auto timing = RtuFramerTiming::exact(rtu_timing(19200, false, 1), 3ms);
+  EXPECT_EQ(timing.frame_gap, 3ms);
+  EXPECT_EQ(timing.stall_timeout, 3ms);
+  const auto automatic = RtuFramerTiming::for_line(rtu_timing(19200, false, 1), 16ms);
+  EXPECT_EQ(automatic.stall_timeout, 1823us + 16ms + RtuFramerTiming::scheduling_margin);
+}
+
 // A bus conversation: the master reads and writes the bridge (1), reads slave 3, writes
 // slave 3, gets an exception from slave 4, writes multiple registers of slave 3, and
 // broadcasts a write. Every frame tells its length, so no silence is needed.
