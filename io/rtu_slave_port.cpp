@@ -150,6 +150,7 @@ void RtuSlavePort::handle(const std::vector<RtuFrame>& frames) {
         break;
       }
       case RtuFrame::Kind::response: heard_foreign_response(frame); break;
+      case RtuFrame::Kind::faulty_response: heard_faulty_response(frame); break;
       case RtuFrame::Kind::unpaired_response:
         spdlog::debug("modbus rtu: a response to no query heard: {}", hex(frame.bytes));
         break;
@@ -201,6 +202,18 @@ void RtuSlavePort::heard_foreign_response(const RtuFrame& response) {
   }
   report(TransactionState::not_for_me, exchange->query, exchange->response);
   if (foreign_) foreign_(exchange->query, exchange->response);
+}
+
+// Seed §5.3 note 3: a foreign slave's answer that is too short or of another function is
+// Err04 on its query's line, and a fault (C+0x13 bit 15); capture blocks take nothing of it.
+void RtuSlavePort::heard_faulty_response(const RtuFrame& response) {
+  const auto exchange = listener_.heard_response(response.bytes);
+  if (!exchange) {
+    spdlog::debug("modbus rtu: a faulty response after its query was given up: {}", hex(response.bytes));
+    return;
+  }
+  if (context_.on_fault) context_.on_fault();
+  report(TransactionState::err04, exchange->query, exchange->response);
 }
 
 void RtuSlavePort::flush_foreign_query() {

@@ -76,6 +76,7 @@ class RtuSlavePort {
   void apply_broadcast(const modbus::RtuFrame& query);
   void heard_foreign_query(const modbus::RtuFrame& query);
   void heard_foreign_response(const modbus::RtuFrame& response);
+  void heard_faulty_response(const modbus::RtuFrame& response);
   void flush_foreign_query();
   void report(modbus::TransactionState state, std::span<const std::uint8_t> query,
               std::span<const std::uint8_t> response) const;

@@ -9,6 +9,13 @@
 
 namespace unima::modbus {
 
+namespace {
+
+// An exception response: address, function | 0x80, code, CRC. No answer is shorter.
+constexpr std::size_t min_response_size = 5;
+
+}  // namespace
+
 RtuFramerTiming RtuFramerTiming::for_line(const RtuTiming& line, RtuClock::duration adapter_latency) {
   RtuFramerTiming timing;
   timing.character = line.character;
@@ -84,8 +91,21 @@ RtuFramer::Attempt RtuFramer::attempt(std::span<const std::uint8_t> held, Hypoth
       kind = RtuFrame::Kind::response;
       const auto& e = *expected_response_;
       if (!held.empty() && held[0] != e.address) return {};
-      if (held.size() >= 2 && (held[1] & ~function::exception_flag) != e.function) return {};
-      if (held.size() >= 3 && held[1] == e.function && e.byte_count != 0 && held[2] != e.byte_count) return {};
+      // Seed §5.3 note 3: an answer shorter than the shortest response (5 bytes) that
+      // only the silence ended.
+      if (mode == Mode::stalled && held.size() >= 2 && held.size() < min_response_size)
+        return {Verdict::complete, RtuFrame::Kind::faulty_response, held.size()};
+      if (held.size() >= 2 && (held[1] & ~function::exception_flag) != e.function) {
+        // The slave answered another function; but a whole request to it is the master
+        // moving on (a write's request looks like its response).
+        const auto as_request = rtu_request_length(held);
+        if (as_request.kind == RtuFrameLength::Kind::known && as_request.bytes <= held.size() &&
+            rtu_crc_ok(held.first(as_request.bytes)))
+          return {};
+        kind = RtuFrame::Kind::faulty_response;
+      } else if (held.size() >= 3 && held[1] == e.function && e.byte_count != 0 && held[2] != e.byte_count) {
+        return {};
+      }
       length = rtu_response_length(held);
       break;
     }

@@ -14,8 +14,12 @@
 // request for another address it expects that slave's response (same address, same
 // function or its exception, the byte count the request asked for), otherwise a request.
 // A frame that does not fit the expectation is tried as the other kind before it counts
-// as bad. What stays ambiguous: a write (5, 6) to a slave that never answers, followed by
-// the same write again, pairs the repeat as the response.
+// as bad. The frame after such a query from the slave it asked is its response even when
+// it is not a valid one: shorter than 5 bytes (ended by the stall time-out) or with another
+// function — unless it is also a whole request, as a master's next write to that slave
+// would be (a write's request and response look alike). What stays ambiguous: a write
+// (5, 6) to a slave that never answers, followed by the same write again, pairs the
+// repeat as the response.
 
 #include <chrono>
 #include <cstdint>
@@ -33,6 +37,8 @@ struct RtuFrame {
   enum class Kind : std::uint8_t {
     query,              // a master's request
     response,           // the answer to the query just before it
+    faulty_response,    // from the slave the query before it asked, but not a valid answer to
+                        // it: shorter than 5 bytes, or with another function (seed §5.3 note 3)
     unpaired_response,  // shaped like an answer, but not to the query before it
     bad,                // a bad CRC or a truncated frame, dropped
   };

@@ -3,6 +3,10 @@
 // value of register 0x0202 of device 3 into user output 2 (C+0x01), publishes it to
 // UnimaBUS, and never answers.
 
+#include <sstream>
+
+#include <fmt/format.h>
+
 #include "tests/integration/rtu_fixture.hpp"
 
 namespace unima::test {
@@ -82,6 +86,71 @@ TEST_F(RtuCaptureSlowLine, AFrameSplitAtEveryByteIsCapturedOnce) {
   for (std::uint8_t b : write) line->write(Bytes{b});
   EXPECT_TRUE(feed->wait_for_line(R"({"bank":"C","offset":1,"value":256})"));
   EXPECT_EQ(user_output_2(), 256);
+}
+
+}  // namespace
+}  // namespace unima::test
+
+namespace unima::test {
+namespace {
+
+std::string hex_of(const Bytes& bytes) {
+  std::string out;
+  for (auto b : bytes) out += fmt::format("{}{:02X}", out.empty() ? "" : " ", b);
+  return out;
+}
+
+// Seed §5.3 note 3: a foreign slave's answer shorter than 5 bytes or of another function
+// is Err04 on its query's monitor line, with those bytes as the Response, and sets C+0x13
+// bit 15; capture blocks take nothing from it.
+class RtuForeignErrors : public RtuTest {
+ protected:
+  void SetUp() override {
+    RtuTest::SetUp();
+    log = dir.path() / "monitor.log";
+    config.monitor_section = "monitor:\n  file: " + log.string() + "\n";
+    start_rtu("blocks:\n  - { type: capture, device: 3, register: 0x0202, output: 2 }\n");
+  }
+  /// The monitor line whose query is `query`, once it is written.
+  std::string line_of(const Bytes& query) {
+    const auto pdu = hex_of(Bytes(query.begin() + 1, query.end() - 2));
+    std::string found;
+    EXPECT_TRUE(eventually([&] {
+      std::istringstream in(read_file(log));
+      for (std::string l; std::getline(in, l);)
+        if (l.find(" rtu ") != std::string::npos && l.find("PDU=" + pdu + " ") != std::string::npos) found = l;
+      return !found.empty();
+    })) << read_file(log);
+    return found;
+  }
+  std::filesystem::path log;
+};
+
+TEST_F(RtuForeignErrors, AnAnswerOfAnotherFunctionIsErr04OnItsQuerysLine) {
+  const auto query = rtu_adu(3, {0x04, 0x02, 0x02, 0x00, 0x01});
+  const auto answer = rtu_adu(3, {0x03, 0x02, 0x01, 0x2C});  // function 3 to a function-4 query
+  line->write(query);
+  line->write(answer);
+  const auto monitored = line_of(query);
+  EXPECT_NE(monitored.find("State=Err04"), std::string::npos) << monitored;
+  EXPECT_NE(monitored.find("Response=" + hex_of(answer)), std::string::npos) << monitored;
+  EXPECT_TRUE(error_bit_set());
+  ModbusClient tcp(config.modbus_port);
+  EXPECT_EQ(tcp.read_input(0x1021, 1), std::vector<std::uint16_t>{not_measured});  // nothing captured
+  expect_next_reply_is_to_a_read_of_w(not_measured);
+}
+
+TEST_F(RtuForeignErrors, AnAnswerShorterThanFiveBytesIsErr04OnItsQuerysLineAndNoOtherLine) {
+  const auto query = rtu_adu(3, {0x04, 0x02, 0x02, 0x00, 0x02});
+  const auto answer = rtu_adu(3, {0x04});  // 4 bytes
+  line->write(query);
+  line->write(answer);
+  const auto monitored = line_of(query);
+  EXPECT_NE(monitored.find("State=Err04"), std::string::npos) << monitored;
+  EXPECT_NE(monitored.find("Response=" + hex_of(answer)), std::string::npos) << monitored;
+  EXPECT_TRUE(error_bit_set());
+  expect_next_reply_is_to_a_read_of_w(not_measured);
+  EXPECT_EQ(read_file(log).find("State=Err03"), std::string::npos) << read_file(log);
 }
 
 }  // namespace

@@ -401,6 +401,44 @@ TEST_F(Framer, AForeignExceptionIsPaired) {
   EXPECT_EQ(kinds(feed(cat({query, adu(3, {0x83, 0x02})}))), (std::vector<Kind>{Kind::query, Kind::response}));
 }
 
+// Seed §5.3 note 3: the slave a foreign query asked answers another function, or fewer
+// than 5 bytes: still that query's response, a faulty one (Err04).
+TEST_F(Framer, AnAnswerOfAnotherFunctionIsTheQuerysFaultyResponse) {
+  const auto query = adu(3, {0x04, 0x02, 0x00, 0x00, 0x01});
+  const auto fn3 = adu(3, {0x03, 0x02, 0x01, 0x2C});
+  auto frames = feed(cat({query, fn3}));
+  ASSERT_EQ(kinds(frames), (std::vector<Kind>{Kind::query, Kind::faulty_response}));
+  EXPECT_EQ(frames[1].bytes, fn3);
+  // An exception of another function too; and after it the line carries a query again.
+  frames = feed(cat({query, adu(3, {0x83, 0x02}), seed_read}), t0 + 1s);
+  EXPECT_EQ(kinds(frames), (std::vector<Kind>{Kind::query, Kind::faulty_response, Kind::query}));
+}
+
+TEST_F(Framer, AnAnswerShorterThanFiveBytesIsTheQuerysFaultyResponseAtTheSilence) {
+  const auto query = adu(3, {0x04, 0x02, 0x00, 0x00, 0x01});
+  const Bytes short_answer = adu(3, {0x04});  // address, function, CRC: 4 bytes
+  ASSERT_EQ(short_answer.size(), 4u);
+  EXPECT_EQ(kinds(feed(cat({query, short_answer}))), std::vector<Kind>{Kind::query});
+  EXPECT_TRUE(framer.tick(t0 + 1ms).empty());  // t3.5 alone does not end a frame whose length is known
+  const auto frames = framer.tick(t0 + 1s);
+  ASSERT_EQ(kinds(frames), std::vector<Kind>{Kind::faulty_response});
+  EXPECT_EQ(frames[0].bytes, short_answer);
+  // Three bytes, whatever they hold, and from the slave asked.
+  feed(query, t0 + 2s);
+  feed(Bytes{0x03, 0x04, 0x00}, t0 + 2s);
+  EXPECT_EQ(kinds(framer.tick(t0 + 3s)), std::vector<Kind>{Kind::faulty_response});
+  // From another address it is not the answer: a bad frame, as before.
+  feed(query, t0 + 4s);
+  feed(Bytes{0x05, 0x04, 0x00, 0x00}, t0 + 4s);
+  EXPECT_EQ(kinds(framer.tick(t0 + 5s)), std::vector<Kind>{Kind::bad});
+}
+
+TEST_F(Framer, AWholeRequestToTheSameSlaveIsTheMasterMovingOnNotAFaultyResponse) {
+  const auto read = adu(3, {0x04, 0x02, 0x00, 0x00, 0x01});
+  const auto write = adu(3, {0x06, 0x02, 0x01, 0x00, 0x2A});  // looks like a write's response too
+  EXPECT_EQ(kinds(feed(cat({read, write}))), (std::vector<Kind>{Kind::query, Kind::query}));
+}
+
 TEST_F(Framer, TheLongestResponseIsOneFrame) {
   Bytes pdu = {0x03, 250};
   for (int i = 0; i < 250; ++i) pdu.push_back(static_cast<std::uint8_t>(i));
