@@ -83,6 +83,7 @@ struct RtuConfig {
   /// The silence that ends an incomplete frame, used exactly; nullopt: `auto`
   /// (modbus::RtuFramerTiming::for_line, t3.5 plus the adapter's latency and a margin).
   std::optional<std::chrono::microseconds> frame_gap;
+  std::string origin;  // "file:line:col" of modbus.rtu
 };
 
 /// The character and gap times of `line` (modbus/rtu_timing: the one computation).
@@ -100,6 +101,8 @@ struct MasterDeviceConfig {
   const master::DeviceProfile* profile = nullptr;  // what its blocks' points refer to
   std::optional<Duration> min_gap;                 // else the profile's, else master.min_gap
   std::optional<Duration> response_timeout;        // else master.response_timeout
+  std::optional<master::SerialDefaults> line;      // as the device is set, when not its profile's default
+  std::string origin;                              // "file:line:col" of modbus.master.devices.N
 };
 
 /// Master-only settings (modbus.master; docs/master.md).

@@ -1,4 +1,5 @@
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -12,6 +13,7 @@
 #include "banks/yaml_document.hpp"
 #include "config/config.hpp"
 #include "config/source_ref_parser.hpp"
+#include "config/master_setup.hpp"
 #include "config/yaml_reader.hpp"
 
 namespace unima::config {
@@ -195,9 +197,21 @@ class Loader {
       for (const auto& entry : devices) {
         const auto address = static_cast<std::uint8_t>(yaml_.number(entry.first, 1, 247));
         const auto& d = entry.second;
-        yaml_.expect_keys(d, fmt::format("modbus.master.devices.{}", address), {"profile", "min_gap", "response_timeout"});
+        yaml_.expect_keys(d, fmt::format("modbus.master.devices.{}", address),
+                          {"profile", "min_gap", "response_timeout", "line"});
         MasterDeviceConfig device;
+        device.origin = yaml_.position(d);
         if (d["profile"]) device.profile = profile(d["profile"]);
+        if (const auto line = d["line"]) {
+          // The device's own setting, where it was changed from its profile's default.
+          yaml_.expect_keys(line, fmt::format("modbus.master.devices.{}.line", address), {"baud", "parity", "stop_bits"});
+          master::SerialDefaults set;
+          if (device.profile) set = device.profile->line;
+          if (line["baud"]) set.baud = static_cast<unsigned>(yaml_.number(line["baud"], 1200, 115200));
+          if (line["parity"]) set.parity = static_cast<char>(std::toupper(yaml_.choice(line["parity"], {"none", "even", "odd"})[0]));
+          if (line["stop_bits"]) set.stop_bits = static_cast<unsigned>(yaml_.number(line["stop_bits"], 1, 2));
+          device.line = set;
+        }
         if (d["min_gap"]) device.min_gap = yaml_.duration(d["min_gap"]);
         if (d["response_timeout"]) device.response_timeout = positive(d["response_timeout"]);
         m.devices[address] = device;
@@ -228,6 +242,7 @@ class Loader {
   RtuConfig rtu_line(const YAML::Node& node) const {
     yaml_.expect_keys(node, "modbus.rtu", {"device", "baud", "parity", "stop_bits", "rs485", "low_latency", "frame_gap"});
     RtuConfig r;
+    r.origin = yaml_.position(node);
     if (!node["device"]) yaml_.fail(node, "modbus.rtu needs the serial device, e.g. device: /dev/ttyUSB0");
     r.device = yaml_.text(node["device"]);
     if (const auto baud = node["baud"]) {
@@ -694,6 +709,10 @@ std::vector<std::string> warnings(const Config& config) {
     else if (block.type == Block::Type::capture && !config.modbus.rtu)
       found.push_back(fmt::format("{}: capture block inactive: capture listens on a Modbus RTU line, and "
                                   "modbus.rtu is not set", block.origin));
+  }
+  if (!slave) {
+    const auto more = foreign_slave_warnings(config);
+    found.insert(found.end(), more.begin(), more.end());
   }
   return found;
 }

@@ -19,12 +19,57 @@ std::vector<master::PlannedRequest> master_plan(const MasterSetup& setup) {
   return plan;
 }
 
+std::map<std::uint8_t, DeviceProfileUse> device_profiles(const Config& config) {
+  std::map<std::uint8_t, DeviceProfileUse> profiles;
+  for (const auto& [address, device] : config.modbus.master.devices)
+    if (device.profile) profiles[address] = {device.profile, device.origin};
+  for (const Block* block : config.active_blocks())
+    if ((block->type == Block::Type::poll || block->type == Block::Type::send) && block->profile &&
+        !profiles.count(block->device))
+      profiles[block->device] = {block->profile, block->origin};
+  return profiles;
+}
+
+namespace {
+
+char parity_letter(Parity parity) { return parity == Parity::even ? 'E' : parity == Parity::odd ? 'O' : 'N'; }
+
+}  // namespace
+
+std::vector<std::string> foreign_slave_warnings(const Config& config) {
+  std::vector<std::string> found;
+  const auto& m = config.modbus.master;
+  const auto& rtu = config.modbus.rtu;
+  for (const auto& [address, use] : device_profiles(config)) {
+    const auto& p = *use.profile;
+    const auto device = m.devices.find(address);
+    const auto* set = device != m.devices.end() && device->second.line ? &*device->second.line : nullptr;
+    const auto& line = set ? *set : p.line;
+    if (rtu && m.tcp.empty() &&
+        (rtu->baud != line.baud || parity_letter(rtu->parity) != line.parity || rtu->stop_bits != line.stop_bits))
+      found.push_back(fmt::format("{}: modbus.rtu is {} baud 8{}{}, but device {} ({} at {}) {} {} baud 8{}{}{}",
+                                  rtu->origin, rtu->baud, parity_letter(rtu->parity), rtu->stop_bits, address, p.id,
+                                  use.origin, set ? "is set to" : "talks at", line.baud, line.parity, line.stop_bits,
+                                  set ? "" : fmt::format(" by default ({}); if it was set to the line's, say so in "
+                                                         "modbus.master.devices.{}.line", p.source, address)));
+    if (p.min_reply_time.count() == 0) continue;
+    const bool own = device != m.devices.end() && device->second.response_timeout;
+    const Duration timeout = own ? *device->second.response_timeout : m.response_timeout;
+    if (timeout < p.min_reply_time)
+      found.push_back(fmt::format("{}: device {} is a {}, which takes at least {} ms to answer ({}), but its response "
+                                  "time-out is {} ms: every request would time out",
+                                  own ? device->second.origin : (m.origin.empty() ? use.origin : m.origin), address,
+                                  p.id, std::chrono::duration_cast<std::chrono::milliseconds>(p.min_reply_time).count(),
+                                  p.source, timeout.count()));
+  }
+  return found;
+}
+
 MasterSetup master_setup(const Config& config) {
   const auto& m = config.modbus.master;
   MasterSetup setup;
   std::map<std::uint8_t, const master::DeviceProfile*> profiles;
-  for (const auto& [address, device] : m.devices)
-    if (device.profile) profiles[address] = device.profile;
+  for (const auto& [address, use] : device_profiles(config)) profiles[address] = use.profile;
 
   for (const Block* block : config.active_blocks()) {
     if (block->type != Block::Type::poll && block->type != Block::Type::send) continue;
@@ -45,7 +90,6 @@ MasterSetup master_setup(const Config& config) {
     setup.sources.push_back(block->source);
     // Never shorter than two periods: a slow poll is not stale between two of its reads.
     setup.stale_after.push_back(std::max(m.stale_after, 2 * block->period));
-    if (block->profile && !profiles.count(block->device)) profiles[block->device] = block->profile;
   }
 
   setup.plan.merge_gap = m.merge_gap;

@@ -2,7 +2,9 @@
 // The config as the Modbus master needs it (SPEC §4, docs/master.md): the active poll and
 // send blocks resolved for the planner, and the timing of the line and of each device.
 
+#include <map>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "config/config.hpp"
@@ -23,6 +25,19 @@ struct MasterSetup {
 
 /// Everything the master needs from `config` (which is in master mode).
 MasterSetup master_setup(const Config& config);
+
+/// The profile of each polled device: modbus.master.devices.N.profile, else the first
+/// active block naming one.
+struct DeviceProfileUse {
+  const master::DeviceProfile* profile = nullptr;
+  std::string origin;  // where the config names it
+};
+std::map<std::uint8_t, DeviceProfileUse> device_profiles(const Config& config);
+
+/// What the devices' profiles say the config gets wrong (seeds 000–002, SPEC §9): a line
+/// (baud, parity, stop bits) other than the device's, a response time-out below the time
+/// the device takes to answer. Warnings, each with the file:line:col it is about.
+std::vector<std::string> foreign_slave_warnings(const Config& config);
 
 /// The requests of `setup`, merged (master::plan_requests) and phased
 /// (master::assign_phases) for its line and devices.

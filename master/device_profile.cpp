@@ -144,7 +144,7 @@ class Parser : public banks::YamlFields<ProfileError> {
 
   DeviceProfile profile(const YAML::Node& root) const {
     only_keys(root, {"id", "name", "source", "functions", "word_order", "line", "min_gap", "frame_gap", "byte_timeout",
-                     "points"});
+                     "min_reply_time", "points"});
     DeviceProfile d;
     d.id = text(root, "id", true);
     d.name = text(root, "name", false);
@@ -169,6 +169,7 @@ class Parser : public banks::YamlFields<ProfileError> {
     if (root["min_gap"]) d.min_gap = micros(root["min_gap"]);
     if (root["frame_gap"]) d.frame_gap = micros(root["frame_gap"]);
     if (root["byte_timeout"]) d.byte_timeout = micros(root["byte_timeout"]);
+    if (root["min_reply_time"]) d.min_reply_time = micros(root["min_reply_time"]);
     const auto points = root["points"];
     if (!points || !points.IsSequence() || points.size() == 0) fail(root, "'points' must be a non-empty list");
     std::set<std::string> names;

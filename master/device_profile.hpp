@@ -60,6 +60,7 @@ struct DeviceProfile {
   std::chrono::microseconds min_gap{0};    // between the starts of two frames to the device
   std::chrono::microseconds frame_gap{0};     // silence the device needs between frames
   std::chrono::microseconds byte_timeout{0};  // longest silence it accepts inside a frame
+  std::chrono::microseconds min_reply_time{0};  // it never answers sooner: a shorter time-out always fails
   std::vector<ProfilePoint> points;
 
   const ProfilePoint* find(std::string_view point_name) const;

@@ -404,5 +404,27 @@ TEST(MasterCheck, AcceptsTheMasterExample) {
   EXPECT_EQ(output.find("warning"), std::string::npos) << output;
 }
 
+// SPEC §9: the foreign slaves' serial defaults and reply times, checked against the config.
+TEST(MasterCheck, WarnsWhereTheConfigContradictsAPolledDevicesProfile) {
+  TempDir dir;
+  const auto file = dir.path() / "bridge.yaml";
+  test_support::write_file(file,
+                           "modbus:\n"
+                           "  mode: master\n"
+                           "  rtu: { device: /dev/ttyUSB0, baud: 19200 }\n"
+                           "  master: { response_timeout: 20ms }\n"
+                           "blocks:\n"
+                           "  - { type: poll, device: 3, profile: stepper-driver, point: STEP_ANGLE, period: 1s, output: 1 }\n");
+  const auto [status, output] = run(std::string(UNIMA_BRIDGE_CLI) + " check --config " + file.string());
+  EXPECT_EQ(status, 0) << output;  // warnings, not errors
+  EXPECT_NE(output.find("warning: " + file.string() + ":3:8: modbus.rtu is 19200 baud 8N1, but device 3 "
+                        "(stepper-driver at " + file.string() + ":6:5) talks at 9600 baud 8N1 by default (seed 002)"),
+            std::string::npos)
+      << output;
+  EXPECT_NE(output.find("takes at least 35 ms to answer (seed 002), but its response time-out is 20 ms"),
+            std::string::npos)
+      << output;
+}
+
 }  // namespace
 }  // namespace unima::test

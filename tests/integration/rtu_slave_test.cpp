@@ -165,7 +165,7 @@ TEST_F(RtuTest, TheReplyWaitsTwoAndAHalfCharacters) {
 // request 5 ms apart at 19200 baud (t3.5 = 1.8 ms) are two bad frames, never joined, where
 // `auto` would wait 6.8 ms for the rest (tests/unit/rtu_framer_test.cpp: FrameGap). A pty
 // delivers bytes at once; only a daemon held up for 5 ms could read both halves in one go,
-// so one try in five may be joined on a loaded machine.
+// so on a loaded machine a few tries may be joined; with `auto` every one is.
 TEST_F(RtuTest, WithAnExactFrameGapHalvesOfARequestAreNotJoined) {
   config.modbus_extra = "  rtu: { device: " + line->link().string() + ", baud: 19200, frame_gap: 2ms }\n";
   daemon = std::make_unique<Daemon>(dir, config.yaml());
@@ -173,13 +173,13 @@ TEST_F(RtuTest, WithAnExactFrameGapHalvesOfARequestAreNotJoined) {
   expect_next_reply_is_to_a_read_of_w(not_measured);  // the daemon reads the line
   const Bytes query = rtu_adu(1, {0x04, 0x01, 0x00, 0x00, 0x01});
   int answered = 0;
-  for (int i = 0; i < 5; ++i) {
+  for (int i = 0; i < 8; ++i) {
     line->write(Bytes(query.begin(), query.begin() + 4));
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
     line->write(Bytes(query.begin() + 4, query.end()));
     if (!line->read(7, 100ms).empty()) ++answered;
   }
-  EXPECT_LE(answered, 1) << daemon->log();
+  EXPECT_LE(answered, 3) << daemon->log();
   // Whole requests are answered as before.
   expect_next_reply_is_to_a_read_of_w(not_measured);
 }

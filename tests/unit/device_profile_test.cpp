@@ -50,6 +50,15 @@ TEST(DeviceProfiles, Sic184V3) {
   EXPECT_TRUE(user->writes_with(16));
 }
 
+// Seed 000 names POS_RESET 2000 in its text and 2002 in its table: the choice is recorded.
+TEST(DeviceProfiles, Sic184V3PosResetRecordsTheSeedsConflict) {
+  const auto* v3 = find_profile("sic184-v3");
+  ASSERT_NE(v3, nullptr);
+  EXPECT_EQ(v3->find("POS_RESET")->reg, 2002);
+  EXPECT_NE(v3->find("POS_RESET")->inferred.find("2000"), std::string::npos);
+  EXPECT_EQ(v3->find("ENABLE")->reg, 2000);
+}
+
 TEST(DeviceProfiles, Sic184V2AndStepper) {
   const auto* v2 = find_profile("sic184-v2");
   ASSERT_NE(v2, nullptr);
@@ -62,6 +71,7 @@ TEST(DeviceProfiles, Sic184V2AndStepper) {
   ASSERT_NE(stepper, nullptr);
   EXPECT_EQ(stepper->line.baud, 9600u);
   EXPECT_EQ(stepper->min_gap, std::chrono::milliseconds(35));
+  EXPECT_EQ(stepper->min_reply_time, std::chrono::milliseconds(35));
   EXPECT_EQ(stepper->find("SUBDIVISION")->reg, 1);  // PLC 40002
   EXPECT_EQ(stepper->find("TEST_DISTANCE")->type, ValueType::dword);
   EXPECT_EQ(stepper->find("SINGLE_RUN")->reg, 7);   // coil 00008

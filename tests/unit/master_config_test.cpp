@@ -43,7 +43,7 @@ TEST(MasterConfig, ModeMasterWithTheMasterSection) {
       "    min_gap: 5ms\n"
       "    devices:\n"
       "      1: { profile: sic184-v3 }\n"
-      "      3: { profile: stepper-driver, min_gap: 50ms, response_timeout: 300ms }\n");
+      "      3: { profile: stepper-driver, min_gap: 50ms, response_timeout: 300ms, line: { baud: 38400 } }\n");
   EXPECT_EQ(c.modbus.mode, ModbusMode::master);
   const auto& m = c.modbus.master;
   EXPECT_EQ(m.response_timeout, 200ms);
@@ -60,6 +60,70 @@ TEST(MasterConfig, ModeMasterWithTheMasterSection) {
   EXPECT_EQ(m.devices.at(3).min_gap, 50ms);
   EXPECT_EQ(m.devices.at(3).response_timeout, 300ms);
   EXPECT_TRUE(warnings(c).empty());  // the RTU line is the master's: no "TCP only" warning
+}
+
+// Seeds 000–002 give each device's serial defaults and the time it takes to answer
+// (SPEC §9): check warns where the config contradicts them.
+TEST(MasterConfig, ALineOtherThanAPolledDevicesIsAWarningNamingBoth) {
+  const auto c = load(
+      "modbus:\n"
+      "  mode: master\n"
+      "  rtu: { device: /dev/ttyUSB0, baud: 19200, parity: even }\n"
+      "blocks:\n"
+      "  - { type: poll, device: 3, profile: stepper-driver, point: STEP_ANGLE, period: 1s, output: 1 }\n"
+      "  - { type: poll, device: 4, profile: sic184-v2, point: OUT, period: 1s, output: 2 }\n");
+  const auto w = warnings(c);
+  ASSERT_EQ(w.size(), 2u) << (w.empty() ? "" : w[0]);
+  EXPECT_EQ(w[0], "m.yaml:3:8: modbus.rtu is 19200 baud 8E1, but device 3 (stepper-driver at m.yaml:5:5) talks at "
+                  "9600 baud 8N1 by default (seed 002); if it was set to the line's, say so in "
+                  "modbus.master.devices.3.line");
+  EXPECT_NE(w[1].find("device 4 (sic184-v2 at m.yaml:6:5) talks at 38400 baud 8N2"), std::string::npos) << w[1];
+}
+
+TEST(MasterConfig, ADeviceSetToTheLinesSettingsIsNoWarning) {
+  const auto c = load(
+      "modbus:\n"
+      "  mode: master\n"
+      "  rtu: { device: /dev/ttyUSB0, baud: 19200 }\n"
+      "  master:\n"
+      "    devices:\n"
+      "      3: { profile: stepper-driver, line: { baud: 19200 } }\n"
+      "      4: { profile: stepper-driver, line: { baud: 19200, parity: odd } }\n"
+      "blocks:\n"
+      "  - { type: poll, device: 3, point: STEP_ANGLE, period: 1s, output: 1 }\n"
+      "  - { type: poll, device: 4, point: STEP_ANGLE, period: 1s, output: 2 }\n");
+  const auto w = warnings(c);
+  ASSERT_EQ(w.size(), 1u);
+  EXPECT_EQ(w[0], "m.yaml:3:8: modbus.rtu is 19200 baud 8N1, but device 4 (stepper-driver at m.yaml:7:10) is set to "
+                  "19200 baud 8O1");
+}
+
+TEST(MasterConfig, AResponseTimeOutBelowTheDevicesReplyTimeIsAWarning) {
+  const auto c = load(
+      "modbus:\n"
+      "  mode: master\n"
+      "  rtu: { device: /dev/ttyUSB0, baud: 9600 }\n"
+      "  master:\n"
+      "    response_timeout: 30ms\n"
+      "    devices:\n"
+      "      5: { profile: stepper-driver, response_timeout: 20ms }\n"
+      "blocks:\n"
+      "  - { type: poll, device: 3, profile: stepper-driver, point: STEP_ANGLE, period: 1s, output: 1 }\n"
+      "  - { type: poll, device: 5, point: STEP_ANGLE, period: 1s, output: 2 }\n");
+  const auto w = warnings(c);
+  ASSERT_EQ(w.size(), 2u);
+  EXPECT_EQ(w[0], "m.yaml:5:5: device 3 is a stepper-driver, which takes at least 35 ms to answer (seed 002), but its "
+                  "response time-out is 30 ms: every request would time out");
+  EXPECT_NE(w[1].find("m.yaml:7:10: device 5"), std::string::npos) << w[1];
+  // Over TCP there is no serial line to compare, but the device is as slow.
+  const auto tcp = load(
+      "modbus:\n"
+      "  mode: master\n"
+      "  master: { tcp: 127.0.0.1:1502, response_timeout: 30ms }\n"
+      "blocks:\n"
+      "  - { type: poll, device: 3, profile: stepper-driver, point: STEP_ANGLE, period: 1s, output: 1 }\n");
+  ASSERT_EQ(warnings(tcp).size(), 1u);
+  EXPECT_NE(warnings(tcp)[0].find("35 ms"), std::string::npos);
 }
 
 TEST(MasterConfig, TheMasterNeedsOneLine) {
