@@ -79,17 +79,32 @@ std::string format_master_plan(const config::Config& config) {
 std::string format_profiles(std::string_view id) {
   std::string out;
   if (id.empty()) {
-    for (const auto& p : master::all_profiles())
-      out += fmt::format("{:<16} {} ({}): functions {}, {} baud {}{}{}, {} points\n", p.id, p.name, p.source,
-                         fmt::join(p.functions, ", "), p.line.baud, 8, p.line.parity, p.line.stop_bits, p.points.size());
+    for (const auto& p : master::all_profiles()) {
+      const auto line = p.line ? fmt::format("{} baud 8{}{}", p.line->baud, p.line->parity, p.line->stop_bits)
+                               : std::string("line not given");
+      const auto what = p.operands.empty() ? fmt::format("{} points", p.points.size())
+                                           : fmt::format("{} operand classes", p.operands.size());
+      out += fmt::format("{:<16} {} ({}): functions {}, {}, {}\n", p.id, p.name, p.source, fmt::join(p.functions, ", "),
+                         line, what);
+    }
     return out;
   }
   const auto* p = master::find_profile(id);
   if (!p) return out;
   out += fmt::format("{}: {} ({}), word order {}, min_gap {} us\n", p->id, p->name, p->source,
                      master::word_order_name(p->word_order), p->min_gap.count());
-  out += fmt::format("{:<22} {:>5} {:<5} {:>5} {:<6} {:<6} {:>6}  {}\n", "point", "addr", "type", "count", "read",
-                     "write", "scale", "unit / text");
+  if (!p->points.empty())
+    out += fmt::format("{:<22} {:>5} {:<5} {:>5} {:<6} {:<6} {:>6}  {}\n", "point", "addr", "type", "count", "read",
+                       "write", "scale", "unit / text");
+  if (!p->operands.empty()) {
+    out += fmt::format("{:<8} {:<14} {:<18} {:<6} {:<6} {:<6}  {}\n", "operand", "numbers", "table", "offset", "read",
+                       "write", "text");
+    for (const auto& c : p->operands)
+      out += fmt::format("{:<8} {:<14} {:<18} 0x{:04X} {:<6} {:<6}  {}\n", c.name,
+                         fmt::format("{}..{}", c.format(c.first), c.format(c.last)), master::data_table_name(c.table),
+                         c.offset, fmt::format("{}", fmt::join(c.read_functions, ",")),
+                         fmt::format("{}", fmt::join(c.write_functions, ",")), c.label);
+  }
   for (const auto& pt : p->points) {
     out += fmt::format("{:<22} {:>5} {:<5} {:>5} {:<6} {:<6} {:>6}  {}{}{}\n", pt.name, pt.reg,
                        master::value_type_name(pt.type), pt.extent(), fmt::format("{}", fmt::join(pt.read_functions, ",")),

@@ -14,6 +14,7 @@
 #include "config/config.hpp"
 #include "config/source_ref_parser.hpp"
 #include "config/master_setup.hpp"
+#include "master/plc_operand.hpp"
 #include "config/yaml_reader.hpp"
 
 namespace unima::config {
@@ -206,7 +207,7 @@ class Loader {
           // The device's own setting, where it was changed from its profile's default.
           yaml_.expect_keys(line, fmt::format("modbus.master.devices.{}.line", address), {"baud", "parity", "stop_bits"});
           master::SerialDefaults set;
-          if (device.profile) set = device.profile->line;
+          if (device.profile && device.profile->line) set = *device.profile->line;
           if (line["baud"]) set.baud = static_cast<unsigned>(yaml_.number(line["baud"], 1200, 115200));
           if (line["parity"]) set.parity = static_cast<char>(std::toupper(yaml_.choice(line["parity"], {"none", "even", "odd"})[0]));
           if (line["stop_bits"]) set.stop_bits = static_cast<unsigned>(yaml_.number(line["stop_bits"], 1, 2));
@@ -384,17 +385,17 @@ class Loader {
       } else if (type == "poll") {
         block.type = Block::Type::poll;
         yaml_.expect_keys(b, "a poll block", {"type", "device", "register", "period", "output", "function", "data_type",
-                                              "count", "word_order", "scale", "profile", "point"});
+                                              "count", "word_order", "scale", "profile", "point", "operand"});
       } else {
         block.type = Block::Type::send;
         yaml_.expect_keys(b, "a send block", {"type", "device", "register", "period", "source", "function", "data_type",
-                                              "word_order", "scale", "profile", "point"});
+                                              "word_order", "scale", "profile", "point", "operand"});
       }
       const auto required = [&](const char* key) {
         if (!b[key]) yaml_.fail(b, fmt::format("a {} block needs '{}'", type, key));
         return b[key];
       };
-      if (block.is_slave_block() || !b["point"])
+      if (block.is_slave_block() || (!b["point"] && !b["operand"]))
         block.reg = static_cast<std::uint16_t>(yaml_.number(required("register"), 0, 0xFFFF));
       if (block.type == Block::Type::read) block.source = source(required("source"), SourceUse::analog);
       if (block.type == Block::Type::send) (void)required("source");  // parsed with its function, below
@@ -444,7 +445,9 @@ class Loader {
       block.scale = yaml_.decimal(b["scale"]);
       if (block.scale == 0) yaml_.fail(b["scale"], "scale must be a number other than 0");
     }
+    if (b["point"] && b["operand"]) yaml_.fail(b["operand"], "a block names a 'point' or an 'operand', not both");
     if (b["point"]) point_block(b, block, poll);
+    else if (b["operand"]) operand_block(b, block, poll);
     else register_block(b, block, poll);
     if (!poll) send_source(b["source"], block);
   }
@@ -495,13 +498,44 @@ class Loader {
     if (b["scale"] && point->type == master::ValueType::bits) yaml_.fail(b["scale"], "bits are not scaled");
   }
 
-  void register_block(const YAML::Node& b, Block& block, bool poll) {
+  // A PLC operand (`D200`, `X17`) of the profile's classes: its address and functions come
+  // from the class (master/plc_operand); data_type, word_order and function as for a register.
+  void operand_block(const YAML::Node& b, Block& block, bool poll) {
+    const auto& node = b["operand"];
+    if (!block.profile || block.profile->operands.empty())
+      yaml_.fail(node, fmt::format("an operand needs the profile of a PLC named by operands (e.g. 'profile: "
+                                   "wecon-lx5v'){}", block.profile ? fmt::format("; {} has points", block.profile->id) : ""));
+    if (b["register"]) yaml_.fail(b["register"], "'register' comes from the operand; leave it out");
+    auto resolved = master::resolve_operand(*block.profile, yaml_.text(node));
+    if (const auto* error = std::get_if<std::string>(&resolved)) yaml_.fail(node, *error);
+    const auto& operand = std::get<master::ResolvedOperand>(resolved);
+    const auto& functions = poll ? operand.operand_class->read_functions : operand.operand_class->write_functions;
+    if (functions.empty())
+      yaml_.fail(node, fmt::format("{} cannot be written: the PLC's {} are read only ({})", yaml_.text(node),
+                                   operand.operand_class->name, operand.operand_class->label));
+    block.point = operand.operand_class->format(operand.number);
+    block.reg = operand.reg;
+    register_block(b, block, poll, &functions);
+  }
+
+  // `allowed`: the functions an operand's class takes, the first the default; else the
+  // seed's (MBS_F04 reads with function 4, MBS_F06 writes with 6) and the extensions.
+  void register_block(const YAML::Node& b, Block& block, bool poll,
+                      const std::vector<std::uint8_t>* allowed = nullptr) {
     using master::ValueType;
-    // The seed's blocks: MBS_F04 reads with function 4, MBS_F06 writes with 6.
-    block.function = poll ? 4 : 6;
+    block.function = allowed ? allowed->front() : poll ? 4 : 6;
     if (const auto fn = b["function"]) {
       block.function = static_cast<std::uint8_t>(std::stoul(poll ? yaml_.choice(fn, {"1", "2", "3", "4"})
                                                                  : yaml_.choice(fn, {"5", "6", "16"})));
+      if (allowed && std::find(allowed->begin(), allowed->end(), block.function) == allowed->end())
+        yaml_.fail(fn, fmt::format("{} is {} with function {}, not {}", block.point, poll ? "read" : "written",
+                                   fmt::join(*allowed, " or "), block.function));
+    } else if (allowed && !poll && block.function == 6 && b["data_type"]) {
+      // A 32-bit value goes with function 16 where the class has it.
+      const auto type = master::parse_value_type(yaml_.text(b["data_type"]));
+      if (type && master::register_span(*type) == 2 &&
+          std::find(allowed->begin(), allowed->end(), std::uint8_t{16}) != allowed->end())
+        block.function = 16;
     }
     if (block.profile && !block.profile->implements(block.function))
       yaml_.fail(b["function"] ? b["function"] : b,
@@ -535,7 +569,7 @@ class Loader {
     }
     if (b["scale"] && bits) yaml_.fail(b["scale"], "bits are not scaled");
     if (std::uint32_t{block.reg} + block.extent() > 0x10000)
-      yaml_.fail(b["register"], "the value runs past register 0xFFFF");
+      yaml_.fail(b["register"] ? b["register"] : b, "the value runs past register 0xFFFF");
   }
 
   void log(const YAML::Node& node) {

@@ -44,7 +44,8 @@ std::vector<std::string> foreign_slave_warnings(const Config& config) {
     const auto& p = *use.profile;
     const auto device = m.devices.find(address);
     const auto* set = device != m.devices.end() && device->second.line ? &*device->second.line : nullptr;
-    const auto& line = set ? *set : p.line;
+    if (!set && !p.line) continue;  // nothing known to compare with
+    const auto& line = set ? *set : *p.line;
     if (rtu && m.tcp.empty() &&
         (rtu->baud != line.baud || parity_letter(rtu->parity) != line.parity || rtu->stop_bits != line.stop_bits))
       found.push_back(fmt::format("{}: modbus.rtu is {} baud 8{}{}, but device {} ({} at {}) {} {} baud 8{}{}{}",

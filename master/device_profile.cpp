@@ -15,6 +15,16 @@
 
 namespace unima::master {
 
+std::string_view data_table_name(DataTable table) {
+  switch (table) {
+    case DataTable::coils: return "coils";
+    case DataTable::discrete_inputs: return "discrete_inputs";
+    case DataTable::holding_registers: return "holding_registers";
+    case DataTable::input_registers: return "input_registers";
+  }
+  return "?";
+}
+
 std::optional<DataTable> table_of_function(std::uint8_t fn) {
   switch (fn) {
     case modbus::function::read_coils:
@@ -46,6 +56,16 @@ const ProfilePoint* DeviceProfile::find(std::string_view point_name) const {
   for (const auto& p : points)
     if (p.name == point_name) return &p;
   return nullptr;
+}
+
+const OperandClass* DeviceProfile::find_operand_class(std::string_view name) const {
+  for (const auto& c : operands)
+    if (c.name == name) return &c;
+  return nullptr;
+}
+
+std::string OperandClass::format(unsigned number) const {
+  return base == 8 ? fmt::format("{}{:o}", name, number) : fmt::format("{}{}", name, number);
 }
 
 bool DeviceProfile::implements(std::uint8_t fn) const {
@@ -91,6 +111,53 @@ class Parser : public banks::YamlFields<ProfileError> {
       list.push_back(static_cast<std::uint8_t>(number(node, 127)));
     }
     return list;
+  }
+
+  // An operand number written in `base` ("1777" in octal); false when a digit does not fit.
+  static bool parse_in_base(std::string_view text, unsigned base, unsigned& out) {
+    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), out, static_cast<int>(base));
+    return !text.empty() && ec == std::errc{} && end == text.data() + text.size();
+  }
+
+  OperandClass operand_class(const YAML::Node& node, const DeviceProfile& profile) const {
+    only_keys(node, {"class", "numbering", "range", "table", "offset", "read", "write", "label", "inferred"});
+    OperandClass c;
+    c.origin = position(node);
+    c.name = text(node, "class", true);
+    if (c.name.empty() || !std::all_of(c.name.begin(), c.name.end(), [](char ch) { return ch >= 'A' && ch <= 'Z'; }))
+      fail(node["class"], "an operand class is written in capital letters, e.g. X or SD");
+    const auto numbering = text(node, "numbering", true);
+    if (numbering != "octal" && numbering != "decimal") fail(node["numbering"], "numbering is octal or decimal");
+    c.base = numbering == "octal" ? 8 : 10;
+    const auto range = text(node, "range", true);
+    const auto dash = range.find('-');
+    if (dash == std::string::npos || !parse_in_base(std::string_view(range).substr(0, dash), c.base, c.first) ||
+        !parse_in_base(std::string_view(range).substr(dash + 1), c.base, c.last) || c.last < c.first)
+      fail(node["range"], fmt::format("range '{}' must be FIRST-LAST in {}", range, numbering));
+    const auto table = text(node, "table", true);
+    static constexpr DataTable tables[] = {DataTable::coils, DataTable::discrete_inputs, DataTable::holding_registers,
+                                           DataTable::input_registers};
+    const auto found = std::find_if(std::begin(tables), std::end(tables), [&](DataTable t) { return data_table_name(t) == table; });
+    if (found == std::end(tables))
+      fail(node["table"], "table is coils, discrete_inputs, holding_registers or input_registers");
+    c.table = *found;
+    if (!node["offset"]) fail(node, "missing key 'offset'");
+    c.offset = static_cast<std::uint16_t>(number(node["offset"], 0xFFFF));
+    if (std::uint32_t{c.offset} + (c.last - c.first) > 0xFFFF) fail(node["range"], "the class runs past address 0xFFFF");
+    if (node["read"]) c.read_functions = functions(node["read"]);
+    if (node["write"]) c.write_functions = functions(node["write"]);
+    if (c.read_functions.empty()) fail(node, "an operand class needs its 'read' functions");
+    for (const auto* list : {&c.read_functions, &c.write_functions})
+      for (auto fn : *list) {
+        if (table_of_function(fn) != c.table || (list == &c.read_functions) != (fn <= 4))
+          fail(node[list == &c.read_functions ? "read" : "write"],
+               fmt::format("function {} does not {} the {} table", fn, list == &c.read_functions ? "read" : "write",
+                           table));
+        if (!profile.implements(fn)) fail(node, fmt::format("function {} is not in the profile's functions", fn));
+      }
+    c.label = text(node, "label", false);
+    c.inferred = text(node, "inferred", false);
+    return c;
   }
 
   ProfilePoint point(const YAML::Node& node, const DeviceProfile& profile) const {
@@ -144,7 +211,7 @@ class Parser : public banks::YamlFields<ProfileError> {
 
   DeviceProfile profile(const YAML::Node& root) const {
     only_keys(root, {"id", "name", "source", "functions", "word_order", "line", "min_gap", "frame_gap", "byte_timeout",
-                     "min_reply_time", "points"});
+                     "min_reply_time", "operands", "points"});
     DeviceProfile d;
     d.id = text(root, "id", true);
     d.name = text(root, "name", false);
@@ -158,19 +225,29 @@ class Parser : public banks::YamlFields<ProfileError> {
     }
     if (const auto line = root["line"]) {
       only_keys(line, {"baud", "parity", "stop_bits"});
-      if (line["baud"]) d.line.baud = static_cast<unsigned>(number(line["baud"], 115200));
+      d.line.emplace();
+      if (line["baud"]) d.line->baud = static_cast<unsigned>(number(line["baud"], 115200));
       const auto parity = text(line, "parity", false);
-      if (parity == "none" || parity.empty()) d.line.parity = 'N';
-      else if (parity == "even") d.line.parity = 'E';
-      else if (parity == "odd") d.line.parity = 'O';
+      if (parity == "none" || parity.empty()) d.line->parity = 'N';
+      else if (parity == "even") d.line->parity = 'E';
+      else if (parity == "odd") d.line->parity = 'O';
       else fail(line["parity"], "parity is none, even or odd");
-      if (line["stop_bits"]) d.line.stop_bits = static_cast<unsigned>(number(line["stop_bits"], 2));
+      if (line["stop_bits"]) d.line->stop_bits = static_cast<unsigned>(number(line["stop_bits"], 2));
     }
     if (root["min_gap"]) d.min_gap = micros(root["min_gap"]);
     if (root["frame_gap"]) d.frame_gap = micros(root["frame_gap"]);
     if (root["byte_timeout"]) d.byte_timeout = micros(root["byte_timeout"]);
     if (root["min_reply_time"]) d.min_reply_time = micros(root["min_reply_time"]);
+    if (const auto operands = root["operands"]) {
+      if (!operands.IsSequence() || operands.size() == 0) fail(operands, "'operands' must be a non-empty list");
+      for (const auto& node : operands) {
+        auto c = operand_class(node, d);
+        if (d.find_operand_class(c.name)) fail(node, fmt::format("duplicate operand class '{}'", c.name));
+        d.operands.push_back(std::move(c));
+      }
+    }
     const auto points = root["points"];
+    if (!points && !d.operands.empty()) return d;  // a PLC named by its operands only
     if (!points || !points.IsSequence() || points.size() == 0) fail(root, "'points' must be a non-empty list");
     std::set<std::string> names;
     for (const auto& node : points) {

@@ -19,6 +19,8 @@ namespace unima::master {
 /// The four data tables of the Modbus data model (Modbus Application Protocol V1.1b3 §4.3).
 enum class DataTable : std::uint8_t { coils, discrete_inputs, holding_registers, input_registers };
 
+std::string_view data_table_name(DataTable table);
+
 /// The table a read or write function works on; nullopt for other functions.
 std::optional<DataTable> table_of_function(std::uint8_t function);
 
@@ -44,6 +46,26 @@ struct ProfilePoint {
   bool writes_with(std::uint8_t function) const;
 };
 
+/// A class of PLC operands (WECON LX5V, seed 003): `X17`, `Y10` (octal), `M100`, `D200`,
+/// each number one cell of a Modbus table from `offset` on (master/plc_operand).
+struct OperandClass {
+  std::string name;                           // the PLC's letters: X, Y, M, S, T, C, D
+  unsigned base = 10;                         // 8: numbered in octal, as X and Y are
+  unsigned first = 0;                         // the operand numbers the class has
+  unsigned last = 0;
+  DataTable table = DataTable::holding_registers;
+  std::uint16_t offset = 0;                   // the Modbus address of operand `first`
+  std::vector<std::uint8_t> read_functions;   // the first is the default
+  std::vector<std::uint8_t> write_functions;  // empty: the PLC's inputs cannot be written
+  std::string label;
+  std::string inferred;                       // where the offset comes from, when not a manual
+  std::string origin;                         // "file:line:column"
+
+  bool bits() const { return table == DataTable::coils || table == DataTable::discrete_inputs; }
+  /// `number` written in the class's base (17 for X17 = 15).
+  std::string format(unsigned number) const;
+};
+
 struct SerialDefaults {
   unsigned baud = 19200;
   char parity = 'N';
@@ -56,14 +78,16 @@ struct DeviceProfile {
   std::string source;                    // which seed
   std::vector<std::uint8_t> functions;   // what the device implements
   WordOrder word_order = WordOrder::low_first;
-  SerialDefaults line;
+  std::optional<SerialDefaults> line;  // nullopt: the seed does not say
   std::chrono::microseconds min_gap{0};    // between the starts of two frames to the device
   std::chrono::microseconds frame_gap{0};     // silence the device needs between frames
   std::chrono::microseconds byte_timeout{0};  // longest silence it accepts inside a frame
   std::chrono::microseconds min_reply_time{0};  // it never answers sooner: a shorter time-out always fails
   std::vector<ProfilePoint> points;
+  std::vector<OperandClass> operands;  // a PLC's operand classes, when it is named by them
 
   const ProfilePoint* find(std::string_view point_name) const;
+  const OperandClass* find_operand_class(std::string_view name) const;
   bool implements(std::uint8_t function) const;
   std::vector<std::string_view> point_names() const;
 };

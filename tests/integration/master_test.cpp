@@ -57,6 +57,31 @@ TEST_F(MasterTest, AMasterLineAt14400BaudOpensAndPolls) {
   EXPECT_TRUE(log_has(*daemon, "modbus master: rtu " + sim->pty() + " 14400 8N1")) << diagnostics();
 }
 
+// Seed 003: the WECON LX5V named by its own operands — D200, the input X17 (octal: the
+// 16th input), a 32-bit D210/D211 pair low word first, and the output Y10 (the 9th).
+TEST_F(MasterTest, AWeconPlcIsPolledAndWrittenByItsOperands) {
+  simulate({"3=wecon-lx5v"});
+  config.blocks =
+      "  - { type: poll, device: 3, profile: wecon-lx5v, operand: D200, period: 200ms, output: 1 }\n"
+      "  - { type: poll, device: 3, operand: X17, period: 200ms, output: 2 }\n"
+      "  - { type: poll, device: 3, operand: D210, data_type: dint, period: 200ms, output: 3 }\n"
+      "  - { type: send, device: 3, operand: Y10, period: 200ms, source: X.0 }\n";
+  ASSERT_EQ(sim->control("set 3 200 1234"), "ok");
+  ASSERT_EQ(sim->control("input 3 63503 1"), "ok");  // 0xF800 + 15
+  ASSERT_EQ(sim->control("set 3 210 16"), "ok");     // low word
+  ASSERT_EQ(sim->control("set 3 211 0"), "ok");      // high word
+  start();
+  EXPECT_TRUE(sim->wait_for_frame("03 03 00 C8 00 01 04 16")) << diagnostics();  // D200: function 3, address 200
+  EXPECT_TRUE(sim->wait_for_frame("03 02 F8 0F 00 01 B9 4B")) << diagnostics();  // X17: function 2, 0xF80F
+  EXPECT_TRUE(output_becomes(1, 1234)) << diagnostics();
+  EXPECT_TRUE(output_becomes(2, 1)) << diagnostics();
+  EXPECT_TRUE(output_becomes(3, 16)) << diagnostics();  // high word first would read 0x00100000: out of range
+  EXPECT_EQ(sim->control("coil 3 64520"), "coil 0");   // Y10 = 0xFC00 + 8
+  ModbusClient client(config.modbus_port);
+  ASSERT_TRUE(client.write(x_bank, 1));
+  EXPECT_TRUE(eventually([&] { return sim->control("coil 3 64520") == "coil 1"; })) << diagnostics();
+}
+
 TEST_F(MasterTest, TheMonitorLogsEveryMasterTransaction) {
   simulate({"1=sic184-v3"});
   const auto log = dir.path() / "monitor.log";

@@ -18,6 +18,15 @@ std::uint16_t get16(std::span<const std::uint8_t> b, std::size_t at) {
 }  // namespace
 
 ForeignSlave::ForeignSlave(const master::DeviceProfile& profile) : profile_(&profile) {
+  // A PLC's operand classes: every operand of a class is a cell of its table, 0 at first.
+  for (const auto& c : profile.operands) {
+    auto& t = table(c.table);
+    for (std::uint32_t r = c.offset; r <= std::uint32_t{c.offset} + (c.last - c.first); ++r) {
+      auto& cell = t[static_cast<std::uint16_t>(r)];
+      cell.readable = true;
+      cell.writable = !c.write_functions.empty();
+    }
+  }
   for (const auto& point : profile.points) {
     const auto mark = [&](std::uint8_t fn, bool reading) {
       auto& t = table(*master::table_of_function(fn));
@@ -120,6 +129,14 @@ bool ForeignSlave::set_holding(std::uint16_t reg, std::uint16_t value) {
   const auto cell = t.find(reg);
   if (cell == t.end()) return false;
   cell->second.value = value;
+  return true;
+}
+
+bool ForeignSlave::set_input(std::uint16_t reg, bool on) {
+  auto& t = table(DataTable::discrete_inputs);
+  const auto cell = t.find(reg);
+  if (cell == t.end()) return false;
+  cell->second.value = on;
   return true;
 }
 

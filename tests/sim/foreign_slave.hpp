@@ -28,6 +28,8 @@ class ForeignSlave {
   /// A holding register (what functions 3, 6, 16 reach); nullopt outside the map.
   std::optional<std::uint16_t> holding(std::uint16_t reg) const;
   bool set_holding(std::uint16_t reg, std::uint16_t value);
+  /// A discrete input (function 2); false outside the map.
+  bool set_input(std::uint16_t reg, bool on);
   /// A coil (functions 1, 5, 15); nullopt outside the map.
   std::optional<bool> coil(std::uint16_t reg) const;
 

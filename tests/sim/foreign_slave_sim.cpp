@@ -9,7 +9,8 @@
 // KIND: crc, short, function, address, noise. On start it prints "ready pty=LINK tcp=PORT".
 // --frames logs every frame heard and sent: "<monotonic µs> rx|tx rtu|tcp <hex bytes>".
 // Control lines: "dead A on|off", "slow A MS", "garbage A KIND|off", "exception A CODE|off",
-// "set A REG VALUE", "get A REG", "coil A REG", "count A", "reset"; answered by one line.
+// "set A REG VALUE", "get A REG", "input A REG 0|1", "coil A REG", "count A", "reset";
+// answered by one line.
 
 #include <fcntl.h>
 #include <netinet/in.h>
@@ -268,6 +269,11 @@ std::string control(const std::string& line) {
     in >> reg;
     const auto v = slave.model->holding(static_cast<std::uint16_t>(reg));
     return v ? "value " + std::to_string(*v) : "error: no register " + std::to_string(reg);
+  } else if (command == "input") {
+    unsigned reg = 0, value = 0;
+    in >> reg >> value;
+    if (!slave.model->set_input(static_cast<std::uint16_t>(reg), value != 0))
+      return "error: no input " + std::to_string(reg);
   } else if (command == "coil") {
     unsigned reg = 0;
     in >> reg;

@@ -126,6 +126,48 @@ TEST(MasterConfig, AResponseTimeOutBelowTheDevicesReplyTimeIsAWarning) {
   EXPECT_NE(warnings(tcp)[0].find("35 ms"), std::string::npos);
 }
 
+// Seed 003: a poll or send block names a PLC operand as the PLC's manual does.
+TEST(MasterConfig, PlcOperandsBecomeFunctionAddressAndType) {
+  const auto c = load(rtu_master +
+                      "blocks:\n"
+                      "  - { type: poll, device: 3, profile: wecon-lx5v, operand: D200, period: 1s, output: 1 }\n"
+                      "  - { type: poll, device: 3, operand: X17, period: 1s, output: 2 }\n"
+                      "  - { type: poll, device: 3, operand: D210, data_type: dint, period: 1s, output: 3 }\n"
+                      "  - { type: send, device: 3, operand: Y10, period: 1s, source: X.0 }\n"
+                      "  - { type: send, device: 3, operand: D220, data_type: dint, period: 1s, source: W+0x00 }\n"
+                      "  - { type: send, device: 3, operand: M100, period: 1s, source: X.1 }\n");
+  ASSERT_EQ(c.blocks.size(), 6u);
+  const auto& d200 = c.blocks[0];
+  EXPECT_EQ(d200.function, 3);
+  EXPECT_EQ(d200.reg, 200);
+  EXPECT_EQ(d200.data_type, master::ValueType::word);
+  EXPECT_EQ(d200.point, "D200");
+  const auto& x17 = c.blocks[1];
+  EXPECT_EQ(x17.function, 2);
+  EXPECT_EQ(x17.reg, 0xF80F);
+  EXPECT_EQ(x17.data_type, master::ValueType::bits);
+  const auto& pair = c.blocks[2];
+  EXPECT_EQ(pair.function, 3);
+  EXPECT_EQ(pair.extent(), 2);
+  EXPECT_EQ(pair.word_order, master::WordOrder::low_first);  // D(n) low, D(n+1) high
+  EXPECT_EQ(c.blocks[3].function, 5);
+  EXPECT_EQ(c.blocks[3].reg, 0xFC08);
+  EXPECT_EQ(c.blocks[4].function, 16);  // a 32-bit value takes two registers
+  EXPECT_EQ(c.blocks[5].reg, 100);
+}
+
+TEST(MasterConfig, AWrongOperandIsAnErrorAtItsPlace) {
+  EXPECT_EQ(error(rtu_master + "blocks:\n  - { type: poll, device: 3, profile: wecon-lx5v, operand: X18, period: 1s, output: 1 }\n"),
+            "m.yaml:5:60: 'X18': X operands are numbered in octal (X0..X7, X10..), so '18' has no 8 or 9");
+  EXPECT_EQ(error(rtu_master + "blocks:\n  - { type: send, device: 3, profile: wecon-lx5v, operand: X0, period: 1s, source: X.0 }\n"),
+            "m.yaml:5:60: X0 cannot be written: the PLC's X are read only (Input relay)");
+  EXPECT_EQ(error(rtu_master + "blocks:\n  - { type: poll, device: 3, profile: sic184-v3, operand: D1, period: 1s, output: 1 }\n"),
+            "m.yaml:5:59: an operand needs the profile of a PLC named by operands (e.g. 'profile: wecon-lx5v'); "
+            "sic184-v3 has points");
+  EXPECT_EQ(error(rtu_master + "blocks:\n  - { type: poll, device: 3, profile: wecon-lx5v, operand: D1, function: 4, period: 1s, output: 1 }\n"),
+            "m.yaml:5:74: D1 is read with function 3, not 4");
+}
+
 TEST(MasterConfig, TheMasterNeedsOneLine) {
   EXPECT_EQ(error("modbus:\n  mode: master\n"),
             "m.yaml:2:9: master mode needs the line to drive: modbus.rtu, or modbus.master.tcp (host:port)");
@@ -138,7 +180,7 @@ TEST(MasterConfig, TheMasterNeedsOneLine) {
             "m.yaml:4:13: unknown key 'timeout' in modbus.master (known: tcp, response_timeout, retries, merge_gap, "
             "max_read_registers, stale_after, degrade_after, backoff, backoff_max, min_gap, devices)");
   EXPECT_EQ(error(rtu_master + "  master: { devices: { 1: { profile: sic185 } } }\n"),
-            "m.yaml:4:38: unknown device profile 'sic185' (known: sic184-v2, sic184-v3, stepper-driver)");
+            "m.yaml:4:38: unknown device profile 'sic185' (known: sic184-v2, sic184-v3, stepper-driver, wecon-lx5v)");
   EXPECT_EQ(error(rtu_master + "  master: { devices: { 300: {} } }\n"), "m.yaml:4:24: 300 is out of range 1..247");
 }
 
