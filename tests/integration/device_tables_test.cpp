@@ -129,6 +129,22 @@ TEST_F(MappingAndBlocks, ReadBlockAndWriteBlocks) {
   EXPECT_EQ(client.last_error(), EMBXILADD);
 }
 
+// SPEC §1: A reads 0x7FFF while its source is off-line, whatever the source's kind (a bit
+// word read 0, a 32-bit half and a byte pair 0xFFFF, an ASCII pair 0x2020 before).
+TEST_F(BridgeTest, BankAReadsNotMeasuredForEveryKindOfSourceOffLine) {
+  config.banks = "{ D1: 0x1100, D2: 0x1200, D3: 0x1300 }";
+  config.devices =
+      "{ D1: { type: unigen-chp, address: 5 }, D2: { type: uis, address: 6 }, D3: { type: nsu2, address: 7 } }\n"
+      "mapping:\n"
+      "  A: [ D1+0x00, D1.operating_hours_low, D1.operating_hours_high, D2+0x28, D3+0x28, D1.engine_speed ]";
+  start();
+  ModbusClient client(config.modbus_port);
+  EXPECT_EQ(client.read_input(0x1000, 6), std::vector<std::uint16_t>(6, 0x7FFF));
+  auto feed = feed_client();
+  feed_and_wait(feed, R"({"addr":5,"slot":0,"offset":0,"values":[129,1500,7,0]})", 0x1000, 129);
+  EXPECT_EQ(client.read_input(0x1000, 6), (std::vector<std::uint16_t>{129, 7, 0, 0x7FFF, 0x7FFF, 15000}));
+}
+
 TEST(MapCommand, FourDeviceTypesListEveryRegisterWithNamesAndUnits) {
   const auto [status, csv] =
       run(std::string(UNIMA_BRIDGE_CLI) + " map --format csv --config " UNIMA_SOURCE_DIR "/config/examples/four-devices.yaml");
