@@ -123,33 +123,29 @@ class RtuForeignErrors : public RtuTest {
     })) << read_file(log);
     return found;
   }
+  /// The foreign master asks `query`, slave 3 answers `answer`: one Err04 line with that
+  /// answer, the error bit set, and the line goes on.
+  void expect_err04(const Bytes& query, const Bytes& answer) {
+    line->write(query);
+    line->write(answer);
+    const auto monitored = line_of(query);
+    EXPECT_NE(monitored.find("State=Err04"), std::string::npos) << monitored;
+    EXPECT_NE(monitored.find("Response=" + hex_of(answer)), std::string::npos) << monitored;
+    EXPECT_TRUE(error_bit_set());
+    expect_next_reply_is_to_a_read_of_w(not_measured);
+  }
   std::filesystem::path log;
 };
 
 TEST_F(RtuForeignErrors, AnAnswerOfAnotherFunctionIsErr04OnItsQuerysLine) {
-  const auto query = rtu_adu(3, {0x04, 0x02, 0x02, 0x00, 0x01});
-  const auto answer = rtu_adu(3, {0x03, 0x02, 0x01, 0x2C});  // function 3 to a function-4 query
-  line->write(query);
-  line->write(answer);
-  const auto monitored = line_of(query);
-  EXPECT_NE(monitored.find("State=Err04"), std::string::npos) << monitored;
-  EXPECT_NE(monitored.find("Response=" + hex_of(answer)), std::string::npos) << monitored;
-  EXPECT_TRUE(error_bit_set());
+  // Function 3 to a function-4 query.
+  expect_err04(rtu_adu(3, {0x04, 0x02, 0x02, 0x00, 0x01}), rtu_adu(3, {0x03, 0x02, 0x01, 0x2C}));
   ModbusClient tcp(config.modbus_port);
   EXPECT_EQ(tcp.read_input(0x1021, 1), std::vector<std::uint16_t>{not_measured});  // nothing captured
-  expect_next_reply_is_to_a_read_of_w(not_measured);
 }
 
 TEST_F(RtuForeignErrors, AnAnswerShorterThanFiveBytesIsErr04OnItsQuerysLineAndNoOtherLine) {
-  const auto query = rtu_adu(3, {0x04, 0x02, 0x02, 0x00, 0x02});
-  const auto answer = rtu_adu(3, {0x04});  // 4 bytes
-  line->write(query);
-  line->write(answer);
-  const auto monitored = line_of(query);
-  EXPECT_NE(monitored.find("State=Err04"), std::string::npos) << monitored;
-  EXPECT_NE(monitored.find("Response=" + hex_of(answer)), std::string::npos) << monitored;
-  EXPECT_TRUE(error_bit_set());
-  expect_next_reply_is_to_a_read_of_w(not_measured);
+  expect_err04(rtu_adu(3, {0x04, 0x02, 0x02, 0x00, 0x02}), rtu_adu(3, {0x04}));  // 4 bytes
   EXPECT_EQ(read_file(log).find("State=Err03"), std::string::npos) << read_file(log);
 }
 
