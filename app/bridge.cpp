@@ -89,7 +89,8 @@ std::unique_ptr<Bridge::Core> Bridge::build_core(config::Config config) const {
 std::unique_ptr<unimabus::Transport> Bridge::make_transport(const config::Config& config) {
   auto handler = [this](const unimabus::Telegram& t) { return on_telegram(t); };
   if (config.unimabus.transport == config::TransportKind::feed)
-    return std::make_unique<io::FeedTransport>(io_, config.unimabus.listen, handler, [this] { return publisher_.snapshot(); });
+    return std::make_unique<io::FeedTransport>(io_, config.unimabus.listen, config.unimabus.max_clients, handler,
+                                               [this] { return publisher_.snapshot(); });
   if (config.unimabus.transport == config::TransportKind::replay) {
     const auto& replay = config.unimabus.replay;
     return std::make_unique<io::ReplayTransport>(io_, replay.recording, replay.speed, replay.loop, handler);
@@ -237,7 +238,7 @@ bool same_line(const std::optional<config::RtuConfig>& a, const std::optional<co
 // settings did not change; the simulator starts again.
 bool same_transport(const config::UnimabusConfig& a, const config::UnimabusConfig& b) {
   if (a.transport != b.transport) return false;
-  if (a.transport == config::TransportKind::feed) return a.listen == b.listen;
+  if (a.transport == config::TransportKind::feed) return a.listen == b.listen && a.max_clients == b.max_clients;
   if (a.transport == config::TransportKind::replay)
     return a.replay.file == b.replay.file && a.replay.loop == b.replay.loop && a.replay.speed == b.replay.speed &&
            *a.replay.recording == *b.replay.recording;

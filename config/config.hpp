@@ -56,6 +56,7 @@ struct UnimabusConfig {
   std::uint8_t address = 1;  // the bridge's own UnimaBUS address, seed "Addr"
   TransportKind transport = TransportKind::sim;
   std::string listen;        // feed: "host:port" or "unix:/path"
+  unsigned max_clients = 16; // feed: connections served at once
   Duration offline_after = std::chrono::seconds(5);
   SimConfig sim;
   ReplayConfig replay;

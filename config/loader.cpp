@@ -75,7 +75,8 @@ class Loader {
 
   void unimabus(const YAML::Node& node) {
     yaml_.expect_keys(node, "unimabus",
-                      {"address", "transport", "listen", "offline_after", "sim", "file", "loop", "speed", "record"});
+                      {"address", "transport", "listen", "max_clients", "offline_after", "sim", "file", "loop", "speed",
+                       "record"});
     auto& u = config_.unimabus;
     if (node["address"]) u.address = static_cast<std::uint8_t>(yaml_.number(node["address"], 0, 255));
     if (node["transport"]) {
@@ -92,6 +93,7 @@ class Loader {
       if (record["max_files"]) u.record.max_files = static_cast<unsigned>(yaml_.number(record["max_files"], 1, 100));
     }
     if (node["listen"]) u.listen = yaml_.text(node["listen"]);
+    if (node["max_clients"]) u.max_clients = static_cast<unsigned>(yaml_.number(node["max_clients"], 1, 1000));
     if (node["offline_after"]) {
       u.offline_after = yaml_.duration(node["offline_after"]);
       if (u.offline_after.count() == 0) yaml_.fail(node["offline_after"], "offline_after must be longer than 0");

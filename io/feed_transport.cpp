@@ -5,17 +5,19 @@
 #include <array>
 #include <deque>
 
+#include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include "platform/log_text.hpp"
 #include "unimabus/feed_codec.hpp"
 #include "unimabus/line_splitter.hpp"
 
 namespace unima::io {
 
 namespace {
-// A client this far behind is dropped rather than buffered without bound; when it comes
-// back its snapshot brings it up to date, so no published value is lost to it.
-constexpr std::size_t max_pending_bytes = 4 * 1024 * 1024;
+// A client this far behind is dropped rather than buffered without bound (SPEC §6); when
+// it comes back its snapshot brings it up to date, so no published value is lost to it.
+constexpr std::size_t max_pending_bytes = 1024 * 1024;
 }  // namespace
 
 class FeedTransport::Session : public std::enable_shared_from_this<Session> {
@@ -40,7 +42,8 @@ class SocketSession final : public FeedTransport::Session {
   void send(std::string_view text) override {
     if (closed_) return;
     if (pending_.size() + text.size() > max_pending_bytes) {
-      spdlog::warn("feed: {} is not reading; dropping it (it gets a fresh snapshot when it reconnects)", peer_);
+      spdlog::warn("feed: {} is not reading ({} bytes queued for it); dropping it (it gets a fresh snapshot when it "
+                   "reconnects)", peer_, pending_.size() + sending_.size());
       close();
       return;
     }
@@ -53,7 +56,10 @@ class SocketSession final : public FeedTransport::Session {
     closed_ = true;
     boost::system::error_code ec;
     socket_.close(ec);
-    spdlog::info("feed: {} disconnected", peer_);
+    if (malformed_lines_ > 1)
+      spdlog::info("feed: {} disconnected ({} malformed lines, the first one logged)", peer_, malformed_lines_);
+    else
+      spdlog::info("feed: {} disconnected", peer_);
     on_closed_(this);
   }
 
@@ -73,7 +79,10 @@ class SocketSession final : public FeedTransport::Session {
     if (line.find_first_not_of(" \t") == std::string_view::npos) return;  // blank lines are harmless
     auto parsed = unimabus::parse_feed_line(line);
     if (auto* error = std::get_if<std::string>(&parsed)) {
-      spdlog::warn("feed: {} sent a malformed line: {}", peer_, *error);
+      // Every bad line is answered; the log gets the first of each client and the count
+      // when it leaves, so a client sending garbage cannot flood it.
+      if (malformed_lines_++ == 0)
+        spdlog::warn("feed: {} sent a malformed line: {} (further ones are counted)", peer_, platform::log_safe(*error));
       send(unimabus::format_error(*error));
       return;
     }
@@ -103,13 +112,18 @@ class SocketSession final : public FeedTransport::Session {
   std::string sending_;
   bool writing_ = false;
   bool closed_ = false;
+  std::uint64_t malformed_lines_ = 0;
 };
 
 }  // namespace
 
-FeedTransport::FeedTransport(asio::io_context& io, const std::string& listen, unimabus::TelegramHandler on_telegram,
-                             SnapshotFn snapshot)
-    : io_(io), listen_(listen), on_telegram_(std::move(on_telegram)), snapshot_(std::move(snapshot)) {
+FeedTransport::FeedTransport(asio::io_context& io, const std::string& listen, unsigned max_clients,
+                             unimabus::TelegramHandler on_telegram, SnapshotFn snapshot)
+    : io_(io),
+      listen_(listen),
+      max_clients_(max_clients),
+      on_telegram_(std::move(on_telegram)),
+      snapshot_(std::move(snapshot)) {
   if (listen_.starts_with("unix:")) {
     unix_path_ = listen_.substr(5);
     ::unlink(unix_path_.c_str());  // a socket file left by a previous run would block the bind
@@ -197,6 +211,19 @@ void send_at_once(asio::local::stream_protocol::socket&) {}
 template <typename Socket>
 void FeedTransport::accepted(Socket socket) {
   auto peer = describe_peer(socket, listen_);
+  if (sessions_.size() >= max_clients_) {
+    // Told why, then closed: the descriptors a burst of connections takes come back at once,
+    // so the Modbus side never runs short of them.
+    boost::system::error_code ignored;
+    const auto refusal = unimabus::format_error(fmt::format("too many feed clients ({} connected)", sessions_.size()));
+    socket.non_blocking(true, ignored);  // a fresh socket's buffer takes one line; never wait for it
+    asio::write(socket, asio::buffer(refusal), ignored);
+    socket.close(ignored);
+    if (refused_++ == 0)
+      spdlog::warn("feed: refusing {} and any further client: {} are connected (unimabus.max_clients)", peer,
+                   max_clients_);
+    return;
+  }
   send_at_once(socket);
   spdlog::info("feed: {} connected", peer);
   adopt(std::make_shared<SocketSession<Socket>>(std::move(socket), std::move(peer), on_telegram_,
@@ -205,7 +232,14 @@ void FeedTransport::accepted(Socket socket) {
 
 void FeedTransport::forget(Session* session) {
   for (auto it = sessions_.begin(); it != sessions_.end(); ++it)
-    if (it->get() == session) return void(sessions_.erase(it));
+    if (it->get() == session) {
+      sessions_.erase(it);
+      break;
+    }
+  if (refused_ > 0 && sessions_.size() < max_clients_) {
+    spdlog::info("feed: accepting clients again ({} refused meanwhile)", refused_);
+    refused_ = 0;
+  }
 }
 
 }  // namespace unima::io

@@ -19,9 +19,10 @@ class FeedTransport final : public unimabus::Transport {
   /// The lines a new client gets first: one per published register.
   using SnapshotFn = std::function<std::string()>;
 
-  /// Binds at once; throws boost::system::system_error when it cannot.
-  FeedTransport(asio::io_context& io, const std::string& listen, unimabus::TelegramHandler on_telegram,
-                SnapshotFn snapshot);
+  /// Binds at once; throws boost::system::system_error when it cannot. At most
+  /// `max_clients` are served at once; more are told so and closed.
+  FeedTransport(asio::io_context& io, const std::string& listen, unsigned max_clients,
+                unimabus::TelegramHandler on_telegram, SnapshotFn snapshot);
   ~FeedTransport() override;
 
   void start() override;
@@ -42,6 +43,8 @@ class FeedTransport final : public unimabus::Transport {
 
   asio::io_context& io_;
   std::string listen_;
+  unsigned max_clients_;
+  std::uint64_t refused_ = 0;  // since the limit was last reached; logged once per episode
   unimabus::TelegramHandler on_telegram_;
   SnapshotFn snapshot_;
   std::unique_ptr<asio::ip::tcp::acceptor> tcp_acceptor_;

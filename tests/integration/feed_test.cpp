@@ -125,6 +125,53 @@ TEST_F(Feed, EachComponentGoesOffLineOnItsOwn) {
   EXPECT_EQ(client.read_input(0x0012, 1), std::vector<std::uint16_t>{0x7FFF});
 }
 
+// SPEC §6 limits: at most unimabus.max_clients feed connections; more are told so and
+// closed, logged once per episode with a count, and Modbus serves on.
+TEST_F(Feed, ClientsBeyondTheLimitAreToldSoAndClosed) {
+  config.unimabus_extra = "  max_clients: 2\n";
+  start();
+  auto first = feed_client();
+  auto second = feed_client();
+  for (int i = 0; i < 5; ++i) {
+    auto refused = Socket::tcp(config.feed_port);
+    const auto answer = refused.read_line();
+    ASSERT_TRUE(answer) << daemon->log();
+    EXPECT_EQ(*answer, R"x({"error":"too many feed clients (2 connected)"})x");
+    EXPECT_TRUE(refused.closed_by_peer());
+  }
+  ModbusClient client(config.modbus_port);
+  EXPECT_TRUE(client.read_input(0x0011, 1));
+  EXPECT_EQ(daemon->log_count("refusing"), 1u) << daemon->log();
+  // One leaves: the next is served with its snapshot, and the log says how many were refused.
+  first.close();
+  EXPECT_TRUE(daemon->wait_for_log("accepting clients again (5 refused meanwhile)")) << daemon->log();
+  auto third = feed_client();
+  feed_and_wait(third, R"({"addr":5,"slot":0,"offset":5,"values":[77]})", 0x0011 + 5, 77);
+}
+
+// Whatever a line holds, it is answered and never stops the daemon; the log gets the first
+// malformed line of a client, escaped, and the count when the client leaves.
+TEST_F(Feed, MalformedLinesAreAnsweredLoggedOnceAndEscaped) {
+  start();
+  auto feed = feed_client();
+  feed.send(std::string(R"({"addr":5,"slot":0,"offset":0,"values":[1e400]})") + "\n");
+  auto answer = feed.read_line();
+  ASSERT_TRUE(answer) << daemon->log();
+  EXPECT_TRUE(answer->starts_with(R"({"error":)")) << *answer;
+  feed.send(std::string("{\"a\\nFORGED log line\":1}\n"));  // a key holding a newline
+  answer = feed.read_line();
+  ASSERT_TRUE(answer);
+  EXPECT_TRUE(answer->find("unknown field") != std::string::npos) << *answer;
+  for (int i = 0; i < 20; ++i) feed.send(std::string("not json\n"));
+  for (int i = 0; i < 20; ++i) ASSERT_TRUE(feed.read_line());
+  feed_and_wait(feed, R"({"addr":5,"slot":0,"offset":5,"values":[78]})", 0x0011 + 5, 78);
+  EXPECT_EQ(daemon->log_count("sent a malformed line"), 1u) << daemon->log();
+  feed.close();
+  EXPECT_TRUE(daemon->wait_for_log("(22 malformed lines, the first one logged)")) << daemon->log();
+  EXPECT_EQ(daemon->log().find("\nFORGED"), std::string::npos);
+  EXPECT_TRUE(daemon->running());
+}
+
 TEST_F(Feed, SilentDevicesGoOffLine) {
   config.unimabus_extra = "  offline_after: 300ms\n";
   start();
@@ -163,6 +210,7 @@ TEST_F(Feed, EveryFeedClientGetsEveryChange) {
 }
 
 TEST_F(Feed, OutOfDescriptorsTheFeedWaitsInsteadOfSpinningAndRecovers) {
+  config.unimabus_extra = "  max_clients: 1000\n";  // above the descriptors, so accept fails first
   daemon = start_with_few_descriptors(dir, config.yaml(), config.modbus_port);
   auto clients = tcp_clients(config.feed_port, 40);
   std::string report;

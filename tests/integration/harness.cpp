@@ -204,8 +204,11 @@ Socket Socket::unix_socket(const std::string& path) {
 
 Socket::Socket(Socket&& other) noexcept : fd_(other.fd_), buffered_(std::move(other.buffered_)) { other.fd_ = -1; }
 
-Socket::~Socket() {
+Socket::~Socket() { close(); }
+
+void Socket::close() {
   if (fd_ >= 0) ::close(fd_);
+  fd_ = -1;
 }
 
 void Socket::send(const Bytes& bytes) const {

@@ -95,6 +95,8 @@ class Socket {
   ~Socket();
 
   bool valid() const { return fd_ >= 0; }
+  /// Closes it now (the destructor would later).
+  void close();
   void send(const Bytes& bytes) const;
   void send(const std::string& text) const;
   /// Exactly n bytes, or fewer if the peer closed or the deadline passed.
