@@ -60,6 +60,7 @@ TEST(PlcOperands, AWrongOperandSaysWhy) {
   EXPECT_EQ(error("X18"), "'X18': X operands are numbered in octal (X0..X7, X10..), so '18' has no 8 or 9");
   EXPECT_EQ(error("D8000"), "'D8000' is outside D's D0..D7999");
   EXPECT_EQ(error("X2000"), "'X2000' is outside X's X0..X1777");
+  EXPECT_EQ(error("C200"), "'C200' is outside C's C0..C199");  // the 32-bit counters are not mapped
   EXPECT_EQ(error("Q5"), "wecon-lx5v has no operand class 'Q' (classes: X, Y, M, S, T, C, D)");
   EXPECT_EQ(error("D"), "'D' is not an operand of wecon-lx5v (write a class and a number, e.g. D200; classes: X, Y, "
                         "M, S, T, C, D)");
