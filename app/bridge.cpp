@@ -58,6 +58,10 @@ Bridge::Bridge(asio::io_context& io, config::Config config)
       presence_timer_(io.get_executor(), [this] { return core_->presence->next_expiry(); },
                       [this] { expire_presence(); }) {
   monitor_ = std::make_unique<monitor::Monitor>(core_->config.monitor);
+  if (!core_->config.state.file.empty()) {
+    state_ = std::make_unique<io::StateFile>(io_, core_->config.state.file);
+    restore_state();
+  }
   transport_ = make_transport(core_->config);
   recorder_ = make_recorder(core_->config);
   tcp_ = make_tcp_server(core_->config);
@@ -71,12 +75,14 @@ Bridge::~Bridge() { stop(); }
 
 const config::Config& Bridge::config() const { return core_->config; }
 
-std::unique_ptr<Bridge::Core> Bridge::build_core(config::Config config) const {
+std::unique_ptr<Bridge::Core> Bridge::build_core(config::Config config) {
   auto core = std::make_unique<Core>();
   core->store = std::make_unique<banks::RegisterStore>(config::bank_shapes(config));
   core->store->set_mapping(config.mapping);
   core->space = std::make_unique<banks::RegisterSpace>(config::address_map(config), *core->store,
                                                        banks::AccessRules{config.modbus.readable_write_banks});
+  core->space->set_write_listener(
+      [this](BankId bank, std::uint16_t offset, std::uint16_t value) { persist(bank, offset, value); });
   core->model = std::make_unique<app::BankModel>(*core->space);
   core->router = std::make_unique<unimabus::TelegramRouter>(
       unimabus::standard_routes(config.unimabus.address, *core->store, device_addresses(config)), *core->store);
@@ -166,9 +172,32 @@ std::shared_ptr<io::MasterPort> Bridge::make_master(const config::Config& config
   return io::MasterPort::create(io_, config, std::move(hooks));
 }
 
+// What the state file brought back goes into the store before anything is served or
+// published, so the first feed snapshot carries it (SPEC §10). A write block's output comes
+// back only where this config still has a write block for it.
+void Bridge::restore_state() {
+  const auto& image = state_->restored();
+  auto& store = *core_->store;
+  for (std::uint16_t i = 0; i < store.length(BankId::W); ++i)
+    if (const auto value = image.w(i)) store.write(BankId::W, i, *value);
+  if (const auto value = image.x(); value && store.exists(BankId::X)) store.write(BankId::X, 0, *value);
+  for (const auto* block : core_->config.active_blocks())
+    if (block->type == config::Block::Type::write)
+      if (const auto value = image.output(block->output)) store.set_user_output(block->output, *value);
+}
+
+void Bridge::persist(BankId bank, std::uint16_t offset, std::uint16_t value) {
+  if (!state_) return;
+  using Kind = state::PersistedValue::Kind;
+  if (bank == BankId::W) state_->record({Kind::w, offset, value});
+  else if (bank == BankId::X) state_->record({Kind::x, offset, value});
+  else state_->record({Kind::output, static_cast<std::uint16_t>(offset - banks::c_bank::user_analog_outputs + 1), value});
+}
+
 io::SlaveContext Bridge::slave_context() {
   io::SlaveContext context;
   context.registers = core_->model.get();
+  context.state = state_.get();
   context.unit_id = core_->config.modbus.address;
   const auto& ext = core_->config.modbus.extensions;
   context.options.max_read_registers = modbus::max_read_registers_tcp;
@@ -257,6 +286,9 @@ Bridge::ReloadPlan Bridge::plan_reload(config::Config config) {
   plan.core = build_core(std::move(config));
   const auto& old_config = core_->config;
   const auto& new_config = plan.core->config;
+  if (old_config.state.file != new_config.state.file)
+    spdlog::warn("{}: state.file changes at the next start; until then the state stays in {}", new_config.file,
+                 old_config.state.file.empty() ? "no file" : old_config.state.file);
   if (!monitor::Monitor::same_log(old_config.monitor, new_config.monitor))
     plan.monitor_writer = monitor::Monitor::make_writer(new_config.monitor);
   if (!same_transport(old_config.unimabus, new_config.unimabus)) plan.transport = make_transport(new_config);

@@ -18,6 +18,7 @@
 #include "io/rtu_slave_port.hpp"
 #include "io/master_port.hpp"
 #include "io/slave_context.hpp"
+#include "io/state_file.hpp"
 #include "io/tcp_slave_server.hpp"
 #include "io/telegram_recorder.hpp"
 #include "unimabus/presence.hpp"
@@ -57,7 +58,7 @@ class Bridge {
  private:
   struct Core;
   struct ReloadPlan;  // app/reload_plan.hpp
-  std::unique_ptr<Core> build_core(config::Config config) const;
+  std::unique_ptr<Core> build_core(config::Config config);
   ReloadPlan plan_reload(config::Config config);
   void commit(ReloadPlan plan);
   std::unique_ptr<unimabus::Transport> make_transport(const config::Config& config);
@@ -72,11 +73,14 @@ class Bridge {
   void set_online(banks::BankId bank, bool online);
   std::unique_ptr<io::ControlSocket> make_control_socket(const std::string& path);
   std::unique_ptr<io::TelegramRecorder> make_recorder(const config::Config& config) const;
+  void restore_state();
+  void persist(banks::BankId bank, std::uint16_t offset, std::uint16_t value);
 
   asio::io_context& io_;
   std::unique_ptr<Core> core_;
   io::ErrorHold error_hold_;
   std::unique_ptr<monitor::Monitor> monitor_;  // before the ports, whose hook points at it
+  std::unique_ptr<io::StateFile> state_;       // before the ports, which wait for it to answer writes
   unimabus::Publisher publisher_;  // before the transport it publishes to
   std::unique_ptr<unimabus::Transport> transport_;
   std::unique_ptr<io::TelegramRecorder> recorder_;  // unimabus.record

@@ -3,6 +3,7 @@
 // rules of SPEC §1 (readable banks, write-only W and X unless configured readable).
 
 #include <cstdint>
+#include <functional>
 #include <span>
 
 #include "banks/address_map.hpp"
@@ -17,6 +18,10 @@ struct AccessRules {
 
 class RegisterSpace {
  public:
+  /// A master's write that took effect, as it landed in the store: W+offset, X, or, for a
+  /// write block (MBS_RegW), bank C at its user output's offset. What the state file keeps.
+  using WriteListener = std::function<void(BankId bank, std::uint16_t offset, std::uint16_t value)>;
+
   RegisterSpace(AddressMap map, RegisterStore& store, AccessRules rules)
       : map_(std::move(map)), store_(store), rules_(rules) {}
 
@@ -25,6 +30,8 @@ class RegisterSpace {
   bool read(std::uint16_t first, std::span<std::uint16_t> out) const;
   /// All or nothing: false, and nothing written, when any register is not writable.
   bool write(std::uint16_t first, std::span<const std::uint16_t> values);
+
+  void set_write_listener(WriteListener listener) { write_listener_ = std::move(listener); }
 
   const AddressMap& map() const { return map_; }
   RegisterStore& store() { return store_; }
@@ -44,6 +51,7 @@ class RegisterSpace {
   AddressMap map_;
   RegisterStore& store_;
   AccessRules rules_;
+  WriteListener write_listener_;
 };
 
 }  // namespace unima::banks

@@ -130,6 +130,7 @@ void RegisterStore::set_online(BankId id, bool online) {
 
 void RegisterStore::write(BankId id, std::uint16_t offset, std::uint16_t value) {
   bank_(id).raw[offset] = value;
+  bank_(id).carried[offset] = 1;
   notify(id, offset, value);
   publish_mapped_bits();
 }

@@ -61,6 +61,9 @@ class RegisterStore {
 
   /// A Modbus write into W or X. Precondition: bank is W or X and offset inside it.
   void write(BankId bank, std::uint16_t offset, std::uint16_t value);
+  /// True once a master wrote W+offset or X (or the state file brought the value back):
+  /// an unset register is never published as if it were a setpoint (SPEC §10).
+  bool written(BankId bank, std::uint16_t offset) const { return bank_(bank).carried[offset] != 0; }
   /// User analog output n (1..16) = C+(n-1): the output of a function block (SPEC §4).
   void set_user_output(unsigned n, std::uint16_t value);
   /// Banks A, B and C+0x10/+0x12 read their sources at every read, so a mapped register

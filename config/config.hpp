@@ -172,6 +172,13 @@ struct StatusConfig {
   std::string socket = "/run/unima-bridge/control.sock";
 };
 
+/// SPEC §10: where the values masters wrote are kept across a restart.
+struct StateConfig {
+  /// Empty: `file: none`, nothing is kept. Default: `state` in systemd's $STATE_DIRECTORY
+  /// when the service sets it, otherwise beside the config (`bridge.yaml` -> `bridge.state`).
+  std::string file;
+};
+
 struct Config {
   std::string file;
   UnimabusConfig unimabus;
@@ -184,6 +191,7 @@ struct Config {
   LogConfig log;
   monitor::MonitorConfig monitor;
   StatusConfig status;
+  StateConfig state;
 
   /// The blocks that act in this mode; the others are ignored (with a warning, SPEC §4).
   std::vector<const Block*> active_blocks() const;

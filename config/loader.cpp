@@ -2,7 +2,9 @@
 #include <cctype>
 #include <cerrno>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -23,6 +25,16 @@ namespace {
 
 using banks::BankId;
 
+// systemd's StateDirectory= is where a service keeps its state; $STATE_DIRECTORY lists its
+// directories separated by colons. Outside the service the state goes beside the config.
+std::string default_state_file(const std::string& config_file) {
+  if (const char* directories = std::getenv("STATE_DIRECTORY"); directories && *directories) {
+    const std::string first(directories, std::strcspn(directories, ":"));
+    return first + "/state";
+  }
+  return std::filesystem::path(config_file).replace_extension(".state").string();
+}
+
 class Loader {
  public:
   explicit Loader(const std::string& origin) : yaml_(origin) { config_.file = origin; }
@@ -30,7 +42,7 @@ class Loader {
   Config load(const YAML::Node& root) {
     if (!root.IsNull() && !root.IsMap()) yaml_.fail(root, "the config must be a mapping of sections");
     yaml_.expect_keys(root, "the config",
-                      {"unimabus", "modbus", "banks", "devices", "mapping", "blocks", "log", "monitor", "status"});
+                      {"unimabus", "modbus", "banks", "devices", "mapping", "blocks", "log", "monitor", "status", "state"});
     for (BankId bank : banks::all_banks) config_.bank_bases[index_of(bank)] = banks::default_base(bank);
     if (root["unimabus"]) unimabus(root["unimabus"]);
     if (root["modbus"]) modbus(root["modbus"]);
@@ -42,6 +54,7 @@ class Loader {
     if (root["log"]) log(root["log"]);
     if (root["monitor"]) monitor(root["monitor"]);
     if (root["status"]) status(root["status"]);
+    state(root["state"]);
     validate_layout(root);
     return std::move(config_);
   }
@@ -633,6 +646,16 @@ class Loader {
       if (socket.empty() || socket.size() > 107)
         yaml_.fail(node["socket"], "status.socket must be a path of 1..107 characters (a unix socket's limit)");
     }
+  }
+
+  void state(const YAML::Node& node) {
+    config_.state.file = default_state_file(config_.file);
+    if (!node) return;
+    yaml_.expect_keys(node, "state", {"file"});
+    if (!node["file"]) return;
+    const auto file = yaml_.text(node["file"]);
+    if (file.empty()) yaml_.fail(node["file"], "state.file must be a path, or none to keep no state");
+    config_.state.file = file == "none" ? std::string() : file;
   }
 
   void validate_layout(const YAML::Node& root) {

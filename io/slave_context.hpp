@@ -11,10 +11,15 @@
 
 namespace unima::io {
 
+class StateFile;
+
 struct SlaveContext {
   modbus::RegisterModel* registers = nullptr;
   modbus::HandlerOptions options;
   std::uint8_t unit_id = 1;
+  /// When set, a request that wrote is answered only once the state file holds what it
+  /// wrote (SPEC §10), and not at all when that failed.
+  StateFile* state = nullptr;
   /// Called on every fault a port sees (exception sent, bad frame): C+0x13 bit 15.
   std::function<void()> on_fault;
   /// Called after every transaction, when set (the monitor, indicators). Must not block.

@@ -8,6 +8,7 @@
 #include <spdlog/spdlog.h>
 
 #include "io/lazy_deadline.hpp"
+#include "io/state_file.hpp"
 #include "modbus/mbap.hpp"
 #include "modbus/slave_session.hpp"
 
@@ -63,8 +64,11 @@ class TcpSlaveServer::Connection : public std::enable_shared_from_this<Connectio
                               if (ec) return finish(ec == asio::error::eof ? "closed by the client" : ec.message());
                               in_used_ += n;
                               last_activity_ = Clock::now();
+                              const auto* state = server_.context_.state;
+                              const auto recorded_before = state ? state->recorded() : 0;
                               if (!process()) return finish_broken_stream();
                               if (out_used_ == 0) return read();
+                              if (state && state->recorded() != recorded_before) return send_once_durable();
                               send();
                             });
   }
@@ -109,6 +113,18 @@ class TcpSlaveServer::Connection : public std::enable_shared_from_this<Connectio
       in_used_ -= at;
     }
     return true;
+  }
+
+  // A write is acknowledged only once the state file holds it (SPEC §10); the answers
+  // behind it in this batch wait with it, so they keep their order. A write the file could
+  // not take is never acknowledged: the connection closes, and the master tries again.
+  void send_once_durable() {
+    auto& state = *server_.context_.state;
+    state.when_durable(state.recorded(), [this, self = shared_from_this()](bool durable) {
+      if (finished_) return;
+      if (!durable) return finish("its write could not be kept in the state file");
+      send();
+    });
   }
 
   // The answers nearly always fit the socket's send buffer, so they go out in one

@@ -16,12 +16,16 @@ void Publisher::watch(banks::RegisterStore& store) {
 std::string Publisher::snapshot() const {
   std::string lines;
   if (!store_) return lines;
-  const auto all_of = [&](BankId bank, std::uint16_t count) {
-    for (std::uint16_t i = 0; i < count; ++i) lines += format_change(bank, i, store_->read(bank, i));
+  // A W or X register no master has written is left out: a driver must never take the
+  // 0x7FFF or 0 it reads for a setpoint (SPEC §10).
+  const auto written_of = [&](BankId bank) {
+    for (std::uint16_t i = 0; i < store_->length(bank); ++i)
+      if (store_->written(bank, i)) lines += format_change(bank, i, store_->read(bank, i));
   };
-  all_of(BankId::W, store_->length(BankId::W));
-  all_of(BankId::X, store_->length(BankId::X));
-  all_of(BankId::C, banks::c_bank::user_binary_outputs + 1);
+  written_of(BankId::W);
+  written_of(BankId::X);
+  for (std::uint16_t i = 0; i <= banks::c_bank::user_binary_outputs; ++i)
+    lines += format_change(BankId::C, i, store_->read(BankId::C, i));
   return lines;
 }
 

@@ -23,7 +23,8 @@ class Publisher {
   void watch(banks::RegisterStore& store);
   /// Where changes go; null while there is none (a reload switching transports).
   void set_transport(Transport* transport) { transport_ = transport; }
-  /// Every published register of the watched store, as feed lines.
+  /// The published registers of the watched store, as feed lines: the W and X registers a
+  /// master has written (unset ones are left out), then C+0x00..0x12.
   std::string snapshot() const;
 
  private:

@@ -10,20 +10,26 @@ namespace {
 
 class Feed : public BridgeTest {};
 
-TEST_F(Feed, SnapshotOnConnectListsWXAndC) {
+// SPEC §6, §10: W and X registers no master has written are no setpoints and are left
+// out; C+0x00..0x12 are always there.
+TEST_F(Feed, SnapshotOnConnectListsTheWrittenWAndXAndAllOfC) {
   start();
   auto feed = Socket::tcp(config.feed_port);
   std::vector<std::string> lines;
-  for (int i = 0; i < 36; ++i) {
+  for (int i = 0; i < 19; ++i) {
     auto line = feed.read_line();
     ASSERT_TRUE(line) << "after " << i << " lines";
     lines.push_back(*line);
   }
-  EXPECT_EQ(lines[0], R"({"bank":"W","offset":0,"value":32767})");
-  EXPECT_EQ(lines[15], R"({"bank":"W","offset":15,"value":32767})");
-  EXPECT_EQ(lines[16], R"({"bank":"X","offset":0,"value":0})");
-  EXPECT_EQ(lines[17], R"({"bank":"C","offset":0,"value":32767})");
-  EXPECT_EQ(lines[35], R"({"bank":"C","offset":18,"value":0})");
+  EXPECT_EQ(lines[0], R"({"bank":"C","offset":0,"value":32767})");
+  EXPECT_EQ(lines[18], R"({"bank":"C","offset":18,"value":0})");
+  ModbusClient client(config.modbus_port);
+  ASSERT_TRUE(client.write(0x0102, 0x7FFF));  // a master's 0x7FFF is a value it wrote
+  ASSERT_TRUE(client.write(0x3010, 0));
+  auto second = Socket::tcp(config.feed_port);
+  EXPECT_EQ(second.read_line(), R"({"bank":"W","offset":2,"value":32767})");
+  EXPECT_EQ(second.read_line(), R"({"bank":"X","offset":0,"value":0})");
+  EXPECT_EQ(second.read_line(), R"({"bank":"C","offset":0,"value":32767})");
 }
 
 TEST_F(Feed, SnapshotCarriesWhatWasWrittenBefore) {

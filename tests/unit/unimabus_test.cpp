@@ -648,18 +648,25 @@ TEST(Publisher, ChangesOfTheWatchedStoreGoToTheTransport) {
   EXPECT_EQ(transport.published.size(), 2u);
 }
 
-TEST(Publisher, TheSnapshotHoldsWXAndTheUserOutputsOfTheWatchedStore) {
+TEST(Publisher, TheSnapshotHoldsTheWrittenWAndXAndTheUserOutputsOfTheWatchedStore) {
   banks::RegisterStore store(shapes());
   Publisher publisher;
   EXPECT_EQ(publisher.snapshot(), "");
   publisher.watch(store);
   store.write(BankId::W, 0, 0x1234);
+  store.write(BankId::W, 7, 0x7FFF);  // a master's 0x7FFF is a value it wrote
   const auto snapshot = publisher.snapshot();
   const auto lines = static_cast<std::size_t>(std::count(snapshot.begin(), snapshot.end(), '\n'));
-  EXPECT_EQ(lines, std::size_t{store.length(BankId::W)} + store.length(BankId::X) + banks::c_bank::user_binary_outputs + 1);
-  EXPECT_NE(snapshot.find(format_change(BankId::W, 0, 0x1234)), std::string::npos);
+  // W+0 and W+7 only: the unset registers and X are no setpoints (SPEC §10).
+  EXPECT_EQ(lines, 2u + banks::c_bank::user_binary_outputs + 1);
+  EXPECT_TRUE(snapshot.starts_with(format_change(BankId::W, 0, 0x1234) + format_change(BankId::W, 7, 0x7FFF) +
+                                   format_change(BankId::C, 0, 0x7FFF)))
+      << snapshot;
   EXPECT_NE(snapshot.find(format_change(BankId::C, banks::c_bank::user_binary_outputs, 0)), std::string::npos);
+  EXPECT_EQ(snapshot.find("\"bank\":\"X\""), std::string::npos);
   EXPECT_EQ(snapshot.find("\"bank\":\"A\""), std::string::npos);
+  store.write(BankId::X, 0, 0);
+  EXPECT_NE(publisher.snapshot().find(format_change(BankId::X, 0, 0)), std::string::npos);
 }
 
 }  // namespace

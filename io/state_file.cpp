@@ -1,0 +1,321 @@
+#include "io/state_file.hpp"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <condition_variable>
+#include <ctime>
+#include <mutex>
+#include <optional>
+#include <system_error>
+#include <thread>
+#include <utility>
+#include <vector>
+
+#include <spdlog/spdlog.h>
+
+#include "state/state_journal.hpp"
+
+namespace unima::io {
+namespace {
+
+using state::LoadedJournal;
+using state::PersistedValue;
+using state::StateImage;
+
+// A journal this long is rewritten as one record per value: at about 20 bytes a record,
+// some 3,000 writes between two rewrites, each rewrite one more fdatasync and a rename.
+constexpr std::size_t compact_at = 64 * 1024;
+
+[[noreturn]] void throw_errno(const std::string& what) { throw std::system_error(errno, std::generic_category(), what); }
+
+class Descriptor {
+ public:
+  explicit Descriptor(int fd = -1) : fd_(fd) {}
+  Descriptor(Descriptor&& other) noexcept : fd_(std::exchange(other.fd_, -1)) {}
+  Descriptor& operator=(Descriptor&& other) noexcept {
+    if (this != &other) {
+      reset();
+      fd_ = std::exchange(other.fd_, -1);
+    }
+    return *this;
+  }
+  ~Descriptor() { reset(); }
+  int get() const { return fd_; }
+  void reset() {
+    if (fd_ >= 0) ::close(fd_);
+    fd_ = -1;
+  }
+
+ private:
+  int fd_;
+};
+
+std::optional<std::string> read_if_present(const std::filesystem::path& path) {
+  const Descriptor fd(::open(path.c_str(), O_RDONLY | O_NOFOLLOW | O_CLOEXEC));
+  if (fd.get() < 0) {
+    if (errno == ENOENT) return std::nullopt;
+    if (errno == ELOOP) throw std::runtime_error("is a symbolic link; give the file itself");
+    throw_errno("cannot read it");
+  }
+  std::string bytes;
+  char buffer[16384];
+  while (true) {
+    const auto n = ::read(fd.get(), buffer, sizeof buffer);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) throw_errno("cannot read it");
+    if (n == 0) return bytes;
+    bytes.append(buffer, static_cast<std::size_t>(n));
+  }
+}
+
+void write_all(int fd, std::string_view bytes) {
+  while (!bytes.empty()) {
+    const auto n = ::write(fd, bytes.data(), bytes.size());
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) throw_errno("write");
+    bytes.remove_prefix(static_cast<std::size_t>(n));
+  }
+}
+
+void sync_data(int fd) {
+  if (::fdatasync(fd) != 0) throw_errno("fdatasync");
+}
+
+// The rename itself is made durable by syncing the directory that holds the name.
+void sync_directory(const std::filesystem::path& file) {
+  const auto dir = file.parent_path().empty() ? std::filesystem::path(".") : file.parent_path();
+  const Descriptor fd(::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC));
+  if (fd.get() < 0) throw_errno("open " + dir.string());
+  if (::fsync(fd.get()) != 0) throw_errno("fsync " + dir.string());
+}
+
+// Atomic replace: the new content is on the disk under a temporary name before it takes
+// the file's name, so a crash leaves the old file or the new one, never a part of either.
+// Returns the new file, open for appending.
+Descriptor replace_file(const std::filesystem::path& path, std::string_view content) {
+  auto temporary = path;
+  temporary += ".tmp";
+  Descriptor fd(::open(temporary.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_APPEND | O_NOFOLLOW | O_CLOEXEC, 0640));
+  if (fd.get() < 0) throw_errno("create " + temporary.string());
+  write_all(fd.get(), content);
+  sync_data(fd.get());
+  if (::rename(temporary.c_str(), path.c_str()) != 0) throw_errno("rename " + temporary.string());
+  sync_directory(path);
+  return fd;
+}
+
+std::string utc_stamp() {
+  const std::time_t now = std::time(nullptr);
+  std::tm utc{};
+  ::gmtime_r(&now, &utc);
+  char text[32];
+  std::strftime(text, sizeof text, "%Y%m%dT%H%M%SZ", &utc);
+  return text;
+}
+
+StateImage load(const std::filesystem::path& path) {
+  const auto bytes = read_if_present(path);
+  if (!bytes) {
+    spdlog::info("state: {} is new; no value set yet", path.string());
+    return {};
+  }
+  const auto loaded = state::parse_journal(*bytes);
+  switch (loaded.status) {
+    case LoadedJournal::Status::ok: break;
+    case LoadedJournal::Status::torn_tail:
+      spdlog::info("state: {} {}: the record a crash cut short was never acknowledged; dropped", path.string(),
+                   loaded.problem);
+      break;
+    case LoadedJournal::Status::damaged:
+    case LoadedJournal::Status::foreign: {
+      auto aside = path;
+      aside += ".corrupt-" + utc_stamp();
+      if (::rename(path.c_str(), aside.c_str()) != 0) throw_errno("cannot keep it aside as " + aside.string());
+      if (loaded.status == LoadedJournal::Status::foreign)
+        spdlog::error("state: {} {}: kept aside as {}; starting with no value set", path.string(), loaded.problem,
+                      aside.string());
+      else
+        spdlog::error("state: {} {}: kept aside as {}; the {} values recorded before it are restored", path.string(),
+                      loaded.problem, aside.string(), loaded.image.values().size());
+      break;
+    }
+  }
+  return loaded.image;
+}
+
+}  // namespace
+
+struct StateFile::Shared {
+  Shared(asio::io_context& io, std::filesystem::path path, StateImage image, Descriptor fd, std::size_t size)
+      : io(io), path(std::move(path)), fd(std::move(fd)), size(size), image(std::move(image)) {}
+
+  asio::io_context& io;
+  const std::filesystem::path path;
+
+  // The loop's side.
+  std::string pending;  // records not yet handed to the thread
+  std::vector<PersistedValue> pending_values;
+  std::uint64_t recorded = 0;
+  std::uint64_t durable = 0;
+  bool in_flight = false;
+  bool flush_posted = false;
+  bool failing = false;
+  std::deque<std::pair<std::uint64_t, Done>> waiters;  // in order of their sequence
+  Counters counters;
+
+  // Handed over under the mutex.
+  std::mutex mutex;
+  std::condition_variable changed;
+  std::string batch;
+  std::vector<PersistedValue> batch_values;
+  std::uint64_t batch_sequence = 0;
+  bool has_batch = false;
+  bool stopping = false;
+
+  // The thread's side.
+  Descriptor fd;
+  std::size_t size;
+  StateImage image;    // what the file holds, for a rewrite
+  bool rewrite = false;  // after a failed append, whose bytes may be on the disk in part
+  std::thread thread;
+
+  void flush(const std::shared_ptr<Shared>& self);
+  void synced(const std::shared_ptr<Shared>& self, std::uint64_t sequence, const std::string& error);
+  void run(std::weak_ptr<Shared> self);
+  std::string write_batch(const std::string& records);
+};
+
+void StateFile::Shared::flush(const std::shared_ptr<Shared>&) {
+  flush_posted = false;
+  if (in_flight || pending.empty()) return;
+  {
+    const std::lock_guard lock(mutex);
+    batch = std::move(pending);
+    batch_values = std::move(pending_values);
+    batch_sequence = recorded;
+    has_batch = true;
+  }
+  pending.clear();
+  pending_values.clear();
+  in_flight = true;
+  changed.notify_all();
+}
+
+void StateFile::Shared::synced(const std::shared_ptr<Shared>& self, std::uint64_t sequence, const std::string& error) {
+  in_flight = false;
+  const bool ok = error.empty();
+  if (ok) {
+    durable = sequence;
+    ++counters.syncs;
+    if (failing) spdlog::info("state: writing {} again", path.string());
+    failing = false;
+  } else {
+    ++counters.failures;
+    if (!failing)
+      spdlog::error("state: cannot write {}: {}; writes are not acknowledged until it can", path.string(), error);
+    failing = true;
+  }
+  std::vector<Done> ready;
+  while (!waiters.empty() && waiters.front().first <= sequence) {
+    ready.push_back(std::move(waiters.front().second));
+    waiters.pop_front();
+  }
+  for (auto& done : ready) done(ok);
+  if (!pending.empty()) flush(self);  // what came during the sync: the next group
+}
+
+std::string StateFile::Shared::write_batch(const std::string& records) {
+  try {
+    if (rewrite || size + records.size() > compact_at) {
+      const auto content = state::encode_image(image);
+      fd = replace_file(path, content);
+      size = content.size();
+      rewrite = false;
+    } else {
+      write_all(fd.get(), records);
+      sync_data(fd.get());
+      size += records.size();
+    }
+    return {};
+  } catch (const std::system_error& e) {
+    if (fd.get() >= 0) (void)!::ftruncate(fd.get(), static_cast<off_t>(size));  // best effort; the rewrite repairs
+    rewrite = true;
+    return e.what();
+  }
+}
+
+void StateFile::Shared::run(std::weak_ptr<Shared> self) {
+  while (true) {
+    std::unique_lock lock(mutex);
+    changed.wait(lock, [&] { return has_batch || stopping; });
+    if (!has_batch) return;
+    const std::string records = std::move(batch);
+    const auto values = std::move(batch_values);
+    const auto sequence = batch_sequence;
+    has_batch = false;
+    lock.unlock();
+    changed.notify_all();
+    for (const auto& value : values) image.apply(value);
+    auto error = write_batch(records);
+    asio::post(io, [self, sequence, error = std::move(error)] {
+      if (const auto shared = self.lock()) shared->synced(shared, sequence, error);
+    });
+  }
+}
+
+StateFile::StateFile(asio::io_context& io, std::filesystem::path path) : path_(std::move(path)) {
+  try {
+    restored_ = load(path_);
+    const auto content = state::encode_image(restored_);
+    auto fd = replace_file(path_, content);
+    shared_ = std::make_shared<Shared>(io, path_, restored_, std::move(fd), content.size());
+  } catch (const std::exception& e) {
+    throw std::runtime_error("state file " + path_.string() + ": " + e.what());
+  }
+  shared_->thread = std::thread([shared = shared_.get(), weak = std::weak_ptr<Shared>(shared_)] { shared->run(weak); });
+  spdlog::info("state: {} holds {} values", path_.string(), restored_.values().size());
+}
+
+StateFile::~StateFile() {
+  {
+    std::unique_lock lock(shared_->mutex);
+    shared_->changed.wait(lock, [&] { return !shared_->has_batch; });
+    if (!shared_->pending.empty()) {
+      shared_->batch = std::move(shared_->pending);
+      shared_->batch_values = std::move(shared_->pending_values);
+      shared_->batch_sequence = shared_->recorded;
+      shared_->has_batch = true;
+    }
+    shared_->stopping = true;
+  }
+  shared_->changed.notify_all();
+  shared_->thread.join();
+}
+
+void StateFile::record(const PersistedValue& value) {
+  auto& s = *shared_;
+  s.pending += state::encode_record(value);
+  s.pending_values.push_back(value);
+  ++s.recorded;
+  ++s.counters.records;
+  if (s.in_flight || s.flush_posted) return;
+  s.flush_posted = true;
+  // Posted, not run now: the records of every request served in this turn of the loop
+  // join the same batch and share its fdatasync.
+  asio::post(s.io, [weak = std::weak_ptr<Shared>(shared_)] {
+    if (const auto shared = weak.lock()) shared->flush(shared);
+  });
+}
+
+std::uint64_t StateFile::recorded() const { return shared_->recorded; }
+
+void StateFile::when_durable(std::uint64_t sequence, Done done) {
+  if (sequence <= shared_->durable) return done(true);
+  shared_->waiters.emplace_back(sequence, std::move(done));
+}
+
+StateFile::Counters StateFile::counters() const { return shared_->counters; }
+
+}  // namespace unima::io
