@@ -142,6 +142,18 @@ std::string Bridge::status_document() const {
   monitor["written"] = monitor_->written();
   monitor["dropped"] = monitor_->dropped();
   doc["monitor"] = monitor;
+
+  nlohmann::json state;
+  if (state_) {
+    const auto counters = state_->counters();
+    state["file"] = state_->path().string();
+    state["records"] = counters.records;
+    state["syncs"] = counters.syncs;
+    state["failures"] = counters.failures;
+  } else {
+    state["file"] = nullptr;
+  }
+  doc["state"] = state;
   return doc.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 }
 

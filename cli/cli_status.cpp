@@ -149,6 +149,14 @@ std::string render_status_panel(const nlohmann::json& s) {
     out += fmt::format("            {} lines written, {} dropped\n", m["written"].get<std::uint64_t>(),
                        m["dropped"].get<std::uint64_t>());
   }
+  if (s.contains("state")) {
+    const auto& st = s["state"];
+    if (st["file"].is_null()) out += "State       off (state.file: none): writes are not kept across a restart\n";
+    else
+      out += fmt::format("State       {}: {} values recorded in {} syncs, {} failed\n", st["file"].get<std::string>(),
+                         st["records"].get<std::uint64_t>(), st["syncs"].get<std::uint64_t>(),
+                         st["failures"].get<std::uint64_t>());
+  }
   return out;
 }
 

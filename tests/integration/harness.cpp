@@ -112,10 +112,15 @@ Daemon::Daemon(const TempDir& dir, const std::string& config_yaml, const std::ve
   rewrite_config(config_yaml);
   auto options = test_support::writing_to(log_path_);
   options.environment = environment;
-  for (const auto& v : environment)  // the harness's own variable: a descriptor limit for the daemon
+  std::vector<std::string> argv{UNIMA_BRIDGED, "--config", config_path_.string()};
+  for (const auto& v : environment) {  // the harness's own variables
     if (v.starts_with("UNIMA_TEST_MAX_FILES=")) options.max_files = std::stoul(v.substr(21));
-  process_ = std::make_unique<test_support::ChildProcess>(
-      std::vector<std::string>{UNIMA_BRIDGED, "--config", config_path_.string()}, std::move(options));
+    if (v.starts_with("UNIMA_TEST_STRACE=")) {  // the daemon's fdatasync and sendto calls, in order
+      argv.insert(argv.begin(), {"strace", "-f", "-e", "trace=fdatasync,sendto", "-o", v.substr(18)});
+      options.search_path = true;
+    }
+  }
+  process_ = std::make_unique<test_support::ChildProcess>(argv, std::move(options));
 }
 
 Daemon::~Daemon() = default;

@@ -54,7 +54,8 @@ class Daemon {
  public:
   /// Writes `config_yaml` to DIR/bridge.yaml and starts unima-bridged on it; its stdout and
   /// stderr go to DIR/daemon.log. `environment` ("NAME=value") adds to the inherited one.
-  /// `environment` adds variables; UNIMA_TEST_MAX_FILES=N instead limits its descriptors.
+  /// `environment` adds variables; UNIMA_TEST_MAX_FILES=N instead limits its descriptors,
+  /// UNIMA_TEST_STRACE=FILE runs it under strace, its fdatasync and sendto calls to FILE.
   Daemon(const TempDir& dir, const std::string& config_yaml, const std::vector<std::string>& environment = {});
   ~Daemon();
 

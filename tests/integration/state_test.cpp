@@ -6,6 +6,7 @@
 
 #include <atomic>
 #include <random>
+#include <sstream>
 #include <thread>
 
 #include "tests/integration/bridge_fixture.hpp"
@@ -43,6 +44,9 @@ TEST_F(State, AcknowledgedWritesToWXAndAWriteBlockAreBackAfterKill9) {
     ASSERT_TRUE(client.write(x_address, 0x0005));
     ASSERT_TRUE(client.write(0x0201, 4321));          // the write block: user output 3 = C+2
   }
+  const auto status = run(std::string(UNIMA_BRIDGE_CLI) + " status --socket " + config.status_socket);
+  EXPECT_NE(status.output.find("State       " + state_file().string() + ": 6 values recorded in "), std::string::npos)
+      << status.output;
   kill_and_restart();
   const auto w = read_w();
   EXPECT_EQ(w[3], 1234);
@@ -101,6 +105,41 @@ TEST_F(State, KilledAtRandomInstantsDuringWritesEveryAcknowledgedValueIsBack) {
     acknowledged = w;  // a write that was on its way may or may not have stayed: now it is known
   }
   EXPECT_GT(next_value, 12) << "the writes never started";
+}
+
+// The order on the wire of system calls: a write's answer (sendto) leaves only after an
+// fdatasync that followed it. Counted from the daemon's start, the k-th answer has at least
+// k more completed fdatasync calls before it than there were when the writes began.
+TEST_F(State, TheAnswerToAWriteLeavesOnlyAfterItsFdatasync) {
+  const auto trace = dir.path() / "strace.txt";
+  daemon = std::make_unique<Daemon>(dir, config.yaml(), std::vector<std::string>{"UNIMA_TEST_STRACE=" + trace.string()});
+  ASSERT_TRUE(wait_for_port(config.modbus_port)) << daemon->log();
+  const auto completed_syncs = [](const std::string& text) {
+    std::size_t count = 0;
+    std::istringstream lines(text);
+    for (std::string line; std::getline(lines, line);)
+      if (line.find("fdatasync") != std::string::npos && line.ends_with("= 0")) ++count;
+    return count;
+  };
+  ASSERT_TRUE(eventually([&] { return completed_syncs(read_file(trace)) > 0; })) << read_file(trace);
+  const auto before = completed_syncs(read_file(trace));
+  {
+    ModbusClient client(config.modbus_port);
+    for (int k = 0; k < 3; ++k) ASSERT_TRUE(client.write(w_base + k, static_cast<std::uint16_t>(100 + k)));
+  }
+  std::vector<std::size_t> syncs_before_answer;
+  ASSERT_TRUE(eventually([&] {
+    syncs_before_answer.clear();
+    std::size_t syncs = 0;
+    std::istringstream lines(read_file(trace));
+    for (std::string line; std::getline(lines, line);) {
+      if (line.find("fdatasync") != std::string::npos && line.ends_with("= 0")) ++syncs;
+      if (line.find("sendto(") != std::string::npos && line.find(", 12, ") != std::string::npos)
+        syncs_before_answer.push_back(syncs);
+    }
+    return syncs_before_answer.size() == 3;
+  })) << read_file(trace);
+  for (std::size_t k = 0; k < 3; ++k) EXPECT_GE(syncs_before_answer[k], before + k + 1) << read_file(trace);
 }
 
 TEST_F(State, ACorruptFileIsKeptAsideAndTheDaemonStartsWithNothingSet) {
