@@ -68,6 +68,7 @@ struct TcpSlaveConfig {
   std::uint16_t port = 502;
   unsigned max_clients = 128;
   Duration idle_timeout = std::chrono::seconds(60);  // 0: never
+  Duration frame_timeout = std::chrono::seconds(2);  // a started request must be complete within it
 };
 
 enum class Parity { none, even, odd };

@@ -156,12 +156,16 @@ class Loader {
       if (ext["function_43"]) m.extensions.function_43 = yaml_.boolean(ext["function_43"]);
     }
     if (const auto tcp = node["tcp"]) {
-      yaml_.expect_keys(tcp, "modbus.tcp", {"listen", "port", "max_clients", "idle_timeout"});
+      yaml_.expect_keys(tcp, "modbus.tcp", {"listen", "port", "max_clients", "idle_timeout", "frame_timeout"});
       TcpSlaveConfig t;
       if (tcp["listen"]) t.listen = yaml_.text(tcp["listen"]);
       if (tcp["port"]) t.port = static_cast<std::uint16_t>(yaml_.number(tcp["port"], 0, 65535));
       if (tcp["max_clients"]) t.max_clients = static_cast<unsigned>(yaml_.number(tcp["max_clients"], 1, 10000));
       if (tcp["idle_timeout"]) t.idle_timeout = yaml_.duration(tcp["idle_timeout"]);
+      if (tcp["frame_timeout"]) {
+        t.frame_timeout = yaml_.duration(tcp["frame_timeout"]);
+        if (t.frame_timeout.count() <= 0) yaml_.fail(tcp["frame_timeout"], "modbus.tcp.frame_timeout must be above 0");
+      }
       m.tcp = t;
     }
     if (const auto rtu = node["rtu"]) m.rtu = rtu_line(rtu);

@@ -2,7 +2,9 @@
 // Accepts connections one after another on the loop, for the Modbus TCP slave, the feed
 // and the status socket. A failed accept (out of descriptors or memory) leaves the
 // pending connection in the backlog, so an immediate retry would fail again at once and
-// spin: it is logged and retried after a pause.
+// spin: it is logged and retried after a pause — unless, out of descriptors, the owner
+// can make room (the Modbus TCP slave closes its longest-idle client, SPEC §10), and then
+// it accepts again at once.
 //
 // Lifetime (io/handler_guard): the owner owns the acceptor and this object, and may
 // destroy both at any time on the loop's thread after stop(); a handler already queued
@@ -27,8 +29,12 @@ class RetryingAcceptor {
   static constexpr std::chrono::milliseconds retry_after{100};
 
   /// `what` starts the log line ("modbus tcp", "feed", "status").
-  RetryingAcceptor(Acceptor& acceptor, std::string what, std::function<void(Socket)> on_accepted)
-      : acceptor_(acceptor), retry_(acceptor.get_executor()), what_(std::move(what)), on_accepted_(std::move(on_accepted)) {}
+  /// `make_room`, when given, is asked to free a descriptor when there is none left; it
+  /// returns false when it cannot.
+  RetryingAcceptor(Acceptor& acceptor, std::string what, std::function<void(Socket)> on_accepted,
+                   std::function<bool()> make_room = {})
+      : acceptor_(acceptor), retry_(acceptor.get_executor()), what_(std::move(what)), on_accepted_(std::move(on_accepted)),
+        make_room_(std::move(make_room)) {}
   RetryingAcceptor(const RetryingAcceptor&) = delete;
   RetryingAcceptor& operator=(const RetryingAcceptor&) = delete;
   ~RetryingAcceptor() { stop(); }
@@ -47,10 +53,15 @@ class RetryingAcceptor {
   void accept() {
     acceptor_.async_accept([this, token = guard_.token()](const boost::system::error_code& ec, Socket socket) {
       if (!HandlerGuard::alive(token) || ec == asio::error::operation_aborted || stopped_) return;
+      if (ec && out_of_descriptors(ec) && make_room_ && make_room_()) return accept();
       if (ec) return retry_later(ec);
       on_accepted_(std::move(socket));
       if (HandlerGuard::alive(token) && !stopped_) accept();
     });
+  }
+
+  static bool out_of_descriptors(const boost::system::error_code& ec) {
+    return ec == asio::error::no_descriptors || ec == boost::system::errc::too_many_files_open_in_system;
   }
 
   void retry_later(const boost::system::error_code& ec) {
@@ -65,6 +76,7 @@ class RetryingAcceptor {
   asio::steady_timer retry_;
   std::string what_;
   std::function<void(Socket)> on_accepted_;
+  std::function<bool()> make_room_;
   HandlerGuard guard_;
   bool stopped_ = true;
 };

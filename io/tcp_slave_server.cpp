@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <array>
 #include <cstring>
+#include <fcntl.h>
+#include <unistd.h>
 #include <vector>
 
 #include <spdlog/spdlog.h>
@@ -52,6 +54,9 @@ class TcpSlaveServer::Connection : public std::enable_shared_from_this<Connectio
   }
 
   const std::string& peer() const { return peer_; }
+  Clock::time_point last_activity() const { return last_activity_; }
+  /// Closed for a new client (SPEC §10); the server logs why.
+  void evict() { finish("closed for a new client"); }
 
  private:
   // Boost 1.74's reactor tries the read at once (a recv) before it waits on epoll; when
@@ -63,7 +68,6 @@ class TcpSlaveServer::Connection : public std::enable_shared_from_this<Connectio
                             [this, self = shared_from_this()](const boost::system::error_code& ec, std::size_t n) {
                               if (ec) return finish(ec == asio::error::eof ? "closed by the client" : ec.message());
                               in_used_ += n;
-                              last_activity_ = Clock::now();
                               const auto* state = server_.context_.state;
                               const auto recorded_before = state ? state->recorded() : 0;
                               if (!process()) return finish_broken_stream();
@@ -112,7 +116,25 @@ class TcpSlaveServer::Connection : public std::enable_shared_from_this<Connectio
       std::memmove(in_.data(), in_.data() + at, in_used_ - at);
       in_used_ -= at;
     }
+    note_progress(at > 0);
     return true;
+  }
+
+  // Only a complete request counts as activity: a client that sends a byte now and then
+  // neither stays "active" nor holds its slot beyond frame_timeout (SPEC §10).
+  void note_progress(bool served) {
+    if (in_used_ == 0 && !served && !adu_started_) return;  // nothing came (a lone read of 0 bytes)
+    const auto now = Clock::now();
+    if (served) last_activity_ = now;
+    if (in_used_ == 0) {
+      adu_started_.reset();
+    } else if (served || !adu_started_) {
+      // A request has begun: its deadline is usually earlier than the idle one the timer
+      // waits for, so the timer is armed again.
+      adu_started_ = now;
+      idle_.cancel();
+      idle_.watch();
+    }
   }
 
   // A write is acknowledged only once the state file holds it (SPEC §10); the answers
@@ -164,12 +186,20 @@ class TcpSlaveServer::Connection : public std::enable_shared_from_this<Connectio
   // of the server's once its socket is closed.
   std::optional<Clock::time_point> idle_deadline() const {
     if (!socket_.is_open()) return std::nullopt;
-    const auto limit = server_.options_.idle_timeout;
-    if (limit.count() == 0) return std::nullopt;
-    return last_activity_ + limit;
+    std::optional<Clock::time_point> due;
+    if (const auto idle = server_.options_.idle_timeout; idle.count() > 0) due = last_activity_ + idle;
+    if (adu_started_) {
+      const auto frame_due = *adu_started_ + server_.options_.frame_timeout;
+      due = due ? std::min(*due, frame_due) : frame_due;
+    }
+    return due;
   }
   void close_idle() {
-    spdlog::info("modbus tcp: {} idle for {} ms, closing", peer_, server_.options_.idle_timeout.count());
+    if (adu_started_ && Clock::now() >= *adu_started_ + server_.options_.frame_timeout)
+      server_.log_per_peer(fmt::format("{} did not complete its request within {} ms, closing", peer_,
+                                       server_.options_.frame_timeout.count()));
+    else
+      spdlog::info("modbus tcp: {} idle for {} ms, closing", peer_, server_.options_.idle_timeout.count());
     close();
   }
 
@@ -184,7 +214,7 @@ class TcpSlaveServer::Connection : public std::enable_shared_from_this<Connectio
   // fault of the client's (C+0x13 bit 15), and only its own connection closes.
   void finish_broken_stream() {
     if (finished_) return;
-    spdlog::warn("modbus tcp: {} sent a bad MBAP header; closing its connection", peer_);
+    server_.log_per_peer(fmt::format("{} sent a bad MBAP header; closing its connection", peer_));
     if (server_.context_.on_fault) server_.context_.on_fault();
     finish("sent a bad MBAP header");
   }
@@ -201,12 +231,15 @@ class TcpSlaveServer::Connection : public std::enable_shared_from_this<Connectio
   std::vector<std::uint8_t> out_;  // out_used_ bytes of answers, then spare room
   std::size_t out_used_ = 0;
   Clock::time_point last_activity_;
+  std::optional<Clock::time_point> adu_started_;  // when the first bytes of an incomplete request came
   bool finished_ = false;
 };
 
 TcpSlaveServer::TcpSlaveServer(asio::io_context& io, const TcpSlaveOptions& options, const SlaveContext& context)
     : io_(io), options_(options), context_(context), acceptor_(io),
-      accepting_(acceptor_, "modbus tcp", [this](asio::ip::tcp::socket socket) { adopt(std::move(socket)); }) {
+      accepting_(acceptor_, "modbus tcp", [this](asio::ip::tcp::socket socket) { adopt(std::move(socket)); },
+                 [this] { return make_room(); }),
+      reserve_fd_(::open("/dev/null", O_RDONLY | O_CLOEXEC)) {
   const tcp::endpoint endpoint(asio::ip::make_address(options_.listen), options_.port);
   acceptor_.open(endpoint.protocol());
   acceptor_.set_option(tcp::acceptor::reuse_address(true));
@@ -214,7 +247,10 @@ TcpSlaveServer::TcpSlaveServer(asio::io_context& io, const TcpSlaveOptions& opti
   acceptor_.listen(asio::socket_base::max_listen_connections);
 }
 
-TcpSlaveServer::~TcpSlaveServer() { stop(); }
+TcpSlaveServer::~TcpSlaveServer() {
+  stop();
+  if (reserve_fd_ >= 0) ::close(reserve_fd_);
+}
 
 std::uint16_t TcpSlaveServer::port() const {
   boost::system::error_code ec;
@@ -237,16 +273,48 @@ void TcpSlaveServer::stop() {
 }
 
 void TcpSlaveServer::adopt(tcp::socket socket) {
-  if (connections_.size() >= options_.max_clients) {
-    spdlog::warn("modbus tcp: refusing a client: {} connections is the limit", options_.max_clients);
-    boost::system::error_code ignored;
-    socket.close(ignored);
-    return;
-  }
+  if (reserve_fd_ < 0) reserve_fd_ = ::open("/dev/null", O_RDONLY | O_CLOEXEC);  // back once one is free
+  if (connections_.size() >= options_.max_clients)
+    evict_longest_idle(fmt::format("{} connections is the limit", options_.max_clients));
   auto connection = std::make_shared<Connection>(*this, std::move(socket));
   spdlog::debug("modbus tcp: {} connected", connection->peer());
   connections_.insert(connection);
   connection->start();
+}
+
+// A flood of clients (or of broken ones) must not flood the log: the first line, then at
+// most one a minute, which says how many were not logged.
+void TcpSlaveServer::log_per_peer(const std::string& message) {
+  const auto now = Clock::now();
+  if (logged_at_ != Clock::time_point{} && now - logged_at_ < std::chrono::minutes(1)) {
+    ++unlogged_;
+    return;
+  }
+  if (unlogged_ > 0) spdlog::warn("modbus tcp: {} (and {} more such events in the last minute)", message, unlogged_);
+  else spdlog::warn("modbus tcp: {}", message);
+  logged_at_ = now;
+  unlogged_ = 0;
+}
+
+bool TcpSlaveServer::evict_longest_idle(const std::string& why) {
+  if (connections_.empty()) return false;
+  const auto idlest = *std::min_element(connections_.begin(), connections_.end(), [](const auto& a, const auto& b) {
+    return a->last_activity() < b->last_activity();
+  });
+  const auto idle_ms =
+      std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - idlest->last_activity()).count();
+  log_per_peer(fmt::format("{}: closing {}, idle for {} ms, for a new client", why, idlest->peer(), idle_ms));
+  idlest->evict();
+  return true;
+}
+
+bool TcpSlaveServer::make_room() {
+  if (evict_longest_idle("out of file descriptors")) return true;
+  if (reserve_fd_ < 0) return false;
+  log_per_peer("out of file descriptors: a new client takes the one held in reserve");
+  ::close(reserve_fd_);
+  reserve_fd_ = -1;
+  return true;
 }
 
 void TcpSlaveServer::forget(Connection* connection) {

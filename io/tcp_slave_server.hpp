@@ -1,8 +1,9 @@
 #pragma once
 // Modbus TCP slave on Boost.Asio (SPEC §3): many clients at once, pipelined requests
 // answered in order (the answers to one read go out in one write), unit-id rules, an idle
-// time-out and a connection limit. A client that sends a bad MBAP header loses only its
-// own connection.
+// time-out, a deadline for a started request and a connection limit at which a new client
+// takes the place of the one idle the longest (SPEC §10). A client that sends a bad MBAP
+// header loses only its own connection.
 
 #include <chrono>
 #include <cstdint>
@@ -21,6 +22,7 @@ struct TcpSlaveOptions {
   std::uint16_t port = 502;
   unsigned max_clients = 128;
   std::chrono::milliseconds idle_timeout{60'000};  // 0: never
+  std::chrono::milliseconds frame_timeout{2'000};  // a started ADU must be complete within it
 };
 
 class TcpSlaveServer {
@@ -33,9 +35,10 @@ class TcpSlaveServer {
   void stop();
   void set_context(const SlaveContext& context) { context_ = context; }
   /// Applies to new clients and to the idle checks from now on.
-  void set_limits(unsigned max_clients, std::chrono::milliseconds idle_timeout) {
+  void set_limits(unsigned max_clients, std::chrono::milliseconds idle_timeout, std::chrono::milliseconds frame_timeout) {
     options_.max_clients = max_clients;
     options_.idle_timeout = idle_timeout;
+    options_.frame_timeout = frame_timeout;
   }
   const TcpSlaveOptions& options() const { return options_; }
   /// The port actually bound (differs from options().port when that was 0).
@@ -47,6 +50,12 @@ class TcpSlaveServer {
  private:
   void adopt(asio::ip::tcp::socket socket);
   void forget(Connection* connection);
+  /// Closes the connection idle the longest, for a new client; false when there is none.
+  bool evict_longest_idle(const std::string& why);
+  void log_per_peer(const std::string& message);
+  /// Frees a descriptor for a pending client when the process has none left: the
+  /// longest-idle connection's, or the reserve's. False when neither is there.
+  bool make_room();
 
   asio::io_context& io_;
   TcpSlaveOptions options_;
@@ -55,6 +64,12 @@ class TcpSlaveServer {
   RetryingAcceptor<asio::ip::tcp::acceptor> accepting_;
   std::set<std::shared_ptr<Connection>> connections_;
   bool stopped_ = false;
+  // A descriptor held back (/dev/null) so that accept never starves when the process
+  // runs out of them: given up for a client, taken back when one is free again.
+  int reserve_fd_ = -1;
+  // Warnings about clients (evictions, deadlines, bad headers) at most once a minute.
+  std::chrono::steady_clock::time_point logged_at_{};
+  std::uint64_t unlogged_ = 0;
 };
 
 }  // namespace unima::io
