@@ -1,13 +1,12 @@
 #include "io/feed_transport.hpp"
 
-#include <unistd.h>
-
 #include <array>
 #include <deque>
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include "config/socket_path.hpp"
 #include "platform/log_text.hpp"
 #include "unimabus/feed_codec.hpp"
 #include "unimabus/line_splitter.hpp"
@@ -117,26 +116,25 @@ class SocketSession final : public FeedTransport::Session {
 
 }  // namespace
 
-FeedTransport::FeedTransport(asio::io_context& io, const std::string& listen, unsigned max_clients,
+FeedTransport::FeedTransport(asio::io_context& io, const config::ListenEndpoint& listen, unsigned max_clients,
                              unimabus::TelegramHandler on_telegram, SnapshotFn snapshot)
     : io_(io),
-      listen_(listen),
+      listen_(listen.text),
       max_clients_(max_clients),
       on_telegram_(std::move(on_telegram)),
       snapshot_(std::move(snapshot)) {
-  if (listen_.starts_with("unix:")) {
-    unix_path_ = listen_.substr(5);
-    ::unlink(unix_path_.c_str());  // a socket file left by a previous run would block the bind
+  if (listen.is_unix()) {
+    unix_path_ = listen.unix_path;
+    config::clear_socket_path(unix_path_, "unimabus.listen");  // a previous run's socket file would block the bind
     unix_acceptor_ = std::make_unique<asio::local::stream_protocol::acceptor>(
         io_, asio::local::stream_protocol::endpoint(unix_path_));
     unix_accepting_ = std::make_unique<RetryingAcceptor<asio::local::stream_protocol::acceptor>>(
         *unix_acceptor_, "feed", [this](asio::local::stream_protocol::socket socket) { accepted(std::move(socket)); });
     return;
   }
-  const auto colon = listen_.rfind(':');
-  const auto host = listen_.substr(0, colon);
-  const auto port = static_cast<std::uint16_t>(std::stoul(listen_.substr(colon + 1)));
-  const asio::ip::tcp::endpoint endpoint(asio::ip::make_address(host == "*" ? "0.0.0.0" : host), port);
+  // The loader checked the address (config/endpoint): `unima-bridge check` refuses what
+  // this would.
+  const asio::ip::tcp::endpoint endpoint(asio::ip::make_address(listen.tcp.host), listen.tcp.port);
   tcp_acceptor_ = std::make_unique<asio::ip::tcp::acceptor>(io_);
   tcp_acceptor_->open(endpoint.protocol());
   tcp_acceptor_->set_option(asio::ip::tcp::acceptor::reuse_address(true));
@@ -172,7 +170,7 @@ void FeedTransport::stop() {
   if (tcp_acceptor_) tcp_acceptor_->close(ec);
   if (unix_acceptor_) {
     unix_acceptor_->close(ec);
-    ::unlink(unix_path_.c_str());
+    config::remove_socket_file(unix_path_);
   }
   auto sessions = std::move(sessions_);
   for (const auto& s : sessions) s->close();

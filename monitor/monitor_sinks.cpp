@@ -7,7 +7,10 @@
 #include <filesystem>
 #include <stdexcept>
 
+#include <fmt/format.h>
 #include <spdlog/spdlog.h>
+
+#include "monitor/log_path.hpp"
 
 namespace unima::monitor {
 
@@ -29,12 +32,16 @@ bool write_all(int fd, std::string_view bytes) {
 }  // namespace
 
 RotatingFileSink::RotatingFileSink(std::string path, std::uint64_t max_size, unsigned max_files,
-                                   FileAppender::Route route, std::string purpose)
+                                   FileAppender::Route route, std::string purpose, std::string_view key)
     : path_(std::move(path)), max_size_(max_size), max_files_(max_files), route_(route), purpose_(std::move(purpose)) {
   const auto directory = std::filesystem::path(path_).parent_path();
   std::error_code ignored;  // open() says what went wrong
   if (!directory.empty()) std::filesystem::create_directories(directory, ignored);
-  if (!open()) throw std::runtime_error(purpose_ + ": cannot open " + path_ + ": " + std::strerror(errno));
+  if (open()) return;
+  const int error = errno;
+  if (const auto refused = error == ELOOP ? refused_log_path(path_) : std::nullopt)
+    throw std::runtime_error(fmt::format("{}: {}", key, *refused));
+  throw std::runtime_error(fmt::format("{}: cannot open {}: {}", key, path_, std::strerror(error)));
 }
 
 RotatingFileSink::~RotatingFileSink() { close(); }

@@ -19,11 +19,12 @@ namespace unima::monitor {
 /// monitor/file_appender.hpp), never longer than FileAppender::tail_delay.
 class RotatingFileSink : public MonitorSink {
  public:
-  /// Opens (creating the directory if needed); throws std::runtime_error naming the path.
+  /// Opens (creating the directory if needed); throws std::runtime_error naming `key`, the
+  /// config key of the path, and the path (a symbolic link is refused: monitor/log_path).
   /// `purpose` begins its log messages ("monitor", "unimabus record").
   RotatingFileSink(std::string path, std::uint64_t max_size, unsigned max_files,
                    FileAppender::Route route = FileAppender::Route::direct_where_possible,
-                   std::string purpose = "monitor");
+                   std::string purpose = "monitor", std::string_view key = "monitor.file");
   ~RotatingFileSink() override;
 
   void write(std::string_view lines) override;
