@@ -4,6 +4,7 @@
 #include <malloc.h>
 #include <systemd/sd-daemon.h>
 
+#include <csignal>
 #include <cstdio>
 #include <cstring>
 #include <string>
@@ -81,6 +82,10 @@ int main(int argc, char** argv) {
     return 2;
   }
 
+  // Past a file size limit (LimitFSIZE=, ulimit -f) a log write then fails with EFBIG as on
+  // a full disk — reported once, its lines lost, serving going on — instead of SIGXFSZ
+  // killing the daemon.
+  std::signal(SIGXFSZ, SIG_IGN);
   unima::platform::setup_logging("info");  // until the config names its level
   unima::config::Config config;
   try {

@@ -55,7 +55,7 @@ bool RotatingFileSink::open() {
 
 void RotatingFileSink::close() {
   if (!file_) return;
-  if (!file_->flush()) report_write_error();
+  if (!file_->flush()) write_failed();
   spare_stage_ = file_->release_stage();
   file_.reset();
 }
@@ -68,28 +68,35 @@ void RotatingFileSink::rotate() {
   for (unsigned i = max_files_; i > 1; --i)
     ::rename((path_ + "." + std::to_string(i - 1)).c_str(), (path_ + "." + std::to_string(i)).c_str());
   ::rename(path_.c_str(), (path_ + ".1").c_str());
-  if (!open() && !failing_) {
-    failing_ = true;
-    spdlog::error("{}: cannot reopen {} after rotating it: {}", purpose_, path_, std::strerror(errno));
-  }
+  if (!open()) write_failed();  // the next append tries again
 }
 
-void RotatingFileSink::report_write_error() {
-  if (!failing_)
-    spdlog::error("{}: cannot write {}: {}; lines are lost until it works again", purpose_, path_, std::strerror(errno));
-  failing_ = true;
+// On the writer thread, so the clock is read only while an outage lasts: a busy port's
+// successful writes cost nothing more.
+void RotatingFileSink::write_failed() {
+  const int error = errno;
+  if (outage_.failed(WriteOutage::Clock::now()))
+    spdlog::error("{}: cannot write {}: {}; lines are lost until it works again (logged once, and when it has "
+                  "worked again for {} s)", purpose_, path_, std::strerror(error),
+                  std::chrono::duration_cast<std::chrono::seconds>(WriteOutage::default_settle).count());
+}
+
+void RotatingFileSink::write_succeeded() {
+  if (!outage_.failing()) return;
+  if (const auto recovery = outage_.succeeded(WriteOutage::Clock::now()))
+    spdlog::info("{}: writing {} again; {} writes failed over {:.1f} s, their lines lost", purpose_, path_,
+                 recovery->failed_writes, std::chrono::duration<double>(recovery->lasted).count());
 }
 
 void RotatingFileSink::append(std::string_view bytes) {
   if (bytes.empty()) return;
-  if (!file_ && !open()) return;  // still failing; logged once
-  if (!file_->append(bytes)) return report_write_error();
-  if (failing_) spdlog::info("{}: writing {} again", purpose_, path_);
-  failing_ = false;
+  if (!file_ && !open()) return write_failed();
+  if (!file_->append(bytes)) return write_failed();
+  write_succeeded();
 }
 
 void RotatingFileSink::flush() {
-  if (file_ && !file_->flush()) report_write_error();
+  if (file_ && !file_->flush()) write_failed();
 }
 
 void RotatingFileSink::write(std::string_view lines) {

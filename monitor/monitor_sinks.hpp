@@ -9,6 +9,7 @@
 
 #include "monitor/file_appender.hpp"
 #include "monitor/monitor_writer.hpp"
+#include "monitor/write_outage.hpp"
 
 namespace unima::monitor {
 
@@ -36,7 +37,8 @@ class RotatingFileSink : public MonitorSink {
   void close();
   void rotate();
   void append(std::string_view bytes);
-  void report_write_error();
+  void write_failed();
+  void write_succeeded();
 
   std::string path_;
   std::uint64_t max_size_;
@@ -45,7 +47,7 @@ class RotatingFileSink : public MonitorSink {
   std::string purpose_;
   std::unique_ptr<FileAppender> file_;
   FileAppender::Stage spare_stage_;  // the closed file's, for the next one
-  bool failing_ = false;  // a write error was logged; the next success is logged too
+  WriteOutage outage_;  // a full disk is logged once, and its end once
 };
 
 /// The daemon's standard output (the journal under systemd).
