@@ -14,6 +14,7 @@
 #include "config/config.hpp"
 #include "platform/asio.hpp"
 #include "app/bridge.hpp"
+#include "io/peer_warning_reports.hpp"
 #include "platform/logging.hpp"
 #include "platform/watchdog.hpp"
 
@@ -104,6 +105,7 @@ int main(int argc, char** argv) {
     unima::asio::signal_set signals(io, SIGTERM, SIGINT, SIGHUP);
     unima::app::Bridge bridge(io, std::move(config));
     unima::platform::Watchdog watchdog(io);
+    unima::io::PeerWarningReports peer_warning_reports(io.get_executor());
     bridge.start();
     wait_for_signals(signals, bridge, watchdog, io, config_path);
     watchdog.start();

@@ -7,7 +7,7 @@
 #include <spdlog/spdlog.h>
 
 #include "config/socket_path.hpp"
-#include "platform/log_text.hpp"
+#include "platform/peer_warnings.hpp"
 #include "unimabus/feed_codec.hpp"
 #include "unimabus/line_splitter.hpp"
 
@@ -41,8 +41,9 @@ class SocketSession final : public FeedTransport::Session {
   void send(std::string_view text) override {
     if (closed_) return;
     if (pending_.size() + text.size() > max_pending_bytes) {
-      spdlog::warn("feed: {} is not reading ({} bytes queued for it); dropping it (it gets a fresh snapshot when it "
-                   "reconnects)", peer_, pending_.size() + sending_.size());
+      platform::warn_from_peer("feed: clients not reading", peer_,
+                               "feed: {} is not reading ({} bytes queued for it); dropping it (it gets a fresh "
+                               "snapshot when it reconnects)", peer_, pending_.size() + sending_.size());
       close();
       return;
     }
@@ -56,7 +57,8 @@ class SocketSession final : public FeedTransport::Session {
     boost::system::error_code ec;
     socket_.close(ec);
     if (malformed_lines_ > 1)
-      spdlog::info("feed: {} disconnected ({} malformed lines, the first one logged)", peer_, malformed_lines_);
+      spdlog::info("feed: {} disconnected ({} malformed lines, {})", peer_, malformed_lines_,
+                   first_malformed_logged_ ? "the first one logged" : "counted with its host's");
     else
       spdlog::info("feed: {} disconnected", peer_);
     on_closed_(this);
@@ -79,9 +81,12 @@ class SocketSession final : public FeedTransport::Session {
     auto parsed = unimabus::parse_feed_line(line);
     if (auto* error = std::get_if<std::string>(&parsed)) {
       // Every bad line is answered; the log gets the first of each client and the count
-      // when it leaves, so a client sending garbage cannot flood it.
+      // when it leaves, so a client sending garbage cannot flood it — nor one that
+      // reconnects for each line: the first of a host is logged, then a count a minute.
       if (malformed_lines_++ == 0)
-        spdlog::warn("feed: {} sent a malformed line: {} (further ones are counted)", peer_, platform::log_safe(*error));
+        first_malformed_logged_ = platform::warn_from_peer(
+            "feed: malformed lines", peer_, "feed: {} sent a malformed line: {} (further ones are counted)", peer_,
+            *error);  // escaped with the whole line
       send(unimabus::format_error(*error));
       return;
     }
@@ -112,6 +117,7 @@ class SocketSession final : public FeedTransport::Session {
   bool writing_ = false;
   bool closed_ = false;
   std::uint64_t malformed_lines_ = 0;
+  bool first_malformed_logged_ = false;
 };
 
 }  // namespace

@@ -10,6 +10,7 @@
 #include "io/lazy_deadline.hpp"
 #include "modbus/mbap.hpp"
 #include "modbus/slave_session.hpp"
+#include "platform/peer_warnings.hpp"
 
 namespace unima::io {
 
@@ -168,7 +169,8 @@ class TcpSlaveServer::Connection : public std::enable_shared_from_this<Connectio
   // fault of the client's (C+0x13 bit 15), and only its own connection closes.
   void finish_broken_stream() {
     if (finished_) return;
-    spdlog::warn("modbus tcp: {} sent a bad MBAP header; closing its connection", peer_);
+    platform::warn_from_peer("modbus tcp: bad MBAP headers", peer_,
+                             "modbus tcp: {} sent a bad MBAP header; closing its connection", peer_);
     if (server_.context_.on_fault) server_.context_.on_fault();
     finish("sent a bad MBAP header");
   }
