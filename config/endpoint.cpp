@@ -2,7 +2,6 @@
 
 #include <arpa/inet.h>
 
-#include <algorithm>
 #include <charconv>
 
 #include <fmt/format.h>
@@ -41,9 +40,16 @@ std::string listen_hint(HostRule rule) {
 
 bool is_ip_address(std::string_view text) {
   // inet_pton is what the socket layer (Asio's make_address) parses with, so an address
-  // accepted here is one the daemon can bind or connect to.
-  const std::string address(text);
+  // accepted here is one the daemon can bind or connect to. Asio also takes an IPv6
+  // address's scope (fe80::1%eth0, the interface of a link-local address).
+  const auto percent = text.find('%');
+  const std::string address(text.substr(0, percent));
   unsigned char bytes[16];
+  if (percent != std::string_view::npos) {
+    const auto scope = text.substr(percent + 1);
+    return !scope.empty() && all_of(scope, "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789._-") &&
+           ::inet_pton(AF_INET6, address.c_str(), bytes) == 1;
+  }
   return ::inet_pton(AF_INET, address.c_str(), bytes) == 1 || ::inet_pton(AF_INET6, address.c_str(), bytes) == 1;
 }
 

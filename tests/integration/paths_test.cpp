@@ -69,7 +69,9 @@ TEST_F(Paths, AStatusSocketPathNamingASymbolicLinkOrADirectoryIsRefusedToo) {
   EXPECT_TRUE(fs::is_directory(directory));
 }
 
-TEST_F(Paths, AStaleStatusSocketIsReplaced) {
+// A stale socket is still replaced; and what took a socket's place while the daemon ran is
+// not removed when it stops.
+TEST_F(Paths, AStaleStatusSocketIsReplacedAndAtStopOnlyASocketIsRemoved) {
   start();
   daemon->signal(SIGKILL);  // leaves its socket file behind
   ASSERT_TRUE(eventually([&] { return !daemon->running(); }));
@@ -82,6 +84,16 @@ TEST_F(Paths, AStaleStatusSocketIsReplaced) {
   EXPECT_EQ(st.st_mode & 0777, 0660u);
   daemon->terminate();
   EXPECT_FALSE(fs::exists(fs::symlink_status(config.status_socket)));  // its own socket goes with it
+
+  config.feed_listen = "unix:" + (dir.path() / "feed.sock").string();
+  start();
+  ASSERT_TRUE(eventually([&] { return Socket::unix_socket(config.status_socket).valid(); })) << daemon->log();
+  ASSERT_TRUE(eventually([&] { return fs::is_socket(config.feed_listen.substr(5)); })) << daemon->log();
+  for (const auto& socket : {config.status_socket, config.feed_listen.substr(5)})
+    fs::rename(precious_file("replacement"), socket);  // someone's file where the socket was
+  daemon->terminate();
+  expect_untouched(config.status_socket);
+  expect_untouched(config.feed_listen.substr(5));
 }
 
 TEST_F(Paths, AFeedSocketPathNamingAFileIsAStartUpErrorAndTheFileStays) {

@@ -38,6 +38,9 @@ TEST(IpAddress, IsWhatTheSocketLayerTakes) {
   EXPECT_TRUE(is_ip_address("::"));
   EXPECT_TRUE(is_ip_address("fe80::1"));
   EXPECT_TRUE(is_ip_address("::ffff:10.0.0.1"));
+  EXPECT_TRUE(is_ip_address("fe80::1%eth0"));  // a link-local address names its interface
+  EXPECT_FALSE(is_ip_address("10.0.0.1%eth0"));
+  EXPECT_FALSE(is_ip_address("fe80::1%"));
   EXPECT_FALSE(is_ip_address("999.1.1.1"));
   EXPECT_FALSE(is_ip_address("1.2.3"));
   EXPECT_FALSE(is_ip_address("localhost"));
