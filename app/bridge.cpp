@@ -7,6 +7,7 @@
 #include "app/reload_plan.hpp"
 #include "banks/register_space.hpp"
 #include "banks/table_catalog.hpp"
+#include "config/socket_path.hpp"
 #include "io/feed_transport.hpp"
 #include "io/replay_transport.hpp"
 #include "io/sim_transport.hpp"
@@ -67,6 +68,7 @@ Bridge::Bridge(asio::io_context& io, config::Config config)
   tcp_ = make_tcp_server(core_->config);
   rtu_ = make_rtu_port(core_->config);
   master_ = make_master(core_->config);
+  control_ = make_control_socket(core_->config.status.socket);
   publisher_.set_transport(transport_.get());
   publisher_.watch(*core_->store);
 }
@@ -94,9 +96,15 @@ std::unique_ptr<Bridge::Core> Bridge::build_core(config::Config config) {
 
 std::unique_ptr<unimabus::Transport> Bridge::make_transport(const config::Config& config) {
   auto handler = [this](const unimabus::Telegram& t) { return on_telegram(t); };
-  if (config.unimabus.transport == config::TransportKind::feed)
-    return std::make_unique<io::FeedTransport>(io_, config.unimabus.listen, config.unimabus.max_clients, handler,
-                                               [this] { return publisher_.snapshot(); });
+  if (config.unimabus.transport == config::TransportKind::feed) {
+    try {
+      return std::make_unique<io::FeedTransport>(io_, config.unimabus.listen_at, config.unimabus.max_clients, handler,
+                                                 [this] { return publisher_.snapshot(); });
+    } catch (const boost::system::system_error& e) {
+      throw std::runtime_error(
+          fmt::format("unimabus.listen: cannot listen on {}: {}", config.unimabus.listen, e.code().message()));
+    }
+  }
   if (config.unimabus.transport == config::TransportKind::replay) {
     const auto& replay = config.unimabus.replay;
     return std::make_unique<io::ReplayTransport>(io_, replay.recording, replay.speed, replay.loop, handler);
@@ -224,16 +232,17 @@ void Bridge::start() {
   if (tcp_) tcp_->start();
   if (rtu_) rtu_->start();
   if (master_) master_->start();
-  control_ = make_control_socket(core_->config.status.socket);
+  if (control_) control_->start();
 }
 
 // The status socket is the operator's window, not part of the bridge's service: when it
-// cannot listen (no /run/unima-bridge outside systemd, say) the bridge serves on.
+// cannot listen (no /run/unima-bridge outside systemd, say) the bridge serves on. A path
+// that names something else than a socket is refused like a bad config (SPEC §10).
 std::unique_ptr<io::ControlSocket> Bridge::make_control_socket(const std::string& path) {
   try {
-    auto control = std::make_unique<io::ControlSocket>(io_, path, [this] { return status_document(); });
-    control->start();
-    return control;
+    return std::make_unique<io::ControlSocket>(io_, path, [this] { return status_document(); });
+  } catch (const config::PathRefused&) {
+    throw;
   } catch (const std::exception& e) {
     spdlog::warn("{}; `unima-bridge status` will not answer", e.what());
     return nullptr;
@@ -291,6 +300,9 @@ Bridge::ReloadPlan Bridge::plan_reload(config::Config config) {
                  old_config.state.file.empty() ? "no file" : old_config.state.file);
   if (!monitor::Monitor::same_log(old_config.monitor, new_config.monitor))
     plan.monitor_writer = monitor::Monitor::make_writer(new_config.monitor);
+  // A status socket that could not listen before gets another chance.
+  if (old_config.status.socket != new_config.status.socket || !control_)
+    plan.control = make_control_socket(new_config.status.socket);
   if (!same_transport(old_config.unimabus, new_config.unimabus)) plan.transport = make_transport(new_config);
   plan.same_recorder = same_record(old_config.unimabus.record, new_config.unimabus.record);
   if (!plan.same_recorder) plan.recorder = make_recorder(new_config);
@@ -319,14 +331,12 @@ void Bridge::commit(ReloadPlan plan) {
   for (BankId bank : core->presence->take_over(*core_->presence, [&](BankId b) { return core->store->online(b); },
                                                unimabus::Presence::Clock::now()))
     core->store->set_online(bank, false);
-  const bool same_status_socket = core_->config.status.socket == core->config.status.socket;
   core_ = std::move(core);
   monitor_->reconfigure(core_->config.monitor, std::move(plan.monitor_writer));
-  if (!same_status_socket || !control_) {
-    if (auto control = make_control_socket(core_->config.status.socket)) {
-      if (control_) control_->stop();
-      control_ = std::move(control);
-    }
+  if (plan.control) {  // else the running one stays, on a path that did not change or could not be taken
+    if (control_) control_->stop();
+    control_ = std::move(plan.control);
+    control_->start();
   }
   publisher_.watch(*core_->store);
   presence_timer_.cancel();

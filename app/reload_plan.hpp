@@ -1,9 +1,10 @@
 #pragma once
 // A reload in two halves (SIGHUP, Bridge::reload): the plan builds every part of the new
-// config that can fail — banks, monitor log, transport, TCP listener, master line — while
-// the running bridge keeps serving; committing it then switches without a step that can
-// fail. A plan dropped before commit (a step threw) gives back what it took: the running
-// TCP slave, stopped so that the new one could bind its port, is brought back.
+// config that can fail — banks, monitor log, status socket, transport, TCP listener,
+// master line — while the running bridge keeps serving; committing it then switches
+// without a step that can fail. A plan dropped before commit (a step threw) gives back
+// what it took: the running TCP slave, stopped so that the new one could bind its port,
+// is brought back.
 
 #include <memory>
 
@@ -25,6 +26,7 @@ struct Bridge::ReloadPlan {
   std::unique_ptr<io::TcpSlaveServer> tcp;                 // when the endpoint changed
   bool same_rtu = true;
   std::shared_ptr<io::MasterPort> master;
+  std::unique_ptr<io::ControlSocket> control;             // when status.socket changed (or had failed)
 };
 
 }  // namespace unima::app

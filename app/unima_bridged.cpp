@@ -4,6 +4,7 @@
 #include <malloc.h>
 #include <systemd/sd-daemon.h>
 
+#include <csignal>
 #include <cstdio>
 #include <cstring>
 #include <string>
@@ -13,6 +14,7 @@
 #include "config/config.hpp"
 #include "platform/asio.hpp"
 #include "app/bridge.hpp"
+#include "io/peer_warning_reports.hpp"
 #include "platform/logging.hpp"
 #include "platform/watchdog.hpp"
 
@@ -81,6 +83,10 @@ int main(int argc, char** argv) {
     return 2;
   }
 
+  // Past a file size limit (LimitFSIZE=, ulimit -f) a log write then fails with EFBIG as on
+  // a full disk — reported once, its lines lost, serving going on — instead of SIGXFSZ
+  // killing the daemon.
+  std::signal(SIGXFSZ, SIG_IGN);
   unima::platform::setup_logging("info");  // until the config names its level
   unima::config::Config config;
   try {
@@ -99,6 +105,7 @@ int main(int argc, char** argv) {
     unima::asio::signal_set signals(io, SIGTERM, SIGINT, SIGHUP);
     unima::app::Bridge bridge(io, std::move(config));
     unima::platform::Watchdog watchdog(io);
+    unima::io::PeerWarningReports peer_warning_reports(io.get_executor());
     bridge.start();
     wait_for_signals(signals, bridge, watchdog, io, config_path);
     watchdog.start();

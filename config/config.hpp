@@ -16,6 +16,7 @@
 #include "banks/device_table.hpp"
 #include "banks/register_store.hpp"
 #include "banks/source_ref.hpp"
+#include "config/endpoint.hpp"
 #include "master/device_profile.hpp"
 #include "master/master_value.hpp"
 #include "modbus/rtu_timing.hpp"
@@ -55,7 +56,8 @@ struct RecordConfig {
 struct UnimabusConfig {
   std::uint8_t address = 1;  // the bridge's own UnimaBUS address, seed "Addr"
   TransportKind transport = TransportKind::sim;
-  std::string listen;        // feed: "host:port" or "unix:/path"
+  std::string listen;        // feed: "host:port" or "unix:/path", as written
+  ListenEndpoint listen_at;  // feed: `listen` parsed by the loader; what the feed binds
   unsigned max_clients = 16; // feed: connections served at once
   Duration offline_after = std::chrono::seconds(5);
   SimConfig sim;
@@ -64,7 +66,7 @@ struct UnimabusConfig {
 };
 
 struct TcpSlaveConfig {
-  std::string listen = "0.0.0.0";
+  std::string listen = "0.0.0.0";  // an IP address literal (checked by the loader: config/endpoint)
   std::uint16_t port = 502;
   unsigned max_clients = 128;
   Duration idle_timeout = std::chrono::seconds(60);  // 0: never
@@ -110,6 +112,7 @@ struct MasterDeviceConfig {
 /// Master-only settings (modbus.master; docs/master.md).
 struct MasterConfig {
   std::string tcp;                      // "host:port" of a Modbus TCP slave to drive instead of modbus.rtu
+  HostPort tcp_target;                  // `tcp` parsed by the loader; what the master connects to
   Duration response_timeout{500};
   unsigned retries = 1;                 // of reads; writes are never retried
   unsigned merge_gap = 0;               // registers a merged read may skip

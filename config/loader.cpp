@@ -14,9 +14,12 @@
 #include "banks/table_catalog.hpp"
 #include "banks/yaml_document.hpp"
 #include "config/config.hpp"
+#include "config/endpoint.hpp"
+#include "config/socket_path.hpp"
 #include "config/source_ref_parser.hpp"
 #include "config/master_setup.hpp"
 #include "master/plc_operand.hpp"
+#include "monitor/log_path.hpp"
 #include "config/yaml_reader.hpp"
 
 namespace unima::config {
@@ -53,7 +56,7 @@ class Loader {
     if (root["blocks"]) blocks(root["blocks"]);
     if (root["log"]) log(root["log"]);
     if (root["monitor"]) monitor(root["monitor"]);
-    if (root["status"]) status(root["status"]);
+    status(root["status"], root);
     state(root["state"]);
     validate_layout(root);
     return std::move(config_);
@@ -102,6 +105,7 @@ class Loader {
       if (!record["file"]) yaml_.fail(record, "unimabus.record needs the file to record to");
       u.record.file = yaml_.text(record["file"]);
       if (u.record.file.empty()) yaml_.fail(record["file"], "unimabus.record.file must name a file");
+      check_log_path(record["file"], "unimabus.record.file", u.record.file);
       if (record["max_size"]) u.record.max_size = yaml_.byte_size(record["max_size"], 4096, 1ull << 40);
       if (record["max_files"]) u.record.max_files = static_cast<unsigned>(yaml_.number(record["max_files"], 1, 100));
     }
@@ -131,13 +135,22 @@ class Loader {
     }
   }
 
-  void check_listen(const YAML::Node& node) const {
-    const auto& s = config_.unimabus.listen;
-    if (s.starts_with("unix:")) {
-      if (s.size() <= 5) yaml_.fail(node, "unix: needs a socket path, e.g. unix:/run/unima-bridge/feed.sock");
-      return;
-    }
-    check_host_port(node, s, "host:port or unix:/path", PortZero::any_free_port);
+  void check_listen(const YAML::Node& node) {
+    auto parsed = parse_listen_endpoint(config_.unimabus.listen);
+    if (auto* error = std::get_if<std::string>(&parsed)) yaml_.fail(node, *error);
+    auto& endpoint = config_.unimabus.listen_at = std::get<ListenEndpoint>(std::move(parsed));
+    if (endpoint.is_unix()) check_socket_path(node, "unimabus.listen", endpoint.unix_path);
+  }
+
+  // Where the daemon will listen on a unix socket: nothing, or a socket it may replace
+  // (config/socket_path); the daemon checks again before it removes anything.
+  void check_socket_path(const YAML::Node& node, std::string_view key, const std::string& path) const {
+    if (const auto conflict = socket_path_conflict(path)) yaml_.fail(node, fmt::format("{}: {}", key, *conflict));
+  }
+
+  // Where the daemon appends a log: never through a symbolic link (monitor/log_path).
+  void check_log_path(const YAML::Node& node, std::string_view key, const std::string& path) const {
+    if (const auto refused = monitor::refused_log_path(path)) yaml_.fail(node, fmt::format("{}: {}", key, *refused));
   }
 
   void modbus(const YAML::Node& node) {
@@ -158,7 +171,10 @@ class Loader {
     if (const auto tcp = node["tcp"]) {
       yaml_.expect_keys(tcp, "modbus.tcp", {"listen", "port", "max_clients", "idle_timeout", "frame_timeout"});
       TcpSlaveConfig t;
-      if (tcp["listen"]) t.listen = yaml_.text(tcp["listen"]);
+      if (tcp["listen"]) {
+        t.listen = yaml_.text(tcp["listen"]);
+        if (const auto error = listen_address_error(t.listen, HostRule::listen_address)) yaml_.fail(tcp["listen"], *error);
+      }
       if (tcp["port"]) t.port = static_cast<std::uint16_t>(yaml_.number(tcp["port"], 0, 65535));
       if (tcp["max_clients"]) t.max_clients = static_cast<unsigned>(yaml_.number(tcp["max_clients"], 1, 10000));
       if (tcp["idle_timeout"]) t.idle_timeout = yaml_.duration(tcp["idle_timeout"]);
@@ -198,7 +214,9 @@ class Loader {
     };
     if (node["tcp"]) {
       m.tcp = yaml_.text(node["tcp"]);
-      check_host_port(node["tcp"], m.tcp, "host:port", PortZero::invalid);
+      auto target = parse_host_port(m.tcp, HostRule::address_or_name, PortRule::nonzero);
+      if (auto* error = std::get_if<std::string>(&target)) yaml_.fail(node["tcp"], *error);
+      m.tcp_target = std::get<HostPort>(std::move(target));
     }
     if (node["response_timeout"]) m.response_timeout = positive(node["response_timeout"]);
     if (node["retries"]) m.retries = static_cast<unsigned>(yaml_.number(node["retries"], 0, 5));
@@ -245,18 +263,6 @@ class Loader {
     if (!found)
       yaml_.fail(node, fmt::format("unknown device profile '{}' (known: {})", id, fmt::join(master::profile_ids(), ", ")));
     return found;
-  }
-
-  // Port 0 means "any free port" where the daemon listens, and nothing where it connects.
-  enum class PortZero { any_free_port, invalid };
-  void check_host_port(const YAML::Node& node, const std::string& s, std::string_view expected, PortZero zero) const {
-    const auto colon = s.rfind(':');
-    if (colon == std::string::npos || colon == 0 || colon + 1 == s.size())
-      yaml_.fail(node, fmt::format("'{}' is not {}", s, expected));
-    const auto port = s.substr(colon + 1);
-    if (port.find_first_not_of("0123456789") != std::string::npos || port.size() > 5 || std::stoul(port) > 65535 ||
-        (zero == PortZero::invalid && std::stoul(port) == 0))
-      yaml_.fail(node, fmt::format("'{}' has no valid port", s));
   }
 
   RtuConfig rtu_line(const YAML::Node& node) const {
@@ -604,6 +610,7 @@ class Loader {
     if (node["file"]) {
       m.file = yaml_.text(node["file"]);
       if (m.file.empty()) yaml_.fail(node["file"], "monitor.file must name a file");
+      check_log_path(node["file"], "monitor.file", m.file);
     }
     if (node["stdout"]) m.to_stdout = yaml_.boolean(node["stdout"]);
     if (node["format"]) m.format = yaml_.choice(node["format"], {"text", "json"}) == "json" ? monitor::MonitorFormat::json : monitor::MonitorFormat::text;
@@ -641,15 +648,14 @@ class Loader {
     }
   }
 
-  void status(const YAML::Node& node) {
-    yaml_.expect_keys(node, "status", {"socket"});
-    if (node["socket"]) {
-      auto& socket = config_.status.socket;
-      socket = yaml_.text(node["socket"]);
-      // sockaddr_un holds 108 bytes with the terminating zero.
-      if (socket.empty() || socket.size() > 107)
-        yaml_.fail(node["socket"], "status.socket must be a path of 1..107 characters (a unix socket's limit)");
-    }
+  // Also without the section: the default path is where the daemon listens then.
+  void status(const YAML::Node& node, const YAML::Node& root) {
+    auto& socket = config_.status.socket;
+    if (node) yaml_.expect_keys(node, "status", {"socket"});
+    if (!node || !node["socket"]) return check_socket_path(node ? node : root, "status.socket", socket);
+    socket = yaml_.text(node["socket"]);
+    if (const auto error = socket_path_error(socket)) yaml_.fail(node["socket"], fmt::format("status.socket {}", *error));
+    check_socket_path(node["socket"], "status.socket", socket);
   }
 
   void state(const YAML::Node& node) {

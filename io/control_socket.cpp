@@ -1,13 +1,15 @@
 #include "io/control_socket.hpp"
 
+#include <fcntl.h>
 #include <sys/stat.h>
-#include <unistd.h>
 
 #include <filesystem>
 #include <memory>
 #include <stdexcept>
 
 #include <spdlog/spdlog.h>
+
+#include "config/socket_path.hpp"
 
 namespace unima::io {
 
@@ -32,15 +34,16 @@ ControlSocket::ControlSocket(asio::io_context& io, std::string path, DocumentFn 
   if (!directory.empty()) std::filesystem::create_directories(directory, ignored);
   if (someone_answers(io, path_))
     throw std::runtime_error("status: " + path_ + " is answered by another process (is another daemon running?)");
-  ::unlink(path_.c_str());  // a socket file a previous run left behind
+  config::clear_socket_path(path_, "status.socket");  // a socket file a previous run left behind
   boost::system::error_code ec;
   acceptor_.open(stream_protocol(), ec);
   if (!ec) acceptor_.bind(stream_protocol::endpoint(path_), ec);
   if (!ec) acceptor_.listen(asio::socket_base::max_listen_connections, ec);
   if (ec) throw std::runtime_error("status: cannot listen on " + path_ + ": " + ec.message());
   // Asking needs write permission on the socket: the daemon's user and group may ask (as
-  // for the monitor log, 0640), whatever the umask.
-  ::chmod(path_.c_str(), 0660);
+  // for the monitor log, 0640), whatever the umask. Never through a symbolic link that
+  // took the socket's place since the bind (SPEC §10).
+  ::fchmodat(AT_FDCWD, path_.c_str(), 0660, AT_SYMLINK_NOFOLLOW);
 }
 
 ControlSocket::~ControlSocket() { stop(); }
@@ -56,7 +59,7 @@ void ControlSocket::stop() {
   boost::system::error_code ec;
   accepting_.stop();
   acceptor_.close(ec);
-  ::unlink(path_.c_str());
+  config::remove_socket_file(path_);
 }
 
 // A few kB: the kernel takes it at once, so a client that never reads holds nothing.

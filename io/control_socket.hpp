@@ -19,8 +19,9 @@ class ControlSocket {
   using DocumentFn = std::function<std::string()>;
 
   /// Listens on `path` (creating its directory); a stale socket file is replaced, but a
-  /// socket another process still answers on is not. Throws std::runtime_error naming the
-  /// path when it cannot listen.
+  /// socket another process still answers on is not. Throws config::PathRefused when the
+  /// path names something else than a socket (left as it is), std::runtime_error naming
+  /// the path when it cannot listen.
   ControlSocket(asio::io_context& io, std::string path, DocumentFn document);
   ~ControlSocket();
 

@@ -1,14 +1,13 @@
 #include "io/feed_transport.hpp"
 
-#include <unistd.h>
-
 #include <array>
 #include <deque>
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
-#include "platform/log_text.hpp"
+#include "config/socket_path.hpp"
+#include "platform/peer_warnings.hpp"
 #include "unimabus/feed_codec.hpp"
 #include "unimabus/line_splitter.hpp"
 
@@ -42,8 +41,9 @@ class SocketSession final : public FeedTransport::Session {
   void send(std::string_view text) override {
     if (closed_) return;
     if (pending_.size() + text.size() > max_pending_bytes) {
-      spdlog::warn("feed: {} is not reading ({} bytes queued for it); dropping it (it gets a fresh snapshot when it "
-                   "reconnects)", peer_, pending_.size() + sending_.size());
+      platform::warn_from_peer("feed: clients not reading", peer_,
+                               "feed: {} is not reading ({} bytes queued for it); dropping it (it gets a fresh "
+                               "snapshot when it reconnects)", peer_, pending_.size() + sending_.size());
       close();
       return;
     }
@@ -57,7 +57,8 @@ class SocketSession final : public FeedTransport::Session {
     boost::system::error_code ec;
     socket_.close(ec);
     if (malformed_lines_ > 1)
-      spdlog::info("feed: {} disconnected ({} malformed lines, the first one logged)", peer_, malformed_lines_);
+      spdlog::info("feed: {} disconnected ({} malformed lines, {})", peer_, malformed_lines_,
+                   first_malformed_logged_ ? "the first one logged" : "counted with its host's");
     else
       spdlog::info("feed: {} disconnected", peer_);
     on_closed_(this);
@@ -80,9 +81,12 @@ class SocketSession final : public FeedTransport::Session {
     auto parsed = unimabus::parse_feed_line(line);
     if (auto* error = std::get_if<std::string>(&parsed)) {
       // Every bad line is answered; the log gets the first of each client and the count
-      // when it leaves, so a client sending garbage cannot flood it.
+      // when it leaves, so a client sending garbage cannot flood it — nor one that
+      // reconnects for each line: the first of a host is logged, then a count a minute.
       if (malformed_lines_++ == 0)
-        spdlog::warn("feed: {} sent a malformed line: {} (further ones are counted)", peer_, platform::log_safe(*error));
+        first_malformed_logged_ = platform::warn_from_peer(
+            "feed: malformed lines", peer_, "feed: {} sent a malformed line: {} (further ones are counted)", peer_,
+            *error);  // escaped with the whole line
       send(unimabus::format_error(*error));
       return;
     }
@@ -113,30 +117,30 @@ class SocketSession final : public FeedTransport::Session {
   bool writing_ = false;
   bool closed_ = false;
   std::uint64_t malformed_lines_ = 0;
+  bool first_malformed_logged_ = false;
 };
 
 }  // namespace
 
-FeedTransport::FeedTransport(asio::io_context& io, const std::string& listen, unsigned max_clients,
+FeedTransport::FeedTransport(asio::io_context& io, const config::ListenEndpoint& listen, unsigned max_clients,
                              unimabus::TelegramHandler on_telegram, SnapshotFn snapshot)
     : io_(io),
-      listen_(listen),
+      listen_(listen.text),
       max_clients_(max_clients),
       on_telegram_(std::move(on_telegram)),
       snapshot_(std::move(snapshot)) {
-  if (listen_.starts_with("unix:")) {
-    unix_path_ = listen_.substr(5);
-    ::unlink(unix_path_.c_str());  // a socket file left by a previous run would block the bind
+  if (listen.is_unix()) {
+    unix_path_ = listen.unix_path;
+    config::clear_socket_path(unix_path_, "unimabus.listen");  // a previous run's socket file would block the bind
     unix_acceptor_ = std::make_unique<asio::local::stream_protocol::acceptor>(
         io_, asio::local::stream_protocol::endpoint(unix_path_));
     unix_accepting_ = std::make_unique<RetryingAcceptor<asio::local::stream_protocol::acceptor>>(
         *unix_acceptor_, "feed", [this](asio::local::stream_protocol::socket socket) { accepted(std::move(socket)); });
     return;
   }
-  const auto colon = listen_.rfind(':');
-  const auto host = listen_.substr(0, colon);
-  const auto port = static_cast<std::uint16_t>(std::stoul(listen_.substr(colon + 1)));
-  const asio::ip::tcp::endpoint endpoint(asio::ip::make_address(host == "*" ? "0.0.0.0" : host), port);
+  // The loader checked the address (config/endpoint): `unima-bridge check` refuses what
+  // this would.
+  const asio::ip::tcp::endpoint endpoint(asio::ip::make_address(listen.tcp.host), listen.tcp.port);
   tcp_acceptor_ = std::make_unique<asio::ip::tcp::acceptor>(io_);
   tcp_acceptor_->open(endpoint.protocol());
   tcp_acceptor_->set_option(asio::ip::tcp::acceptor::reuse_address(true));
@@ -172,7 +176,7 @@ void FeedTransport::stop() {
   if (tcp_acceptor_) tcp_acceptor_->close(ec);
   if (unix_acceptor_) {
     unix_acceptor_->close(ec);
-    ::unlink(unix_path_.c_str());
+    config::remove_socket_file(unix_path_);
   }
   auto sessions = std::move(sessions_);
   for (const auto& s : sessions) s->close();

@@ -8,6 +8,7 @@
 #include <set>
 #include <string>
 
+#include "config/endpoint.hpp"
 #include "io/retrying_acceptor.hpp"
 #include "platform/asio.hpp"
 #include "unimabus/transport.hpp"
@@ -19,9 +20,10 @@ class FeedTransport final : public unimabus::Transport {
   /// The lines a new client gets first: one per published register.
   using SnapshotFn = std::function<std::string()>;
 
-  /// Binds at once; throws boost::system::system_error when it cannot. At most
-  /// `max_clients` are served at once; more are told so and closed.
-  FeedTransport(asio::io_context& io, const std::string& listen, unsigned max_clients,
+  /// Binds at once; throws boost::system::system_error when it cannot, and
+  /// config::PathRefused when a unix socket's path names something else than a socket
+  /// (never removed). At most `max_clients` are served at once; more are told so and closed.
+  FeedTransport(asio::io_context& io, const config::ListenEndpoint& listen, unsigned max_clients,
                 unimabus::TelegramHandler on_telegram, SnapshotFn snapshot);
   ~FeedTransport() override;
 

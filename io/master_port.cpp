@@ -53,8 +53,10 @@ std::string describe_master_transaction(const modbus::Transaction& t) {
 std::shared_ptr<MasterPort> MasterPort::create(asio::io_context& io, const config::Config& config, Hooks hooks) {
   auto setup = config::master_setup(config);
   std::shared_ptr<MasterLink> link;
-  if (!config.modbus.master.tcp.empty()) link = std::make_shared<MasterTcpLink>(io, config.modbus.master.tcp);
-  else link = std::make_shared<MasterRtuLink>(io, *config.modbus.rtu);
+  if (const auto& master = config.modbus.master; !master.tcp.empty())
+    link = std::make_shared<MasterTcpLink>(io, master.tcp, master.tcp_target);
+  else
+    link = std::make_shared<MasterRtuLink>(io, *config.modbus.rtu);
   return std::make_shared<MasterPort>(io, std::move(setup), std::move(link), std::move(hooks));
 }
 

@@ -8,12 +8,8 @@ namespace unima::io {
 
 using asio::ip::tcp;
 
-MasterTcpLink::MasterTcpLink(asio::io_context& io, const std::string& target)
-    : target_(target), resolver_(io), socket_(io), deadline_(io) {
-  const auto colon = target.rfind(':');
-  host_ = target.substr(0, colon);
-  port_ = target.substr(colon + 1);
-}
+MasterTcpLink::MasterTcpLink(asio::io_context& io, const std::string& text, const config::HostPort& target)
+    : target_(text), host_(target.host), port_(std::to_string(target.port)), resolver_(io), socket_(io), deadline_(io) {}
 
 MasterTcpLink::~MasterTcpLink() { close(); }
 

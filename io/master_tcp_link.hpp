@@ -7,6 +7,7 @@
 #include <memory>
 #include <string>
 
+#include "config/endpoint.hpp"
 #include "platform/asio.hpp"
 #include "io/master_link.hpp"
 
@@ -14,8 +15,8 @@ namespace unima::io {
 
 class MasterTcpLink final : public MasterLink {
  public:
-  /// `target` is "host:port" (validated by the config loader).
-  MasterTcpLink(asio::io_context& io, const std::string& target);
+  /// `target` as the config loader parsed `text` ("host:port", "[v6]:port").
+  MasterTcpLink(asio::io_context& io, const std::string& text, const config::HostPort& target);
   ~MasterTcpLink() override;
 
   void transact(std::uint8_t unit, const master::Bytes& pdu, std::chrono::milliseconds timeout, Done done) override;

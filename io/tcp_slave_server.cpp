@@ -13,6 +13,7 @@
 #include "io/state_file.hpp"
 #include "modbus/mbap.hpp"
 #include "modbus/slave_session.hpp"
+#include "platform/peer_warnings.hpp"
 
 namespace unima::io {
 
@@ -196,8 +197,9 @@ class TcpSlaveServer::Connection : public std::enable_shared_from_this<Connectio
   }
   void close_idle() {
     if (adu_started_ && Clock::now() >= *adu_started_ + server_.options_.frame_timeout)
-      server_.log_per_peer(fmt::format("{} did not complete its request within {} ms, closing", peer_,
-                                       server_.options_.frame_timeout.count()));
+      platform::warn_from_peer("modbus tcp: requests not completed in time", peer_,
+                               "modbus tcp: {} did not complete its request within {} ms, closing", peer_,
+                               server_.options_.frame_timeout.count());
     else
       spdlog::info("modbus tcp: {} idle for {} ms, closing", peer_, server_.options_.idle_timeout.count());
     close();
@@ -214,7 +216,8 @@ class TcpSlaveServer::Connection : public std::enable_shared_from_this<Connectio
   // fault of the client's (C+0x13 bit 15), and only its own connection closes.
   void finish_broken_stream() {
     if (finished_) return;
-    server_.log_per_peer(fmt::format("{} sent a bad MBAP header; closing its connection", peer_));
+    platform::warn_from_peer("modbus tcp: bad MBAP headers", peer_,
+                             "modbus tcp: {} sent a bad MBAP header; closing its connection", peer_);
     if (server_.context_.on_fault) server_.context_.on_fault();
     finish("sent a bad MBAP header");
   }
@@ -282,20 +285,6 @@ void TcpSlaveServer::adopt(tcp::socket socket) {
   connection->start();
 }
 
-// A flood of clients (or of broken ones) must not flood the log: the first line, then at
-// most one a minute, which says how many were not logged.
-void TcpSlaveServer::log_per_peer(const std::string& message) {
-  const auto now = Clock::now();
-  if (logged_at_ != Clock::time_point{} && now - logged_at_ < std::chrono::minutes(1)) {
-    ++unlogged_;
-    return;
-  }
-  if (unlogged_ > 0) spdlog::warn("modbus tcp: {} (and {} more such events in the last minute)", message, unlogged_);
-  else spdlog::warn("modbus tcp: {}", message);
-  logged_at_ = now;
-  unlogged_ = 0;
-}
-
 bool TcpSlaveServer::evict_longest_idle(const std::string& why) {
   if (connections_.empty()) return false;
   const auto idlest = *std::min_element(connections_.begin(), connections_.end(), [](const auto& a, const auto& b) {
@@ -303,7 +292,8 @@ bool TcpSlaveServer::evict_longest_idle(const std::string& why) {
   });
   const auto idle_ms =
       std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - idlest->last_activity()).count();
-  log_per_peer(fmt::format("{}: closing {}, idle for {} ms, for a new client", why, idlest->peer(), idle_ms));
+  platform::warn_from_peer("modbus tcp: connections closed for a new client", idlest->peer(),
+                           "modbus tcp: {}: closing {}, idle for {} ms, for a new client", why, idlest->peer(), idle_ms);
   idlest->evict();
   return true;
 }
@@ -311,7 +301,8 @@ bool TcpSlaveServer::evict_longest_idle(const std::string& why) {
 bool TcpSlaveServer::make_room() {
   if (evict_longest_idle("out of file descriptors")) return true;
   if (reserve_fd_ < 0) return false;
-  log_per_peer("out of file descriptors: a new client takes the one held in reserve");
+  platform::warn_from_peer("modbus tcp: out of file descriptors", "",
+                           "modbus tcp: out of file descriptors: a new client takes the one held in reserve");
   ::close(reserve_fd_);
   reserve_fd_ = -1;
   return true;

@@ -52,7 +52,6 @@ class TcpSlaveServer {
   void forget(Connection* connection);
   /// Closes the connection idle the longest, for a new client; false when there is none.
   bool evict_longest_idle(const std::string& why);
-  void log_per_peer(const std::string& message);
   /// Frees a descriptor for a pending client when the process has none left: the
   /// longest-idle connection's, or the reserve's. False when neither is there.
   bool make_room();
@@ -68,8 +67,6 @@ class TcpSlaveServer {
   // runs out of them: given up for a client, taken back when one is free again.
   int reserve_fd_ = -1;
   // Warnings about clients (evictions, deadlines, bad headers) at most once a minute.
-  std::chrono::steady_clock::time_point logged_at_{};
-  std::uint64_t unlogged_ = 0;
 };
 
 }  // namespace unima::io

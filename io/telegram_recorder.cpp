@@ -8,7 +8,7 @@ TelegramRecorder::TelegramRecorder(const config::RecordConfig& config, std::chro
     : config_(config),
       origin_(origin),
       sink_(config.file, config.max_size, config.max_files, monitor::FileAppender::Route::page_cache,
-            "unimabus record") {}
+            "unimabus record", "unimabus.record.file") {}
 
 void TelegramRecorder::record(const unimabus::Telegram& telegram, std::chrono::steady_clock::time_point now) {
   const double t = std::chrono::duration<double>(now - origin_).count();

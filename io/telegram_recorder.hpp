@@ -18,7 +18,8 @@ namespace unima::io {
 
 class TelegramRecorder {
  public:
-  /// Opens (creating the directory); throws std::runtime_error naming the file.
+  /// Opens (creating the directory); throws std::runtime_error naming the key and the file
+  /// (a symbolic link is refused, never followed).
   TelegramRecorder(const config::RecordConfig& config, std::chrono::steady_clock::time_point origin);
 
   void record(const unimabus::Telegram& telegram, std::chrono::steady_clock::time_point now);

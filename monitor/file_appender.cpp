@@ -39,8 +39,10 @@ FileAppender::FileAppender(const std::string& path, Route route, std::uint64_t r
   // Read too: continuing an existing file in the middle of a block (a restart, a reload)
   // reads that block back into the stage, or every block of that file would go through
   // the page cache. A file we may only write is still appended to, that way.
-  fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0640);
-  if (fd_ < 0 && errno == EACCES) fd_ = ::open(path.c_str(), O_WRONLY | O_CREAT | O_CLOEXEC, 0640);
+  // O_NOFOLLOW: a symbolic link put in the file's place fails with ELOOP rather than have
+  // the daemon append to (and rotate, and cut back) whatever it points at (SPEC §10).
+  fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_NOFOLLOW | O_CLOEXEC, 0640);
+  if (fd_ < 0 && errno == EACCES) fd_ = ::open(path.c_str(), O_WRONLY | O_CREAT | O_NOFOLLOW | O_CLOEXEC, 0640);
   if (fd_ < 0) return;
   struct stat st{};
   if (::fstat(fd_, &st) != 0) {
@@ -53,8 +55,16 @@ FileAppender::FileAppender(const std::string& path, Route route, std::uint64_t r
   const auto size = static_cast<std::uint64_t>(st.st_size);
   base_ = reserved_ = line_end_ = size;
   if (route == Route::page_cache) return;
-  direct_fd_ = ::open(path.c_str(), O_WRONLY | O_DIRECT | O_CLOEXEC);
+  direct_fd_ = ::open(path.c_str(), O_WRONLY | O_DIRECT | O_NOFOLLOW | O_CLOEXEC);
   if (direct_fd_ < 0) return;  // not on this file system: through the page cache
+  // The path is opened twice: both must be the file fstat'ed above, not one swapped in
+  // between the two opens.
+  struct stat direct_st{};
+  if (::fstat(direct_fd_, &direct_st) != 0 || direct_st.st_dev != st.st_dev || direct_st.st_ino != st.st_ino) {
+    ::close(direct_fd_);
+    direct_fd_ = -1;
+    return;
+  }
   // Allocated here, touched only as lines come: an idle monitor costs no memory for it.
   if (!stage_) stage_.reset(static_cast<char*>(std::aligned_alloc(block, stage_capacity)));
   // The stage starts at the block the file ends in; its first bytes are already there.

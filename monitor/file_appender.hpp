@@ -41,9 +41,10 @@ class FileAppender {
   using Stage = std::unique_ptr<char, FreeAligned>;
 
   /// Opens or creates `path` (0640) to append to; false from is_open() with errno set
-  /// when it cannot. With `reserve_up_to` > 0 the file's disk blocks are reserved ahead of
-  /// the appends, never past that size (see reserve_for). `stage`, when given, is the
-  /// released stage of an earlier file (see release_stage).
+  /// when it cannot (ELOOP: `path` is a symbolic link, never followed; monitor/log_path).
+  /// With `reserve_up_to` > 0 the file's disk blocks are reserved ahead of the appends,
+  /// never past that size (see reserve_for). `stage`, when given, is the released stage
+  /// of an earlier file (see release_stage).
   explicit FileAppender(const std::string& path, Route route = Route::direct_where_possible,
                         std::uint64_t reserve_up_to = 0, Stage stage = {});
   /// Flushes, gives back whole blocks reserved past the end, then closes.

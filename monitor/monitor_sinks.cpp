@@ -7,7 +7,10 @@
 #include <filesystem>
 #include <stdexcept>
 
+#include <fmt/format.h>
 #include <spdlog/spdlog.h>
+
+#include "monitor/log_path.hpp"
 
 namespace unima::monitor {
 
@@ -29,12 +32,16 @@ bool write_all(int fd, std::string_view bytes) {
 }  // namespace
 
 RotatingFileSink::RotatingFileSink(std::string path, std::uint64_t max_size, unsigned max_files,
-                                   FileAppender::Route route, std::string purpose)
+                                   FileAppender::Route route, std::string purpose, std::string_view key)
     : path_(std::move(path)), max_size_(max_size), max_files_(max_files), route_(route), purpose_(std::move(purpose)) {
   const auto directory = std::filesystem::path(path_).parent_path();
   std::error_code ignored;  // open() says what went wrong
   if (!directory.empty()) std::filesystem::create_directories(directory, ignored);
-  if (!open()) throw std::runtime_error(purpose_ + ": cannot open " + path_ + ": " + std::strerror(errno));
+  if (open()) return;
+  const int error = errno;
+  if (const auto refused = error == ELOOP ? refused_log_path(path_) : std::nullopt)
+    throw std::runtime_error(fmt::format("{}: {}", key, *refused));
+  throw std::runtime_error(fmt::format("{}: cannot open {}: {}", key, path_, std::strerror(error)));
 }
 
 RotatingFileSink::~RotatingFileSink() { close(); }
@@ -48,7 +55,7 @@ bool RotatingFileSink::open() {
 
 void RotatingFileSink::close() {
   if (!file_) return;
-  if (!file_->flush()) report_write_error();
+  if (!file_->flush()) write_failed();
   spare_stage_ = file_->release_stage();
   file_.reset();
 }
@@ -61,28 +68,35 @@ void RotatingFileSink::rotate() {
   for (unsigned i = max_files_; i > 1; --i)
     ::rename((path_ + "." + std::to_string(i - 1)).c_str(), (path_ + "." + std::to_string(i)).c_str());
   ::rename(path_.c_str(), (path_ + ".1").c_str());
-  if (!open() && !failing_) {
-    failing_ = true;
-    spdlog::error("{}: cannot reopen {} after rotating it: {}", purpose_, path_, std::strerror(errno));
-  }
+  if (!open()) write_failed();  // the next append tries again
 }
 
-void RotatingFileSink::report_write_error() {
-  if (!failing_)
-    spdlog::error("{}: cannot write {}: {}; lines are lost until it works again", purpose_, path_, std::strerror(errno));
-  failing_ = true;
+// On the writer thread, so the clock is read only while an outage lasts: a busy port's
+// successful writes cost nothing more.
+void RotatingFileSink::write_failed() {
+  const int error = errno;
+  if (outage_.failed(WriteOutage::Clock::now()))
+    spdlog::error("{}: cannot write {}: {}; lines are lost until it works again (logged once, and when it has "
+                  "worked again for {} s)", purpose_, path_, std::strerror(error),
+                  std::chrono::duration_cast<std::chrono::seconds>(WriteOutage::default_settle).count());
+}
+
+void RotatingFileSink::write_succeeded() {
+  if (!outage_.failing()) return;
+  if (const auto recovery = outage_.succeeded(WriteOutage::Clock::now()))
+    spdlog::info("{}: writing {} again; {} writes failed over {:.1f} s, their lines lost", purpose_, path_,
+                 recovery->failed_writes, std::chrono::duration<double>(recovery->lasted).count());
 }
 
 void RotatingFileSink::append(std::string_view bytes) {
   if (bytes.empty()) return;
-  if (!file_ && !open()) return;  // still failing; logged once
-  if (!file_->append(bytes)) return report_write_error();
-  if (failing_) spdlog::info("{}: writing {} again", purpose_, path_);
-  failing_ = false;
+  if (!file_ && !open()) return write_failed();
+  if (!file_->append(bytes)) return write_failed();
+  write_succeeded();
 }
 
 void RotatingFileSink::flush() {
-  if (file_ && !file_->flush()) report_write_error();
+  if (file_ && !file_->flush()) write_failed();
 }
 
 void RotatingFileSink::write(std::string_view lines) {

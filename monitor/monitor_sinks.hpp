@@ -9,6 +9,7 @@
 
 #include "monitor/file_appender.hpp"
 #include "monitor/monitor_writer.hpp"
+#include "monitor/write_outage.hpp"
 
 namespace unima::monitor {
 
@@ -19,11 +20,12 @@ namespace unima::monitor {
 /// monitor/file_appender.hpp), never longer than FileAppender::tail_delay.
 class RotatingFileSink : public MonitorSink {
  public:
-  /// Opens (creating the directory if needed); throws std::runtime_error naming the path.
+  /// Opens (creating the directory if needed); throws std::runtime_error naming `key`, the
+  /// config key of the path, and the path (a symbolic link is refused: monitor/log_path).
   /// `purpose` begins its log messages ("monitor", "unimabus record").
   RotatingFileSink(std::string path, std::uint64_t max_size, unsigned max_files,
                    FileAppender::Route route = FileAppender::Route::direct_where_possible,
-                   std::string purpose = "monitor");
+                   std::string purpose = "monitor", std::string_view key = "monitor.file");
   ~RotatingFileSink() override;
 
   void write(std::string_view lines) override;
@@ -35,7 +37,8 @@ class RotatingFileSink : public MonitorSink {
   void close();
   void rotate();
   void append(std::string_view bytes);
-  void report_write_error();
+  void write_failed();
+  void write_succeeded();
 
   std::string path_;
   std::uint64_t max_size_;
@@ -44,7 +47,7 @@ class RotatingFileSink : public MonitorSink {
   std::string purpose_;
   std::unique_ptr<FileAppender> file_;
   FileAppender::Stage spare_stage_;  // the closed file's, for the next one
-  bool failing_ = false;  // a write error was logged; the next success is logged too
+  WriteOutage outage_;  // a full disk is logged once, and its end once
 };
 
 /// The daemon's standard output (the journal under systemd).

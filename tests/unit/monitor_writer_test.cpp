@@ -303,7 +303,7 @@ TEST(RotatingFileSink, AFileThatCannotBeOpenedIsAnErrorNamingIt) {
     RotatingFileSink sink(path, 1000, 1);
     FAIL() << "opened";
   } catch (const std::runtime_error& e) {
-    EXPECT_EQ(std::string(e.what()), "monitor: cannot open " + path + ": Not a directory");
+    EXPECT_EQ(std::string(e.what()), "monitor.file: cannot open " + path + ": Not a directory");
   }
 }
 
