@@ -67,7 +67,8 @@ class RegisterStore {
   /// User analog output n (1..16) = C+(n-1): the output of a function block (SPEC §4).
   void set_user_output(unsigned n, std::uint16_t value);
   /// Banks A, B and C+0x10/+0x12 read their sources at every read, so a mapped register
-  /// changes the moment its source does. Sources must not be A, B, C+0x10 or C+0x12.
+  /// changes the moment its source does. A's sources must not be A, B, C+0x10 or C+0x12,
+  /// nor the bits' B, C+0x10 or C+0x12 (config/source_ref_parser): a read would never end.
   /// Bank A shows its sources in tenths of their unit (banks/tenths.hpp).
   void set_mapping(const Mapping& mapping);
   /// The value of a source: a register, or 0/1 for a bit source. A bit of a register that

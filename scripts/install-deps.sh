@@ -12,6 +12,8 @@ packages=(
   systemd man-db groff-base dpkg-dev shellcheck
   # benchmarks: the runner, exact system-call and instruction counts
   python3 strace valgrind
+  # fuzzing (fuzz/, docs/fuzzing.md): clang 14 and its libFuzzer, ASan and UBSan runtimes
+  clang libclang-rt-dev
 )
 
 missing=()

@@ -57,6 +57,8 @@ ReplaySchedule::Duration ReplaySchedule::due(std::size_t index, std::size_t pass
   const double pass_seconds =
       std::max(recording_.duration() + interval, std::chrono::duration<double>(shortest_pass).count());
   const double seconds = (static_cast<double>(pass) * pass_seconds + recording_.entries[index].t) / speed_;
+  // Converting a number of seconds that Duration cannot hold is undefined (found by fuzzing).
+  if (!(seconds < std::chrono::duration<double>(latest_due).count())) return latest_due;
   return std::chrono::duration_cast<Duration>(std::chrono::duration<double>(seconds));
 }
 

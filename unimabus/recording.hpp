@@ -46,6 +46,9 @@ class ReplaySchedule {
   /// A pass of a looped recording lasts at least this long, so that a recording whose
   /// telegrams all have t = 0 does not replay without end in one instant.
   static constexpr Duration shortest_pass = std::chrono::milliseconds(100);
+  /// No telegram is due later: "t" may be 1e9 s and the speed 0.001, but nanoseconds in 64
+  /// bits reach only 292 years, and the transport adds its start to the time it is given.
+  static constexpr Duration latest_due = std::chrono::hours(24 * 365 * 100);
 
   ReplaySchedule(const Recording& recording, double speed, bool loop);
 

@@ -87,6 +87,8 @@ TEST(SourceRef, ErrorsSayWhatIsWrong) {
   EXPECT_EQ(ref_error("D1+0x15.16", SourceUse::bit), "'D1+0x15.16': bit '16' is not 0..15");
   EXPECT_EQ(ref_error("A+0x00", SourceUse::analog), "'A+0x00': bank A cannot be a source of bank A");
   EXPECT_EQ(ref_error("B.0", SourceUse::bit), "'B.0': mapped bits (B, C+0x10, C+0x12) cannot be the source of mapped bits");
+  EXPECT_EQ(ref_error("C+0x10", SourceUse::analog),
+            "'C+0x10': mapped bits (B, C+0x10, C+0x12) cannot be a source of bank A, whose bits they may show");
   EXPECT_EQ(ref_error("W.some_name", SourceUse::analog), "'W.some_name': bank W has no named registers; write W+0x00");
   EXPECT_EQ(ref_error("+0x00", SourceUse::analog), "'+0x00' is not a source (write e.g. D1+0x21, D1.oil_temperature)");
   EXPECT_NE(ref_error("D1", SourceUse::analog).find("is not a source"), std::string::npos);
@@ -305,6 +307,16 @@ TEST(MappingConfig, ErrorsPointAtTheEntry) {
   for (int i = 0; i < 17; ++i) many += "W+0x00, ";
   many += "]\n";
   EXPECT_EQ(config_error(many), "t.yaml:2:6: mapping.A has 17 entries; there are 16");
+}
+
+// Found with the config loader's fuzz target (docs/fuzzing.md): `check` accepted this,
+// and the daemon's start (publishing the user bits) or a read of A or C+0x10 recursed
+// until the stack overflowed.
+TEST(MappingConfig, AMappingThatReadsItselfIsRefused) {
+  EXPECT_EQ(config_error("mapping:\n  A: [ C+0x10 ]\n  user_inputs: [ A+0x00.0 ]\n"),
+            "t.yaml:2:8: 'C+0x10': mapped bits (B, C+0x10, C+0x12) cannot be a source of bank A, whose bits they may "
+            "show");
+  EXPECT_NE(config_error("mapping:\n  A: [ B+0x00 ]\n  B: [ A+0x00.0 ]\n"), "(no error)");
 }
 
 TEST(RegisterMap, ListsEveryRegisterOfTheConfiguredTables) {

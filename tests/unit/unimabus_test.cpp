@@ -774,5 +774,16 @@ TEST(ReplaySchedule, ALoopedRecordingOfOneInstantStillTakesTime) {
   EXPECT_EQ(schedule.next_due(), ReplaySchedule::shortest_pass);
 }
 
+// Found by fuzzing (docs/fuzzing.md): 1e9 s played at 0.001 is 1e12 s, past what 64-bit
+// nanoseconds hold; the conversion was undefined and came out negative, due at once.
+TEST(ReplaySchedule, ATelegramTooFarAwayIsDueAtTheLatest) {
+  const auto r = parse_recording("{\"t\":1e9,\"addr\":5,\"slot\":0,\"offset\":0,\"values\":[1]}\n", "rec.jsonl");
+  ReplaySchedule slow(r, 0.001, true);
+  EXPECT_EQ(slow.next_due(), ReplaySchedule::latest_due);
+  EXPECT_EQ(slow.take_due(1s), nullptr);
+  ReplaySchedule real_time(r, 1.0, false);
+  EXPECT_EQ(real_time.next_due(), std::chrono::seconds(1'000'000'000));
+}
+
 }  // namespace
 }  // namespace unima::unimabus
