@@ -155,6 +155,53 @@ TEST_F(Feed, ClientsBeyondTheLimitAreToldSoAndClosed) {
   feed_and_wait(third, R"({"addr":5,"slot":0,"offset":5,"values":[77]})", 0x0011 + 5, 77);
 }
 
+// The issue's flood: 300 feed connections against a daemon allowed 256 descriptors. The feed
+// holds at most max_clients of them, so the Modbus side always has descriptors to accept
+// and answer with, and the feed clients that were taken get their snapshot.
+TEST_F(Feed, ThreeHundredFeedConnectionsAtTwoHundredFiftySixDescriptorsLeaveModbusAnswering) {
+  daemon = start_with_few_descriptors(dir, config.yaml(), config.modbus_port, 256);
+  auto feeds = tcp_clients(config.feed_port, 300);
+  ASSERT_TRUE(daemon->wait_for_log("feed: refusing")) << daemon->log().substr(0, 2000);
+  for (int i = 0; i < 20; ++i) {
+    ModbusClient client(config.modbus_port);
+    ASSERT_TRUE(client.read_input(0x0011, 1)) << "connection " << i << "\n" << daemon->log().substr(0, 2000);
+  }
+  EXPECT_TRUE(feeds.front().wait_for_line(R"({"bank":"C","offset":18,"value":0})")) << daemon->log().substr(0, 2000);
+  EXPECT_EQ(daemon->log().find("accept failed"), std::string::npos) << daemon->log().substr(0, 2000);
+}
+
+// Feed clients that never read while W changes fast: each is dropped once 1 MiB is queued
+// for it, so the daemon's memory stays bounded by max_clients × (1 MiB queued + 1 MiB
+// being written), not by how long they stay.
+TEST_F(Feed, ClientsThatNeverReadAreDroppedBeforeTheyCostMoreThanTheirQueue) {
+  config.extra = "state: { file: none }\n";  // as fast as W can change
+  start();
+  const auto before = resident_set(daemon->pid());
+  auto idle_readers = tcp_clients(config.feed_port, 50);
+  ModbusClient writer(config.modbus_port);
+  std::vector<std::uint16_t> values(16);
+  const auto until = std::chrono::steady_clock::now() + 20s;
+  // Bounded in time and count. The 16 readers get the same lines, so they fill up alike:
+  // a quarter more writes after the first is dropped drops the others too.
+  int writes = 0, first_dropped_at = 0;
+  while (std::chrono::steady_clock::now() < until && writes < 100000) {
+    for (auto& v : values) v = static_cast<std::uint16_t>(v + 1);
+    ASSERT_TRUE(writer.write_many(0x0100, values)) << daemon->log().substr(0, 2000);
+    ++writes;
+    if (first_dropped_at == 0 && writes % 256 == 0 && daemon->log_count("is not reading") > 0) first_dropped_at = writes;
+    if (first_dropped_at > 0 && writes > first_dropped_at + first_dropped_at / 4) break;
+  }
+  EXPECT_TRUE(daemon->wait_for_log("is not reading")) << daemon->log().substr(0, 2000);
+  const auto after = resident_set(daemon->pid());
+  constexpr long max_clients = 16, per_client_kib = 2 * 1024, slack_kib = 16 * 1024;
+  EXPECT_LE(after.peak_kib - before.now_kib, max_clients * per_client_kib + slack_kib)
+      << "peak " << after.peak_kib << " KiB, " << before.now_kib << " KiB before";
+  // A reader that comes now is served at once.
+  idle_readers.clear();
+  auto fresh = feed_client();
+  feed_and_wait(fresh, R"({"addr":5,"slot":0,"offset":5,"values":[77]})", 0x0011 + 5, 77);
+}
+
 // Whatever a line holds, it is answered and never stops the daemon; the log gets the first
 // malformed line of a client, escaped, and the count when the client leaves.
 TEST_F(Feed, MalformedLinesAreAnsweredLoggedOnceAndEscaped) {

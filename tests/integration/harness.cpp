@@ -183,10 +183,25 @@ Socket Socket::tcp(std::uint16_t port) {
 }
 
 std::unique_ptr<Daemon> start_with_few_descriptors(const TempDir& dir, const std::string& config_yaml,
-                                                   std::uint16_t modbus_port) {
-  auto daemon = std::make_unique<Daemon>(dir, config_yaml, std::vector<std::string>{"UNIMA_TEST_MAX_FILES=32"});
+                                                   std::uint16_t modbus_port, int max_files) {
+  auto daemon = std::make_unique<Daemon>(dir, config_yaml,
+                                         std::vector<std::string>{"UNIMA_TEST_MAX_FILES=" + std::to_string(max_files)});
   if (!wait_for_port(modbus_port)) throw std::runtime_error("the daemon does not listen:\n" + daemon->log());
   return daemon;
+}
+
+ResidentSet resident_set(pid_t pid) {
+  ResidentSet set;
+  std::ifstream status("/proc/" + std::to_string(pid) + "/status");
+  std::string key;
+  long value = 0;
+  std::string unit;
+  while (status >> key >> value >> unit) {
+    if (key == "VmRSS:") set.now_kib = value;
+    if (key == "VmHWM:") set.peak_kib = value;
+    std::getline(status, unit);
+  }
+  return set;
 }
 
 std::vector<Socket> tcp_clients(std::uint16_t port, int count) {

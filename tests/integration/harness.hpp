@@ -115,11 +115,18 @@ class Socket {
   std::string buffered_;
 };
 
-/// The daemon with room for only 32 descriptors (UNIMA_TEST_MAX_FILES), once it listens on
-/// `modbus_port`: for the tests of what a port does when accept() fails. Throws, with the
-/// daemon's log, when it does not listen.
+/// The daemon with room for only `max_files` descriptors (UNIMA_TEST_MAX_FILES), once it
+/// listens on `modbus_port`: for the tests of what a port does when accept() fails.
+/// Throws, with the daemon's log, when it does not listen.
 std::unique_ptr<Daemon> start_with_few_descriptors(const TempDir& dir, const std::string& config_yaml,
-                                                   std::uint16_t modbus_port);
+                                                   std::uint16_t modbus_port, int max_files = 32);
+
+/// A process's resident set now and at its peak (VmRSS, VmHWM of /proc/PID/status), in KiB.
+struct ResidentSet {
+  long now_kib = 0;
+  long peak_kib = 0;
+};
+ResidentSet resident_set(pid_t pid);
 
 /// `count` TCP clients of 127.0.0.1:port; past the daemon's descriptors the listen backlog
 /// takes them.
