@@ -123,7 +123,8 @@ std::unique_ptr<unimabus::Transport> Bridge::make_transport(const config::Config
 std::unique_ptr<io::TcpSlaveServer> Bridge::make_tcp_server(const config::Config& config) {
   if (!config.modbus.tcp) return nullptr;
   const auto& tcp = *config.modbus.tcp;
-  io::TcpSlaveOptions options{tcp.listen, tcp.port, tcp.max_clients, tcp.idle_timeout, tcp.frame_timeout};
+  io::TcpSlaveOptions options{tcp.listen,        tcp.port,  tcp.max_clients, tcp.idle_timeout,
+                              tcp.frame_timeout, tcp.allow, tcp.read_only};
   try {
     return std::make_unique<io::TcpSlaveServer>(io_, options, slave_context());
   } catch (const boost::system::system_error& e) {
@@ -356,6 +357,7 @@ void Bridge::commit(ReloadPlan plan) {
   if (tcp_) {
     const auto& tcp = *core_->config.modbus.tcp;
     tcp_->set_limits(tcp.max_clients, tcp.idle_timeout, tcp.frame_timeout);
+    tcp_->set_access(tcp.allow, tcp.read_only);
     tcp_->set_context(slave_context());
   }
   // The serial line is reopened only when its settings changed; opening never throws (a

@@ -17,6 +17,7 @@
 #include "banks/register_store.hpp"
 #include "banks/source_ref.hpp"
 #include "config/endpoint.hpp"
+#include "config/peer_allow_list.hpp"
 #include "master/device_profile.hpp"
 #include "master/master_value.hpp"
 #include "modbus/rtu_timing.hpp"
@@ -71,6 +72,8 @@ struct TcpSlaveConfig {
   unsigned max_clients = 128;
   Duration idle_timeout = std::chrono::seconds(60);  // 0: never
   Duration frame_timeout = std::chrono::seconds(2);  // a started request must be complete within it
+  PeerAllowList allow;     // empty: every peer (SPEC §11)
+  bool read_only = false;  // every write answered with exception 01
 };
 
 enum class Parity { none, even, odd };

@@ -169,7 +169,8 @@ class Loader {
       if (ext["function_43"]) m.extensions.function_43 = yaml_.boolean(ext["function_43"]);
     }
     if (const auto tcp = node["tcp"]) {
-      yaml_.expect_keys(tcp, "modbus.tcp", {"listen", "port", "max_clients", "idle_timeout", "frame_timeout"});
+      yaml_.expect_keys(tcp, "modbus.tcp",
+                        {"listen", "port", "max_clients", "idle_timeout", "frame_timeout", "allow", "read_only"});
       TcpSlaveConfig t;
       if (tcp["listen"]) {
         t.listen = yaml_.text(tcp["listen"]);
@@ -182,6 +183,8 @@ class Loader {
         t.frame_timeout = yaml_.duration(tcp["frame_timeout"]);
         if (t.frame_timeout.count() <= 0) yaml_.fail(tcp["frame_timeout"], "modbus.tcp.frame_timeout must be above 0");
       }
+      if (tcp["allow"]) t.allow = allow_list(tcp["allow"], "modbus.tcp.allow");
+      if (tcp["read_only"]) t.read_only = yaml_.boolean(tcp["read_only"]);
       m.tcp = t;
     }
     if (const auto rtu = node["rtu"]) m.rtu = rtu_line(rtu);
@@ -656,6 +659,18 @@ class Loader {
     socket = yaml_.text(node["socket"]);
     if (const auto error = socket_path_error(socket)) yaml_.fail(node["socket"], fmt::format("status.socket {}", *error));
     check_socket_path(node["socket"], "status.socket", socket);
+  }
+
+  PeerAllowList allow_list(const YAML::Node& node, std::string_view key) {
+    if (!node.IsSequence() || node.size() == 0)
+      yaml_.fail(node, fmt::format("{} must be a list of addresses and CIDR ranges, e.g. [192.168.10.0/24, 127.0.0.1]", key));
+    PeerAllowList list;
+    for (const auto& item : node) {
+      auto parsed = parse_network_range(yaml_.text(item));
+      if (auto* error = std::get_if<std::string>(&parsed)) yaml_.fail(item, fmt::format("{}: {}", key, *error));
+      list.ranges.push_back(std::get<NetworkRange>(std::move(parsed)));
+    }
+    return list;
   }
 
   void state(const YAML::Node& node) {

@@ -29,6 +29,7 @@ class TcpSlaveServer::Connection : public std::enable_shared_from_this<Connectio
     boost::system::error_code ec;
     const auto remote = socket_.remote_endpoint(ec);
     peer_ = ec ? std::string("?") : remote.address().to_string() + ":" + std::to_string(remote.port());
+    if (!ec) address_ = remote.address();
     socket_.set_option(tcp::no_delay(true), ec);
     // send() writes synchronously and must never block the loop (see send()).
     socket_.non_blocking(true, ec);
@@ -56,8 +57,9 @@ class TcpSlaveServer::Connection : public std::enable_shared_from_this<Connectio
 
   const std::string& peer() const { return peer_; }
   Clock::time_point last_activity() const { return last_activity_; }
-  /// Closed for a new client (SPEC §10); the server logs why.
-  void evict() { finish("closed for a new client"); }
+  const asio::ip::address& address() const { return address_; }
+  /// Closed by the server (for a new client, SPEC §10); the server logs why.
+  void evict(const std::string& why) { finish(why); }
 
  private:
   // Boost 1.74's reactor tries the read at once (a recv) before it waits on epoll; when
@@ -102,7 +104,7 @@ class TcpSlaveServer::Connection : public std::enable_shared_from_this<Connectio
       const auto unit = adu.header.unit_id;
       const auto served =
           modbus::serve_request(modbus::Link::tcp, modbus::recipient_of(modbus::Link::tcp, unit, context.unit_id),
-                                adu.pdu, pdu_out, *context.registers, context.options);
+                                adu.pdu, pdu_out, *context.registers, context.options, server_.write_rights());
       if (served.fault && context.on_fault) context.on_fault();
       const auto size = modbus::write_mbap_header(adu.header.transaction_id, unit, served.length, adu_out) + served.length;
       if (context.on_transaction) {
@@ -226,6 +228,7 @@ class TcpSlaveServer::Connection : public std::enable_shared_from_this<Connectio
   tcp::socket socket_;
   LazyDeadline idle_;
   std::string peer_;
+  asio::ip::address address_;
   // A full ADU is at most 260 bytes; room for several pipelined ones per read. Left
   // uninitialised: only the in_used_ bytes a read filled are ever looked at, and a client
   // that sends little then keeps only the pages it touched resident (issue #8's RSS).
@@ -261,7 +264,9 @@ std::uint16_t TcpSlaveServer::port() const {
 }
 
 void TcpSlaveServer::start() {
-  spdlog::info("modbus tcp: serving unit {} on {}:{}", context_.unit_id, options_.listen, port());
+  spdlog::info("modbus tcp: serving unit {} on {}:{}{}{}", context_.unit_id, options_.listen, port(),
+               options_.read_only ? ", read only" : "",
+               options_.allow.empty() ? "" : fmt::format(", to {} allowed address ranges", options_.allow.ranges.size()));
   accepting_.start();
 }
 
@@ -275,8 +280,46 @@ void TcpSlaveServer::stop() {
   for (const auto& c : connections) c->abandon();
 }
 
+namespace {
+
+// The peer's address in the allow list's form: IPv4 as ::ffff:a.b.c.d.
+config::PeerAddress peer_address(const asio::ip::address& address) {
+  if (address.is_v6()) return address.to_v6().to_bytes();
+  config::PeerAddress bytes{};
+  bytes[10] = bytes[11] = 0xFF;
+  const auto v4 = address.to_v4().to_bytes();
+  std::copy(v4.begin(), v4.end(), bytes.begin() + 12);
+  return bytes;
+}
+
+}  // namespace
+
+bool TcpSlaveServer::allowed(const asio::ip::address& address, const std::string& peer) const {
+  if (options_.allow.allows(peer_address(address))) return true;
+  platform::warn_from_peer("modbus tcp: peers not in modbus.tcp.allow", peer,
+                           "modbus tcp: {} is not in modbus.tcp.allow; closing its connection", peer);
+  return false;
+}
+
+void TcpSlaveServer::set_access(const config::PeerAllowList& allow, bool read_only) {
+  options_.allow = allow;
+  options_.read_only = read_only;
+  // A narrower list takes effect at once: the peers it leaves out are cut.
+  std::vector<std::shared_ptr<Connection>> refused;
+  for (const auto& connection : connections_)
+    if (!allowed(connection->address(), connection->peer())) refused.push_back(connection);
+  for (const auto& connection : refused) connection->evict("not in modbus.tcp.allow after a reload");
+}
+
 void TcpSlaveServer::adopt(tcp::socket socket) {
   if (reserve_fd_ < 0) reserve_fd_ = ::open("/dev/null", O_RDONLY | O_CLOEXEC);  // back once one is free
+  boost::system::error_code ec;
+  const auto remote = socket.remote_endpoint(ec);
+  if (ec) return;  // gone already
+  if (!allowed(remote.address(), remote.address().to_string() + ":" + std::to_string(remote.port()))) {
+    socket.close(ec);
+    return;
+  }
   if (connections_.size() >= options_.max_clients)
     evict_longest_idle(fmt::format("{} connections is the limit", options_.max_clients));
   auto connection = std::make_shared<Connection>(*this, std::move(socket));
@@ -294,7 +337,7 @@ bool TcpSlaveServer::evict_longest_idle(const std::string& why) {
       std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - idlest->last_activity()).count();
   platform::warn_from_peer("modbus tcp: connections closed for a new client", idlest->peer(),
                            "modbus tcp: {}: closing {}, idle for {} ms, for a new client", why, idlest->peer(), idle_ms);
-  idlest->evict();
+  idlest->evict("closed for a new client");
   return true;
 }
 

@@ -11,6 +11,8 @@
 #include <set>
 #include <string>
 
+#include "config/peer_allow_list.hpp"
+#include "modbus/write_rights.hpp"
 #include "platform/asio.hpp"
 #include "io/retrying_acceptor.hpp"
 #include "io/slave_context.hpp"
@@ -23,6 +25,8 @@ struct TcpSlaveOptions {
   unsigned max_clients = 128;
   std::chrono::milliseconds idle_timeout{60'000};  // 0: never
   std::chrono::milliseconds frame_timeout{2'000};  // a started ADU must be complete within it
+  config::PeerAllowList allow;  // who may connect; empty: anyone (SPEC §11)
+  bool read_only = false;       // every write answered with exception 01
 };
 
 class TcpSlaveServer {
@@ -40,6 +44,9 @@ class TcpSlaveServer {
     options_.idle_timeout = idle_timeout;
     options_.frame_timeout = frame_timeout;
   }
+  /// Applies to every request from now on (read_only) and to the clients: those the new
+  /// list leaves out are disconnected.
+  void set_access(const config::PeerAllowList& allow, bool read_only);
   const TcpSlaveOptions& options() const { return options_; }
   /// The port actually bound (differs from options().port when that was 0).
   std::uint16_t port() const;
@@ -55,6 +62,10 @@ class TcpSlaveServer {
   /// Frees a descriptor for a pending client when the process has none left: the
   /// longest-idle connection's, or the reserve's. False when neither is there.
   bool make_room();
+  /// False (and logged, rate-limited) when modbus.tcp.allow does not list the peer.
+  bool allowed(const asio::ip::address& address, const std::string& peer) const;
+  /// What a client of this port may write: nothing when read only (nullptr: everything).
+  const modbus::WriteRights* write_rights() const { return options_.read_only ? &nothing_ : nullptr; }
 
   asio::io_context& io_;
   TcpSlaveOptions options_;
@@ -66,6 +77,7 @@ class TcpSlaveServer {
   // A descriptor held back (/dev/null) so that accept never starves when the process
   // runs out of them: given up for a client, taken back when one is free again.
   int reserve_fd_ = -1;
+  const modbus::WriteRights nothing_ = modbus::WriteRights::nothing();
   // Warnings about clients (evictions, deadlines, bad headers) at most once a minute.
 };
 

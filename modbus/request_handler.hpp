@@ -8,6 +8,7 @@
 
 #include "modbus/protocol.hpp"
 #include "modbus/register_model.hpp"
+#include "modbus/write_rights.hpp"
 
 namespace unima::modbus {
 
@@ -32,9 +33,11 @@ struct HandlerOptions {
 };
 
 /// Writes the response to `request` into `response` (at least max_pdu_size bytes) and
-/// returns its length. A request PDU must hold at least the function code.
+/// returns its length. A request PDU must hold at least the function code. A well-formed
+/// write to a register outside `rights` (nullptr: every register) is exception 01.
 std::size_t handle_request(std::span<const std::uint8_t> request, std::span<std::uint8_t> response,
-                           RegisterModel& registers, const HandlerOptions& options);
+                           RegisterModel& registers, const HandlerOptions& options,
+                           const WriteRights* rights = nullptr);
 
 /// An exception response PDU: function | 0x80, code. Returns 2.
 std::size_t write_exception(std::uint8_t function, ExceptionCode code, std::span<std::uint8_t> response);

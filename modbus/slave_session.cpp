@@ -10,16 +10,16 @@ Recipient recipient_of(Link link, std::uint8_t address, std::uint8_t own_address
 }
 
 Served serve_request(Link link, Recipient recipient, std::span<const std::uint8_t> pdu, std::span<std::uint8_t> out,
-                     RegisterModel& registers, const HandlerOptions& options) {
+                     RegisterModel& registers, const HandlerOptions& options, const WriteRights* rights) {
   Served served;
   switch (recipient) {
     case Recipient::this_slave:
-      served.length = handle_request(pdu, out, registers, options);
+      served.length = handle_request(pdu, out, registers, options, rights);
       served.state = state_of_response(out.first(served.length));
       served.fault = served.state != TransactionState::done;
       break;
     case Recipient::broadcast:
-      served.state = state_of_response(out.first(handle_request(pdu, out, registers, options)));
+      served.state = state_of_response(out.first(handle_request(pdu, out, registers, options, rights)));
       break;
     case Recipient::another_slave:
       served.state = TransactionState::not_for_me;

@@ -212,6 +212,28 @@ TEST(ConfigErrors, UnknownKeyInModbusTcp) {
   EXPECT_TRUE(contains(m, "backlog")) << m;
 }
 
+TEST(ConfigErrors, AnAllowEntryThatIsNoRangeNamesItsPosition) {
+  const auto m = load_error(
+      "modbus:\n"
+      "  tcp:\n"
+      "    port: 5020\n"
+      "    allow: [192.168.10.0/24, scada.plant]\n");
+  EXPECT_TRUE(starts_with(m, "cfg.yaml:4:30: ")) << m;
+  EXPECT_TRUE(contains(m, "modbus.tcp.allow: 'scada.plant' is not an IP address")) << m;
+  EXPECT_TRUE(contains(load_error("modbus:\n  tcp: { allow: 10.0.0.0/8 }\n"), "must be a list")) << m;
+}
+
+TEST(Config, AllowAndReadOnlyOfTheTcpSlave) {
+  const auto config = load_text("modbus:\n  tcp: { port: 5020, allow: [10.0.0.0/8, '::1'], read_only: true }\n", "cfg.yaml");
+  ASSERT_TRUE(config.modbus.tcp);
+  ASSERT_EQ(config.modbus.tcp->allow.ranges.size(), 2u);
+  EXPECT_EQ(config.modbus.tcp->allow.ranges[0].text, "10.0.0.0/8");
+  EXPECT_TRUE(config.modbus.tcp->read_only);
+  const auto open = load_text("modbus:\n  tcp: { port: 5020 }\n", "cfg.yaml");
+  EXPECT_TRUE(open.modbus.tcp->allow.empty());
+  EXPECT_FALSE(open.modbus.tcp->read_only);
+}
+
 TEST(ConfigErrors, BadNumber) {
   const auto m = load_error(
       "modbus:\n"
