@@ -11,6 +11,7 @@
 #include "io/feed_transport.hpp"
 #include "io/replay_transport.hpp"
 #include "io/sim_transport.hpp"
+#include "io/tls_context.hpp"
 #include "modbus/capture.hpp"
 
 namespace unima::app {
@@ -66,6 +67,7 @@ Bridge::Bridge(asio::io_context& io, config::Config config)
   transport_ = make_transport(core_->config);
   recorder_ = make_recorder(core_->config);
   tcp_ = make_tcp_server(core_->config);
+  tls_ = make_tls_server(core_->config);
   rtu_ = make_rtu_port(core_->config);
   master_ = make_master(core_->config);
   control_ = make_control_socket(core_->config.status.socket);
@@ -120,15 +122,57 @@ std::unique_ptr<unimabus::Transport> Bridge::make_transport(const config::Config
                                         config.unimabus.sim.period, handler);
 }
 
+namespace {
+
+io::TcpSlaveOptions slave_options(const config::TcpSlaveConfig& c) {
+  io::TcpSlaveOptions options;
+  options.listen = c.listen;
+  options.port = c.port;
+  options.max_clients = c.max_clients;
+  options.idle_timeout = c.idle_timeout;
+  options.frame_timeout = c.frame_timeout;
+  options.allow = c.allow;
+  options.read_only = c.read_only;
+  return options;
+}
+
+io::TlsFiles tls_files(const config::TlsSlaveConfig& tls) { return {tls.certificate, tls.key, tls.ca}; }
+
+}  // namespace
+
 std::unique_ptr<io::TcpSlaveServer> Bridge::make_tcp_server(const config::Config& config) {
   if (!config.modbus.tcp) return nullptr;
   const auto& tcp = *config.modbus.tcp;
-  io::TcpSlaveOptions options{tcp.listen,        tcp.port,  tcp.max_clients, tcp.idle_timeout,
-                              tcp.frame_timeout, tcp.allow, tcp.read_only};
+  const auto options = slave_options(tcp);
   try {
     return std::make_unique<io::TcpSlaveServer>(io_, options, slave_context());
   } catch (const boost::system::system_error& e) {
     throw std::runtime_error(fmt::format("modbus tcp: cannot listen on {}:{}: {}", tcp.listen, tcp.port, e.code().message()));
+  }
+}
+
+// SPEC §11: the same slave over TLS, on its own listener beside (or instead of) plain TCP.
+std::unique_ptr<io::TcpSlaveServer> Bridge::make_tls_server(const config::Config& config) {
+  if (!config.modbus.tls) return nullptr;
+  const auto& tls = *config.modbus.tls;
+  const auto& c = tls.connection;
+  auto options = slave_options(c);
+  options.tls = io::TlsSlaveSetup{io::make_server_tls_context(tls_files(tls)), tls.roles};
+  try {
+    return std::make_unique<io::TcpSlaveServer>(io_, options, slave_context());
+  } catch (const boost::system::system_error& e) {
+    throw std::runtime_error(fmt::format("modbus tls: cannot listen on {}:{}: {}", c.listen, c.port, e.code().message()));
+  }
+}
+
+// On reload the certificate and key are read again (a renewal needs no restart); a new
+// one that does not load leaves the running one serving (SPEC §11).
+std::shared_ptr<asio::ssl::context> Bridge::renewed_tls_context(const config::TlsSlaveConfig& tls) const {
+  try {
+    return io::make_server_tls_context(tls_files(tls));
+  } catch (const std::exception& e) {
+    spdlog::error("modbus tls: {}; the running certificate keeps serving", e.what());
+    return nullptr;
   }
 }
 
@@ -231,6 +275,7 @@ void Bridge::start() {
                    core_->config.bank_bases[index_of(banks::device_bank(n))], core_->store->length(banks::device_bank(n)));
   if (transport_) transport_->start();
   if (tcp_) tcp_->start();
+  if (tls_) tls_->start();
   if (rtu_) rtu_->start();
   if (master_) master_->start();
   if (control_) control_->start();
@@ -256,6 +301,7 @@ void Bridge::stop() {
   if (rtu_) rtu_->stop();
   if (master_) master_->stop();
   if (tcp_) tcp_->stop();
+  if (tls_) tls_->stop();
   if (transport_) transport_->stop();
   if (control_) control_->stop();
   presence_timer_.cancel();
@@ -319,6 +365,19 @@ Bridge::ReloadPlan Bridge::plan_reload(config::Config config) {
     });
   }
   if (!plan.same_tcp) plan.tcp = make_tcp_server(new_config);
+  const auto tls_connection = [](const config::Config& c) {
+    return c.modbus.tls ? std::optional(c.modbus.tls->connection) : std::nullopt;
+  };
+  plan.same_tls = same_endpoint(tls_connection(old_config), tls_connection(new_config));
+  if (!plan.same_tls && tls_) {
+    tls_->stop();
+    plan.restore_tls = Rollback([this] {
+      tls_ = std::make_unique<io::TcpSlaveServer>(io_, tls_->options(), slave_context());
+      tls_->start();
+    });
+  }
+  if (!plan.same_tls) plan.tls = make_tls_server(new_config);
+  else if (tls_) plan.tls_context = renewed_tls_context(*new_config.modbus.tls);
   // The master's line opens before anything is switched (a serial device may be missing).
   plan.master = make_master(new_config);
   return plan;
@@ -327,6 +386,7 @@ Bridge::ReloadPlan Bridge::plan_reload(config::Config config) {
 // Nothing here can fail: values and presence carried over, then the ports switched.
 void Bridge::commit(ReloadPlan plan) {
   plan.restore_tcp.commit();
+  plan.restore_tls.commit();
   auto& core = plan.core;
   core->store->take_state_from(*core_->store);
   for (BankId bank : core->presence->take_over(*core_->presence, [&](BankId b) { return core->store->online(b); },
@@ -359,6 +419,18 @@ void Bridge::commit(ReloadPlan plan) {
     tcp_->set_limits(tcp.max_clients, tcp.idle_timeout, tcp.frame_timeout);
     tcp_->set_access(tcp.allow, tcp.read_only);
     tcp_->set_context(slave_context());
+  }
+  if (!plan.same_tls) {
+    tls_ = std::move(plan.tls);
+    if (tls_) tls_->start();
+  }
+  if (tls_) {
+    const auto& tls = *core_->config.modbus.tls;
+    tls_->set_limits(tls.connection.max_clients, tls.connection.idle_timeout, tls.connection.frame_timeout);
+    tls_->set_access(tls.connection.allow, tls.connection.read_only);
+    auto context = plan.tls_context ? plan.tls_context : tls_->options().tls->context;
+    tls_->set_tls(io::TlsSlaveSetup{std::move(context), tls.roles});
+    tls_->set_context(slave_context());
   }
   // The serial line is reopened only when its settings changed; opening never throws (a
   // line that cannot be opened is retried), so this comes after the commit.

@@ -49,6 +49,8 @@ class Bridge {
   const config::Config& config() const;
   /// The bound Modbus TCP port, 0 when there is no TCP slave.
   std::uint16_t tcp_port() const { return tcp_ ? tcp_->port() : 0; }
+  /// The bound Modbus/TCP Security port, 0 when there is none.
+  std::uint16_t tls_port() const { return tls_ ? tls_->port() : 0; }
   /// The front panel and counters as one JSON document (`unima-bridge status`);
   /// app/bridge_status.cpp.
   std::string status_document() const;
@@ -63,6 +65,8 @@ class Bridge {
   void commit(ReloadPlan plan);
   std::unique_ptr<unimabus::Transport> make_transport(const config::Config& config);
   std::unique_ptr<io::TcpSlaveServer> make_tcp_server(const config::Config& config);
+  std::unique_ptr<io::TcpSlaveServer> make_tls_server(const config::Config& config);
+  std::shared_ptr<asio::ssl::context> renewed_tls_context(const config::TlsSlaveConfig& tls) const;
   std::unique_ptr<io::RtuSlavePort> make_rtu_port(const config::Config& config);
   std::shared_ptr<io::MasterPort> make_master(const config::Config& config);
   io::SlaveContext slave_context();
@@ -85,6 +89,7 @@ class Bridge {
   std::unique_ptr<unimabus::Transport> transport_;
   std::unique_ptr<io::TelegramRecorder> recorder_;  // unimabus.record
   std::unique_ptr<io::TcpSlaveServer> tcp_;
+  std::unique_ptr<io::TcpSlaveServer> tls_;  // Modbus/TCP Security (SPEC §11)
   std::unique_ptr<io::RtuSlavePort> rtu_;
   std::shared_ptr<io::MasterPort> master_;
   io::LazyDeadline presence_timer_;  // at the next moment a device can go off-line

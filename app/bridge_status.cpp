@@ -129,6 +129,15 @@ std::string Bridge::status_document() const {
     }
     doc["ports"].push_back(j);
   }
+  const auto& tls_counts = monitor_->counters(modbus::PortKind::tls);
+  if (tls_ || tls_counts.transactions > 0) {
+    auto j = port_counters("tls", tls_counts);
+    if (tls_) {
+      j["listen"] = tls_->options().listen + ":" + std::to_string(tls_->port());
+      j["clients"] = tls_->client_count();
+    }
+    doc["ports"].push_back(j);
+  }
   for (const auto& [kind, name] : {std::pair{modbus::PortKind::rtu, "rtu"}, std::pair{modbus::PortKind::master, "master"}})
     if (monitor_->counters(kind).transactions > 0) doc["ports"].push_back(port_counters(name, monitor_->counters(kind)));
 

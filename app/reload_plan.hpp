@@ -17,6 +17,7 @@ namespace unima::app {
 struct Bridge::ReloadPlan {
   // First, so that it is undone last: after a new TCP listener on the same port is gone.
   Rollback restore_tcp;  // brings the running TCP slave back
+  Rollback restore_tls;  // and the running TLS slave
   std::unique_ptr<Core> core;
   std::unique_ptr<monitor::MonitorWriter> monitor_writer;  // when the log changed
   std::unique_ptr<unimabus::Transport> transport;          // when the transport changed; else keep
@@ -24,6 +25,9 @@ struct Bridge::ReloadPlan {
   std::unique_ptr<io::TelegramRecorder> recorder;          // when unimabus.record changed
   bool same_tcp = true;
   std::unique_ptr<io::TcpSlaveServer> tcp;                 // when the endpoint changed
+  bool same_tls = true;
+  std::unique_ptr<io::TcpSlaveServer> tls;                 // when its endpoint changed
+  std::shared_ptr<asio::ssl::context> tls_context;         // same endpoint: the files read again (null: keep)
   bool same_rtu = true;
   std::shared_ptr<io::MasterPort> master;
   std::unique_ptr<io::ControlSocket> control;             // when status.socket changed (or had failed)

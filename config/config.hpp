@@ -20,6 +20,7 @@
 #include "config/peer_allow_list.hpp"
 #include "master/device_profile.hpp"
 #include "master/master_value.hpp"
+#include "modbus/write_rights.hpp"
 #include "modbus/rtu_timing.hpp"
 #include "monitor/monitor_config.hpp"
 #include "unimabus/recording.hpp"
@@ -129,10 +130,28 @@ struct MasterConfig {
   std::string origin;                   // "file:line:col" of the section, when given
 };
 
+/// Modbus/TCP Security (SPEC §11): the slave over TLS 1.2+ with mutual authentication; a
+/// client's role, read from its certificate, says which registers it may write.
+struct TlsSlaveConfig {
+  TcpSlaveConfig connection = default_connection();  // listen, port, limits, allow, read_only
+  std::string certificate;  // PEM, the server's (with its chain)
+  std::string key;          // PEM, its private key
+  std::string ca;           // PEM, the CA(s) that sign the clients' certificates
+  std::map<std::string, modbus::WriteRights> roles;  // a role not listed may write nothing
+  std::string origin;       // "file:line:col" of modbus.tls, for errors found at start
+
+  static TcpSlaveConfig default_connection() {
+    TcpSlaveConfig c;
+    c.port = 802;
+    return c;
+  }
+};
+
 struct ModbusConfig {
   ModbusMode mode = ModbusMode::slave;
   std::uint8_t address = 1;  // seed "MBSAddr"
   std::optional<TcpSlaveConfig> tcp;
+  std::optional<TlsSlaveConfig> tls;
   std::optional<RtuConfig> rtu;
   MasterConfig master;
   bool readable_write_banks = true;

@@ -1,4 +1,5 @@
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cerrno>
 #include <cmath>
@@ -59,6 +60,7 @@ class Loader {
     status(root["status"], root);
     state(root["state"]);
     validate_layout(root);
+    resolve_roles();
     return std::move(config_);
   }
 
@@ -154,7 +156,8 @@ class Loader {
   }
 
   void modbus(const YAML::Node& node) {
-    yaml_.expect_keys(node, "modbus", {"mode", "address", "tcp", "rtu", "readable_write_banks", "extensions", "master"});
+    yaml_.expect_keys(node, "modbus",
+                      {"mode", "address", "tcp", "tls", "rtu", "readable_write_banks", "extensions", "master"});
     auto& m = config_.modbus;
     if (node["mode"]) {
       const auto mode = yaml_.choice(node["mode"], {"slave", "master"});
@@ -169,24 +172,10 @@ class Loader {
       if (ext["function_43"]) m.extensions.function_43 = yaml_.boolean(ext["function_43"]);
     }
     if (const auto tcp = node["tcp"]) {
-      yaml_.expect_keys(tcp, "modbus.tcp",
-                        {"listen", "port", "max_clients", "idle_timeout", "frame_timeout", "allow", "read_only"});
-      TcpSlaveConfig t;
-      if (tcp["listen"]) {
-        t.listen = yaml_.text(tcp["listen"]);
-        if (const auto error = listen_address_error(t.listen, HostRule::listen_address)) yaml_.fail(tcp["listen"], *error);
-      }
-      if (tcp["port"]) t.port = static_cast<std::uint16_t>(yaml_.number(tcp["port"], 0, 65535));
-      if (tcp["max_clients"]) t.max_clients = static_cast<unsigned>(yaml_.number(tcp["max_clients"], 1, 10000));
-      if (tcp["idle_timeout"]) t.idle_timeout = yaml_.duration(tcp["idle_timeout"]);
-      if (tcp["frame_timeout"]) {
-        t.frame_timeout = yaml_.duration(tcp["frame_timeout"]);
-        if (t.frame_timeout.count() <= 0) yaml_.fail(tcp["frame_timeout"], "modbus.tcp.frame_timeout must be above 0");
-      }
-      if (tcp["allow"]) t.allow = allow_list(tcp["allow"], "modbus.tcp.allow");
-      if (tcp["read_only"]) t.read_only = yaml_.boolean(tcp["read_only"]);
-      m.tcp = t;
+      yaml_.expect_keys(tcp, "modbus.tcp", tcp_keys);
+      m.tcp = tcp_slave(tcp, "modbus.tcp", TcpSlaveConfig{});
     }
+    if (const auto tls = node["tls"]) m.tls = tls_slave(tls);
     if (const auto rtu = node["rtu"]) m.rtu = rtu_line(rtu);
     // An RTU slave answers one address of 1..247 (0 is broadcast, 248..255 reserved).
     if (m.rtu && m.mode == ModbusMode::slave && (m.address < 1 || m.address > 247))
@@ -661,6 +650,79 @@ class Loader {
     check_socket_path(node["socket"], "status.socket", socket);
   }
 
+  static constexpr std::array<std::string_view, 7> tcp_keys = {"listen",        "port",  "max_clients", "idle_timeout",
+                                                              "frame_timeout", "allow", "read_only"};
+
+  // The keys modbus.tcp and modbus.tls share; `key` names the section in messages.
+  TcpSlaveConfig tcp_slave(const YAML::Node& node, std::string_view key, TcpSlaveConfig t) {
+    if (node["listen"]) {
+      t.listen = yaml_.text(node["listen"]);
+      if (const auto error = listen_address_error(t.listen, HostRule::listen_address)) yaml_.fail(node["listen"], *error);
+    }
+    if (node["port"]) t.port = static_cast<std::uint16_t>(yaml_.number(node["port"], 0, 65535));
+    if (node["max_clients"]) t.max_clients = static_cast<unsigned>(yaml_.number(node["max_clients"], 1, 10000));
+    if (node["idle_timeout"]) t.idle_timeout = yaml_.duration(node["idle_timeout"]);
+    if (node["frame_timeout"]) {
+      t.frame_timeout = yaml_.duration(node["frame_timeout"]);
+      if (t.frame_timeout.count() <= 0) yaml_.fail(node["frame_timeout"], fmt::format("{}.frame_timeout must be above 0", key));
+    }
+    if (node["allow"]) t.allow = allow_list(node["allow"], fmt::format("{}.allow", key));
+    if (node["read_only"]) t.read_only = yaml_.boolean(node["read_only"]);
+    return t;
+  }
+
+  TlsSlaveConfig tls_slave(const YAML::Node& node) {
+    std::vector<std::string_view> keys(tcp_keys.begin(), tcp_keys.end());
+    for (const char* k : {"certificate", "key", "ca", "roles"}) keys.push_back(k);
+    yaml_.expect_keys(node, "modbus.tls", keys);
+    TlsSlaveConfig tls;
+    tls.origin = yaml_.position(node);
+    tls.connection = tcp_slave(node, "modbus.tls", TlsSlaveConfig::default_connection());
+    for (const auto& [key, file] : {std::pair{"certificate", &tls.certificate}, std::pair{"key", &tls.key},
+                                    std::pair{"ca", &tls.ca}}) {
+      if (!node[key]) yaml_.fail(node, fmt::format("modbus.tls needs '{}', a PEM file", key));
+      *file = yaml_.text(node[key]);
+      if (file->empty()) yaml_.fail(node[key], fmt::format("modbus.tls.{} must be the path of a PEM file", key));
+    }
+    if (const auto roles = node["roles"]) {
+      if (!roles.IsMap()) yaml_.fail(roles, "modbus.tls.roles must map each role to { write: [...] }");
+      for (const auto& role : roles) pending_roles_.emplace_back(yaml_.text(role.first), role.second);
+    }
+    return tls;
+  }
+
+  // A role's `write: [W, X, 0x0201]`: banks by name, registers by address, resolved once
+  // the register map is known (after validate_layout).
+  void resolve_roles() {
+    if (!config_.modbus.tls) return;
+    const auto map = address_map(config_);
+    for (const auto& [name, node] : pending_roles_) {
+      if (!node.IsMap()) yaml_.fail(node, fmt::format("modbus.tls.roles.{} must be {{ write: [...] }}", name));
+      yaml_.expect_keys(node, fmt::format("modbus.tls.roles.{}", name), {"write"});
+      auto rights = modbus::WriteRights::nothing();
+      if (const auto write = node["write"]) {
+        if (!write.IsSequence())
+          yaml_.fail(write, fmt::format("modbus.tls.roles.{}.write must be a list of banks and registers, e.g. [W, X, 0x0201]", name));
+        for (const auto& item : write) {
+          const auto text = yaml_.text(item);
+          if (const auto bank = banks::parse_bank_name(text)) {
+            const auto window = std::find_if(map.windows().begin(), map.windows().end(), [&](const banks::Window& w) {
+              return w.kind == banks::Window::Kind::bank && w.bank == *bank;
+            });
+            if (window == map.windows().end())
+              yaml_.fail(item, fmt::format("bank {} is not served by this config", text));
+            rights.allow(window->first, static_cast<std::uint16_t>(window->end() - 1));
+          } else {
+            const auto address = static_cast<std::uint16_t>(yaml_.number(item, 0, 0xFFFF));
+            if (!map.find(address)) yaml_.fail(item, fmt::format("register {:#06x} is in no bank or block of this config", address));
+            rights.allow(address, address);
+          }
+        }
+      }
+      config_.modbus.tls->roles.insert_or_assign(name, std::move(rights));
+    }
+  }
+
   PeerAllowList allow_list(const YAML::Node& node, std::string_view key) {
     if (!node.IsSequence() || node.size() == 0)
       yaml_.fail(node, fmt::format("{} must be a list of addresses and CIDR ranges, e.g. [192.168.10.0/24, 127.0.0.1]", key));
@@ -696,6 +758,7 @@ class Loader {
 
   YamlReader yaml_;
   Config config_;
+  std::vector<std::pair<std::string, YAML::Node>> pending_roles_;
   banks::BankShapes shapes_{};
   std::map<std::uint8_t, std::pair<const master::DeviceProfile*, std::string>> profile_of_device_;
 };

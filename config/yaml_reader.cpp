@@ -24,6 +24,10 @@ void YamlReader::fail(const YAML::Node& node, std::string_view message) const {
 
 void YamlReader::expect_keys(const YAML::Node& map, std::string_view what,
                              std::initializer_list<std::string_view> allowed) const {
+  expect_keys(map, what, std::span(allowed.begin(), allowed.size()));
+}
+
+void YamlReader::expect_keys(const YAML::Node& map, std::string_view what, std::span<const std::string_view> allowed) const {
   if (map.IsNull()) return;
   if (!map.IsMap()) fail(map, fmt::format("{} must be a mapping of keys", what));
   for (const auto& entry : map) {

@@ -5,6 +5,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <initializer_list>
+#include <span>
 #include <string>
 #include <string_view>
 
@@ -21,6 +22,7 @@ class YamlReader {
 
   /// Rejects keys outside `allowed`; a null node counts as an empty mapping.
   void expect_keys(const YAML::Node& map, std::string_view what, std::initializer_list<std::string_view> allowed) const;
+  void expect_keys(const YAML::Node& map, std::string_view what, std::span<const std::string_view> allowed) const;
 
   /// Decimal or 0x hex, within [min, max].
   unsigned long number(const YAML::Node& node, unsigned long min, unsigned long max) const;

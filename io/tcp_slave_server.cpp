@@ -11,6 +11,7 @@
 
 #include "io/lazy_deadline.hpp"
 #include "io/state_file.hpp"
+#include "io/tls_context.hpp"
 #include "modbus/mbap.hpp"
 #include "modbus/slave_session.hpp"
 #include "platform/peer_warnings.hpp"
@@ -33,10 +34,15 @@ class TcpSlaveServer::Connection : public std::enable_shared_from_this<Connectio
     socket_.set_option(tcp::no_delay(true), ec);
     // send() writes synchronously and must never block the loop (see send()).
     socket_.non_blocking(true, ec);
+    if (server_.options_.tls) {
+      tls_context_ = server_.options_.tls->context;  // a renewal may replace the server's
+      tls_.emplace(socket_, *tls_context_);
+    }
   }
 
   void start() {
     last_activity_ = Clock::now();
+    if (tls_) return handshake();
     idle_.watch();
     read();
   }
@@ -58,6 +64,7 @@ class TcpSlaveServer::Connection : public std::enable_shared_from_this<Connectio
   const std::string& peer() const { return peer_; }
   Clock::time_point last_activity() const { return last_activity_; }
   const asio::ip::address& address() const { return address_; }
+  const std::optional<std::string>& role() const { return role_; }
   /// Closed by the server (for a new client, SPEC §10); the server logs why.
   void evict(const std::string& why) { finish(why); }
 
@@ -67,17 +74,44 @@ class TcpSlaveServer::Connection : public std::enable_shared_from_this<Connectio
   // (async_wait) would cost an epoll_ctl instead: this is the cheapest Asio allows
   // (docs/performance.md, "Tried and not kept").
   void read() {
-    socket_.async_read_some(asio::buffer(in_.data() + in_used_, in_.size() - in_used_),
-                            [this, self = shared_from_this()](const boost::system::error_code& ec, std::size_t n) {
-                              if (ec) return finish(ec == asio::error::eof ? "closed by the client" : ec.message());
-                              in_used_ += n;
-                              const auto* state = server_.context_.state;
-                              const auto recorded_before = state ? state->recorded() : 0;
-                              if (!process()) return finish_broken_stream();
-                              if (out_used_ == 0) return read();
-                              if (state && state->recorded() != recorded_before) return send_once_durable();
-                              send();
-                            });
+    auto on_read = [this, self = shared_from_this()](const boost::system::error_code& ec, std::size_t n) {
+      if (ec) return finish(ec == asio::error::eof ? "closed by the client" : ec.message());
+      in_used_ += n;
+      const auto* state = server_.context_.state;
+      const auto recorded_before = state ? state->recorded() : 0;
+      if (!process()) return finish_broken_stream();
+      if (out_used_ == 0) return read();
+      if (state && state->recorded() != recorded_before) return send_once_durable();
+      send();
+    };
+    const auto room = asio::buffer(in_.data() + in_used_, in_.size() - in_used_);
+    if (tls_) return tls_->async_read_some(room, std::move(on_read));
+    socket_.async_read_some(room, std::move(on_read));
+  }
+
+  // SPEC §11: the client must show a certificate the CA signed, within frame_timeout like
+  // any started request (a client stuck in the handshake holds no slot); its role then
+  // says what it may write, and names it in the monitor and the log.
+  void handshake() {
+    adu_started_ = Clock::now();
+    idle_.watch();
+    tls_->async_handshake(asio::ssl::stream_base::server, [this, self = shared_from_this()](const boost::system::error_code& ec) {
+      if (finished_) return;
+      if (ec) {
+        platform::warn_from_peer("modbus tls: failed handshakes", peer_, "modbus tls: {} failed the TLS handshake: {}",
+                                 peer_, ec.message());
+        return finish("failed the TLS handshake");
+      }
+      const auto identity = client_identity(tls_->native_handle());
+      role_ = identity.role;
+      spdlog::debug("modbus tls: {} connected as {} (role {})", peer_, identity.subject, role_ ? *role_ : "none");
+      // The monitor's port field names the client: its role, or its certificate's subject.
+      peer_ = (role_ ? *role_ : identity.subject) + "@" + peer_;
+      handshaken_ = true;
+      adu_started_.reset();
+      last_activity_ = Clock::now();
+      read();
+    });
   }
 
   // Answers every complete request in the buffer, in order, into out_. False when the
@@ -91,7 +125,7 @@ class TcpSlaveServer::Connection : public std::enable_shared_from_this<Connectio
         // Seed §5.3 note 2: a bad length is Err03; the monitor shows what came, unanswered.
         if (context.on_transaction)
           context.on_transaction(modbus::Transaction{
-              modbus::PortKind::tcp, peer_, std::chrono::system_clock::now(), modbus::TransactionState::err03,
+              port_kind(), peer_, std::chrono::system_clock::now(), modbus::TransactionState::err03,
               std::span<const std::uint8_t>(in_.data() + at, std::min(in_used_ - at, modbus::max_tcp_adu_size)), {}});
         return false;
       }
@@ -104,11 +138,11 @@ class TcpSlaveServer::Connection : public std::enable_shared_from_this<Connectio
       const auto unit = adu.header.unit_id;
       const auto served =
           modbus::serve_request(modbus::Link::tcp, modbus::recipient_of(modbus::Link::tcp, unit, context.unit_id),
-                                adu.pdu, pdu_out, *context.registers, context.options, server_.write_rights());
+                                adu.pdu, pdu_out, *context.registers, context.options, server_.write_rights(role_));
       if (served.fault && context.on_fault) context.on_fault();
       const auto size = modbus::write_mbap_header(adu.header.transaction_id, unit, served.length, adu_out) + served.length;
       if (context.on_transaction) {
-        context.on_transaction(modbus::Transaction{modbus::PortKind::tcp, peer_, std::chrono::system_clock::now(),
+        context.on_transaction(modbus::Transaction{port_kind(), peer_, std::chrono::system_clock::now(),
                                                    served.state, std::span<const std::uint8_t>(in_.data() + at, adu.size),
                                                    adu_out.first(size)});
       }
@@ -157,18 +191,13 @@ class TcpSlaveServer::Connection : public std::enable_shared_from_this<Connectio
   // write operation and no completion handler to dispatch per request. Only when the
   // client does not keep up does the rest wait for the socket in async_write.
   void send() {
+    // An SSL stream may hold encrypted bytes of a partial write: it is never written
+    // synchronously.
+    if (tls_) return send_rest(0);
     boost::system::error_code ec;
     const std::size_t sent = socket_.write_some(asio::buffer(out_.data(), out_used_), ec);
-    if (ec == asio::error::would_block || ec == asio::error::try_again || (!ec && sent < out_used_)) {
-      const std::size_t done = ec ? 0 : sent;
-      asio::async_write(socket_, asio::buffer(out_.data() + done, out_used_ - done),
-                        [this, self = shared_from_this()](const boost::system::error_code& ec, std::size_t) {
-                          if (ec) return finish(ec.message());
-                          out_used_ = 0;
-                          read();
-                        });
-      return;
-    }
+    if (ec == asio::error::would_block || ec == asio::error::try_again || (!ec && sent < out_used_))
+      return send_rest(ec ? 0 : sent);
     if (ec) return finish(ec.message());
     out_used_ = 0;
     // With other clients, the next read starts after the loop's other ready work, not
@@ -182,6 +211,20 @@ class TcpSlaveServer::Connection : public std::enable_shared_from_this<Connectio
       if (!finished_) read();
     });
   }
+
+  // The answers from `done` on, when the client does not keep up (or over TLS).
+  void send_rest(std::size_t done) {
+    auto on_sent = [this, self = shared_from_this()](const boost::system::error_code& ec, std::size_t) {
+      if (ec) return finish(ec.message());
+      out_used_ = 0;
+      read();
+    };
+    const auto rest = asio::buffer(out_.data() + done, out_used_ - done);
+    if (tls_) return asio::async_write(*tls_, rest, std::move(on_sent));
+    asio::async_write(socket_, rest, std::move(on_sent));
+  }
+
+  modbus::PortKind port_kind() const { return tls_ ? modbus::PortKind::tls : modbus::PortKind::tcp; }
 
   // Requests only move the deadline later, so the timer is not re-armed per request
   // (LazyDeadline). The limit is read at each check: a reload may have changed it.
@@ -198,19 +241,23 @@ class TcpSlaveServer::Connection : public std::enable_shared_from_this<Connectio
     return due;
   }
   void close_idle() {
-    if (adu_started_ && Clock::now() >= *adu_started_ + server_.options_.frame_timeout)
-      platform::warn_from_peer("modbus tcp: requests not completed in time", peer_,
-                               "modbus tcp: {} did not complete its request within {} ms, closing", peer_,
+    if (tls_ && !handshaken_)
+      platform::warn_from_peer("modbus tls: handshakes not completed in time", peer_,
+                               "modbus tls: {} did not complete the TLS handshake within {} ms, closing", peer_,
+                               server_.options_.frame_timeout.count());
+    else if (adu_started_ && Clock::now() >= *adu_started_ + server_.options_.frame_timeout)
+      platform::warn_from_peer(server_.warning("requests not completed in time"), peer_,
+                               "{}: {} did not complete its request within {} ms, closing", server_.name(), peer_,
                                server_.options_.frame_timeout.count());
     else
-      spdlog::info("modbus tcp: {} idle for {} ms, closing", peer_, server_.options_.idle_timeout.count());
+      spdlog::info("{}: {} idle for {} ms, closing", server_.name(), peer_, server_.options_.idle_timeout.count());
     close();
   }
 
   void finish(const std::string& why) {
     if (finished_) return;
     finished_ = true;
-    spdlog::debug("modbus tcp: {} disconnected: {}", peer_, why);
+    spdlog::debug("{}: {} disconnected: {}", server_.name(), peer_, why);
     close();
     server_.forget(this);
   }
@@ -218,14 +265,18 @@ class TcpSlaveServer::Connection : public std::enable_shared_from_this<Connectio
   // fault of the client's (C+0x13 bit 15), and only its own connection closes.
   void finish_broken_stream() {
     if (finished_) return;
-    platform::warn_from_peer("modbus tcp: bad MBAP headers", peer_,
-                             "modbus tcp: {} sent a bad MBAP header; closing its connection", peer_);
+    platform::warn_from_peer(server_.warning("bad MBAP headers"), peer_,
+                             "{}: {} sent a bad MBAP header; closing its connection", server_.name(), peer_);
     if (server_.context_.on_fault) server_.context_.on_fault();
     finish("sent a bad MBAP header");
   }
 
   TcpSlaveServer& server_;
   tcp::socket socket_;
+  std::shared_ptr<asio::ssl::context> tls_context_;  // outlives tls_
+  std::optional<asio::ssl::stream<tcp::socket&>> tls_;
+  bool handshaken_ = false;
+  std::optional<std::string> role_;  // from the client's certificate
   LazyDeadline idle_;
   std::string peer_;
   asio::ip::address address_;
@@ -243,7 +294,7 @@ class TcpSlaveServer::Connection : public std::enable_shared_from_this<Connectio
 
 TcpSlaveServer::TcpSlaveServer(asio::io_context& io, const TcpSlaveOptions& options, const SlaveContext& context)
     : io_(io), options_(options), context_(context), acceptor_(io),
-      accepting_(acceptor_, "modbus tcp", [this](asio::ip::tcp::socket socket) { adopt(std::move(socket)); },
+      accepting_(acceptor_, name(), [this](asio::ip::tcp::socket socket) { adopt(std::move(socket)); },
                  [this] { return make_room(); }),
       reserve_fd_(::open("/dev/null", O_RDONLY | O_CLOEXEC)) {
   const tcp::endpoint endpoint(asio::ip::make_address(options_.listen), options_.port);
@@ -264,7 +315,7 @@ std::uint16_t TcpSlaveServer::port() const {
 }
 
 void TcpSlaveServer::start() {
-  spdlog::info("modbus tcp: serving unit {} on {}:{}{}{}", context_.unit_id, options_.listen, port(),
+  spdlog::info("{}: serving unit {} on {}:{}{}{}", name(), context_.unit_id, options_.listen, port(),
                options_.read_only ? ", read only" : "",
                options_.allow.empty() ? "" : fmt::format(", to {} allowed address ranges", options_.allow.ranges.size()));
   accepting_.start();
@@ -294,10 +345,19 @@ config::PeerAddress peer_address(const asio::ip::address& address) {
 
 }  // namespace
 
+const modbus::WriteRights* TcpSlaveServer::write_rights(const std::optional<std::string>& role) const {
+  if (options_.read_only) return &nothing_;
+  if (!options_.tls) return nullptr;
+  if (!role) return &nothing_;
+  const auto rights = options_.tls->roles.find(*role);
+  return rights == options_.tls->roles.end() ? &nothing_ : &rights->second;
+}
+
 bool TcpSlaveServer::allowed(const asio::ip::address& address, const std::string& peer) const {
   if (options_.allow.allows(peer_address(address))) return true;
-  platform::warn_from_peer("modbus tcp: peers not in modbus.tcp.allow", peer,
-                           "modbus tcp: {} is not in modbus.tcp.allow; closing its connection", peer);
+  const auto* key = options_.tls ? "modbus.tls.allow" : "modbus.tcp.allow";
+  platform::warn_from_peer(warning(fmt::format("peers not in {}", key)), peer,
+                           "{}: {} is not in {}; closing its connection", name(), peer, key);
   return false;
 }
 
@@ -308,7 +368,7 @@ void TcpSlaveServer::set_access(const config::PeerAllowList& allow, bool read_on
   std::vector<std::shared_ptr<Connection>> refused;
   for (const auto& connection : connections_)
     if (!allowed(connection->address(), connection->peer())) refused.push_back(connection);
-  for (const auto& connection : refused) connection->evict("not in modbus.tcp.allow after a reload");
+  for (const auto& connection : refused) connection->evict("not in the allow list after a reload");
 }
 
 void TcpSlaveServer::adopt(tcp::socket socket) {
@@ -323,7 +383,7 @@ void TcpSlaveServer::adopt(tcp::socket socket) {
   if (connections_.size() >= options_.max_clients)
     evict_longest_idle(fmt::format("{} connections is the limit", options_.max_clients));
   auto connection = std::make_shared<Connection>(*this, std::move(socket));
-  spdlog::debug("modbus tcp: {} connected", connection->peer());
+  spdlog::debug("{}: {} connected", name(), connection->peer());
   connections_.insert(connection);
   connection->start();
 }
@@ -335,8 +395,8 @@ bool TcpSlaveServer::evict_longest_idle(const std::string& why) {
   });
   const auto idle_ms =
       std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - idlest->last_activity()).count();
-  platform::warn_from_peer("modbus tcp: connections closed for a new client", idlest->peer(),
-                           "modbus tcp: {}: closing {}, idle for {} ms, for a new client", why, idlest->peer(), idle_ms);
+  platform::warn_from_peer(warning("connections closed for a new client"), idlest->peer(),
+                           "{}: {}: closing {}, idle for {} ms, for a new client", name(), why, idlest->peer(), idle_ms);
   idlest->evict("closed for a new client");
   return true;
 }
@@ -344,8 +404,8 @@ bool TcpSlaveServer::evict_longest_idle(const std::string& why) {
 bool TcpSlaveServer::make_room() {
   if (evict_longest_idle("out of file descriptors")) return true;
   if (reserve_fd_ < 0) return false;
-  platform::warn_from_peer("modbus tcp: out of file descriptors", "",
-                           "modbus tcp: out of file descriptors: a new client takes the one held in reserve");
+  platform::warn_from_peer(warning("out of file descriptors"), "",
+                           "{}: out of file descriptors: a new client takes the one held in reserve", name());
   ::close(reserve_fd_);
   reserve_fd_ = -1;
   return true;

@@ -4,20 +4,33 @@
 // time-out, a deadline for a started request and a connection limit at which a new client
 // takes the place of the one idle the longest (SPEC §10). A client that sends a bad MBAP
 // header loses only its own connection.
+//
+// The same server speaks Modbus/TCP Security (SPEC §11) when given a TLS context: each
+// client's handshake must complete within frame_timeout, its certificate's role says what
+// it may write, and everything else — limits, eviction, the allow list — is the same.
 
 #include <chrono>
 #include <cstdint>
+#include <map>
 #include <memory>
+#include <optional>
 #include <set>
 #include <string>
+#include <string_view>
 
 #include "config/peer_allow_list.hpp"
 #include "modbus/write_rights.hpp"
-#include "platform/asio.hpp"
+#include "platform/asio_ssl.hpp"
 #include "io/retrying_acceptor.hpp"
 #include "io/slave_context.hpp"
 
 namespace unima::io {
+
+/// Modbus/TCP Security: what a TLS port serves with.
+struct TlsSlaveSetup {
+  std::shared_ptr<asio::ssl::context> context;
+  std::map<std::string, modbus::WriteRights> roles;  // a role not listed may write nothing
+};
 
 struct TcpSlaveOptions {
   std::string listen = "0.0.0.0";
@@ -27,6 +40,7 @@ struct TcpSlaveOptions {
   std::chrono::milliseconds frame_timeout{2'000};  // a started ADU must be complete within it
   config::PeerAllowList allow;  // who may connect; empty: anyone (SPEC §11)
   bool read_only = false;       // every write answered with exception 01
+  std::optional<TlsSlaveSetup> tls;  // set: Modbus/TCP Security
 };
 
 class TcpSlaveServer {
@@ -47,6 +61,13 @@ class TcpSlaveServer {
   /// Applies to every request from now on (read_only) and to the clients: those the new
   /// list leaves out are disconnected.
   void set_access(const config::PeerAllowList& allow, bool read_only);
+  /// A TLS port's new context (renewed certificates) serves the handshakes from now on;
+  /// its roles apply to every request from now on.
+  void set_tls(const TlsSlaveSetup& tls) { options_.tls = tls; }
+  /// "modbus tcp" or "modbus tls": the log's name of this port.
+  const char* name() const { return options_.tls ? "modbus tls" : "modbus tcp"; }
+  /// The kind of a warning a client causes, per port ("modbus tls: bad MBAP headers").
+  std::string warning(std::string_view what) const { return std::string(name()) + ": " + std::string(what); }
   const TcpSlaveOptions& options() const { return options_; }
   /// The port actually bound (differs from options().port when that was 0).
   std::uint16_t port() const;
@@ -64,8 +85,9 @@ class TcpSlaveServer {
   bool make_room();
   /// False (and logged, rate-limited) when modbus.tcp.allow does not list the peer.
   bool allowed(const asio::ip::address& address, const std::string& peer) const;
-  /// What a client of this port may write: nothing when read only (nullptr: everything).
-  const modbus::WriteRights* write_rights() const { return options_.read_only ? &nothing_ : nullptr; }
+  /// What a client of this port may write: nothing when read only; on a TLS port what its
+  /// role may (nothing without one); nullptr: everything.
+  const modbus::WriteRights* write_rights(const std::optional<std::string>& role) const;
 
   asio::io_context& io_;
   TcpSlaveOptions options_;

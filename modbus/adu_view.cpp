@@ -6,7 +6,8 @@ namespace unima::modbus {
 
 Framing framing_of(const Transaction& transaction) {
   switch (transaction.port) {
-    case PortKind::tcp: return Framing::tcp;
+    case PortKind::tcp:
+    case PortKind::tls: return Framing::tcp;
     case PortKind::rtu: return Framing::rtu;
     case PortKind::master: return transaction.peer.empty() ? Framing::rtu : Framing::tcp;
   }

@@ -19,7 +19,7 @@ enum class TransactionState : std::uint8_t {
   timeout,     // master: no answer
 };
 
-enum class PortKind : std::uint8_t { tcp, rtu, master };
+enum class PortKind : std::uint8_t { tcp, rtu, master, tls };  // tls: Modbus/TCP Security (SPEC §11)
 
 struct Transaction {
   PortKind port = PortKind::tcp;

@@ -54,7 +54,7 @@ class Monitor {
   MonitorConfig config_;
   monitor::CommandFilter filter_;
   monitor::CaptureIndicators indicators_;
-  std::array<modbus::TransactionCounters, 3> counters_{};  // by PortKind
+  std::array<modbus::TransactionCounters, 4> counters_{};  // by PortKind
   std::optional<std::chrono::system_clock::time_point> last_transaction_;
   std::uint8_t next_ix_ = 0;
   std::unique_ptr<MonitorWriter> writer_;

@@ -456,6 +456,10 @@ void append_port_name(std::string& out, modbus::PortKind port, std::string_view 
       out += "tcp:";
       out += peer;
       return;
+    case modbus::PortKind::tls:  // the peer names the client's role (or subject) and address
+      out += "tls:";
+      out += peer;
+      return;
     case modbus::PortKind::rtu: out += "rtu"; return;
     case modbus::PortKind::master: out += "master"; return;
   }

@@ -7,6 +7,8 @@ packages=(
   build-essential cmake pkg-config
   libmodbus-dev libboost-dev libyaml-cpp-dev libspdlog-dev libfmt-dev libsystemd-dev
   nlohmann-json3-dev googletest libgtest-dev
+  # Modbus/TCP Security: OpenSSL for the daemon; the command line makes the tests' certificates
+  libssl-dev openssl
   mbpoll socat
   # packaging tests: systemd-analyze, systemd-sysusers/-tmpfiles, man, dpkg-shlibdeps, shellcheck
   systemd man-db groff-base dpkg-dev shellcheck

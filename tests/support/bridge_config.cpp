@@ -13,8 +13,8 @@ std::string BridgeConfig::yaml() const {
     out << "  listen: " << (feed_listen.empty() ? "127.0.0.1:" + std::to_string(feed_port) : feed_listen) << "\n";
   out << unimabus_extra << "modbus:\n";
   if (!mode.empty()) out << "  mode: " << mode << "\n";
-  out << "  address: 1\n"
-      << "  tcp: { listen: 127.0.0.1, port: " << modbus_port << tcp_extra << " }\n";
+  out << "  address: 1\n";
+  if (modbus_port != 0) out << "  tcp: { listen: 127.0.0.1, port: " << modbus_port << tcp_extra << " }\n";
   std::string master_body = master;
   if (line.starts_with("master-tcp: ")) {
     const auto target = line.substr(12);

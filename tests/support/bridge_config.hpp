@@ -9,7 +9,7 @@
 namespace unima::test_support {
 
 struct BridgeConfig {
-  std::uint16_t modbus_port = 0;
+  std::uint16_t modbus_port = 0;  // the plain Modbus TCP slave's; 0: none (modbus.tcp absent)
   std::uint16_t feed_port = 0;
   std::string feed_listen;  // overrides 127.0.0.1:feed_port when set
   std::string transport = "feed";  // sim or replay take their keys from unimabus_extra

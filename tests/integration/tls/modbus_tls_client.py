@@ -1,0 +1,62 @@
+#!/usr/bin/env python3
+"""A Modbus/TCP Security client for the tests (SPEC §11), on Python's ssl module: TLS 1.2+
+with a client certificate, then Modbus requests over the TLS stream.
+
+  modbus_tls_client.py PORT CA [CERT KEY] -- REQUEST...
+
+Each REQUEST is a PDU in hex ("0600000007", "0400110001"); for each one line is printed:
+the response PDU in hex, or "error: <why>" (and the client stops) when the handshake or the
+connection fails; first "server: <CN>" of the certificate the server presented, last
+"version: TLSv1.x". Exit status 0 when every request was answered.
+"""
+
+import socket
+import ssl
+import struct
+import sys
+
+
+def main() -> int:
+    args = sys.argv[1:]
+    split = args.index("--")
+    port, ca, *identity = args[:split]
+    requests = args[split + 1:]
+    context = ssl.SSLContext(ssl.PROTOCOL_TLS_CLIENT)
+    context.minimum_version = ssl.TLSVersion.TLSv1_2
+    context.load_verify_locations(ca)
+    if identity:
+        context.load_cert_chain(identity[0], identity[1])
+    try:
+        raw = socket.create_connection(("127.0.0.1", int(port)), timeout=5)
+        stream = context.wrap_socket(raw, server_hostname="127.0.0.1")
+        subject = dict(field[0] for field in stream.getpeercert()["subject"])
+        print(f"server: {subject['commonName']}", flush=True)
+        for transaction, request in enumerate(requests, start=1):
+            pdu = bytes.fromhex(request)
+            stream.sendall(struct.pack(">HHHB", transaction, 0, len(pdu) + 1, 1) + pdu)
+            header = receive(stream, 7)
+            answered, _, length, _ = struct.unpack(">HHHB", header)
+            body = receive(stream, length - 1)
+            if answered != transaction:
+                raise OSError(f"answer to transaction {answered}, expected {transaction}")
+            print(body.hex(), flush=True)
+        print(f"version: {stream.version()}", flush=True)
+        stream.close()
+    except (OSError, ssl.SSLError) as e:
+        print(f"error: {e}", flush=True)
+        return 1
+    return 0
+
+
+def receive(stream: ssl.SSLSocket, n: int) -> bytes:
+    data = b""
+    while len(data) < n:
+        chunk = stream.recv(n - len(data))
+        if not chunk:
+            raise OSError("connection closed by the server")
+        data += chunk
+    return data
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,160 @@
+// Modbus/TCP Security (SPEC §11) with the real daemon and a real TLS peer (Python's ssl
+// module, tests/integration/tls/modbus_tls_client.py), certificates made by the openssl
+// command line in each test (tests/integration/tls/make_certificates.sh): mutual
+// authentication in the handshake, write rights from the client certificate's role,
+// renewal on SIGHUP, a client stuck in the handshake cut like any slow client.
+
+#include <csignal>
+#include <filesystem>
+#include <sstream>
+
+#include "tests/integration/bridge_fixture.hpp"
+
+namespace unima::test {
+namespace {
+
+const std::string tls_dir = std::string(UNIMA_SOURCE_DIR) + "/tests/integration/tls";
+
+class Tls : public BridgeTest {
+ protected:
+  void SetUp() override {
+    BridgeTest::SetUp();
+    certs = dir.path() / "certs";
+    const auto made = run(tls_dir + "/make_certificates.sh " + certs.string());
+    ASSERT_EQ(made.status, 0) << made.output;
+    tls_port = free_port();
+  }
+
+  void start_tls(const std::string& extra = "") {
+    const auto pem = [&](const std::string& name) { return (certs / name).string(); };
+    config.modbus_extra = "  tls: { listen: 127.0.0.1, port: " + std::to_string(tls_port) +
+                          ", certificate: " + pem("server.pem") + ", key: " + pem("server.key") + ", ca: " +
+                          pem("ca.pem") + ", roles: { operator: { write: [W, X] }, viewer: { write: [] } }" + extra +
+                          " }\n";
+    start();
+    ASSERT_TRUE(wait_for_port(tls_port)) << daemon->log();
+  }
+
+  /// The client's output lines: "server: CN", one per request (the response PDU in hex),
+  /// "version: …" — or up to an "error: …" line.
+  std::vector<std::string> client(const std::string& identity, const std::vector<std::string>& requests) const {
+    std::string command = tls_dir + "/modbus_tls_client.py " + std::to_string(tls_port) + " " + (certs / "ca.pem").string();
+    if (!identity.empty()) command += " " + (certs / (identity + ".pem")).string() + " " + (certs / (identity + ".key")).string();
+    command += " --";
+    for (const auto& r : requests) command += " " + r;
+    std::istringstream output(run(command).output);
+    std::vector<std::string> lines;
+    for (std::string line; std::getline(output, line);) lines.push_back(line);
+    return lines;
+  }
+
+  static bool refused(const std::vector<std::string>& lines) {
+    return !lines.empty() && lines.back().starts_with("error: ");
+  }
+
+  std::filesystem::path certs;
+  std::uint16_t tls_port = 0;
+};
+
+TEST_F(Tls, AClientWithoutACertificateOrFromAnotherCaIsRefusedInTheHandshake) {
+  start_tls();
+  const auto anonymous = client("", {"0401000001"});
+  EXPECT_TRUE(refused(anonymous)) << ::testing::PrintToString(anonymous);
+  EXPECT_NE(anonymous.back().find("certificate required"), std::string::npos) << anonymous.back();
+  const auto stranger = client("stranger", {"0401000001"});
+  EXPECT_TRUE(refused(stranger)) << ::testing::PrintToString(stranger);
+  EXPECT_NE(stranger.back().find("unknown ca"), std::string::npos) << stranger.back();
+  EXPECT_TRUE(daemon->wait_for_log("failed the TLS handshake")) << daemon->log();
+  EXPECT_TRUE(daemon->running());
+}
+
+TEST_F(Tls, TheOperatorRoleWritesWAndTheViewerGetsIllegalFunctionAndChangesNothing) {
+  const auto log = dir.path() / "monitor.log";
+  config.monitor_section = "monitor:\n  file: " + log.string() + "\n";
+  start_tls();
+  const auto operator_lines = client("operator", {"0601000007", "0401000001"});
+  ASSERT_EQ(operator_lines.size(), 4u) << ::testing::PrintToString(operator_lines);
+  EXPECT_EQ(operator_lines[0], "server: server");
+  EXPECT_EQ(operator_lines[1], "0601000007");
+  EXPECT_EQ(operator_lines[2], "04020007");
+
+  const auto viewer = client("viewer", {"0601000009", "1001000001020009", "0401000001", "0400110001"});
+  ASSERT_EQ(viewer.size(), 6u) << ::testing::PrintToString(viewer);
+  EXPECT_EQ(viewer[1], "8601");
+  EXPECT_EQ(viewer[2], "9001");
+  EXPECT_EQ(viewer[3], "04020007");  // reads are allowed, and W kept the operator's value
+  EXPECT_EQ(viewer[4].substr(0, 4), "0402");
+
+  ModbusClient plain(config.modbus_port);
+  EXPECT_EQ(plain.read_input(0x0100, 1), std::vector<std::uint16_t>{7});
+  // The monitor names the role in the port field.
+  EXPECT_TRUE(eventually([&] { return read_file(log).find("tls:viewer@127.0.0.1:") != std::string::npos; }))
+      << read_file(log);
+  EXPECT_NE(read_file(log).find("State=Err01"), std::string::npos) << read_file(log);
+  EXPECT_NE(read_file(log).find("tls:operator@127.0.0.1:"), std::string::npos) << read_file(log);
+}
+
+TEST_F(Tls, ACertificateWithoutARoleMayReadButNotWrite) {
+  start_tls();
+  const auto lines = client("norole", {"0601000009", "0400110001"});
+  ASSERT_EQ(lines.size(), 4u) << ::testing::PrintToString(lines);
+  EXPECT_EQ(lines[1], "8601");
+  EXPECT_EQ(lines[2].substr(0, 4), "0402");
+}
+
+TEST_F(Tls, PlainTcpCanBeSwitchedOffAndReadOnlyAppliesToEveryRole) {
+  config.modbus_port = 0;  // no plain listener
+  start_tls(", read_only: true");
+  const auto lines = client("operator", {"0601000009"});
+  ASSERT_GE(lines.size(), 2u) << ::testing::PrintToString(lines);
+  EXPECT_EQ(lines[1], "8601");
+}
+
+TEST_F(Tls, ACertificateRenewedOnDiskServesAfterSighupAndABadOneKeepsTheOld) {
+  start_tls();
+  EXPECT_EQ(client("operator", {"0400110001"}).front(), "server: server");
+  std::filesystem::copy_file(certs / "server-renewed.pem", certs / "server.pem",
+                             std::filesystem::copy_options::overwrite_existing);
+  std::filesystem::copy_file(certs / "server-renewed.key", certs / "server.key",
+                             std::filesystem::copy_options::overwrite_existing);
+  daemon->signal(SIGHUP);
+  ASSERT_TRUE(daemon->wait_for_log("reloaded")) << daemon->log();
+  EXPECT_EQ(client("operator", {"0400110001"}).front(), "server: server-renewed");
+
+  // A key that does not belong to the certificate: logged, and the renewed one serves on.
+  std::filesystem::copy_file(certs / "viewer.key", certs / "server.key", std::filesystem::copy_options::overwrite_existing);
+  daemon->signal(SIGHUP);
+  ASSERT_TRUE(daemon->wait_for_log("the running certificate keeps serving")) << daemon->log();
+  EXPECT_NE(daemon->log().find("modbus tls: modbus.tls.key " + (certs / "server.key").string() + ": key values mismatch"),
+            std::string::npos)
+      << daemon->log();
+  const auto lines = client("operator", {"0400110001"});
+  ASSERT_GE(lines.size(), 2u) << ::testing::PrintToString(lines);
+  EXPECT_EQ(lines[0], "server: server-renewed");
+  EXPECT_EQ(lines[1].substr(0, 4), "0402");
+}
+
+// SPEC §10 and §11: a client that connects and never completes the handshake holds no
+// slot past frame_timeout.
+TEST_F(Tls, AClientStuckInTheHandshakeIsCutByTheFrameDeadline) {
+  start_tls(", frame_timeout: 300ms");
+  auto stuck = Socket::tcp(tls_port);
+  stuck.send(Bytes{0x16, 0x03, 0x01});  // the start of a ClientHello, then nothing
+  EXPECT_TRUE(stuck.closed_by_peer(3000ms));
+  EXPECT_TRUE(daemon->wait_for_log("did not complete the TLS handshake within 300 ms")) << daemon->log();
+  EXPECT_EQ(client("operator", {"0400110001"}).size(), 3u);
+}
+
+TEST_F(Tls, ABadCertificateFileIsAStartUpErrorNamingTheKeyAndFile) {
+  std::filesystem::resize_file(certs / "server.pem", 10);
+  const auto pem = (certs / "server.pem").string();
+  config.modbus_extra = "  tls: { port: " + std::to_string(tls_port) + ", certificate: " + pem + ", key: " +
+                        (certs / "server.key").string() + ", ca: " + (certs / "ca.pem").string() + " }\n";
+  daemon = std::make_unique<Daemon>(dir, config.yaml());
+  ASSERT_TRUE(eventually([&] { return !daemon->running(); })) << daemon->log();
+  EXPECT_EQ(daemon->exit_code(), 1);
+  EXPECT_NE(daemon->log().find("modbus.tls.certificate " + pem + ":"), std::string::npos) << daemon->log();
+}
+
+}  // namespace
+}  // namespace unima::test
