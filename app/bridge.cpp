@@ -136,7 +136,7 @@ io::TcpSlaveOptions slave_options(const config::TcpSlaveConfig& c) {
   return options;
 }
 
-io::TlsFiles tls_files(const config::TlsSlaveConfig& tls) { return {tls.certificate, tls.key, tls.ca}; }
+tls::TlsFiles tls_files(const config::TlsSlaveConfig& tls) { return {tls.certificate, tls.key, tls.ca}; }
 
 }  // namespace
 
@@ -157,7 +157,11 @@ std::unique_ptr<io::TcpSlaveServer> Bridge::make_tls_server(const config::Config
   const auto& tls = *config.modbus.tls;
   const auto& c = tls.connection;
   auto options = slave_options(c);
-  options.tls = io::TlsSlaveSetup{io::make_server_tls_context(tls_files(tls)), tls.roles};
+  try {
+    options.tls = io::TlsSlaveSetup{io::make_server_tls_context(tls_files(tls)), tls.roles};
+  } catch (const std::exception& e) {
+    throw std::runtime_error(fmt::format("{}: {}", tls.origin, e.what()));
+  }
   try {
     return std::make_unique<io::TcpSlaveServer>(io_, options, slave_context());
   } catch (const boost::system::system_error& e) {

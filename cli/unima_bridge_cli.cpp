@@ -10,6 +10,7 @@
 #include "banks/table_reference.hpp"
 #include "config/config.hpp"
 #include "config/register_map.hpp"
+#include "tls/server_credentials.hpp"
 #include "cli/master_format.hpp"
 #include "cli/register_map_format.hpp"
 #include "cli/cli_monitor.hpp"
@@ -39,6 +40,14 @@ int check(const std::string& path) {
   try {
     const auto config = unima::config::load_file(path);
     const auto map = unima::config::address_map(config);
+    // The daemon loads these at start: a file it cannot use is an error here too.
+    if (const auto& tls = config.modbus.tls) {
+      try {
+        (void)unima::tls::load_server_credentials({tls->certificate, tls->key, tls->ca});
+      } catch (const std::exception& e) {
+        throw std::runtime_error(fmt::format("{}: {}", tls->origin, e.what()));
+      }
+    }
     for (const auto& warning : unima::config::warnings(config)) fmt::print(stderr, "warning: {}\n", warning);
     fmt::print("{}: OK\n", path);
     for (const auto& window : map.windows())

@@ -102,7 +102,7 @@ class TcpSlaveServer::Connection : public std::enable_shared_from_this<Connectio
                                  peer_, ec.message());
         return finish("failed the TLS handshake");
       }
-      const auto identity = client_identity(tls_->native_handle());
+      const auto identity = tls::client_identity(tls_->native_handle());
       role_ = identity.role;
       spdlog::debug("modbus tls: {} connected as {} (role {})", peer_, identity.subject, role_ ? *role_ : "none");
       // The monitor's port field names the client: its role, or its certificate's subject.

@@ -153,7 +153,16 @@ TEST_F(Tls, ABadCertificateFileIsAStartUpErrorNamingTheKeyAndFile) {
   daemon = std::make_unique<Daemon>(dir, config.yaml());
   ASSERT_TRUE(eventually([&] { return !daemon->running(); })) << daemon->log();
   EXPECT_EQ(daemon->exit_code(), 1);
-  EXPECT_NE(daemon->log().find("modbus.tls.certificate " + pem + ":"), std::string::npos) << daemon->log();
+  // Where the config names the TLS port, then which file and why.
+  const auto error = ":" + next_line(config.yaml().substr(0, config.yaml().find("  tls:"))) + ":8: modbus.tls.certificate " + pem + ": ";
+  EXPECT_NE(daemon->log().find("bridge.yaml" + error), std::string::npos) << daemon->log();
+
+  // `check` loads the files as the daemon does.
+  const auto file = dir.path() / "checked.yaml";
+  test_support::write_file(file, config.yaml());
+  const auto checked = run(std::string(UNIMA_BRIDGE_CLI) + " check --config " + file.string());
+  EXPECT_EQ(checked.status, 1) << checked.output;
+  EXPECT_NE(checked.output.find("checked.yaml" + error), std::string::npos) << checked.output;
 }
 
 }  // namespace

@@ -1,0 +1,48 @@
+#pragma once
+// What Modbus/TCP Security's server side is made of (SPEC §11, the Modbus Organization's
+// "MB/TCP Security"), on OpenSSL alone: the credentials a TLS port serves with, and who a
+// verified client is. The daemon wraps the context in Asio's SSL stream (io/tls_context);
+// `unima-bridge check` loads the same files the same way, so it accepts what the daemon
+// accepts.
+//
+// TLS 1.2 and 1.3 only; a client must present a certificate signed by the configured CA,
+// else the handshake fails. The client's role is the UTF8String of its certificate's
+// extension 1.3.6.1.4.1.50316.802.1; what a role may write is the config's (modbus.tls.roles).
+
+#include <openssl/ssl.h>
+
+#include <memory>
+#include <optional>
+#include <string>
+
+namespace unima::tls {
+
+/// The PEM files of modbus.tls.
+struct TlsFiles {
+  std::string certificate;  // the server's certificate, with its chain
+  std::string key;          // its private key
+  std::string ca;           // the CA(s) that sign clients' certificates
+  bool operator==(const TlsFiles&) const = default;
+};
+
+struct ContextDeleter {
+  void operator()(SSL_CTX* context) const { SSL_CTX_free(context); }
+};
+using ContextPtr = std::unique_ptr<SSL_CTX, ContextDeleter>;
+
+/// Reads the files into a server context; throws std::runtime_error naming the key, the
+/// file and OpenSSL's reason ("modbus.tls.key /etc/…/server.key: key values mismatch").
+ContextPtr load_server_credentials(const TlsFiles& files);
+
+/// The Modbus/TCP Security role extension's object identifier.
+inline constexpr const char* role_extension_oid = "1.3.6.1.4.1.50316.802.1";
+
+struct ClientIdentity {
+  std::optional<std::string> role;  // absent when the certificate carries none (or no UTF8String)
+  std::string subject;              // "CN=scada-1,O=Plant", for the log and the monitor
+};
+
+/// The identity in the certificate a client presented in a completed handshake.
+ClientIdentity client_identity(SSL* ssl);
+
+}  // namespace unima::tls
