@@ -58,7 +58,8 @@ Bridge::Bridge(asio::io_context& io, config::Config config)
       core_(build_core(std::move(config))),
       error_hold_(io, [this](bool error) { core_->store->set_modbus_error(error); }),
       presence_timer_(io.get_executor(), [this] { return core_->presence->next_expiry(); },
-                      [this] { expire_presence(); }) {
+                      [this] { expire_presence(); }),
+      heartbeat_timer_(io) {
   monitor_ = std::make_unique<monitor::Monitor>(core_->config.monitor);
   if (!core_->config.state.file.empty()) {
     state_ = std::make_unique<io::StateFile>(io_, core_->config.state.file);
@@ -71,6 +72,7 @@ Bridge::Bridge(asio::io_context& io, config::Config config)
   rtu_ = make_rtu_port(core_->config);
   master_ = make_master(core_->config);
   control_ = make_control_socket(core_->config.status.socket);
+  http_ = make_http_server(core_->config);
   publisher_.set_transport(transport_.get());
   publisher_.watch(*core_->store);
 }
@@ -283,6 +285,36 @@ void Bridge::start() {
   if (rtu_) rtu_->start();
   if (master_) master_->start();
   if (control_) control_->start();
+  if (http_) http_->start();
+  heartbeat();
+}
+
+void Bridge::heartbeat() {
+  const auto now = std::chrono::steady_clock::now();
+  // A beat that comes over 2 s late is a stall that just ended: /healthz says so for a
+  // while, so that a scraper polling every few seconds sees it.
+  if (const auto gap = now - last_turn_; gap > stall_limit) {
+    last_stall_ = std::chrono::duration_cast<std::chrono::milliseconds>(gap);
+    stall_reported_until_ = now + stall_report_window;
+  }
+  last_turn_ = now;
+  heartbeat_timer_.expires_after(std::chrono::milliseconds(250));
+  heartbeat_timer_.async_wait([this](const boost::system::error_code& ec) {
+    if (!ec && started_) heartbeat();
+  });
+}
+
+std::unique_ptr<io::HttpServer> Bridge::make_http_server(const config::Config& config) {
+  if (!config.http) return nullptr;
+  io::HttpOptions options;
+  options.listen = config.http->listen;
+  options.port = config.http->port;
+  options.max_clients = config.http->max_clients;
+  try {
+    return std::make_unique<io::HttpServer>(io_, options, [this](std::string_view target) { return http_response(target); });
+  } catch (const boost::system::system_error& e) {
+    throw std::runtime_error(fmt::format("http: cannot listen on {}:{}: {}", options.listen, options.port, e.code().message()));
+  }
 }
 
 // The status socket is the operator's window, not part of the bridge's service: when it
@@ -308,6 +340,8 @@ void Bridge::stop() {
   if (tls_) tls_->stop();
   if (transport_) transport_->stop();
   if (control_) control_->stop();
+  if (http_) http_->stop();
+  heartbeat_timer_.cancel();
   presence_timer_.cancel();
   error_hold_.cancel();
 }
@@ -381,6 +415,18 @@ Bridge::ReloadPlan Bridge::plan_reload(config::Config config) {
     });
   }
   if (!plan.same_tls) plan.tls = make_tls_server(new_config);
+  const auto http_endpoint = [](const config::Config& c) {
+    return c.http ? std::optional(std::pair(c.http->listen, c.http->port)) : std::nullopt;
+  };
+  plan.same_http = http_endpoint(old_config) == http_endpoint(new_config);
+  if (!plan.same_http && http_) {
+    http_->stop();
+    plan.restore_http = Rollback([this] {
+      http_ = make_http_server(core_->config);
+      if (http_) http_->start();
+    });
+  }
+  if (!plan.same_http) plan.http = make_http_server(new_config);
   else if (tls_) plan.tls_context = renewed_tls_context(*new_config.modbus.tls);
   // The master's line opens before anything is switched (a serial device may be missing).
   plan.master = make_master(new_config);
@@ -391,6 +437,7 @@ Bridge::ReloadPlan Bridge::plan_reload(config::Config config) {
 void Bridge::commit(ReloadPlan plan) {
   plan.restore_tcp.commit();
   plan.restore_tls.commit();
+  plan.restore_http.commit();
   auto& core = plan.core;
   core->store->take_state_from(*core_->store);
   for (BankId bank : core->presence->take_over(*core_->presence, [&](BankId b) { return core->store->online(b); },
@@ -427,6 +474,10 @@ void Bridge::commit(ReloadPlan plan) {
   if (!plan.same_tls) {
     tls_ = std::move(plan.tls);
     if (tls_) tls_->start();
+  }
+  if (!plan.same_http) {
+    http_ = std::move(plan.http);
+    if (http_) http_->start();
   }
   if (tls_) {
     const auto& tls = *core_->config.modbus.tls;

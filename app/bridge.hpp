@@ -13,6 +13,7 @@
 #include "platform/asio.hpp"
 #include "io/control_socket.hpp"
 #include "io/error_hold.hpp"
+#include "io/http_server.hpp"
 #include "io/lazy_deadline.hpp"
 #include "monitor/monitor.hpp"
 #include "io/rtu_slave_port.hpp"
@@ -54,6 +55,10 @@ class Bridge {
   /// The front panel and counters as one JSON document (`unima-bridge status`);
   /// app/bridge_status.cpp.
   std::string status_document() const;
+  /// What the HTTP server answers for `target` (app/bridge_http.cpp).
+  io::HttpResponse http_response(std::string_view target) const;
+  /// The bound HTTP port, 0 when there is none.
+  std::uint16_t http_port() const { return http_ ? http_->port() : 0; }
   /// The Modbus master, in master mode; nullptr in slave mode.
   const io::MasterPort* master() const { return master_.get(); }
 
@@ -66,6 +71,8 @@ class Bridge {
   std::unique_ptr<unimabus::Transport> make_transport(const config::Config& config);
   std::unique_ptr<io::TcpSlaveServer> make_tcp_server(const config::Config& config);
   std::unique_ptr<io::TcpSlaveServer> make_tls_server(const config::Config& config);
+  std::unique_ptr<io::HttpServer> make_http_server(const config::Config& config);
+  void heartbeat();
   std::shared_ptr<asio::ssl::context> renewed_tls_context(const config::TlsSlaveConfig& tls) const;
   std::unique_ptr<io::RtuSlavePort> make_rtu_port(const config::Config& config);
   std::shared_ptr<io::MasterPort> make_master(const config::Config& config);
@@ -95,6 +102,14 @@ class Bridge {
   io::LazyDeadline presence_timer_;  // at the next moment a device can go off-line
   bool started_ = false;
   std::unique_ptr<io::ControlSocket> control_;
+  std::unique_ptr<io::HttpServer> http_;
+  // The loop's heartbeat: /healthz reports a stall when it has not beaten for 2 s.
+  asio::steady_timer heartbeat_timer_;
+  std::chrono::steady_clock::time_point last_turn_ = std::chrono::steady_clock::now();
+  std::chrono::milliseconds last_stall_{0};
+  std::chrono::steady_clock::time_point stall_reported_until_{};
+  static constexpr std::chrono::seconds stall_limit{2};
+  static constexpr std::chrono::seconds stall_report_window{5};
   std::chrono::steady_clock::time_point started_at_ = std::chrono::steady_clock::now();
   std::optional<std::chrono::steady_clock::time_point> last_telegram_;
   struct TelegramCounts {

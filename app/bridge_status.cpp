@@ -12,6 +12,7 @@
 #include "app/bridge.hpp"
 #include "app/bridge_core.hpp"
 #include "monitor/monitor_line.hpp"
+#include "platform/process_memory.hpp"
 
 namespace unima::app {
 
@@ -61,6 +62,7 @@ std::string Bridge::status_document() const {
   doc["pid"] = ::getpid();
   doc["config"] = config.file;
   doc["uptime_s"] = std::chrono::duration_cast<std::chrono::seconds>(now - started_at_).count();
+  if (const auto rss = platform::resident_bytes()) doc["rss_bytes"] = *rss;
   doc["mode"] = config.modbus.mode == config::ModbusMode::master ? "master" : "slave";
   doc["modbus_address"] = config.modbus.address;
   doc["unimabus_address"] = config.unimabus.address;
@@ -73,6 +75,7 @@ std::string Bridge::status_document() const {
       config.unimabus.record.file.empty() ? nlohmann::json(nullptr) : nlohmann::json(config.unimabus.record.file);
   doc["unimabus"]["telegrams_ignored"] = telegram_counts_.ignored;
   doc["unimabus"]["telegrams_refused"] = telegram_counts_.refused;
+  if (const auto clients = transport_ ? transport_->clients() : std::nullopt) doc["unimabus"]["clients"] = *clients;
 
   doc["devices"] = nlohmann::json::array();
   for (unsigned n = 1; n <= 4; ++n) {
@@ -140,6 +143,14 @@ std::string Bridge::status_document() const {
   }
   for (const auto& [kind, name] : {std::pair{modbus::PortKind::rtu, "rtu"}, std::pair{modbus::PortKind::master, "master"}})
     if (monitor_->counters(kind).transactions > 0) doc["ports"].push_back(port_counters(name, monitor_->counters(kind)));
+
+  if (master_) {
+    doc["master"] = nlohmann::json::array();
+    for (const auto& [device, c] : master_->counters())
+      doc["master"].push_back({{"device", device},      {"requests", c.requests},     {"answered", c.answered},
+                               {"timeouts", c.timeouts}, {"exceptions", c.exceptions}, {"bad_frames", c.bad_frames},
+                               {"retries", c.retries}});
+  }
 
   const auto& m = monitor_->config();
   nlohmann::json monitor;

@@ -18,6 +18,7 @@ struct Bridge::ReloadPlan {
   // First, so that it is undone last: after a new TCP listener on the same port is gone.
   Rollback restore_tcp;  // brings the running TCP slave back
   Rollback restore_tls;  // and the running TLS slave
+  Rollback restore_http;  // and the running HTTP server
   std::unique_ptr<Core> core;
   std::unique_ptr<monitor::MonitorWriter> monitor_writer;  // when the log changed
   std::unique_ptr<unimabus::Transport> transport;          // when the transport changed; else keep
@@ -28,6 +29,8 @@ struct Bridge::ReloadPlan {
   bool same_tls = true;
   std::unique_ptr<io::TcpSlaveServer> tls;                 // when its endpoint changed
   std::shared_ptr<asio::ssl::context> tls_context;         // same endpoint: the files read again (null: keep)
+  bool same_http = true;
+  std::unique_ptr<io::HttpServer> http;                    // when its endpoint changed
   bool same_rtu = true;
   std::shared_ptr<io::MasterPort> master;
   std::unique_ptr<io::ControlSocket> control;             // when status.socket changed (or had failed)

@@ -1,11 +1,12 @@
 #include "cli/register_map_format.hpp"
 
-#include <nlohmann/json.hpp>
-
 #include <algorithm>
 #include <array>
 
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "config/register_map_json.hpp"
 
 namespace unima::cli {
 
@@ -38,17 +39,7 @@ std::string format_register_map(const std::vector<config::MapRow>& rows, MapForm
   std::string out;
   if (format == MapFormat::json) {
     auto array = nlohmann::json::array();
-    for (const auto& row : rows)
-      array.push_back({{"address", fmt::format("0x{:04X}", row.address)},
-                       {"bank", row.bank},
-                       {"offset", row.offset},
-                       {"id", row.id},
-                       {"label", row.label},
-                       {"kind", row.kind},
-                       {"unit", row.unit},
-                       {"scale", row.scale},
-                       {"access", row.access},
-                       {"source", row.source}});
+    for (const auto& row : rows) array.push_back(config::map_row_json(row));
     return array.dump(2) + "\n";
   }
   std::vector<std::array<std::string, 10>> cells;

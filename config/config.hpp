@@ -205,6 +205,13 @@ struct StateConfig {
   std::string file;
 };
 
+/// SPEC §13: the read-only HTTP server (metrics, health, the technician's page).
+struct HttpConfig {
+  std::string listen = "127.0.0.1";  // an IP address literal
+  std::uint16_t port = 8080;
+  unsigned max_clients = 16;
+};
+
 struct Config {
   std::string file;
   UnimabusConfig unimabus;
@@ -218,6 +225,7 @@ struct Config {
   monitor::MonitorConfig monitor;
   StatusConfig status;
   StateConfig state;
+  std::optional<HttpConfig> http;  // absent: no HTTP
 
   /// The blocks that act in this mode; the others are ignored (with a warning, SPEC §4).
   std::vector<const Block*> active_blocks() const;

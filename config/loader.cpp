@@ -46,7 +46,8 @@ class Loader {
   Config load(const YAML::Node& root) {
     if (!root.IsNull() && !root.IsMap()) yaml_.fail(root, "the config must be a mapping of sections");
     yaml_.expect_keys(root, "the config",
-                      {"unimabus", "modbus", "banks", "devices", "mapping", "blocks", "log", "monitor", "status", "state"});
+                      {"unimabus", "modbus", "banks", "devices", "mapping", "blocks", "log", "monitor", "status", "state",
+                       "http"});
     for (BankId bank : banks::all_banks) config_.bank_bases[index_of(bank)] = banks::default_base(bank);
     if (root["unimabus"]) unimabus(root["unimabus"]);
     if (root["modbus"]) modbus(root["modbus"]);
@@ -59,6 +60,7 @@ class Loader {
     if (root["monitor"]) monitor(root["monitor"]);
     status(root["status"], root);
     state(root["state"]);
+    if (root["http"]) http(root["http"]);
     validate_layout(root);
     resolve_roles();
     return std::move(config_);
@@ -733,6 +735,18 @@ class Loader {
       list.ranges.push_back(std::get<NetworkRange>(std::move(parsed)));
     }
     return list;
+  }
+
+  void http(const YAML::Node& node) {
+    yaml_.expect_keys(node, "http", {"listen", "port", "max_clients"});
+    HttpConfig h;
+    if (node["listen"]) {
+      h.listen = yaml_.text(node["listen"]);
+      if (const auto error = listen_address_error(h.listen, HostRule::listen_address)) yaml_.fail(node["listen"], *error);
+    }
+    if (node["port"]) h.port = static_cast<std::uint16_t>(yaml_.number(node["port"], 0, 65535));
+    if (node["max_clients"]) h.max_clients = static_cast<unsigned>(yaml_.number(node["max_clients"], 1, 1000));
+    config_.http = h;
   }
 
   void state(const YAML::Node& node) {

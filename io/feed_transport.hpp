@@ -30,6 +30,7 @@ class FeedTransport final : public unimabus::Transport {
   void start() override;
   void stop() override;
   void publish(banks::BankId bank, std::uint16_t offset, std::uint16_t value) override;
+  std::optional<std::size_t> clients() const override { return sessions_.size(); }
 
   const std::string& listen() const { return listen_; }
   /// The TCP port actually bound, 0 for a unix socket.

@@ -9,6 +9,8 @@ packages=(
   nlohmann-json3-dev googletest libgtest-dev
   # Modbus/TCP Security: OpenSSL for the daemon; the command line makes the tests' certificates
   libssl-dev openssl
+  # /metrics is checked by Prometheus' own promtool
+  prometheus
   mbpoll socat
   # packaging tests: systemd-analyze, systemd-sysusers/-tmpfiles, man, dpkg-shlibdeps, shellcheck
   systemd man-db groff-base dpkg-dev shellcheck

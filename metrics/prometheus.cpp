@@ -1,0 +1,129 @@
+#include "metrics/prometheus.hpp"
+
+#include <initializer_list>
+#include <utility>
+#include <vector>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+namespace unima::metrics {
+
+namespace {
+
+using Labels = std::vector<std::pair<std::string, std::string>>;
+
+// Label values may hold anything a config names (a device type, a path): \, " and a
+// newline are escaped as the format demands.
+std::string escaped(const std::string& value) {
+  std::string out;
+  for (const char c : value) {
+    if (c == '\\') out += "\\\\";
+    else if (c == '"') out += "\\\"";
+    else if (c == '\n') out += "\\n";
+    else out += c;
+  }
+  return out;
+}
+
+class Exposition {
+ public:
+  /// Starts a family: its HELP and TYPE lines.
+  Exposition& family(const std::string& name, const char* type, const char* help) {
+    name_ = "unima_bridge_" + name;
+    text_ += fmt::format("# HELP {} {}\n# TYPE {} {}\n", name_, help, name_, type);
+    return *this;
+  }
+  Exposition& sample(const nlohmann::json& value, const Labels& labels = {}) {
+    if (!value.is_number() && !value.is_boolean()) return *this;  // absent: left out
+    text_ += name_;
+    if (!labels.empty()) {
+      text_ += '{';
+      for (std::size_t i = 0; i < labels.size(); ++i)
+        text_ += fmt::format("{}{}=\"{}\"", i ? "," : "", labels[i].first, escaped(labels[i].second));
+      text_ += '}';
+    }
+    text_ += ' ';
+    text_ += value.is_boolean() ? (value.get<bool>() ? "1" : "0") : value.dump();
+    text_ += '\n';
+    return *this;
+  }
+  std::string take() { return std::move(text_); }
+
+ private:
+  std::string name_;
+  std::string text_;
+};
+
+const nlohmann::json& field(const nlohmann::json& object, const char* key) {
+  static const nlohmann::json absent;
+  return object.is_object() && object.contains(key) ? object.at(key) : absent;
+}
+
+std::string text(const nlohmann::json& value) { return value.is_string() ? value.get<std::string>() : value.dump(); }
+
+}  // namespace
+
+std::string prometheus_text(const nlohmann::json& status) {
+  Exposition out;
+  out.family("uptime_seconds", "gauge", "Seconds since the daemon started.").sample(field(status, "uptime_s"));
+  out.family("resident_memory_bytes", "gauge", "Resident set size of the daemon.").sample(field(status, "rss_bytes"));
+  out.family("modbus_error", "gauge", "The Modbus error bit (C+0x13 bit 15, the front panel's Error LED).")
+      .sample(field(status, "error"));
+
+  const auto& ports = field(status, "ports");
+  out.family("modbus_transactions_total", "counter", "Modbus transactions by port and monitor state.");
+  for (const auto& port : ports.is_array() ? ports : nlohmann::json::array())
+    for (const auto& [key, value] : port.items())
+      if (key != "port" && key != "transactions" && key != "clients" && value.is_number())
+        out.sample(value, {{"port", text(field(port, "port"))}, {"state", key}});
+  out.family("modbus_clients", "gauge", "Connected Modbus clients by port.");
+  for (const auto& port : ports.is_array() ? ports : nlohmann::json::array())
+    out.sample(field(port, "clients"), {{"port", text(field(port, "port"))}});
+
+  const auto& devices = field(status, "devices");
+  out.family("device_online", "gauge", "1 while a configured device D_N is on-line on UnimaBUS.");
+  for (const auto& d : devices.is_array() ? devices : nlohmann::json::array())
+    if (field(d, "type").is_string()) out.sample(field(d, "online"), {{"bank", text(field(d, "bank"))}, {"type", text(field(d, "type"))}});
+  out.family("device_telegrams_total", "counter", "UnimaBUS telegrams taken into a device bank D_N.");
+  for (const auto& d : devices.is_array() ? devices : nlohmann::json::array())
+    if (field(d, "type").is_string()) out.sample(field(d, "telegrams"), {{"bank", text(field(d, "bank"))}, {"type", text(field(d, "type"))}});
+  const auto& modules = field(status, "modules");
+  out.family("module_online", "gauge", "1 while an I/O module S_N is on-line on UnimaBUS.");
+  for (const auto& m : modules.is_array() ? modules : nlohmann::json::array()) out.sample(field(m, "online"), {{"bank", text(field(m, "bank"))}});
+  out.family("module_telegrams_total", "counter", "UnimaBUS telegrams taken into an I/O module bank S_N.");
+  for (const auto& m : modules.is_array() ? modules : nlohmann::json::array())
+    out.sample(field(m, "telegrams"), {{"bank", text(field(m, "bank"))}});
+
+  const auto& unimabus = field(status, "unimabus");
+  out.family("telegrams_ignored_total", "counter", "Telegrams for no configured device.")
+      .sample(field(unimabus, "telegrams_ignored"));
+  out.family("telegrams_refused_total", "counter", "Telegrams refused (ambiguous address, bad offset).")
+      .sample(field(unimabus, "telegrams_refused"));
+  out.family("feed_clients", "gauge", "Connected feed clients (UnimaBUS drivers).").sample(field(unimabus, "clients"));
+
+  const auto& master = field(status, "master");
+  for (const auto& [name, help] :
+       {std::pair{"requests", "Requests the master sent to a foreign slave, retries and probes included."},
+        std::pair{"answered", "Good answers from a foreign slave."},
+        std::pair{"timeouts", "Requests to a foreign slave that timed out."},
+        std::pair{"exceptions", "Exception answers from a foreign slave."},
+        std::pair{"bad_frames", "Bad frames from a foreign slave (CRC, length, function, address)."}}) {
+    out.family(fmt::format("master_{}_total", name), "counter", help);
+    for (const auto& d : master.is_array() ? master : nlohmann::json::array())
+      out.sample(field(d, name), {{"device", text(field(d, "device"))}});
+  }
+
+  const auto& monitor = field(status, "monitor");
+  out.family("monitor_lines_written_total", "counter", "Monitor lines written.").sample(field(monitor, "written"));
+  out.family("monitor_lines_dropped_total", "counter", "Monitor lines dropped because the writer fell behind.")
+      .sample(field(monitor, "dropped"));
+
+  const auto& state = field(status, "state");
+  out.family("state_records_total", "counter", "Writes recorded in the state file.").sample(field(state, "records"));
+  out.family("state_syncs_total", "counter", "fdatasync calls of the state file.").sample(field(state, "syncs"));
+  out.family("state_failures_total", "counter", "State file writes that failed.").sample(field(state, "failures"));
+  return out.take();
+}
+
+}  // namespace unima::metrics

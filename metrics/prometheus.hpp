@@ -1,0 +1,21 @@
+#pragma once
+// /metrics (SPEC §13): the status document (`unima-bridge status --json`, app/bridge_status)
+// in Prometheus' text exposition format, so the counters have one source and Prometheus,
+// the CLI and the browser page never disagree. Names start with `unima_bridge_`; every
+// family has its HELP and TYPE lines; counters end in `_total`.
+//
+// Pure: a JSON document in, text out.
+
+#include <string>
+
+#include <nlohmann/json_fwd.hpp>
+
+namespace unima::metrics {
+
+/// The exposition of `status` (fields it lacks are left out, never made up).
+std::string prometheus_text(const nlohmann::json& status);
+
+/// The Content-Type of that text.
+inline constexpr const char* prometheus_content_type = "text/plain; version=0.0.4; charset=utf-8";
+
+}  // namespace unima::metrics

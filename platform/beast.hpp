@@ -1,0 +1,12 @@
+#pragma once
+// Boost.Beast's HTTP, behind the project's Asio header (platform/asio.hpp must come first:
+// Debian 12's Boost 1.74 with GCC 12 in C++20). Only the HTTP server includes this.
+
+#include "platform/asio.hpp"
+
+#include <boost/beast/core.hpp>
+#include <boost/beast/http.hpp>
+
+namespace unima {
+namespace beast = boost::beast;
+}  // namespace unima

@@ -1,0 +1,170 @@
+// The HTTP server of SPEC §13 with the real daemon: /metrics checked by Prometheus' own
+// promtool and read before and after Modbus traffic, /healthz, /api/status,
+// /api/registers with a value fed a moment before, and what a read-only server refuses.
+
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <csignal>
+#include <optional>
+#include <sstream>
+#include <thread>
+
+#include <nlohmann/json.hpp>
+
+#include "tests/integration/bridge_fixture.hpp"
+
+namespace unima::test {
+namespace {
+
+struct HttpReply {
+  int status = 0;
+  std::string head;
+  std::string body;
+};
+
+/// Sends `request` as it is and reads the reply to the end (Connection: close).
+HttpReply http_exchange(std::uint16_t port, const std::string& request) {
+  HttpReply reply;
+  const int fd = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
+  sockaddr_in address{};
+  address.sin_family = AF_INET;
+  address.sin_port = htons(port);
+  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  timeval timeout{5, 0};
+  ::setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &timeout, sizeof timeout);
+  if (::connect(fd, reinterpret_cast<sockaddr*>(&address), sizeof address) != 0) {
+    ::close(fd);
+    return reply;
+  }
+  (void)::send(fd, request.data(), request.size(), MSG_NOSIGNAL);
+  std::string all;
+  char buffer[4096];
+  for (ssize_t n; (n = ::recv(fd, buffer, sizeof buffer, 0)) > 0;) all.append(buffer, static_cast<std::size_t>(n));
+  ::close(fd);
+  const auto end = all.find("\r\n\r\n");
+  if (end == std::string::npos || all.size() < 12) return reply;
+  reply.head = all.substr(0, end);
+  reply.body = all.substr(end + 4);
+  reply.status = std::stoi(all.substr(9, 3));
+  return reply;
+}
+
+HttpReply get(std::uint16_t port, const std::string& path) {
+  return http_exchange(port, "GET " + path + " HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\n\r\n");
+}
+
+std::optional<double> sample(const std::string& metrics, const std::string& series) {
+  std::istringstream lines(metrics);
+  for (std::string line; std::getline(lines, line);)
+    if (line.starts_with(series + " ")) return std::stod(line.substr(series.size() + 1));
+  return std::nullopt;
+}
+
+class Http : public BridgeTest {
+ protected:
+  void start_http() {
+    http_port = free_port();
+    config.extra += "http: { listen: 127.0.0.1, port: " + std::to_string(http_port) + " }\n";
+    start();
+    ASSERT_TRUE(wait_for_port(http_port)) << daemon->log();
+  }
+  std::uint16_t http_port = 0;
+};
+
+TEST_F(Http, MetricsPassPromtoolAndCountModbusTraffic) {
+  start_http();
+  const auto before = get(http_port, "/metrics");
+  ASSERT_EQ(before.status, 200) << before.head;
+  EXPECT_NE(before.head.find("Content-Type: text/plain; version=0.0.4"), std::string::npos) << before.head;
+  const auto file = dir.path() / "metrics.txt";
+  test_support::write_file(file, before.body);
+  const auto checked = run("promtool check metrics < " + file.string());
+  EXPECT_EQ(checked.status, 0) << checked.output << before.body;
+
+  const std::string done = R"(unima_bridge_modbus_transactions_total{port="tcp",state="Done"})";
+  const auto done_before = sample(before.body, done);
+  ASSERT_TRUE(done_before) << before.body;
+  {
+    ModbusClient client(config.modbus_port);
+    for (int i = 0; i < 5; ++i) ASSERT_TRUE(client.read_input(0x0011, 1));
+    EXPECT_FALSE(client.read_input(0x0012 + 0x40, 1));  // past D1: an Err02
+  }
+  const auto after = get(http_port, "/metrics").body;
+  EXPECT_EQ(sample(after, done), *done_before + 5) << after;
+  EXPECT_EQ(sample(after, R"(unima_bridge_modbus_transactions_total{port="tcp",state="Err02"})"), 1) << after;
+  EXPECT_EQ(sample(after, "unima_bridge_feed_clients"), 0) << after;
+  EXPECT_GT(sample(after, "unima_bridge_resident_memory_bytes").value_or(0), 1e6) << after;
+}
+
+TEST_F(Http, HealthStatusAndRegistersWithTheValueFedAMomentBefore) {
+  start_http();
+  const auto health = get(http_port, "/healthz");
+  EXPECT_EQ(health.status, 200);
+  EXPECT_EQ(health.body, "ok\n");
+
+  auto feed = feed_client();
+  feed_and_wait(feed, R"({"addr":5,"slot":0,"offset":1,"values":[1234]})", 0x0012, 1234);
+  const auto status = nlohmann::json::parse(get(http_port, "/api/status").body);
+  EXPECT_EQ(status["devices"][0]["online"], true) << status.dump();
+  EXPECT_EQ(status["unimabus"]["clients"], 1) << status.dump();
+
+  const auto registers = nlohmann::json::parse(get(http_port, "/api/registers").body);
+  bool found = false;
+  for (const auto& r : registers)
+    if (r["address"] == "0x0012") {
+      found = true;
+      EXPECT_EQ(r["id"], "engine_speed") << r.dump();
+      EXPECT_EQ(r["value"], 1234) << r.dump();
+    }
+  EXPECT_TRUE(found) << registers.dump();
+}
+
+// The loop stopped for 2.5 s (SIGSTOP): /healthz says so once it turns again, for a few
+// seconds, then is back to ok.
+TEST_F(Http, HealthzReportsAStalledLoop) {
+  start_http();
+  ASSERT_EQ(get(http_port, "/healthz").status, 200);
+  daemon->signal(SIGSTOP);
+  std::this_thread::sleep_for(2500ms);
+  daemon->signal(SIGCONT);
+  const auto stalled = get(http_port, "/healthz");
+  EXPECT_EQ(stalled.status, 503) << stalled.body;
+  EXPECT_NE(stalled.body.find("stalled: the event loop did not turn for"), std::string::npos) << stalled.body;
+  EXPECT_TRUE(eventually([&] { return get(http_port, "/healthz").status == 200; }, 8000ms));
+}
+
+TEST_F(Http, ReadOnlyAndBounded) {
+  start_http();
+  const auto post = http_exchange(http_port, "POST /metrics HTTP/1.1\r\nHost: x\r\nContent-Length: 0\r\nConnection: close\r\n\r\n");
+  EXPECT_EQ(post.status, 405) << post.head;
+  EXPECT_NE(post.head.find("Allow: GET, HEAD"), std::string::npos) << post.head;
+  EXPECT_EQ(get(http_port, "/nothing").status, 404);
+  const auto huge = http_exchange(http_port, "GET /metrics HTTP/1.1\r\nHost: x\r\nX-Big: " + std::string(10000, 'a') + "\r\n\r\n");
+  EXPECT_EQ(huge.status, 431) << huge.head;
+  const auto head = http_exchange(http_port, "HEAD /healthz HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n");
+  EXPECT_EQ(head.status, 200);
+  EXPECT_EQ(head.body, "");
+  EXPECT_NE(head.head.find("Content-Length: 3"), std::string::npos) << head.head;
+  // Nothing of this disturbed the daemon: it still answers.
+  EXPECT_EQ(get(http_port, "/healthz").status, 200);
+}
+
+// The alert rules docs/operations.md offers are valid rules for Prometheus.
+TEST(HttpDocs, TheAlertRulesOfTheOperationsGuidePassPromtool) {
+  const auto guide = read_file(std::string(UNIMA_SOURCE_DIR) + "/docs/operations.md");
+  const auto start = guide.find("```yaml\ngroups:");
+  ASSERT_NE(start, std::string::npos);
+  const auto end = guide.find("```\n", start + 7);
+  TempDir dir;
+  const auto rules = dir.path() / "rules.yml";
+  test_support::write_file(rules, guide.substr(start + 8, end - start - 8));
+  const auto checked = run("promtool check rules " + rules.string());
+  EXPECT_EQ(checked.status, 0) << checked.output;
+  EXPECT_NE(checked.output.find("SUCCESS: 3 rules found"), std::string::npos) << checked.output;
+}
+
+}  // namespace
+}  // namespace unima::test

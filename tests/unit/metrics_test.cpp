@@ -1,0 +1,72 @@
+// metrics::prometheus_text: the status document as Prometheus text (SPEC §13). The
+// format's validity is checked by promtool in the integration test; here, what each
+// family says.
+
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include "metrics/prometheus.hpp"
+
+namespace unima::metrics {
+namespace {
+
+bool has_line(const std::string& text, const std::string& line) {
+  return text.find("\n" + line + "\n") != std::string::npos || text.starts_with(line + "\n");
+}
+
+const auto status = nlohmann::json::parse(R"({
+  "uptime_s": 42, "rss_bytes": 9437184, "error": true,
+  "ports": [ {"port": "tcp", "transactions": 7, "Done": 5, "Err02": 2, "clients": 3},
+             {"port": "rtu", "transactions": 1, "Done": 1} ],
+  "devices": [ {"bank": "D1", "type": "unigen-chp", "address": 5, "online": true, "telegrams": 12},
+               {"bank": "D2", "type": null, "online": false} ],
+  "modules": [ {"bank": "S1", "slot": 1, "online": false, "telegrams": 0} ],
+  "unimabus": {"telegrams_ignored": 1, "telegrams_refused": 0, "clients": 2},
+  "master": [ {"device": 3, "requests": 10, "answered": 8, "timeouts": 2, "exceptions": 0, "bad_frames": 0} ],
+  "monitor": {"written": 100, "dropped": 4},
+  "state": {"file": "/var/lib/unima-bridge/state", "records": 6, "syncs": 2, "failures": 0}
+})");
+
+TEST(Prometheus, EveryFamilyHasHelpAndTypeAndTheStatusValues) {
+  const auto text = prometheus_text(status);
+  EXPECT_TRUE(has_line(text, "# HELP unima_bridge_uptime_seconds Seconds since the daemon started.")) << text;
+  EXPECT_TRUE(has_line(text, "# TYPE unima_bridge_uptime_seconds gauge")) << text;
+  EXPECT_TRUE(has_line(text, "unima_bridge_uptime_seconds 42")) << text;
+  EXPECT_TRUE(has_line(text, "unima_bridge_resident_memory_bytes 9437184")) << text;
+  EXPECT_TRUE(has_line(text, "unima_bridge_modbus_error 1")) << text;
+  EXPECT_TRUE(has_line(text, "# TYPE unima_bridge_modbus_transactions_total counter")) << text;
+  EXPECT_TRUE(has_line(text, R"(unima_bridge_modbus_transactions_total{port="tcp",state="Done"} 5)")) << text;
+  EXPECT_TRUE(has_line(text, R"(unima_bridge_modbus_transactions_total{port="tcp",state="Err02"} 2)")) << text;
+  EXPECT_TRUE(has_line(text, R"(unima_bridge_modbus_transactions_total{port="rtu",state="Done"} 1)")) << text;
+  EXPECT_TRUE(has_line(text, R"(unima_bridge_modbus_clients{port="tcp"} 3)")) << text;
+  EXPECT_EQ(text.find(R"(unima_bridge_modbus_clients{port="rtu"})"), std::string::npos) << text;  // no such figure
+  EXPECT_TRUE(has_line(text, R"(unima_bridge_device_online{bank="D1",type="unigen-chp"} 1)")) << text;
+  EXPECT_TRUE(has_line(text, R"(unima_bridge_device_telegrams_total{bank="D1",type="unigen-chp"} 12)")) << text;
+  EXPECT_EQ(text.find(R"(bank="D2")"), std::string::npos) << text;  // not configured: not a device
+  EXPECT_TRUE(has_line(text, R"(unima_bridge_module_online{bank="S1"} 0)")) << text;
+  EXPECT_TRUE(has_line(text, "unima_bridge_feed_clients 2")) << text;
+  EXPECT_TRUE(has_line(text, R"(unima_bridge_master_timeouts_total{device="3"} 2)")) << text;
+  EXPECT_TRUE(has_line(text, "unima_bridge_monitor_lines_dropped_total 4")) << text;
+  EXPECT_TRUE(has_line(text, "unima_bridge_state_syncs_total 2")) << text;
+  EXPECT_EQ(text.back(), '\n');
+}
+
+TEST(Prometheus, LabelValuesAreEscaped) {
+  auto odd = status;
+  odd["devices"][0]["type"] = "a\"b\\c\nd";
+  const auto text = prometheus_text(odd);
+  EXPECT_TRUE(has_line(text, R"(unima_bridge_device_online{bank="D1",type="a\"b\\c\nd"} 1)")) << text;
+}
+
+TEST(Prometheus, AnEmptyDocumentGivesOnlyHelpAndType) {
+  const auto text = prometheus_text(nlohmann::json::object());
+  for (std::size_t at = 0; at < text.size();) {
+    const auto end = text.find('\n', at);
+    EXPECT_EQ(text[at], '#') << text.substr(at, end - at);
+    at = end + 1;
+  }
+}
+
+}  // namespace
+}  // namespace unima::metrics
