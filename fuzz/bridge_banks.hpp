@@ -8,6 +8,7 @@
 // and a crash file reproduces on its own.
 
 #include <cstdint>
+#include <map>
 #include <string>
 #include <utility>
 #include <vector>
@@ -25,6 +26,23 @@ inline config::Config load_example(const std::string& file) {
   return config::load_file(std::string(UNIMA_SOURCE_DIR) + "/config/examples/" + file);
 }
 
+/// An example config and its address map, loaded once per process: the same for every
+/// input, and the map takes longer to build than the rest.
+struct Example {
+  config::Config config;
+  banks::AddressMap map;
+};
+inline const Example& example(const std::string& file) {
+  static std::map<std::string, Example> loaded;
+  auto found = loaded.find(file);
+  if (found == loaded.end()) {
+    auto config = load_example(file);
+    auto map = config::address_map(config);
+    found = loaded.emplace(file, Example{std::move(config), std::move(map)}).first;
+  }
+  return found->second;
+}
+
 /// Which D_N sits at which UnimaBUS address; app/bridge.cpp's device_addresses, which is
 /// private to the bridge.
 inline std::vector<std::pair<banks::BankId, std::uint8_t>> device_addresses(const config::Config& config) {
@@ -36,8 +54,7 @@ inline std::vector<std::pair<banks::BankId, std::uint8_t>> device_addresses(cons
 
 class BridgeBanks {
  public:
-  /// `map` is config::address_map(config), built once by the caller: it is the same for
-  /// every input and takes longer to build than the rest.
+  /// `map` is config::address_map(config).
   BridgeBanks(const config::Config& config, const banks::AddressMap& map)
       : store(config::bank_shapes(config)),
         space(map, store, banks::AccessRules{config.modbus.readable_write_banks}),
@@ -45,6 +62,7 @@ class BridgeBanks {
         router(unimabus::standard_routes(config.unimabus.address, store, device_addresses(config)), store) {
     store.set_mapping(config.mapping);
   }
+  explicit BridgeBanks(const Example& example) : BridgeBanks(example.config, example.map) {}
 
   /// Every D_N and S_N on-line and carrying values, so that reads take the path of
   /// measured values (and bank A's conversion to tenths) and not only the off-line one.

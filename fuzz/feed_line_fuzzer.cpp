@@ -26,16 +26,6 @@ namespace {
 
 using namespace unima;
 
-struct Fixture {
-  config::Config config = fuzz::load_example("chp-site.yaml");
-  banks::AddressMap map = config::address_map(config);
-};
-
-const Fixture& fixture() {
-  static const Fixture f;
-  return f;
-}
-
 bool same_telegram(const unimabus::Telegram& a, const unimabus::Telegram& b) {
   return a.address == b.address && a.slot == b.slot && a.offset == b.offset && a.values == b.values &&
          a.device == b.device;
@@ -85,7 +75,7 @@ void take_line(std::string_view line, std::size_t max_line, fuzz::BridgeBanks& b
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   if (size < 1) return 0;
   const std::size_t max_line = (data[0] & 1) ? 64 * 1024 : 8 + data[0] % 64;
-  fuzz::BridgeBanks banks(fixture().config, fixture().map);
+  fuzz::BridgeBanks banks(fuzz::example("chp-site.yaml"));
   unimabus::LineSplitter splitter(max_line);
   std::size_t line_bytes = 0;
   std::size_t lines = 0;

@@ -24,16 +24,6 @@ namespace {
 using namespace unima;
 using modbus::TcpAdu;
 
-struct Fixture {
-  config::Config config = fuzz::load_example("four-devices.yaml");
-  banks::AddressMap map = config::address_map(config);
-};
-
-const Fixture& fixture() {
-  static const Fixture f;
-  return f;
-}
-
 void check_adu(const TcpAdu& adu, std::span<const std::uint8_t> bytes) {
   switch (adu.status) {
     case TcpAdu::Status::need_more:
@@ -113,7 +103,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   options.device_identification = !(setup & 0x04);
   const std::uint8_t own_unit = (setup & 0x08) ? 17 : 1;
 
-  fuzz::BridgeBanks banks(fixture().config, fixture().map);
+  fuzz::BridgeBanks banks(fuzz::example("four-devices.yaml"));
   if (setup & 0x10) banks.bring_plant_online();
 
   const auto stream = std::span(data + 1, size - 1);

@@ -33,16 +33,6 @@ using modbus::RtuClock;
 using modbus::RtuFrame;
 using namespace std::chrono_literals;
 
-struct Fixture {
-  config::Config config = fuzz::load_example("four-devices.yaml");
-  banks::AddressMap map = config::address_map(config);
-};
-
-const Fixture& fixture() {
-  static const Fixture f;
-  return f;
-}
-
 // Capture blocks on foreign slaves 2 and 3 (SPEC §4): registers a seed frame touches.
 const modbus::CaptureRule capture_rules[] = {{2, 0x0011, 1}, {2, 0x0101, 2}, {3, 0x0000, 3}, {3, 0x0009, 4}};
 
@@ -168,7 +158,7 @@ class Port {
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   if (size < 1) return 0;
   const Line line = line_of(data[0]);
-  fuzz::BridgeBanks banks(fixture().config, fixture().map);
+  fuzz::BridgeBanks banks(fuzz::example("four-devices.yaml"));
   banks.bring_plant_online();
   Port port(line, banks);
   modbus::RtuFramer framer(line.timing, line.own_address);
