@@ -128,6 +128,16 @@ struct ResidentSet {
 };
 ResidentSet resident_set(pid_t pid);
 
+/// UBSan's vptr check reads an object through a pipe(2): a daemon left with no descriptor
+/// at all aborts at its next virtual call, a false report that cannot be suppressed (the
+/// build does not recover from UBSan's findings). Tests that take every descriptor run in
+/// the plain build only.
+#ifdef UNIMA_SANITIZED
+#define UNIMA_SKIP_WHEN_SANITIZED() GTEST_SKIP() << "takes every descriptor: UBSan's vptr check needs two"
+#else
+#define UNIMA_SKIP_WHEN_SANITIZED() (void)0
+#endif
+
 /// `count` TCP clients of 127.0.0.1:port; past the daemon's descriptors the listen backlog
 /// takes them.
 std::vector<Socket> tcp_clients(std::uint16_t port, int count);

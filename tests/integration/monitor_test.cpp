@@ -225,6 +225,7 @@ TEST_F(Monitor, StatusShowsAFaultAndTwoSecondsLaterNot) {
 // Out of descriptors, the status socket's accept fails like the others' and waits
 // before it tries again instead of spinning; once descriptors are free it answers again.
 TEST_F(Monitor, OutOfDescriptorsTheStatusSocketWaitsInsteadOfSpinningAndRecovers) {
+  UNIMA_SKIP_WHEN_SANITIZED();
   daemon = start_with_few_descriptors(dir, config.yaml(), config.modbus_port);
   auto clients = tcp_clients(config.modbus_port, 40);
   // The TCP slave makes room for each new client (SPEC §10); the descriptors stay used up.

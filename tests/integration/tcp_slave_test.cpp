@@ -195,6 +195,7 @@ TEST_F(Limits, AStartedRequestMustBeCompleteWithinTheFrameTimeout) {
 // Out of descriptors, a new client takes the place of the longest-idle one: the Modbus
 // accept never stops (SPEC §10).
 TEST_F(Limits, OutOfDescriptorsANewClientIsStillServed) {
+  UNIMA_SKIP_WHEN_SANITIZED();
   daemon = start_with_few_descriptors(dir, config.yaml(), config.modbus_port);
   auto clients = tcp_clients(config.modbus_port, 40);
   ASSERT_TRUE(daemon->wait_for_log("modbus tcp: out of file descriptors")) << daemon->log().substr(0, 2000);
