@@ -1,0 +1,86 @@
+#!/usr/bin/env bash
+# Modbus/TCP Security against plain Modbus TCP (issue 18, docs/performance.md), one daemon
+# serving both, measured by one client (unima-bench-tls-load) in paired rounds whose order
+# alternates: FC4 × 64 at 8 and 64 connections, TLS as a ratio of plain (medians); full
+# ECDSA P-256 handshakes per second; and plain TCP of a daemon with TLS configured but
+# idle against one without TLS (unima-bench-load, 64 connections).
+# Usage: bench/tls.sh [BUILD_DIR] [ROUNDS] [SECONDS]   (default build-release 5 3)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+build=${1:-build-release}
+rounds=${2:-5}
+seconds=${3:-3}
+bridged=$build/bin/unima-bridged
+tls_load=$(find "$build" -name unima-bench-tls-load -type f | head -1)
+load=$(find "$build" -name unima-bench-load -type f | head -1)
+work=$(mktemp -d)
+pids=()
+trap 'for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done; rm -rf "$work"' EXIT
+tests/integration/tls/make_certificates.sh "$work/certs"
+certs=$work/certs
+
+start_daemon() {  # name, plain port, tls port (0: none)
+  local name=$1 plain=$2 tls=$3
+  {
+    echo "unimabus: { transport: sim }"
+    echo "modbus:"
+    echo "  tcp: { listen: 127.0.0.1, port: $plain, max_clients: 256 }"
+    if [ "$tls" != 0 ]; then
+      echo "  tls: { listen: 127.0.0.1, port: $tls, max_clients: 256, certificate: $certs/server.pem,"
+      echo "         key: $certs/server.key, ca: $certs/ca.pem, roles: { operator: { write: [W] } } }"
+    fi
+    echo "banks: { D1: 0x1100 }"
+    echo "devices: { D1: { type: unigen-chp, address: 5 } }"
+    echo "log: { level: warn }"
+    echo "status: { socket: $work/$name.sock }"
+    echo "state: { file: none }"
+  } > "$work/$name.yaml"
+  "$bridged" --config "$work/$name.yaml" > "$work/$name.log" 2>&1 &
+  pids+=($!)
+  for _ in $(seq 100); do (exec 3<>/dev/tcp/127.0.0.1/"$plain") 2>/dev/null && return; sleep 0.05; done
+  echo "the daemon did not start:"; cat "$work/$name.log"; exit 1
+}
+
+free_port() { python3 -c 'import socket; s = socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])'; }
+plain=$(free_port); tls=$(free_port); bare=$(free_port)
+start_daemon both "$plain" "$tls"
+start_daemon bare "$bare" 0
+
+field() { python3 -c "import json,sys; print(json.load(sys.stdin)['$1'])"; }
+plain_rps() { "$tls_load" --port "$plain" --connections "$1" --duration "$seconds" | field rps; }
+tls_rps() {
+  "$tls_load" --port "$tls" --tls "$certs/ca.pem" "$certs/operator.pem" "$certs/operator.key" --connections "$1" \
+    --duration "$seconds" | field rps
+}
+load_rps() { "$load" --port "$1" --connections 64 --function 4 --address 4352 --quantity 64 --duration "$seconds" --warmup 0.5 --json | field rps; }
+median() { python3 -c 'import sys,statistics; print(round(statistics.median(float(x) for x in sys.argv[1:]), 3))' "$@"; }
+
+declare -A ratios plains tlss
+for connections in 8 64; do
+  r=(); p=(); t=()
+  for round in $(seq "$rounds"); do
+    if [ $((round % 2)) = 1 ]; then a=$(plain_rps "$connections"); b=$(tls_rps "$connections")
+    else b=$(tls_rps "$connections"); a=$(plain_rps "$connections"); fi
+    p+=("$a"); t+=("$b"); r+=("$(python3 -c "print($b / $a)")")
+  done
+  ratios[$connections]=$(median "${r[@]}"); plains[$connections]=$(median "${p[@]}"); tlss[$connections]=$(median "${t[@]}")
+done
+h=()
+for _ in $(seq "$rounds"); do
+  h+=("$("$tls_load" --port "$tls" --tls "$certs/ca.pem" "$certs/operator.pem" "$certs/operator.key" \
+          --mode handshakes --connections 8 --duration "$seconds" | field handshakes_per_s)")
+done
+idle=()
+for round in $(seq "$rounds"); do
+  if [ $((round % 2)) = 1 ]; then a=$(load_rps "$plain"); b=$(load_rps "$bare")
+  else b=$(load_rps "$bare"); a=$(load_rps "$plain"); fi
+  idle+=("$(python3 -c "print($a / $b)")")
+done
+
+echo "| measure | plain TCP | TLS | ratio (median of $rounds paired rounds) |"
+echo "|---|---|---|---|"
+for connections in 8 64; do
+  echo "| FC4 × 64, $connections connections, requests/s | ${plains[$connections]} | ${tlss[$connections]} | ${ratios[$connections]} |"
+done
+echo "| full handshakes/s (ECDSA P-256, TLS 1.3, 8 at once) | | $(median "${h[@]}") | |"
+echo "| plain FC4 × 64 at 64 connections, TLS configured and idle vs no TLS (unima-bench-load) | | | $(median "${idle[@]}") |"
