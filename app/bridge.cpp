@@ -59,7 +59,7 @@ Bridge::Bridge(asio::io_context& io, config::Config config)
       error_hold_(io, [this](bool error) { core_->store->set_modbus_error(error); }),
       presence_timer_(io.get_executor(), [this] { return core_->presence->next_expiry(); },
                       [this] { expire_presence(); }),
-      heartbeat_timer_(io) {
+      mqtt_timer_(io), heartbeat_timer_(io) {
   monitor_ = std::make_unique<monitor::Monitor>(core_->config.monitor);
   if (!core_->config.state.file.empty()) {
     state_ = std::make_unique<io::StateFile>(io_, core_->config.state.file);
@@ -72,7 +72,10 @@ Bridge::Bridge(asio::io_context& io, config::Config config)
   rtu_ = make_rtu_port(core_->config);
   master_ = make_master(core_->config);
   control_ = make_control_socket(core_->config.status.socket);
+  http_users_ = read_http_users(core_->config, nullptr);
   http_ = make_http_server(core_->config);
+  mqtt_ = make_mqtt(core_->config);
+  lay_out_mqtt();
   publisher_.set_transport(transport_.get());
   publisher_.watch(*core_->store);
 }
@@ -286,6 +289,10 @@ void Bridge::start() {
   if (master_) master_->start();
   if (control_) control_->start();
   if (http_) http_->start();
+  if (mqtt_) {
+    mqtt_->start();
+    mqtt_tick();
+  }
   heartbeat();
 }
 
@@ -298,6 +305,7 @@ void Bridge::heartbeat() {
     stall_reported_until_ = now + stall_report_window;
   }
   last_turn_ = now;
+  if (live_.listened()) live_.update(live_snapshot(), monitor_->recent());
   heartbeat_timer_.expires_after(std::chrono::milliseconds(250));
   heartbeat_timer_.async_wait([this](const boost::system::error_code& ec) {
     if (!ec && started_) heartbeat();
@@ -310,10 +318,30 @@ std::unique_ptr<io::HttpServer> Bridge::make_http_server(const config::Config& c
   options.listen = config.http->listen;
   options.port = config.http->port;
   options.max_clients = config.http->max_clients;
+  if (const auto& tls = config.http->tls) options.tls = io::make_server_tls_context({tls->certificate, tls->key, {}}, "http.tls");
+  return serve_http(options);
+}
+
+std::unique_ptr<io::HttpServer> Bridge::serve_http(const io::HttpOptions& options) {
   try {
-    return std::make_unique<io::HttpServer>(io_, options, [this](std::string_view target) { return http_response(target); });
+    auto server = std::make_unique<io::HttpServer>(io_, options, [this](std::string_view target) { return http_response(target); });
+    server->set_gate([this](std::string_view authorization, const std::string& peer) { return http_gate(authorization, peer); });
+    return server;
   } catch (const boost::system::system_error& e) {
     throw std::runtime_error(fmt::format("http: cannot listen on {}:{}: {}", options.listen, options.port, e.code().message()));
+  }
+}
+
+std::optional<web::BasicAuth> Bridge::read_http_users(const config::Config& config, const config::Config* running) const {
+  if (!config.http || config.http->users.empty()) return std::nullopt;
+  try {
+    return web::BasicAuth::load(config.http->users);
+  } catch (const std::exception& e) {
+    if (running && running->http && running->http->users == config.http->users && http_users_) {
+      spdlog::error("{}; the users read before stay", e.what());
+      return http_users_;
+    }
+    throw;
   }
 }
 
@@ -341,6 +369,8 @@ void Bridge::stop() {
   if (transport_) transport_->stop();
   if (control_) control_->stop();
   if (http_) http_->stop();
+  if (mqtt_) mqtt_->stop();
+  mqtt_timer_.cancel();
   heartbeat_timer_.cancel();
   presence_timer_.cancel();
   error_hold_.cancel();
@@ -415,19 +445,33 @@ Bridge::ReloadPlan Bridge::plan_reload(config::Config config) {
     });
   }
   if (!plan.same_tls) plan.tls = make_tls_server(new_config);
+  if (plan.same_tls && tls_) plan.tls_context = renewed_tls_context(*new_config.modbus.tls);
+  plan.http_users = read_http_users(new_config, &old_config);
   const auto http_endpoint = [](const config::Config& c) {
-    return c.http ? std::optional(std::pair(c.http->listen, c.http->port)) : std::nullopt;
+    return c.http ? std::optional(std::tuple(c.http->listen, c.http->port, c.http->tls.has_value())) : std::nullopt;
   };
   plan.same_http = http_endpoint(old_config) == http_endpoint(new_config);
   if (!plan.same_http && http_) {
     http_->stop();
-    plan.restore_http = Rollback([this] {
-      http_ = make_http_server(core_->config);
-      if (http_) http_->start();
+    plan.restore_http = Rollback([this, options = http_->options()] {
+      http_ = serve_http(options);
+      http_->start();
     });
   }
-  if (!plan.same_http) plan.http = make_http_server(new_config);
-  else if (tls_) plan.tls_context = renewed_tls_context(*new_config.modbus.tls);
+  if (!plan.same_http) {
+    plan.http = make_http_server(new_config);
+  } else if (http_ && new_config.http->tls) {
+    // As for Modbus/TCP Security: renewed files are read, bad ones leave the running ones.
+    try {
+      const auto& tls = *new_config.http->tls;
+      plan.http_tls_context = io::make_server_tls_context({tls.certificate, tls.key, {}}, "http.tls");
+    } catch (const std::exception& e) {
+      spdlog::error("http: {}; the running certificate keeps serving", e.what());
+    }
+  }
+  plan.same_mqtt = old_config.mqtt.has_value() == new_config.mqtt.has_value() &&
+                   (!old_config.mqtt || old_config.mqtt->same_client(*new_config.mqtt));
+  if (!plan.same_mqtt) plan.mqtt = make_mqtt(new_config);
   // The master's line opens before anything is switched (a serial device may be missing).
   plan.master = make_master(new_config);
   return plan;
@@ -475,9 +519,12 @@ void Bridge::commit(ReloadPlan plan) {
     tls_ = std::move(plan.tls);
     if (tls_) tls_->start();
   }
+  http_users_ = std::move(plan.http_users);
   if (!plan.same_http) {
     http_ = std::move(plan.http);
     if (http_) http_->start();
+  } else if (http_ && plan.http_tls_context) {
+    http_->set_tls_context(std::move(plan.http_tls_context));
   }
   if (tls_) {
     const auto& tls = *core_->config.modbus.tls;
@@ -487,6 +534,15 @@ void Bridge::commit(ReloadPlan plan) {
     tls_->set_tls(io::TlsSlaveSetup{std::move(context), tls.roles});
     tls_->set_context(slave_context());
   }
+  if (!plan.same_mqtt) {
+    if (mqtt_) mqtt_->stop();  // `offline`, a clean goodbye, before the new client says `online`
+    mqtt_ = std::move(plan.mqtt);
+    if (mqtt_) {
+      mqtt_->start();
+      mqtt_tick();
+    }
+  }
+  lay_out_mqtt();
   // The serial line is reopened only when its settings changed; opening never throws (a
   // line that cannot be opened is retried), so this comes after the commit.
   if (!plan.same_rtu) {

@@ -14,6 +14,8 @@
 #include "io/control_socket.hpp"
 #include "io/error_hold.hpp"
 #include "io/http_server.hpp"
+#include "io/mqtt_client.hpp"
+#include "mqtt/bank_documents.hpp"
 #include "io/lazy_deadline.hpp"
 #include "monitor/monitor.hpp"
 #include "io/rtu_slave_port.hpp"
@@ -21,6 +23,8 @@
 #include "io/slave_context.hpp"
 #include "io/state_file.hpp"
 #include "io/tcp_slave_server.hpp"
+#include "app/live_view.hpp"
+#include "web/basic_auth.hpp"
 #include "io/telegram_recorder.hpp"
 #include "unimabus/presence.hpp"
 #include "unimabus/publisher.hpp"
@@ -56,7 +60,7 @@ class Bridge {
   /// app/bridge_status.cpp.
   std::string status_document() const;
   /// What the HTTP server answers for `target` (app/bridge_http.cpp).
-  io::HttpResponse http_response(std::string_view target) const;
+  io::HttpResponse http_response(std::string_view target);
   /// The bound HTTP port, 0 when there is none.
   std::uint16_t http_port() const { return http_ ? http_->port() : 0; }
   /// The Modbus master, in master mode; nullptr in slave mode.
@@ -71,8 +75,24 @@ class Bridge {
   std::unique_ptr<unimabus::Transport> make_transport(const config::Config& config);
   std::unique_ptr<io::TcpSlaveServer> make_tcp_server(const config::Config& config);
   std::unique_ptr<io::TcpSlaveServer> make_tls_server(const config::Config& config);
+  /// The HTTP server of `config` (http.tls loaded); throws when it cannot be made.
   std::unique_ptr<io::HttpServer> make_http_server(const config::Config& config);
+  std::unique_ptr<io::HttpServer> serve_http(const io::HttpOptions& options);
+  /// `http.users` of `config`, read; nullopt when there is none. Throws when it cannot be
+  /// read, unless `running` (the same file, read before) can stay: then that is kept, logged.
+  std::optional<web::BasicAuth> read_http_users(const config::Config& config, const config::Config* running) const;
+  /// The MQTT client of `config` (app/bridge_mqtt.cpp); null without `mqtt`.
+  std::unique_ptr<io::MqttClient> make_mqtt(const config::Config& config);
+  /// The bank documents of the running config, what is due of them published (every 100 ms).
+  void publish_mqtt();
+  void take_command(std::string_view topic, std::string_view payload);
+  void mqtt_tick();
+  void lay_out_mqtt();
+  /// Who may ask (app/bridge_http.cpp): nullopt lets the request through.
+  std::optional<io::HttpResponse> http_gate(std::string_view authorization, const std::string& peer);
   void heartbeat();
+  /// What the front page shows now (app/bridge_http.cpp).
+  LiveSnapshot live_snapshot() const;
   std::shared_ptr<asio::ssl::context> renewed_tls_context(const config::TlsSlaveConfig& tls) const;
   std::unique_ptr<io::RtuSlavePort> make_rtu_port(const config::Config& config);
   std::shared_ptr<io::MasterPort> make_master(const config::Config& config);
@@ -103,6 +123,13 @@ class Bridge {
   bool started_ = false;
   std::unique_ptr<io::ControlSocket> control_;
   std::unique_ptr<io::HttpServer> http_;
+  LiveView live_;  // the front pages listening to /api/events
+  std::optional<web::BasicAuth> http_users_;  // http.users; nullopt: the HTTP server asks no one
+  std::unique_ptr<io::MqttClient> mqtt_;         // SPEC §12
+  std::vector<config::MapRow> mqtt_rows_;        // the running config's register map
+  std::vector<mqtt::BankLayout> mqtt_layouts_;   // its published banks
+  std::optional<mqtt::PublishSchedule> mqtt_schedule_;
+  asio::steady_timer mqtt_timer_;
   // The loop's heartbeat: /healthz reports a stall when it has not beaten for 2 s.
   asio::steady_timer heartbeat_timer_;
   std::chrono::steady_clock::time_point last_turn_ = std::chrono::steady_clock::now();

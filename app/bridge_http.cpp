@@ -2,6 +2,8 @@
 // counters come from the status document, so /metrics, /api/status and `unima-bridge
 // status` never disagree.
 
+#include <algorithm>
+
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
@@ -10,32 +12,114 @@
 #include "config/register_map.hpp"
 #include "config/register_map_json.hpp"
 #include "metrics/prometheus.hpp"
+#include "monitor/command_filter.hpp"
+#include "platform/peer_warnings.hpp"
+#include "web/page_files.hpp"
 
 namespace unima::app {
 
 namespace {
 
 constexpr auto json_type = "application/json";
+constexpr auto text_type = "text/plain; charset=utf-8";
 io::HttpResponse not_found() {
-  return {404, "text/plain; charset=utf-8", "not found: /metrics, /healthz, /api/status, /api/registers\n"};
+  return {404, text_type, "not found: /, /metrics, /healthz, /api/status, /api/registers, /api/events\n", {}, {}};
+}
+
+// The page runs only its own files: no inline script, nothing from elsewhere.
+const std::vector<std::pair<std::string, std::string>> page_headers = {
+    {"Content-Security-Policy", "default-src 'self'; img-src 'self' data:; frame-ancestors 'none'"},
+    {"X-Content-Type-Options", "nosniff"},
+};
+
+// "/api/events?ad=3&fn=xx&from=0x0200&to=0x0210": the monitor pane's filter, in the
+// words of `monitor --filter` (SPEC §5), one parser for both.
+monitor::CommandFilter page_filter(std::string_view target) {
+  const auto question = target.find('?');
+  if (question == std::string_view::npos) return {};
+  std::string expression(target.substr(question + 1));
+  std::replace(expression.begin(), expression.end(), '&', ' ');
+  return monitor::parse_command_filter(expression);
+}
+
+// The front panel of seed 004: its LEDs, the D_N and S_N on-line, the capture indicators.
+nlohmann::json panel_of(const nlohmann::json& status) {
+  nlohmann::json panel;
+  panel["mode"] = status["mode"];
+  panel["error"] = status["error"];
+  panel["modbus"] = status["modbus"]["active"];
+  panel["unimabus"] = status["unimabus"]["active"];
+  panel["devices"] = nlohmann::json::array();
+  for (const auto& device : status["devices"])
+    panel["devices"].push_back({{"bank", device["bank"]}, {"type", device["type"]}, {"online", device["online"]}});
+  panel["modules"] = nlohmann::json::array();
+  for (const auto& module : status["modules"]) panel["modules"].push_back({{"bank", module["bank"]}, {"online", module["online"]}});
+  panel["indicators"] = status["indicators"];
+  return panel;
 }
 
 }  // namespace
 
-io::HttpResponse Bridge::http_response(std::string_view target) const {
+std::optional<io::HttpResponse> Bridge::http_gate(std::string_view authorization, const std::string& peer) {
+  if (!http_users_) return std::nullopt;
+  const auto result = http_users_->check(authorization, web::BasicAuth::Clock::now());
+  switch (result.verdict) {
+    case web::BasicAuth::Verdict::allowed:
+      return std::nullopt;
+    case web::BasicAuth::Verdict::too_many:
+      platform::warn_from_peer("http: logins refused as too many", peer,
+                               "http: too many logins to check ({} a second): {} asked to wait", web::BasicAuth::checks_per_second, peer);
+      return io::HttpResponse{429, text_type, "too many logins at once: try again in a second\n", {{"Retry-After", "1"}}, {}};
+    case web::BasicAuth::Verdict::refused:
+      break;
+  }
+  if (!authorization.empty())
+    platform::warn_from_peer("http: logins refused", peer, "http: {} gave a name and password that http.users does not hold", peer);
+  return io::HttpResponse{401, text_type, "log in: a name and password of http.users\n",
+                          {{"WWW-Authenticate", "Basic realm=\"unima-bridge\", charset=\"UTF-8\""}}, {}};
+}
+
+LiveSnapshot Bridge::live_snapshot() const {
+  LiveSnapshot snapshot;
+  snapshot.panel = panel_of(nlohmann::json::parse(status_document()));
+  for (const auto& row : config::register_map(core_->config)) {
+    std::uint16_t value = 0;
+    snapshot.addresses.push_back(row.address);
+    snapshot.values.push_back(core_->space->read(row.address, std::span(&value, 1)) ? std::optional(value) : std::nullopt);
+  }
+  return snapshot;
+}
+
+io::HttpResponse Bridge::http_response(std::string_view target) {
   const auto path = target.substr(0, target.find('?'));
+  if (path == "/api/events") {
+    monitor::CommandFilter filter;
+    try {
+      filter = page_filter(target);
+    } catch (const monitor::FilterSyntaxError& e) {
+      return {400, text_type, fmt::format("{}\n", e.what()), {}, {}};
+    }
+    io::HttpResponse response;
+    response.stream = [this, filter](std::shared_ptr<io::EventSink> sink) {
+      live_.subscribe(std::move(sink), filter, live_snapshot(), monitor_->recent());
+    };
+    return response;
+  }
+  if (const auto file = web::served_file(path))
+    return {200, std::string(file->content_type), std::string(file->text), page_headers, {}};
   if (path == "/healthz") {
     // Answered on the loop: after a stall this is the first thing to run, and says so.
     const auto silent = std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - last_turn_);
     if (silent > stall_limit)
-      return {503, "text/plain; charset=utf-8", fmt::format("stalled: the event loop did not turn for {} ms\n", silent.count())};
+      return {503, text_type, fmt::format("stalled: the event loop did not turn for {} ms\n", silent.count()), {}, {}};
     if (std::chrono::steady_clock::now() < stall_reported_until_)
-      return {503, "text/plain; charset=utf-8",
-              fmt::format("stalled: the event loop did not turn for {} ms a moment ago\n", last_stall_.count())};
-    return {200, "text/plain; charset=utf-8", "ok\n"};
+      return {503, text_type, fmt::format("stalled: the event loop did not turn for {} ms a moment ago\n", last_stall_.count()),
+              {}, {}};
+    return {200, text_type, "ok\n", {}, {}};
   }
-  if (path == "/metrics") return {200, metrics::prometheus_content_type, metrics::prometheus_text(nlohmann::json::parse(status_document()))};
-  if (path == "/api/status") return {200, json_type, status_document() + "\n"};
+  if (path == "/metrics")
+    return {200, metrics::prometheus_content_type, metrics::prometheus_text(nlohmann::json::parse(status_document())), {}, {}};
+  if (path == "/api/status") return {200, json_type, status_document() + "\n", {}, {}};
   if (path == "/api/registers") {
     auto registers = nlohmann::json::array();
     for (const auto& row : config::register_map(core_->config)) {
@@ -44,7 +128,7 @@ io::HttpResponse Bridge::http_response(std::string_view target) const {
       j["value"] = core_->space->read(row.address, std::span(&value, 1)) ? nlohmann::json(value) : nlohmann::json(nullptr);
       registers.push_back(std::move(j));
     }
-    return {200, json_type, registers.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) + "\n"};
+    return {200, json_type, registers.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) + "\n", {}, {}};
   }
   return not_found();
 }

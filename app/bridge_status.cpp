@@ -174,6 +174,23 @@ std::string Bridge::status_document() const {
     state["file"] = nullptr;
   }
   doc["state"] = state;
+
+  if (mqtt_) {
+    const auto& c = mqtt_->counters();
+    nlohmann::json mqtt{{"broker", config.mqtt->broker},     {"client_id", config.mqtt->client_id},
+                        {"topic", config.mqtt->topic},       {"connected", mqtt_->connected()},
+                        {"connections", c.connections},      {"drops", c.drops},
+                        {"published", c.published}};
+    if (const auto since = mqtt_->connected_since()) {
+      std::string time;
+      monitor::append_utc_time(time, *since);
+      mqtt["since"] = time;
+    } else {
+      mqtt["since"] = nullptr;
+    }
+    mqtt["last_error"] = mqtt_->last_error().empty() ? nlohmann::json(nullptr) : nlohmann::json(mqtt_->last_error());
+    doc["mqtt"] = mqtt;
+  }
   return doc.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 }
 

@@ -7,6 +7,7 @@
 // is brought back.
 
 #include <memory>
+#include <optional>
 
 #include "app/bridge.hpp"
 #include "app/bridge_core.hpp"
@@ -31,6 +32,10 @@ struct Bridge::ReloadPlan {
   std::shared_ptr<asio::ssl::context> tls_context;         // same endpoint: the files read again (null: keep)
   bool same_http = true;
   std::unique_ptr<io::HttpServer> http;                    // when its endpoint changed
+  std::shared_ptr<asio::ssl::context> http_tls_context;    // same endpoint: http.tls read again (null: keep)
+  std::optional<web::BasicAuth> http_users;                // http.users read again (nullopt: no authentication)
+  bool same_mqtt = true;
+  std::unique_ptr<io::MqttClient> mqtt;                    // when mqtt changed (null: no more MQTT)
   bool same_rtu = true;
   std::shared_ptr<io::MasterPort> master;
   std::unique_ptr<io::ControlSocket> control;             // when status.socket changed (or had failed)

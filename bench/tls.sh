@@ -7,15 +7,8 @@
 # Usage: bench/tls.sh [BUILD_DIR] [ROUNDS] [SECONDS]   (default build-release 5 3)
 set -euo pipefail
 cd "$(dirname "$0")/.."
-build=${1:-build-release}
-rounds=${2:-5}
-seconds=${3:-3}
-bridged=$build/bin/unima-bridged
+source bench/paired_rounds.sh
 tls_load=$(find "$build" -name unima-bench-tls-load -type f | head -1)
-load=$(find "$build" -name unima-bench-load -type f | head -1)
-work=$(mktemp -d)
-pids=()
-trap 'for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done; rm -rf "$work"' EXIT
 tests/integration/tls/make_certificates.sh "$work/certs"
 certs=$work/certs
 
@@ -41,19 +34,16 @@ start_daemon() {  # name, plain port, tls port (0: none)
   echo "the daemon did not start:"; cat "$work/$name.log"; exit 1
 }
 
-free_port() { python3 -c 'import socket; s = socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])'; }
 plain=$(free_port); tls=$(free_port); bare=$(free_port)
 start_daemon both "$plain" "$tls"
 start_daemon bare "$bare" 0
 
-field() { python3 -c "import json,sys; print(json.load(sys.stdin)['$1'])"; }
 plain_rps() { "$tls_load" --port "$plain" --connections "$1" --duration "$seconds" | field rps; }
 tls_rps() {
   "$tls_load" --port "$tls" --tls "$certs/ca.pem" "$certs/operator.pem" "$certs/operator.key" --connections "$1" \
     --duration "$seconds" | field rps
 }
 load_rps() { "$load" --port "$1" --connections 64 --function 4 --address 4352 --quantity 64 --duration "$seconds" --warmup 0.5 --json | field rps; }
-median() { python3 -c 'import sys,statistics; print(round(statistics.median(float(x) for x in sys.argv[1:]), 3))' "$@"; }
 
 declare -A ratios plains tlss
 for connections in 8 64; do

@@ -157,6 +157,17 @@ std::string render_status_panel(const nlohmann::json& s) {
                          st["records"].get<std::uint64_t>(), st["syncs"].get<std::uint64_t>(),
                          st["failures"].get<std::uint64_t>());
   }
+  if (s.contains("mqtt")) {
+    const auto& q = s["mqtt"];
+    if (q["connected"].get<bool>())
+      out += fmt::format("MQTT        connected to {} since {} as {}, topic {}/…\n", q["broker"].get<std::string>(),
+                         q["since"].get<std::string>(), q["client_id"].get<std::string>(), q["topic"].get<std::string>());
+    else
+      out += fmt::format("MQTT        not connected to {}: {}\n", q["broker"].get<std::string>(),
+                         q["last_error"].is_string() ? q["last_error"].get<std::string>() : std::string("connecting"));
+    out += fmt::format("            {} messages published, {} connections, {} dropped\n", q["published"].get<std::uint64_t>(),
+                       q["connections"].get<std::uint64_t>(), q["drops"].get<std::uint64_t>());
+  }
   return out;
 }
 

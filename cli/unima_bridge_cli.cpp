@@ -11,6 +11,7 @@
 #include "config/config.hpp"
 #include "config/register_map.hpp"
 #include "tls/server_credentials.hpp"
+#include "web/basic_auth.hpp"
 #include "cli/master_format.hpp"
 #include "cli/register_map_format.hpp"
 #include "cli/cli_monitor.hpp"
@@ -46,6 +47,14 @@ int check(const std::string& path) {
         (void)unima::tls::load_server_credentials({tls->certificate, tls->key, tls->ca});
       } catch (const std::exception& e) {
         throw std::runtime_error(fmt::format("{}: {}", tls->origin, e.what()));
+      }
+    }
+    if (const auto& http = config.http) {
+      try {
+        if (http->tls) (void)unima::tls::load_server_credentials({http->tls->certificate, http->tls->key, {}}, "http.tls");
+        if (!http->users.empty()) (void)unima::web::BasicAuth::load(http->users);
+      } catch (const std::exception& e) {
+        throw std::runtime_error(fmt::format("{}: {}", http->origin, e.what()));
       }
     }
     for (const auto& warning : unima::config::warnings(config)) fmt::print(stderr, "warning: {}\n", warning);

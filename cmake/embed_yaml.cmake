@@ -1,5 +1,6 @@
-# Writes OUTPUT, a C++ file holding YAML data files as strings, so that the binaries carry
-# their data (device tables, device profiles) and cannot run with files of another version.
+# Writes OUTPUT, a C++ file holding data files as strings, so that the binaries carry
+# their data (device tables, device profiles, the front page) and cannot run with files of
+# another version.
 # Run as: cmake -DOUTPUT=... -DINPUTS="a.yaml|b.yaml" -DHEADER=banks/embedded_tables.hpp
 #               -DNAMESPACE=unima::banks -DTYPE=EmbeddedTable -DFUNCTION=embedded_tables -P embed_yaml.cmake
 string(REPLACE "|" ";" INPUTS "${INPUTS}")

@@ -206,10 +206,43 @@ struct StateConfig {
 };
 
 /// SPEC §13: the read-only HTTP server (metrics, health, the technician's page).
+struct HttpTlsConfig {
+  std::string certificate;  // PEM, the server's (with its chain)
+  std::string key;          // PEM, its private key
+  bool operator==(const HttpTlsConfig&) const = default;
+};
+
 struct HttpConfig {
   std::string listen = "127.0.0.1";  // an IP address literal
   std::uint16_t port = 8080;
   unsigned max_clients = 16;
+  std::optional<HttpTlsConfig> tls;  // HTTPS instead of HTTP
+  std::string users;                 // htpasswd-style file for basic authentication; empty: none
+  std::string origin;                // "file:line:col" of http, for errors found at start
+};
+
+/// mqtt (SPEC §12): the bridge as a client of a fleet's broker.
+struct MqttConfig {
+  std::string broker;        // as written: mqtt://host[:port] or mqtts://host[:port]
+  bool tls = false;          // mqtts://
+  HostPort endpoint;         // the broker's host (a name or an address) and port (1883, 8883)
+  std::string client_id;     // default unima-bridge-<hostname>
+  std::string topic;         // the prefix, default unima/<client_id>
+  std::string username;      // empty: none
+  std::string password_file; // its first line is the password
+  std::string ca, certificate, key;  // mqtts: the broker's CA; the client's certificate and key (optional)
+  int version = 4;           // MQTT protocol level: 4 (3.1.1) or 5
+  std::chrono::milliseconds period{10'000};  // every bank in full
+  bool on_change = true;     // and each bank when it changes (at most every 100 ms)
+  bool commands = false;     // set/W/<offset>, set/X/<bit>
+  std::string origin;        // "file:line:col" of mqtt
+  /// The same client and publishing (where the section stands in the file does not count).
+  bool same_client(const MqttConfig& other) const {
+    auto a = *this, b = other;
+    a.origin = b.origin = {};
+    return a == b;
+  }
+  bool operator==(const MqttConfig&) const = default;
 };
 
 struct Config {
@@ -226,6 +259,7 @@ struct Config {
   StatusConfig status;
   StateConfig state;
   std::optional<HttpConfig> http;  // absent: no HTTP
+  std::optional<MqttConfig> mqtt;  // absent: no MQTT
 
   /// The blocks that act in this mode; the others are ignored (with a warning, SPEC §4).
   std::vector<const Block*> active_blocks() const;

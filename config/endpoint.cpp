@@ -121,4 +121,12 @@ std::variant<ListenEndpoint, std::string> parse_listen_endpoint(std::string_view
   return endpoint;
 }
 
+bool is_loopback_address(std::string_view text) {
+  const std::string address(text);
+  in_addr v4{};
+  if (::inet_pton(AF_INET, address.c_str(), &v4) == 1) return (ntohl(v4.s_addr) >> 24) == 127;
+  in6_addr v6{};
+  return ::inet_pton(AF_INET6, address.c_str(), &v6) == 1 && IN6_IS_ADDR_LOOPBACK(&v6);
+}
+
 }  // namespace unima::config

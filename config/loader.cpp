@@ -1,3 +1,5 @@
+#include <unistd.h>
+
 #include <algorithm>
 #include <array>
 #include <cctype>
@@ -47,7 +49,7 @@ class Loader {
     if (!root.IsNull() && !root.IsMap()) yaml_.fail(root, "the config must be a mapping of sections");
     yaml_.expect_keys(root, "the config",
                       {"unimabus", "modbus", "banks", "devices", "mapping", "blocks", "log", "monitor", "status", "state",
-                       "http"});
+                       "http", "mqtt"});
     for (BankId bank : banks::all_banks) config_.bank_bases[index_of(bank)] = banks::default_base(bank);
     if (root["unimabus"]) unimabus(root["unimabus"]);
     if (root["modbus"]) modbus(root["modbus"]);
@@ -61,6 +63,7 @@ class Loader {
     status(root["status"], root);
     state(root["state"]);
     if (root["http"]) http(root["http"]);
+    if (root["mqtt"]) mqtt(root["mqtt"]);
     validate_layout(root);
     resolve_roles();
     return std::move(config_);
@@ -738,15 +741,95 @@ class Loader {
   }
 
   void http(const YAML::Node& node) {
-    yaml_.expect_keys(node, "http", {"listen", "port", "max_clients"});
+    yaml_.expect_keys(node, "http", {"listen", "port", "max_clients", "tls", "users"});
     HttpConfig h;
+    h.origin = yaml_.position(node);
     if (node["listen"]) {
       h.listen = yaml_.text(node["listen"]);
       if (const auto error = listen_address_error(h.listen, HostRule::listen_address)) yaml_.fail(node["listen"], *error);
     }
     if (node["port"]) h.port = static_cast<std::uint16_t>(yaml_.number(node["port"], 0, 65535));
     if (node["max_clients"]) h.max_clients = static_cast<unsigned>(yaml_.number(node["max_clients"], 1, 1000));
+    if (const auto tls = node["tls"]) {
+      yaml_.expect_keys(tls, "http.tls", {"certificate", "key"});
+      HttpTlsConfig t;
+      for (const auto& [key, file] : {std::pair{"certificate", &t.certificate}, std::pair{"key", &t.key}}) {
+        if (!tls[key]) yaml_.fail(tls, fmt::format("http.tls needs '{}', a PEM file", key));
+        *file = yaml_.text(tls[key]);
+        if (file->empty()) yaml_.fail(tls[key], fmt::format("http.tls.{} must be the path of a PEM file", key));
+      }
+      h.tls = t;
+    }
+    if (const auto users = node["users"]) {
+      h.users = yaml_.text(users);
+      if (h.users.empty()) yaml_.fail(users, "http.users must be the path of a file of name:password-hash lines");
+    }
     config_.http = h;
+  }
+
+  void mqtt(const YAML::Node& node) {
+    yaml_.expect_keys(node, "mqtt", {"broker", "client_id", "topic", "username", "password_file", "ca", "certificate",
+                                     "key", "version", "publish", "commands"});
+    MqttConfig m;
+    m.origin = yaml_.position(node);
+    if (!node["broker"]) yaml_.fail(node, "mqtt needs 'broker', e.g. mqtt://127.0.0.1:1883 or mqtts://broker.example:8883");
+    m.broker = yaml_.text(node["broker"]);
+    std::string_view rest = m.broker;
+    if (rest.starts_with("mqtts://")) {
+      m.tls = true;
+      rest.remove_prefix(8);
+    } else if (rest.starts_with("mqtt://")) {
+      rest.remove_prefix(7);
+    } else {
+      yaml_.fail(node["broker"], fmt::format("mqtt.broker '{}' must start with mqtt:// or mqtts://", m.broker));
+    }
+    if (rest.ends_with('/')) rest.remove_suffix(1);
+    // A port is optional: the protocol's own (1883, 8883) when none is written.
+    const bool has_port = rest.starts_with('[') ? rest.find("]:") != std::string_view::npos
+                                                : std::count(rest.begin(), rest.end(), ':') == 1;
+    const std::string with_port = has_port ? std::string(rest) : fmt::format("{}:{}", rest, m.tls ? 8883 : 1883);
+    auto endpoint = parse_host_port(with_port, HostRule::address_or_name, PortRule::nonzero);
+    if (auto* error = std::get_if<std::string>(&endpoint)) yaml_.fail(node["broker"], fmt::format("mqtt.broker: {}", *error));
+    m.endpoint = std::get<HostPort>(endpoint);
+    m.client_id = node["client_id"] ? yaml_.text(node["client_id"]) : default_client_id();
+    if (m.client_id.empty() || m.client_id.size() > 64)
+      yaml_.fail(node["client_id"] ? node["client_id"] : node, "mqtt.client_id must be 1..64 characters");
+    m.topic = node["topic"] ? yaml_.text(node["topic"]) : "unima/" + m.client_id;
+    if (m.topic.empty() || m.topic.back() == '/' || m.topic.find_first_of("#+") != std::string::npos)
+      yaml_.fail(node["topic"] ? node["topic"] : node, "mqtt.topic must be a topic prefix without wildcards (# +) or a trailing /");
+    if (node["username"]) m.username = yaml_.text(node["username"]);
+    if (node["password_file"]) m.password_file = yaml_.text(node["password_file"]);
+    if (!m.password_file.empty() && m.username.empty())
+      yaml_.fail(node["password_file"], "mqtt.password_file needs mqtt.username");
+    for (const auto& [key, file] : {std::pair{"ca", &m.ca}, std::pair{"certificate", &m.certificate}, std::pair{"key", &m.key}}) {
+      if (!node[key]) continue;
+      if (!m.tls) yaml_.fail(node[key], fmt::format("mqtt.{} is for mqtts:// brokers", key));
+      *file = yaml_.text(node[key]);
+    }
+    if (m.certificate.empty() != m.key.empty())
+      yaml_.fail(node, "mqtt.certificate and mqtt.key go together (the client's certificate and its key)");
+    if (node["version"]) {
+      const auto version = yaml_.text(node["version"]);
+      if (version == "3.1.1") m.version = 4;
+      else if (version == "5") m.version = 5;
+      else yaml_.fail(node["version"], "mqtt.version must be 3.1.1 or 5");
+    }
+    if (const auto publish = node["publish"]) {
+      yaml_.expect_keys(publish, "mqtt.publish", {"period", "on_change"});
+      if (publish["period"]) {
+        m.period = yaml_.duration(publish["period"]);
+        if (m.period < std::chrono::seconds(1)) yaml_.fail(publish["period"], "mqtt.publish.period must be 1s or more");
+      }
+      if (publish["on_change"]) m.on_change = yaml_.boolean(publish["on_change"]);
+    }
+    if (node["commands"]) m.commands = yaml_.boolean(node["commands"]);
+    config_.mqtt = m;
+  }
+
+  static std::string default_client_id() {
+    char host[256] = {};
+    if (::gethostname(host, sizeof host - 1) != 0 || host[0] == '\0') return "unima-bridge";
+    return std::string("unima-bridge-") + host;
   }
 
   void state(const YAML::Node& node) {
@@ -870,6 +953,14 @@ std::vector<std::string> warnings(const Config& config) {
     else if (block.type == Block::Type::capture && !config.modbus.rtu)
       found.push_back(fmt::format("{}: capture block inactive: capture listens on a Modbus RTU line, and "
                                   "modbus.rtu is not set", block.origin));
+  }
+  if (const auto& http = config.http; http && !is_loopback_address(http->listen)) {
+    if (http->users.empty())
+      found.push_back(fmt::format("{}: http listens on {} without http.users: anyone who reaches the port reads the plant's "
+                                  "values and the monitor", http->origin, http->listen));
+    else if (!http->tls)
+      found.push_back(fmt::format("{}: http listens on {} without http.tls: passwords cross the network in clear",
+                                  http->origin, http->listen));
   }
   if (!slave) {
     const auto more = foreign_slave_warnings(config);

@@ -289,7 +289,7 @@ def dictionaries() -> None:
     words = re.findall(r'"([a-z][a-z0-9_]*)"', loader)
     words += BANKS + [b + "+0x" for b in BANKS] + table_ids("banks/tables") + table_ids("master/profiles")
     words += ["0x", ".0", ".15", "xx", "true", "false", "ms", "s", "m", "MB", "KB", "unix:", ": ", "- ", "{ ", " }", "[ ",
-              " ]", "~"]
+              " ]", "~", "mqtt://", "mqtts://", "127.0.0.1:1883", "3.1.1"]
     write_dictionary("config_loader", words)
     feed = ["addr", "slot", "device", "offset", "values", "t"]
     feed_words = [f'\\"{key}\\":' for key in feed] + table_ids("banks/tables") + ["[", "]", "{", "}"]

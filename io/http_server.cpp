@@ -1,6 +1,7 @@
 #include "io/http_server.hpp"
 
 #include <algorithm>
+#include <array>
 #include <optional>
 
 #include <spdlog/spdlog.h>
@@ -18,37 +19,86 @@ namespace {
 
 constexpr std::uint32_t max_header_bytes = 8 * 1024;
 
+using PlainStream = beast::tcp_stream;
+using TlsStream = beast::ssl_stream<beast::tcp_stream>;
+
 }  // namespace
 
-class HttpServer::Connection : public std::enable_shared_from_this<Connection> {
+// What the server keeps of a connection, whatever its stream.
+class HttpServer::ConnectionBase : public EventSink {
  public:
-  Connection(HttpServer& server, tcp::socket socket) : server_(server), stream_(std::move(socket)) {
-    boost::system::error_code ec;
-    const auto remote = stream_.socket().remote_endpoint(ec);
-    peer_ = ec ? std::string("?") : remote.address().to_string() + ":" + std::to_string(remote.port());
-  }
-
-  void start() { read(); }
-  void close() {
-    closed_ = true;
-    boost::system::error_code ec;
-    stream_.socket().shutdown(tcp::socket::shutdown_both, ec);
-    stream_.socket().close(ec);
-  }
+  virtual void start() = 0;
+  virtual void close() = 0;
   Clock::time_point last_activity() const { return last_activity_; }
   const std::string& peer() const { return peer_; }
 
+ protected:
+  std::string peer_;
+  Clock::time_point last_activity_ = Clock::now();
+};
+
+template <class Stream>
+class HttpServer::Connection : public HttpServer::ConnectionBase, public std::enable_shared_from_this<Connection<Stream>> {
+ public:
+  // A TLS connection's stream is made with the server's context of the moment.
+  template <class... Context>
+  Connection(HttpServer& server, tcp::socket socket, Context&... context) : server_(server), stream_(std::move(socket), context...) {
+    boost::system::error_code ec;
+    const auto remote = socket_().remote_endpoint(ec);
+    peer_ = ec ? std::string("?") : remote.address().to_string() + ":" + std::to_string(remote.port());
+  }
+
+  void start() override {
+    if constexpr (std::is_same_v<Stream, TlsStream>) {
+      // The handshake is under the request deadline: a client stuck in it is cut like a slow one.
+      beast::get_lowest_layer(stream_).expires_after(server_.options_.request_timeout);
+      stream_.async_handshake(asio::ssl::stream_base::server, [this, self = this->shared_from_this()](const boost::system::error_code& ec) {
+        if (closed_) return;
+        if (ec) {
+          platform::warn_from_peer("http: TLS handshakes failed", peer_, "http: TLS handshake with {} failed: {}", peer_, ec.message());
+          return finish();
+        }
+        read();
+      });
+    } else {
+      read();
+    }
+  }
+  void close() override {
+    closed_ = true;
+    boost::system::error_code ec;
+    socket_().shutdown(tcp::socket::shutdown_both, ec);
+    socket_().close(ec);
+  }
+
+  bool send(std::string_view events) override {
+    if (closed_) return false;
+    if (queued_.size() + events.size() > max_queued_bytes) {
+      platform::warn_from_peer("http: event streams too slow", peer_,
+                               "http: {} reads its event stream too slowly ({} bytes waiting): closing it", peer_,
+                               queued_.size());
+      finish();
+      return false;
+    }
+    queued_.append(events);
+    if (!writing_ && streaming_) write_queued();
+    return true;
+  }
+  bool closed() const override { return closed_; }
+
  private:
+  tcp::socket& socket_() { return beast::get_lowest_layer(stream_).socket(); }
+
   void read() {
     parser_.emplace();
     parser_->header_limit(max_header_bytes);
     parser_->body_limit(0);  // GET and HEAD carry none
-    stream_.expires_after(server_.options_.request_timeout);
+    beast::get_lowest_layer(stream_).expires_after(server_.options_.request_timeout);
     http::async_read(stream_, buffer_, *parser_,
-                     [this, self = shared_from_this()](const boost::system::error_code& ec, std::size_t) {
+                     [this, self = this->shared_from_this()](const boost::system::error_code& ec, std::size_t) {
                        if (closed_) return;
                        if (ec == http::error::end_of_stream || ec == asio::error::eof) return finish();
-                       if (ec == beast::error::timeout) return finish();
+                       if (ec == beast::error::timeout || ec == asio::ssl::error::stream_truncated) return finish();
                        if (ec) return refuse(ec);
                        last_activity_ = Clock::now();
                        answer(parser_->get());
@@ -74,14 +124,19 @@ class HttpServer::Connection : public std::enable_shared_from_this<Connection> {
       response.set(http::field::allow, "GET, HEAD");
       return respond(std::move(response), "read only: GET or HEAD\n", keep_alive);
     }
-    auto result = server_.handler_(std::string_view(request.target().data(), request.target().size()));
-    response.result(result.status);
-    response.set(http::field::content_type, result.content_type);
+    const auto authorization = request[http::field::authorization];
+    std::optional<HttpResponse> result;
+    if (server_.gate_) result = server_.gate_(std::string_view(authorization.data(), authorization.size()), peer_);
+    if (!result) result = server_.handler_(std::string_view(request.target().data(), request.target().size()));
+    if (result->stream && result->status == 200) return open_stream(std::move(result->stream), request.method() == http::verb::head);
+    response.result(result->status);
+    response.set(http::field::content_type, result->content_type);
+    for (const auto& [name, value] : result->headers) response.set(name, value);
     if (request.method() == http::verb::head) {
-      response.content_length(result.body.size());
+      response.content_length(result->body.size());
       return respond(std::move(response), std::nullopt, keep_alive);
     }
-    respond(std::move(response), std::move(result.body), keep_alive);
+    respond(std::move(response), std::move(result->body), keep_alive);
   }
 
   void respond(http::response<http::string_body> response, std::optional<std::string> body, bool keep_alive) {
@@ -93,10 +148,55 @@ class HttpServer::Connection : public std::enable_shared_from_this<Connection> {
       response.prepare_payload();
     }
     response_ = std::make_shared<http::response<http::string_body>>(std::move(response));
-    http::async_write(stream_, *response_, [this, self = shared_from_this(), keep_alive](const boost::system::error_code& ec, std::size_t) {
+    http::async_write(stream_, *response_, [this, self = this->shared_from_this(), keep_alive](const boost::system::error_code& ec, std::size_t) {
       if (closed_) return;
       if (ec || !keep_alive) return finish();
       read();
+    });
+  }
+
+  // The header, then events as they come until the client goes: no more requests on this
+  // connection, and no request deadline (the browser sends nothing while it listens).
+  void open_stream(std::function<void(std::shared_ptr<EventSink>)> start, bool head_only) {
+    auto header = std::make_shared<http::response<http::empty_body>>(http::status::ok, 11);
+    header->set(http::field::server, "unima-bridge");
+    header->set(http::field::content_type, "text/event-stream");
+    header->set(http::field::cache_control, "no-store");
+    header->keep_alive(false);  // the body ends when the connection does
+    beast::get_lowest_layer(stream_).expires_never();
+    auto serializer = std::make_shared<http::response_serializer<http::empty_body>>(*header);
+    http::async_write_header(stream_, *serializer,
+                             [this, self = this->shared_from_this(), header, serializer, head_only](const boost::system::error_code& ec, std::size_t) {
+                               if (closed_) return;
+                               if (ec || head_only) return finish();
+                               streaming_ = true;
+                               last_activity_ = Clock::now();
+                               if (!queued_.empty() && !writing_) write_queued();
+                               watch_for_close();
+                             });
+    if (!head_only) start(std::static_pointer_cast<EventSink>(this->shared_from_this()));
+  }
+
+  void write_queued() {
+    writing_ = true;
+    in_flight_.swap(queued_);
+    queued_.clear();
+    asio::async_write(stream_, asio::buffer(in_flight_),
+                      [this, self = this->shared_from_this()](const boost::system::error_code& ec, std::size_t) {
+                        writing_ = false;
+                        if (closed_) return;
+                        if (ec) return finish();
+                        last_activity_ = Clock::now();
+                        if (!queued_.empty()) write_queued();
+                      });
+  }
+
+  // What a listening browser sends is nothing; its end (or garbage) closes the stream.
+  void watch_for_close() {
+    stream_.async_read_some(asio::buffer(discard_), [this, self = this->shared_from_this()](const boost::system::error_code& ec, std::size_t) {
+      if (closed_) return;
+      if (ec) return finish();
+      watch_for_close();
     });
   }
 
@@ -106,13 +206,16 @@ class HttpServer::Connection : public std::enable_shared_from_this<Connection> {
   }
 
   HttpServer& server_;
-  beast::tcp_stream stream_;
+  Stream stream_;
   beast::flat_buffer buffer_{max_header_bytes + 1024};
   std::optional<http::request_parser<http::string_body>> parser_;
   std::shared_ptr<http::response<http::string_body>> response_;
-  std::string peer_;
-  Clock::time_point last_activity_ = Clock::now();
   bool closed_ = false;
+  bool streaming_ = false;  // the event stream's header went out
+  bool writing_ = false;
+  std::string queued_;
+  std::string in_flight_;
+  std::array<char, 512> discard_{};
 };
 
 HttpServer::HttpServer(asio::io_context& io, const HttpOptions& options, HttpHandler handler)
@@ -133,7 +236,8 @@ std::uint16_t HttpServer::port() const {
 }
 
 void HttpServer::start() {
-  spdlog::info("http: serving /metrics, /healthz, /api/status, /api/registers on {}:{}", options_.listen, port());
+  spdlog::info("http: serving /, /metrics, /healthz, /api/status, /api/registers, /api/events on {}://{}:{}",
+               options_.tls ? "https" : "http", options_.listen, port());
   accepting_.start();
 }
 
@@ -158,12 +262,16 @@ void HttpServer::adopt(tcp::socket socket) {
     idlest->close();
     connections_.erase(idlest);
   }
-  auto connection = std::make_shared<Connection>(*this, std::move(socket));
+  std::shared_ptr<ConnectionBase> connection;
+  if (options_.tls)
+    connection = std::make_shared<Connection<TlsStream>>(*this, std::move(socket), *options_.tls);
+  else
+    connection = std::make_shared<Connection<PlainStream>>(*this, std::move(socket));
   connections_.insert(connection);
   connection->start();
 }
 
-void HttpServer::forget(Connection* connection) {
+void HttpServer::forget(ConnectionBase* connection) {
   for (auto it = connections_.begin(); it != connections_.end(); ++it)
     if (it->get() == connection) {
       connections_.erase(it);

@@ -1,8 +1,9 @@
 #pragma once
-// The read-only HTTP/1.1 server of SPEC §13 (/metrics, /healthz, /api/…) on Boost.Beast,
-// on the daemon's event loop. What a path answers is the Bridge's (a handler); this owns
-// the sockets and the limits a technician's browser or a scraper must live with: request
-// headers up to 8 KiB and no body, a deadline for each request (an idle keep-alive
+// The read-only HTTP/1.1 server of SPEC §13 (/, /metrics, /healthz, /api/…) on Boost.Beast,
+// on the daemon's event loop, plain or over TLS (Asio's SSL stream). What a path answers,
+// and who may ask, is the Bridge's (a handler, a gate); this owns the sockets and the
+// limits a technician's browser or a scraper must live with: request headers up to 8 KiB
+// and no body, a deadline for each request (and for the TLS handshake; an idle keep-alive
 // connection is closed by it too), and at most `max_clients` connections — one more
 // closes the one idle the longest (SPEC §10's slow-client rules).
 
@@ -10,12 +11,16 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <set>
 #include <string>
 #include <string_view>
+#include <utility>
+#include <vector>
 
+#include "io/event_sink.hpp"
 #include "io/retrying_acceptor.hpp"
-#include "platform/asio.hpp"
+#include "platform/asio_ssl.hpp"
 
 namespace unima::io {
 
@@ -24,16 +29,26 @@ struct HttpOptions {
   std::uint16_t port = 8080;
   unsigned max_clients = 16;
   std::chrono::milliseconds request_timeout{10'000};  // from the end of one answer to the end of the next request
+  std::shared_ptr<asio::ssl::context> tls;  // HTTPS; null: plain HTTP
 };
 
 struct HttpResponse {
   unsigned status = 200;
   std::string content_type = "text/plain; charset=utf-8";
   std::string body;
+  /// Extra header fields, e.g. Content-Security-Policy for the page.
+  std::vector<std::pair<std::string, std::string>> headers;
+  /// Set for an event stream: after the header (200, text/event-stream) the connection
+  /// stays open and this is called with its sink; `body` is ignored. A HEAD gets the header only.
+  std::function<void(std::shared_ptr<EventSink>)> stream;
 };
 
 /// Answers a GET (or HEAD) of `target` (the path and query as sent).
 using HttpHandler = std::function<HttpResponse(std::string_view target)>;
+
+/// Asked before every request is answered, with its Authorization header (empty when
+/// none) and the peer: nullopt lets it through, a response (401, 429) goes instead.
+using HttpGate = std::function<std::optional<HttpResponse>(std::string_view authorization, const std::string& peer)>;
 
 class HttpServer {
  public:
@@ -46,18 +61,26 @@ class HttpServer {
   std::uint16_t port() const;
   std::size_t client_count() const { return connections_.size(); }
   void set_handler(HttpHandler handler) { handler_ = std::move(handler); }
+  void set_gate(HttpGate gate) { gate_ = std::move(gate); }
+  /// New connections shake hands with `tls` (renewed certificates); open ones keep theirs.
+  void set_tls_context(std::shared_ptr<asio::ssl::context> tls) { options_.tls = std::move(tls); }
+  bool tls() const { return options_.tls != nullptr; }
+  const HttpOptions& options() const { return options_; }
 
+  class ConnectionBase;
+  template <class Stream>
   class Connection;
 
  private:
   void adopt(asio::ip::tcp::socket socket);
-  void forget(Connection* connection);
+  void forget(ConnectionBase* connection);
 
   HttpOptions options_;
   HttpHandler handler_;
+  HttpGate gate_;
   asio::ip::tcp::acceptor acceptor_;
   RetryingAcceptor<asio::ip::tcp::acceptor> accepting_;
-  std::set<std::shared_ptr<Connection>> connections_;
+  std::set<std::shared_ptr<ConnectionBase>> connections_;
   bool stopped_ = false;
 };
 

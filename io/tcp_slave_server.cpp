@@ -12,6 +12,7 @@
 #include "io/lazy_deadline.hpp"
 #include "io/state_file.hpp"
 #include "io/tls_context.hpp"
+#include "tls/memory_session.hpp"
 #include "modbus/mbap.hpp"
 #include "modbus/slave_session.hpp"
 #include "platform/peer_warnings.hpp"
@@ -36,7 +37,8 @@ class TcpSlaveServer::Connection : public std::enable_shared_from_this<Connectio
     socket_.non_blocking(true, ec);
     if (server_.options_.tls) {
       tls_context_ = server_.options_.tls->context;  // a renewal may replace the server's
-      tls_.emplace(socket_, *tls_context_);
+      tls_.emplace(tls_context_->native_handle());
+      cipher_in_.resize(tls_record_room);
     }
   }
 
@@ -74,19 +76,71 @@ class TcpSlaveServer::Connection : public std::enable_shared_from_this<Connectio
   // (async_wait) would cost an epoll_ctl instead: this is the cheapest Asio allows
   // (docs/performance.md, "Tried and not kept").
   void read() {
-    auto on_read = [this, self = shared_from_this()](const boost::system::error_code& ec, std::size_t n) {
+    if (tls_) return read_records();
+    socket_.async_read_some(asio::buffer(in_.data() + in_used_, in_.size() - in_used_),
+                            [this, self = shared_from_this()](const boost::system::error_code& ec, std::size_t n) {
+                              if (ec) return finish(ec == asio::error::eof ? "closed by the client" : ec.message());
+                              in_used_ += n;
+                              serve();
+                            });
+  }
+
+  // Answers what in_ holds: at once, or once the state file holds what it wrote.
+  void serve() {
+    const auto* state = server_.context_.state;
+    const auto recorded_before = state ? state->recorded() : 0;
+    if (!process()) return finish_broken_stream();
+    if (out_used_ == 0) return read();
+    if (state && state->recorded() != recorded_before) return send_once_durable();
+    send();
+  }
+
+  // Over TLS the socket is read like a plain one, into cipher_in_, and the records go
+  // through the session in memory (tls/memory_session): the same system calls as plain
+  // Modbus/TCP, and no asynchronous operation of an SSL stream around each.
+  void read_records() {
+    if (plaintext_waits_) return take_plaintext();  // in_ was full before the session was read to its end
+    socket_.async_read_some(asio::buffer(cipher_in_), [this, self = shared_from_this()](const boost::system::error_code& ec, std::size_t n) {
       if (ec) return finish(ec == asio::error::eof ? "closed by the client" : ec.message());
+      tls_->feed(std::span(cipher_in_.data(), n));
+      if (!tls_->handshaken()) return handshake_step();
+      take_plaintext();
+    });
+  }
+
+  void take_plaintext() {
+    plaintext_waits_ = true;
+    while (in_used_ < in_.size()) {
+      std::size_t n = 0;
+      const auto status = tls_->read(std::span(in_.data() + in_used_, in_.size() - in_used_), n);
+      if (status == tls::MemorySession::Status::closed) return finish("closed by the client");
+      if (status == tls::MemorySession::Status::failed) return finish("TLS: " + tls_->error());
+      if (status == tls::MemorySession::Status::want_input) {
+        plaintext_waits_ = false;
+        break;
+      }
       in_used_ += n;
-      const auto* state = server_.context_.state;
-      const auto recorded_before = state ? state->recorded() : 0;
-      if (!process()) return finish_broken_stream();
-      if (out_used_ == 0) return read();
-      if (state && state->recorded() != recorded_before) return send_once_durable();
-      send();
-    };
-    const auto room = asio::buffer(in_.data() + in_used_, in_.size() - in_used_);
-    if (tls_) return tls_->async_read_some(room, std::move(on_read));
-    socket_.async_read_some(room, std::move(on_read));
+    }
+    serve();
+  }
+
+  // Sends what the session wrote besides answers (its handshake flight), then reads on.
+  void flush_records_then_read() {
+    tls_->take_output(cipher_out_);
+    if (cipher_out_.empty()) return read();
+    boost::system::error_code ec;
+    const std::size_t sent = socket_.write_some(asio::buffer(cipher_out_), ec);
+    if (!ec && sent == cipher_out_.size()) {
+      cipher_out_.clear();
+      return read();
+    }
+    if (ec && ec != asio::error::would_block && ec != asio::error::try_again) return finish(ec.message());
+    asio::async_write(socket_, asio::buffer(cipher_out_.data() + (ec ? 0 : sent), cipher_out_.size() - (ec ? 0 : sent)),
+                      [this, self = shared_from_this()](const boost::system::error_code& e, std::size_t) {
+                        if (e) return finish(e.message());
+                        cipher_out_.clear();
+                        read();
+                      });
   }
 
   // SPEC §11: the client must show a certificate the CA signed, within frame_timeout like
@@ -95,23 +149,31 @@ class TcpSlaveServer::Connection : public std::enable_shared_from_this<Connectio
   void handshake() {
     adu_started_ = Clock::now();
     idle_.watch();
-    tls_->async_handshake(asio::ssl::stream_base::server, [this, self = shared_from_this()](const boost::system::error_code& ec) {
-      if (finished_) return;
-      if (ec) {
-        platform::warn_from_peer("modbus tls: failed handshakes", peer_, "modbus tls: {} failed the TLS handshake: {}",
-                                 peer_, ec.message());
-        return finish("failed the TLS handshake");
-      }
-      const auto identity = tls::client_identity(tls_->native_handle());
-      role_ = identity.role;
-      spdlog::debug("modbus tls: {} connected as {} (role {})", peer_, identity.subject, role_ ? *role_ : "none");
-      // The monitor's port field names the client: its role, or its certificate's subject.
-      peer_ = (role_ ? *role_ : identity.subject) + "@" + peer_;
-      handshaken_ = true;
-      adu_started_.reset();
-      last_activity_ = Clock::now();
-      read();
-    });
+    read_records();
+  }
+
+  void handshake_step() {
+    const auto status = tls_->handshake();
+    if (status == tls::MemorySession::Status::failed || status == tls::MemorySession::Status::closed) {
+      // The alert that tells the client why goes out before the connection closes.
+      tls_->take_output(cipher_out_);
+      boost::system::error_code ec;
+      if (!cipher_out_.empty()) socket_.write_some(asio::buffer(cipher_out_), ec);
+      const auto why = status == tls::MemorySession::Status::closed ? std::string("closed") : tls_->error();
+      platform::warn_from_peer("modbus tls: failed handshakes", peer_, "modbus tls: {} failed the TLS handshake: {}", peer_, why);
+      return finish("failed the TLS handshake");
+    }
+    if (status == tls::MemorySession::Status::want_input) return flush_records_then_read();
+    const auto identity = tls::client_identity(tls_->native_handle());
+    role_ = identity.role;
+    spdlog::debug("modbus tls: {} connected as {} (role {})", peer_, identity.subject, role_ ? *role_ : "none");
+    // The monitor's port field names the client: its role, or its certificate's subject.
+    peer_ = (role_ ? *role_ : identity.subject) + "@" + peer_;
+    handshaken_ = true;
+    adu_started_.reset();
+    last_activity_ = Clock::now();
+    plaintext_waits_ = true;  // a request may have come with the client's Finished
+    flush_records_then_read();
   }
 
   // Answers every complete request in the buffer, in order, into out_. False when the
@@ -191,15 +253,17 @@ class TcpSlaveServer::Connection : public std::enable_shared_from_this<Connectio
   // write operation and no completion handler to dispatch per request. Only when the
   // client does not keep up does the rest wait for the socket in async_write.
   void send() {
-    // An SSL stream may hold encrypted bytes of a partial write: it is never written
-    // synchronously.
-    if (tls_) return send_rest(0);
+    if (tls_) {
+      if (!tls_->write(std::span(out_.data(), out_used_))) return finish("TLS: " + tls_->error());
+      tls_->take_output(cipher_out_);  // the answers' records, sent like plain answers
+    }
+    const auto bytes = outgoing();
     boost::system::error_code ec;
-    const std::size_t sent = socket_.write_some(asio::buffer(out_.data(), out_used_), ec);
-    if (ec == asio::error::would_block || ec == asio::error::try_again || (!ec && sent < out_used_))
+    const std::size_t sent = socket_.write_some(asio::buffer(bytes.data(), bytes.size()), ec);
+    if (ec == asio::error::would_block || ec == asio::error::try_again || (!ec && sent < bytes.size()))
       return send_rest(ec ? 0 : sent);
     if (ec) return finish(ec.message());
-    out_used_ = 0;
+    sent_all();
     // With other clients, the next read starts after the loop's other ready work, not
     // here: Asio tries a read at once (see read()), and a client that waits for each
     // answer has not sent its next request yet when this send returns, so that try would
@@ -212,16 +276,24 @@ class TcpSlaveServer::Connection : public std::enable_shared_from_this<Connectio
     });
   }
 
-  // The answers from `done` on, when the client does not keep up (or over TLS).
+  // What goes to the socket: the answers, or over TLS their records.
+  std::span<const std::uint8_t> outgoing() const {
+    return tls_ ? std::span<const std::uint8_t>(cipher_out_) : std::span<const std::uint8_t>(out_.data(), out_used_);
+  }
+  void sent_all() {
+    out_used_ = 0;
+    cipher_out_.clear();
+  }
+
+  // The bytes from `done` on, when the client does not keep up.
   void send_rest(std::size_t done) {
-    auto on_sent = [this, self = shared_from_this()](const boost::system::error_code& ec, std::size_t) {
-      if (ec) return finish(ec.message());
-      out_used_ = 0;
-      read();
-    };
-    const auto rest = asio::buffer(out_.data() + done, out_used_ - done);
-    if (tls_) return asio::async_write(*tls_, rest, std::move(on_sent));
-    asio::async_write(socket_, rest, std::move(on_sent));
+    const auto bytes = outgoing();
+    asio::async_write(socket_, asio::buffer(bytes.data() + done, bytes.size() - done),
+                      [this, self = shared_from_this()](const boost::system::error_code& ec, std::size_t) {
+                        if (ec) return finish(ec.message());
+                        sent_all();
+                        read();
+                      });
   }
 
   modbus::PortKind port_kind() const { return tls_ ? modbus::PortKind::tls : modbus::PortKind::tcp; }
@@ -274,7 +346,13 @@ class TcpSlaveServer::Connection : public std::enable_shared_from_this<Connectio
   TcpSlaveServer& server_;
   tcp::socket socket_;
   std::shared_ptr<asio::ssl::context> tls_context_;  // outlives tls_
-  std::optional<asio::ssl::stream<tcp::socket&>> tls_;
+  std::optional<tls::MemorySession> tls_;
+  // A TLS record holds at most 16 KiB of plaintext and some bytes of its own; the socket
+  // is read in such pieces (sized for TLS connections only).
+  static constexpr std::size_t tls_record_room = 16 * 1024 + 512;
+  std::vector<std::uint8_t> cipher_in_;
+  std::vector<std::uint8_t> cipher_out_;  // records waiting for the socket
+  bool plaintext_waits_ = false;          // the session may hold more than in_ took
   bool handshaken_ = false;
   std::optional<std::string> role_;  // from the client's certificate
   LazyDeadline idle_;

@@ -10,6 +10,7 @@
 namespace unima::io {
 
 /// Throws std::runtime_error naming the key and file that did not load.
-std::shared_ptr<asio::ssl::context> make_server_tls_context(const tls::TlsFiles& files);
+std::shared_ptr<asio::ssl::context> make_server_tls_context(const tls::TlsFiles& files,
+                                                            std::string_view section = "modbus.tls");
 
 }  // namespace unima::io

@@ -123,6 +123,13 @@ std::string prometheus_text(const nlohmann::json& status) {
   out.family("state_records_total", "counter", "Writes recorded in the state file.").sample(field(state, "records"));
   out.family("state_syncs_total", "counter", "fdatasync calls of the state file.").sample(field(state, "syncs"));
   out.family("state_failures_total", "counter", "State file writes that failed.").sample(field(state, "failures"));
+
+  if (const auto& mqtt = field(status, "mqtt"); mqtt.is_object()) {
+    out.family("mqtt_connected", "gauge", "1 while the MQTT client is connected to its broker.").sample(field(mqtt, "connected"));
+    out.family("mqtt_connections_total", "counter", "Connections made to the MQTT broker.").sample(field(mqtt, "connections"));
+    out.family("mqtt_drops_total", "counter", "Connections to the MQTT broker that dropped.").sample(field(mqtt, "drops"));
+    out.family("mqtt_published_total", "counter", "MQTT messages handed to the broker's connection.").sample(field(mqtt, "published"));
+  }
   return out.take();
 }
 

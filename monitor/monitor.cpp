@@ -58,6 +58,7 @@ void Monitor::observe(const modbus::Transaction& t) {
   if (!indicators_.empty())
     if (const auto captured = modbus::captured_registers(t)) indicators_.observe(*captured, t.time);
   const auto ix = next_ix_++;  // wraps 255 -> 0 (seed 004 §8)
+  recent_.push(t, ix);
   if (!writer_) return;
   if (!filter_.passes_everything()) {
     const auto query = modbus::view_adu(t.query, modbus::framing_of(t));

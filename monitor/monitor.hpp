@@ -15,6 +15,7 @@
 #include "monitor/monitor_writer.hpp"
 #include "monitor/capture_indicators.hpp"
 #include "monitor/command_filter.hpp"
+#include "monitor/recent_transactions.hpp"
 #include "modbus/transaction.hpp"
 #include "modbus/transaction_counters.hpp"
 
@@ -44,6 +45,8 @@ class Monitor {
   }
   /// The port's time stamp of the last transaction (wall clock: the one ports stamp with).
   std::optional<std::chrono::system_clock::time_point> last_transaction() const { return last_transaction_; }
+  /// The last transactions of every port, whatever the filter (the front page's monitor pane).
+  const RecentTransactions& recent() const { return recent_; }
   bool logging() const { return writer_ != nullptr; }
   std::uint64_t dropped() const { return dropped_before_ + (writer_ ? writer_->dropped() : 0); }
   std::uint64_t written() const { return written_before_ + (writer_ ? writer_->written() : 0); }
@@ -57,6 +60,7 @@ class Monitor {
   std::array<modbus::TransactionCounters, 4> counters_{};  // by PortKind
   std::optional<std::chrono::system_clock::time_point> last_transaction_;
   std::uint8_t next_ix_ = 0;
+  RecentTransactions recent_;
   std::unique_ptr<MonitorWriter> writer_;
   std::uint64_t dropped_before_ = 0;  // by writers replaced on reloads
   std::uint64_t written_before_ = 0;

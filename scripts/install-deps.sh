@@ -9,8 +9,10 @@ packages=(
   nlohmann-json3-dev googletest libgtest-dev
   # Modbus/TCP Security: OpenSSL for the daemon; the command line makes the tests' certificates
   libssl-dev openssl
-  # /metrics is checked by Prometheus' own promtool
-  prometheus
+  # /metrics is checked by Prometheus' own promtool; the front page in headless Chromium over WebDriver
+  prometheus chromium chromium-driver
+  # MQTT: the client library; the broker and its command-line clients for the tests
+  libmosquitto-dev mosquitto mosquitto-clients
   mbpoll socat
   # packaging tests: systemd-analyze, systemd-sysusers/-tmpfiles, man, dpkg-shlibdeps, shellcheck
   systemd man-db groff-base dpkg-dev shellcheck

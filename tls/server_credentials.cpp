@@ -25,8 +25,8 @@ std::string openssl_reason() {
   return reason;
 }
 
-void expect(bool loaded, const char* key, const std::string& file) {
-  if (!loaded) throw std::runtime_error(fmt::format("modbus.tls.{} {}: {}", key, file, openssl_reason()));
+void expect(bool loaded, std::string_view section, const char* key, const std::string& file) {
+  if (!loaded) throw std::runtime_error(fmt::format("{}.{} {}: {}", section, key, file, openssl_reason()));
 }
 
 std::string one_line(X509_NAME* name) {
@@ -42,10 +42,10 @@ std::string one_line(X509_NAME* name) {
 
 }  // namespace
 
-ContextPtr load_server_credentials(const TlsFiles& files) {
+ContextPtr load_server_credentials(const TlsFiles& files, std::string_view section) {
   ERR_clear_error();
   ContextPtr context(SSL_CTX_new(TLS_server_method()));
-  if (!context) throw std::runtime_error("modbus.tls: OpenSSL cannot make a context: " + openssl_reason());
+  if (!context) throw std::runtime_error(fmt::format("{}: OpenSSL cannot make a context: {}", section, openssl_reason()));
   // MB/TCP Security requires TLS 1.2 or later.
   SSL_CTX_set_min_proto_version(context.get(), TLS1_2_VERSION);
   SSL_CTX_set_options(context.get(), SSL_OP_NO_COMPRESSION | SSL_OP_CIPHER_SERVER_PREFERENCE);
@@ -53,11 +53,12 @@ ContextPtr load_server_credentials(const TlsFiles& files) {
   // the TLS 1.3 tickets it needs cost every full handshake two encryptions and a write.
   SSL_CTX_set_num_tickets(context.get(), 0);
   SSL_CTX_set_session_cache_mode(context.get(), SSL_SESS_CACHE_OFF);
-  expect(SSL_CTX_use_certificate_chain_file(context.get(), files.certificate.c_str()) == 1, "certificate",
+  expect(SSL_CTX_use_certificate_chain_file(context.get(), files.certificate.c_str()) == 1, section, "certificate",
          files.certificate);
-  expect(SSL_CTX_use_PrivateKey_file(context.get(), files.key.c_str(), SSL_FILETYPE_PEM) == 1, "key", files.key);
-  expect(SSL_CTX_check_private_key(context.get()) == 1, "key", files.key);
-  expect(SSL_CTX_load_verify_locations(context.get(), files.ca.c_str(), nullptr) == 1, "ca", files.ca);
+  expect(SSL_CTX_use_PrivateKey_file(context.get(), files.key.c_str(), SSL_FILETYPE_PEM) == 1, section, "key", files.key);
+  expect(SSL_CTX_check_private_key(context.get()) == 1, section, "key", files.key);
+  if (files.ca.empty()) return context;  // a browser: no client certificate asked for
+  expect(SSL_CTX_load_verify_locations(context.get(), files.ca.c_str(), nullptr) == 1, section, "ca", files.ca);
   // The CA's names go into the CertificateRequest, so a client with several certificates
   // picks one this server trusts.
   if (auto* names = SSL_load_client_CA_file(files.ca.c_str())) SSL_CTX_set_client_CA_list(context.get(), names);

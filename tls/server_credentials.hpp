@@ -14,14 +14,15 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 
 namespace unima::tls {
 
-/// The PEM files of modbus.tls.
+/// The PEM files of modbus.tls (or http.tls, which has no `ca`).
 struct TlsFiles {
   std::string certificate;  // the server's certificate, with its chain
   std::string key;          // its private key
-  std::string ca;           // the CA(s) that sign clients' certificates
+  std::string ca;           // the CA(s) that sign clients' certificates; empty: clients need none
   bool operator==(const TlsFiles&) const = default;
 };
 
@@ -32,7 +33,8 @@ using ContextPtr = std::unique_ptr<SSL_CTX, ContextDeleter>;
 
 /// Reads the files into a server context; throws std::runtime_error naming the key, the
 /// file and OpenSSL's reason ("modbus.tls.key /etc/…/server.key: key values mismatch").
-ContextPtr load_server_credentials(const TlsFiles& files);
+/// `section` is the config key the files come from ("modbus.tls", "http.tls").
+ContextPtr load_server_credentials(const TlsFiles& files, std::string_view section = "modbus.tls");
 
 /// The Modbus/TCP Security role extension's object identifier.
 inline constexpr const char* role_extension_oid = "1.3.6.1.4.1.50316.802.1";

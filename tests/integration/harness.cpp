@@ -117,13 +117,20 @@ Daemon::Daemon(const TempDir& dir, const std::string& config_yaml, const std::ve
     if (v.starts_with("UNIMA_TEST_MAX_FILES=")) options.max_files = std::stoul(v.substr(21));
     if (v.starts_with("UNIMA_TEST_STRACE=")) {  // the daemon's fdatasync and sendto calls, in order
       argv.insert(argv.begin(), {"strace", "-f", "-e", "trace=fdatasync,sendto", "-o", v.substr(18)});
+      traced_ = true;
       options.search_path = true;
     }
   }
   process_ = std::make_unique<test_support::ChildProcess>(argv, std::move(options));
 }
 
-Daemon::~Daemon() = default;
+// Under strace the child is strace, which leaves the daemon running when it is killed:
+// the daemon (strace's child) goes first.
+Daemon::~Daemon() {
+  if (!traced_ || !process_) return;
+  std::ifstream children("/proc/" + std::to_string(process_->pid()) + "/task/" + std::to_string(process_->pid()) + "/children");
+  for (pid_t child; children >> child;) ::kill(child, SIGKILL);
+}
 
 void Daemon::rewrite_config(const std::string& config_yaml) const {
   // Written beside and renamed, so that a reload never reads half a file.

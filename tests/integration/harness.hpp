@@ -81,6 +81,7 @@ class Daemon {
   std::filesystem::path config_path_;
   std::filesystem::path log_path_;
   std::unique_ptr<test_support::ChildProcess> process_;
+  bool traced_ = false;  // started under strace (UNIMA_TEST_STRACE)
 };
 
 /// Waits until something accepts TCP connections on 127.0.0.1:port.
@@ -96,6 +97,7 @@ class Socket {
   ~Socket();
 
   bool valid() const { return fd_ >= 0; }
+  int fd() const { return fd_; }
   /// Closes it now (the destructor would later).
   void close();
   void send(const Bytes& bytes) const;

@@ -4,29 +4,25 @@
 // authentication in the handshake, write rights from the client certificate's role,
 // renewal on SIGHUP, a client stuck in the handshake cut like any slow client.
 
+#include <openssl/ssl.h>
+
 #include <csignal>
 #include <filesystem>
 #include <sstream>
 
-#include "tests/integration/bridge_fixture.hpp"
+#include "tests/integration/certificate_fixture.hpp"
 
 namespace unima::test {
 namespace {
 
-const std::string tls_dir = std::string(UNIMA_SOURCE_DIR) + "/tests/integration/tls";
-
-class Tls : public BridgeTest {
+class Tls : public CertificateTest {
  protected:
   void SetUp() override {
-    BridgeTest::SetUp();
-    certs = dir.path() / "certs";
-    const auto made = run(tls_dir + "/make_certificates.sh " + certs.string());
-    ASSERT_EQ(made.status, 0) << made.output;
+    CertificateTest::SetUp();
     tls_port = free_port();
   }
 
   void start_tls(const std::string& extra = "") {
-    const auto pem = [&](const std::string& name) { return (certs / name).string(); };
     config.modbus_extra = "  tls: { listen: 127.0.0.1, port: " + std::to_string(tls_port) +
                           ", certificate: " + pem("server.pem") + ", key: " + pem("server.key") + ", ca: " +
                           pem("ca.pem") + ", roles: { operator: { write: [W, X] }, viewer: { write: [] } }" + extra +
@@ -52,7 +48,6 @@ class Tls : public BridgeTest {
     return !lines.empty() && lines.back().starts_with("error: ");
   }
 
-  std::filesystem::path certs;
   std::uint16_t tls_port = 0;
 };
 
@@ -132,6 +127,52 @@ TEST_F(Tls, ACertificateRenewedOnDiskServesAfterSighupAndABadOneKeepsTheOld) {
   ASSERT_GE(lines.size(), 2u) << ::testing::PrintToString(lines);
   EXPECT_EQ(lines[0], "server: server-renewed");
   EXPECT_EQ(lines[1].substr(0, 4), "0402");
+}
+
+// A client whose first request travels in the same segment as its handshake's Finished
+// (what an asynchronous client does at once) is answered: the request is in the session
+// when the handshake completes, and no more bytes will come from the socket until it is.
+// The client here is OpenSSL over memory, so the segment is exactly that.
+TEST_F(Tls, ARequestThatComesWithTheClientsFinishedIsAnswered) {
+  start_tls();
+  SSL_CTX* context = SSL_CTX_new(TLS_client_method());
+  ASSERT_EQ(SSL_CTX_use_certificate_file(context, pem("operator.pem").c_str(), SSL_FILETYPE_PEM), 1);
+  ASSERT_EQ(SSL_CTX_use_PrivateKey_file(context, pem("operator.key").c_str(), SSL_FILETYPE_PEM), 1);
+  SSL* ssl = SSL_new(context);
+  BIO* in = BIO_new(BIO_s_mem());
+  BIO* out = BIO_new(BIO_s_mem());
+  BIO_set_mem_eof_return(in, -1);
+  SSL_set_bio(ssl, in, out);
+  SSL_set_connect_state(ssl);
+  auto socket = Socket::tcp(tls_port);
+  const auto flush = [&] {
+    std::string bytes(static_cast<std::size_t>(BIO_ctrl_pending(out)), '\0');
+    BIO_read(out, bytes.data(), static_cast<int>(bytes.size()));
+    socket.send(bytes);
+  };
+  const auto receive = [&] {
+    std::uint8_t buffer[16384];
+    const auto n = read_before(socket.fd(), std::chrono::steady_clock::now() + 2s, buffer);
+    if (n > 0) BIO_write(in, buffer, static_cast<int>(n));
+    return n > 0;
+  };
+  ASSERT_NE(SSL_do_handshake(ssl), 1);  // ClientHello
+  flush();
+  while (SSL_do_handshake(ssl) != 1) ASSERT_TRUE(receive()) << daemon->log();
+  const std::uint8_t request[] = {0x00, 0x07, 0x00, 0x00, 0x00, 0x06, 0x01, 0x04, 0x00, 0x11, 0x00, 0x01};
+  ASSERT_EQ(SSL_write(ssl, request, sizeof request), static_cast<int>(sizeof request));
+  flush();  // the Finished and the request, one send
+  std::uint8_t answer[64];
+  int got = -1;
+  for (int tries = 0; tries < 5 && got <= 0; ++tries) {
+    got = SSL_read(ssl, answer, sizeof answer);
+    if (got <= 0 && !receive()) break;
+  }
+  ASSERT_EQ(got, 11) << daemon->log();
+  EXPECT_EQ(answer[1], 0x07);
+  EXPECT_EQ(answer[7], 0x04);
+  SSL_free(ssl);
+  SSL_CTX_free(context);
 }
 
 // SPEC §10 and §11: a client that connects and never completes the handshake holds no

@@ -552,5 +552,60 @@ TEST(YamlReader, ExpectKeysAndPositions) {
   EXPECT_EQ(r.position(n["a"]["b"]), "r.yaml:2:6");
 }
 
+// http (SPEC §13): HTTPS and users, and what a bridge open beyond loopback is warned of.
+TEST(ConfigLoad, HttpTlsAndUsers) {
+  const auto c = load_text("http:\n  listen: 0.0.0.0\n  port: 8443\n  users: /etc/u\n"
+                           "  tls: { certificate: /etc/c.pem, key: /etc/c.key }\n", "h.yaml");
+  ASSERT_TRUE(c.http);
+  EXPECT_EQ(c.http->users, "/etc/u");
+  ASSERT_TRUE(c.http->tls);
+  EXPECT_EQ(c.http->tls->certificate, "/etc/c.pem");
+  EXPECT_EQ(c.http->tls->key, "/etc/c.key");
+  EXPECT_EQ(c.http->origin, "h.yaml:2:3");
+  EXPECT_TRUE(warnings(c).empty());
+
+  EXPECT_EQ(load_error("http: { tls: { certificate: c.pem } }\n"), "cfg.yaml:1:14: http.tls needs 'key', a PEM file");
+  EXPECT_EQ(load_error("http: { tls: { certificate: c.pem, key: k, ca: x } }\n").substr(0, 30), "cfg.yaml:1:44: unknown key 'ca");
+  EXPECT_EQ(load_error("http: { users: '' }\n"),
+            "cfg.yaml:1:16: http.users must be the path of a file of name:password-hash lines");
+
+  const auto open = warnings(load_text("http: { listen: '::' }\n", "o.yaml"));
+  ASSERT_EQ(open.size(), 1u);
+  EXPECT_EQ(open[0], "o.yaml:1:7: http listens on :: without http.users: anyone who reaches the port reads the plant's "
+                     "values and the monitor");
+  const auto clear = warnings(load_text("http: { listen: 10.0.0.5, users: /etc/u }\n", "o.yaml"));
+  ASSERT_EQ(clear.size(), 1u);
+  EXPECT_TRUE(contains(clear[0], "without http.tls: passwords cross the network in clear")) << clear[0];
+  for (const auto* loopback : {"127.0.0.1", "127.1.2.3", "::1"})
+    EXPECT_TRUE(warnings(load_text(std::string("http: { listen: '") + loopback + "' }\n", "o.yaml")).empty()) << loopback;
+}
+
+TEST(ConfigLoad, MqttBrokerClientTopicAndTheirDefaults) {
+  const auto c = load_text("mqtt:\n  broker: mqtts://broker.example\n  client_id: site-17\n  username: bridge\n"
+                           "  password_file: /etc/p\n  ca: /etc/ca.pem\n  version: 5\n  publish: { period: 30s, on_change: false }\n"
+                           "  commands: true\n", "m.yaml");
+  ASSERT_TRUE(c.mqtt);
+  EXPECT_TRUE(c.mqtt->tls);
+  EXPECT_EQ(c.mqtt->endpoint, (HostPort{"broker.example", 8883}));
+  EXPECT_EQ(c.mqtt->topic, "unima/site-17");
+  EXPECT_EQ(c.mqtt->version, 5);
+  EXPECT_EQ(c.mqtt->period, 30s);
+  EXPECT_FALSE(c.mqtt->on_change);
+  EXPECT_TRUE(c.mqtt->commands);
+  const auto plain = load_text("mqtt: { broker: 'mqtt://[::1]:1884', topic: plant/a }\n", "m.yaml");
+  EXPECT_EQ(plain.mqtt->endpoint, (HostPort{"::1", 1884}));
+  EXPECT_EQ(plain.mqtt->topic, "plant/a");
+  EXPECT_TRUE(starts_with(plain.mqtt->client_id, "unima-bridge")) << plain.mqtt->client_id;
+  EXPECT_EQ(plain.mqtt->period, 10s);
+
+  EXPECT_EQ(load_error("mqtt: { broker: 'tcp://x' }\n"), "cfg.yaml:1:17: mqtt.broker 'tcp://x' must start with mqtt:// or mqtts://");
+  EXPECT_EQ(load_error("mqtt: { broker: 'mqtt://x', topic: 'a/#' }\n"),
+            "cfg.yaml:1:36: mqtt.topic must be a topic prefix without wildcards (# +) or a trailing /");
+  EXPECT_EQ(load_error("mqtt: { broker: 'mqtt://x', ca: c.pem }\n"), "cfg.yaml:1:33: mqtt.ca is for mqtts:// brokers");
+  EXPECT_EQ(load_error("mqtt: { broker: 'mqtt://x', version: 4 }\n"), "cfg.yaml:1:38: mqtt.version must be 3.1.1 or 5");
+  EXPECT_EQ(load_error("mqtt: { broker: 'mqtt://x', password_file: p }\n"), "cfg.yaml:1:44: mqtt.password_file needs mqtt.username");
+  EXPECT_EQ(load_error("mqtt: { broker: 'mqtt://x:0' }\n").substr(0, 28), "cfg.yaml:1:17: mqtt.broker: ");
+}
+
 }  // namespace
 }  // namespace unima::config

@@ -25,11 +25,16 @@ const auto status = nlohmann::json::parse(R"({
   "unimabus": {"telegrams_ignored": 1, "telegrams_refused": 0, "clients": 2},
   "master": [ {"device": 3, "requests": 10, "answered": 8, "timeouts": 2, "exceptions": 0, "bad_frames": 0} ],
   "monitor": {"written": 100, "dropped": 4},
-  "state": {"file": "/var/lib/unima-bridge/state", "records": 6, "syncs": 2, "failures": 0}
+  "state": {"file": "/var/lib/unima-bridge/state", "records": 6, "syncs": 2, "failures": 0},
+  "mqtt": {"broker": "mqtt://b", "connected": true, "connections": 3, "drops": 2, "published": 120}
 })");
 
 TEST(Prometheus, EveryFamilyHasHelpAndTypeAndTheStatusValues) {
   const auto text = prometheus_text(status);
+  EXPECT_TRUE(has_line(text, "unima_bridge_mqtt_connected 1")) << text;
+  EXPECT_TRUE(has_line(text, "# TYPE unima_bridge_mqtt_drops_total counter")) << text;
+  EXPECT_TRUE(has_line(text, "unima_bridge_mqtt_drops_total 2")) << text;
+  EXPECT_TRUE(has_line(text, "unima_bridge_mqtt_published_total 120")) << text;
   EXPECT_TRUE(has_line(text, "# HELP unima_bridge_uptime_seconds Seconds since the daemon started.")) << text;
   EXPECT_TRUE(has_line(text, "# TYPE unima_bridge_uptime_seconds gauge")) << text;
   EXPECT_TRUE(has_line(text, "unima_bridge_uptime_seconds 42")) << text;

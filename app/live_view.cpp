@@ -1,0 +1,77 @@
+#include "app/live_view.hpp"
+
+#include <algorithm>
+
+#include <fmt/format.h>
+
+namespace unima::app {
+
+namespace {
+
+std::string address_key(std::uint16_t address) { return fmt::format("0x{:04X}", address); }
+
+nlohmann::json value_json(const std::optional<std::uint16_t>& value) {
+  return value ? nlohmann::json(*value) : nlohmann::json(nullptr);
+}
+
+nlohmann::json all_values(const LiveSnapshot& snapshot) {
+  auto values = nlohmann::json::object();
+  for (std::size_t i = 0; i < snapshot.addresses.size(); ++i) values[address_key(snapshot.addresses[i])] = value_json(snapshot.values[i]);
+  return values;
+}
+
+nlohmann::json changed_values(const LiveSnapshot& before, const LiveSnapshot& now) {
+  auto values = nlohmann::json::object();
+  for (std::size_t i = 0; i < now.addresses.size(); ++i)
+    if (now.values[i] != before.values[i]) values[address_key(now.addresses[i])] = value_json(now.values[i]);
+  return values;
+}
+
+}  // namespace
+
+std::string sse_event(std::string_view name, const nlohmann::json& data) {
+  // dump() escapes every line break inside strings, so the data is one line, as SSE needs.
+  return fmt::format("event: {}\ndata: {}\n\n", name, data.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace));
+}
+
+std::string LiveView::monitor_event(Page& page, const monitor::RecentTransactions& recent) {
+  auto lines = recent.since(page.next_line, page.filter, lines_per_event);
+  page.next_line = lines.next;
+  if (lines.lines.empty() && lines.skipped == 0) return {};
+  return sse_event("monitor", {{"lines", lines.lines}, {"skipped", lines.skipped}});
+}
+
+void LiveView::subscribe(std::shared_ptr<io::EventSink> sink, monitor::CommandFilter filter, LiveSnapshot now,
+                         const monitor::RecentTransactions& recent) {
+  if (!last_) last_ = std::move(now);
+  Page page{std::move(sink), filter, 0};
+  // The last lines, not the whole ring: a page opens on the present.
+  const auto first = recent.next_number() > first_lines ? recent.next_number() - first_lines : 0;
+  page.next_line = first;
+  std::string events = sse_event("panel", last_->panel) + sse_event("registers", all_values(*last_));
+  auto lines = recent.since(page.next_line, page.filter, first_lines);
+  page.next_line = lines.next;
+  events += sse_event("monitor", {{"lines", lines.lines}, {"skipped", 0}});
+  if (page.sink->send(events)) pages_.push_back(std::move(page));
+}
+
+void LiveView::update(LiveSnapshot now, const monitor::RecentTransactions& recent) {
+  std::string shared;  // what every page gets alike
+  if (!last_ || last_->addresses != now.addresses) {
+    shared += sse_event("layout", nlohmann::json::object());
+    shared += sse_event("registers", all_values(now));
+    shared += sse_event("panel", now.panel);
+  } else {
+    if (auto changes = changed_values(*last_, now); !changes.empty()) shared += sse_event("registers", changes);
+    if (now.panel != last_->panel) shared += sse_event("panel", now.panel);
+  }
+  last_ = std::move(now);
+  for (auto& page : pages_) {
+    const auto events = shared + monitor_event(page, recent);
+    if (!events.empty()) page.sink->send(events);
+  }
+  std::erase_if(pages_, [](const Page& page) { return page.sink->closed(); });
+  if (pages_.empty()) last_.reset();  // the next page starts from a fresh snapshot
+}
+
+}  // namespace unima::app

@@ -1,0 +1,62 @@
+#pragma once
+// The front page's live feed (SPEC §13, /api/events): server-sent events that carry only
+// what changed. The Bridge takes a snapshot on each heartbeat while a page listens; this
+// compares it with the last one and sends each page
+//   event: registers  {"0x1100": 1234, "0x1101": null, ...}  the values that changed
+//   event: panel      {...}                                  the LEDs, devices, indicators, when changed
+//   event: monitor    {"lines": [...], "skipped": n}         new monitor lines through the page's filter
+//   event: layout     {}                                     the register map changed (a reload): fetch it again
+// A page that subscribes gets the last snapshot in full, so that the changes after it
+// are exact. Pure apart from the sinks it writes to: no clock, no Asio.
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "io/event_sink.hpp"
+#include "monitor/command_filter.hpp"
+#include "monitor/recent_transactions.hpp"
+
+namespace unima::app {
+
+struct LiveSnapshot {
+  nlohmann::json panel;                                   // what the front panel shows
+  std::vector<std::uint16_t> addresses;                   // every served register, in address order
+  std::vector<std::optional<std::uint16_t>> values;       // nullopt: unreadable (a write bank)
+};
+
+class LiveView {
+ public:
+  /// Monitor lines a page gets at most: the last ones when it opens, then per event (four
+  /// a second: more than anyone reads, less than a busy port makes — the rest is counted).
+  static constexpr std::size_t first_lines = 100;
+  static constexpr std::size_t lines_per_event = 25;
+
+  /// Starts `sink`'s feed: the panel, every value, the last monitor lines through `filter`.
+  /// `now` becomes the base of the next changes when no page listened before.
+  void subscribe(std::shared_ptr<io::EventSink> sink, monitor::CommandFilter filter, LiveSnapshot now,
+                 const monitor::RecentTransactions& recent);
+  /// Sends every page what changed since the last snapshot; forgets closed pages.
+  void update(LiveSnapshot now, const monitor::RecentTransactions& recent);
+  bool listened() const { return !pages_.empty(); }
+  std::size_t pages() const { return pages_.size(); }
+
+ private:
+  struct Page {
+    std::shared_ptr<io::EventSink> sink;
+    monitor::CommandFilter filter;
+    std::uint64_t next_line = 0;
+  };
+  static std::string monitor_event(Page& page, const monitor::RecentTransactions& recent);
+
+  std::optional<LiveSnapshot> last_;
+  std::vector<Page> pages_;
+};
+
+/// "event: <name>\ndata: <json>\n\n"
+std::string sse_event(std::string_view name, const nlohmann::json& data);
+
+}  // namespace unima::app

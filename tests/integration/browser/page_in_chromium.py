@@ -1,0 +1,140 @@
+#!/usr/bin/env python3
+"""Opens the daemon's front page in headless Chromium (Debian's chromium and
+chromium-driver, driven over WebDriver with nothing but the standard library) and waits
+until the DOM shows what the test expects: register values (by the raw value of their
+cell) and devices on line. Used by tests/integration/browser_test.cpp and for the
+screenshot in docs/.
+
+  page_in_chromium.py --url http://127.0.0.1:8080/ [--expect 0x0012=1234 ...] [--online D1 ...]
+                      [--ready-file F --then 0x0012=4321 ...] [--screenshot out.png] [--timeout 20]
+
+--ready-file: written once the first expectations hold; the --then expectations are
+awaited after it (the test feeds them a moment after the page showed the first ones).
+Prints one JSON line with what the page showed; exits 1 when an expectation did not hold.
+"""
+import argparse
+import base64
+import json
+import os
+import shutil
+import socket
+import subprocess
+import sys
+import tempfile
+import time
+import urllib.request
+
+CHROMIUM_FLAGS = [
+    "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
+    "--disable-background-networking", "--disable-component-update", "--disable-sync",
+    "--window-size=1200,1500",
+]
+
+READ_PAGE = """
+const result = { values: {}, online: {}, feed: document.getElementById('feed').dataset.state };
+for (const cell of document.querySelectorAll('td.value[data-address]'))
+  result.values[cell.dataset.address] = { raw: cell.dataset.raw, text: cell.textContent };
+for (const chip of document.querySelectorAll('#devices .chip'))
+  result.online[chip.dataset.bank] = chip.dataset.online === 'true';
+result.error_led = document.getElementById('led-error').dataset.on === 'true';
+return result;
+"""
+
+
+def free_port():
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def call(base, method, path, body=None):
+    data = None if body is None else json.dumps(body).encode()
+    request = urllib.request.Request(base + path, data=data, method=method,
+                                     headers={"Content-Type": "application/json"})
+    with urllib.request.urlopen(request, timeout=30) as answer:
+        return json.load(answer)["value"]
+
+
+def parse_expectations(items):
+    expected = {}
+    for item in items:
+        address, value = item.split("=", 1)
+        expected[address.upper().replace("0X", "0x")] = str(int(value, 0))
+    return expected
+
+
+def holds(page, values, online):
+    return (all(page["values"].get(a, {}).get("raw") == v for a, v in values.items())
+            and all(page["online"].get(bank) for bank in online))
+
+
+def main():
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--url", required=True)
+    parser.add_argument("--expect", action="append", default=[])
+    parser.add_argument("--online", action="append", default=[])
+    parser.add_argument("--ready-file")
+    parser.add_argument("--then", action="append", default=[])
+    parser.add_argument("--screenshot")
+    parser.add_argument("--timeout", type=float, default=20)
+    args = parser.parse_args()
+
+    port = free_port()
+    profile = tempfile.mkdtemp(prefix="unima-chromium-")
+    driver = subprocess.Popen(["chromedriver", f"--port={port}"], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    base = f"http://127.0.0.1:{port}"
+    session = None
+    page = {}
+    try:
+        deadline = time.monotonic() + 10
+        while True:
+            try:
+                urllib.request.urlopen(base + "/status", timeout=1).read()
+                break
+            except OSError:
+                if time.monotonic() > deadline:
+                    raise
+                time.sleep(0.05)
+        capabilities = {"capabilities": {"alwaysMatch": {"browserName": "chrome", "goog:chromeOptions": {
+            "binary": "/usr/bin/chromium", "args": CHROMIUM_FLAGS + [f"--user-data-dir={profile}"]}}}}
+        session = call(base, "POST", "/session", capabilities)["sessionId"]
+        call(base, "POST", f"/session/{session}/url", {"url": args.url})
+
+        def wait_for(values, online):
+            nonlocal page
+            deadline = time.monotonic() + args.timeout
+            while True:
+                page = call(base, "POST", f"/session/{session}/execute/sync", {"script": READ_PAGE, "args": []})
+                if holds(page, values, online):
+                    return True
+                if time.monotonic() > deadline:
+                    return False
+                time.sleep(0.1)
+
+        ok = wait_for(parse_expectations(args.expect), args.online)
+        if ok and args.ready_file:
+            with open(args.ready_file, "w") as f:
+                f.write("ready\n")
+            ok = wait_for(parse_expectations(args.then), args.online)
+        if args.screenshot:
+            png = base64.b64decode(call(base, "GET", f"/session/{session}/screenshot"))
+            with open(args.screenshot, "wb") as f:
+                f.write(png)
+        shown = {a: page["values"].get(a.upper().replace("0X", "0x"))
+                 for a in [e.split("=")[0] for e in args.expect + args.then]}
+        print(json.dumps({"ok": ok, "feed": page.get("feed"), "online": page.get("online"), "values": shown,
+                          "cells": len(page.get("values", {}))}))
+        return 0 if ok else 1
+    finally:
+        if session:
+            try:
+                call(base, "DELETE", f"/session/{session}")
+            except OSError:
+                pass
+        driver.terminate()
+        driver.wait(10)
+        shutil.rmtree(profile, ignore_errors=True)
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,385 @@
+// MQTT northbound (SPEC §12) against a real broker: Debian's `mosquitto`, started by each
+// test on a loopback port, and its `mosquitto_sub` as the fleet's subscriber. The retained
+// status and its will, a bank's document after feed telegrams, a device going off line,
+// and a broker that goes away and comes back while Modbus clients read.
+
+#include <pwd.h>
+#include <unistd.h>
+
+#include <csignal>
+#include <future>
+#include <sstream>
+#include <thread>
+
+#include <nlohmann/json.hpp>
+
+#include "tests/integration/bridge_fixture.hpp"
+
+namespace unima::test {
+namespace {
+
+using namespace std::chrono_literals;
+
+/// A mosquitto broker of the test's own, on 127.0.0.1, daemonized with a pid file;
+/// `listener_extra` adds to its listener (TLS: cafile, certfile, keyfile, ...).
+class Broker {
+ public:
+  explicit Broker(const std::filesystem::path& dir, const std::string& listener_extra = "") : dir_(dir), port_(free_port()) {
+    // Started as root, mosquitto would become the user `mosquitto`, who cannot write in the
+    // test's directory: it stays who the test is.
+    const auto* me = ::getpwuid(::geteuid());
+    test_support::write_file(dir_ / "mosquitto.conf", "listener " + std::to_string(port_) + " 127.0.0.1\n" + listener_extra +
+                                                      "allow_anonymous true\npersistence false\n"
+                                                      "user " + std::string(me ? me->pw_name : "root") + "\n"
+                                                      "log_dest file " + (dir_ / "mosquitto.log").string() + "\n"
+                                                      "pid_file " + (dir_ / "mosquitto.pid").string() + "\n");
+  }
+  ~Broker() { stop(); }
+  bool start() {
+    const auto started = run("mosquitto -d -c " + (dir_ / "mosquitto.conf").string() + " 2>&1");
+    return started.status == 0 && wait_for_port(port_);
+  }
+  void stop() {
+    const auto pid_file = dir_ / "mosquitto.pid";
+    if (!std::filesystem::exists(pid_file)) return;
+    run("kill $(cat " + pid_file.string() + ") 2>/dev/null; while kill -0 $(cat " + pid_file.string() +
+        ") 2>/dev/null; do sleep 0.02; done");
+    std::filesystem::remove(pid_file);
+  }
+  std::uint16_t port() const { return port_; }
+  void signal(int signo) const { run("kill -" + std::to_string(signo) + " $(cat " + (dir_ / "mosquitto.pid").string() + ")"); }
+  /// mosquitto_sub: the first `count` messages of `topic` ("topic payload" lines), waiting at most `seconds`.
+  std::string subscribe(const std::string& topic, int count, int seconds = 5) const {
+    return run("mosquitto_sub -p " + std::to_string(port_) + " -t '" + topic + "' -v -C " + std::to_string(count) +
+               " -W " + std::to_string(seconds) + " 2>&1").output;
+  }
+
+ private:
+  std::filesystem::path dir_;
+  std::uint16_t port_;
+};
+
+/// mosquitto_sub in the background, its "topic payload" lines in a file the test reads
+/// as they come.
+class Subscription {
+ public:
+  Subscription(const Broker& broker, const std::filesystem::path& file, const std::string& topic) : file_(file) {
+    const auto started = run("mosquitto_sub -p " + std::to_string(broker.port()) + " -t '" + topic + "' -v > " + file.string() +
+                             " 2>&1 & echo $!");
+    pid_ = std::stoi(started.output);
+  }
+  ~Subscription() { ::kill(pid_, SIGTERM); }
+  std::string lines() const { return read_file(file_); }
+
+ private:
+  std::filesystem::path file_;
+  int pid_ = 0;
+};
+
+/// `text` with every `from` replaced by `to`.
+std::string replaced(std::string text, const std::string& from, const std::string& to) {
+  for (auto at = text.find(from); at != std::string::npos; at = text.find(from, at + to.size())) text.replace(at, from.size(), to);
+  return text;
+}
+
+/// The payloads of "topic payload" lines whose topic is `topic`.
+std::vector<std::string> payloads(const std::string& lines, const std::string& topic) {
+  std::vector<std::string> found;
+  std::istringstream in(lines);
+  for (std::string line; std::getline(in, line);)
+    if (line.starts_with(topic + " ")) found.push_back(line.substr(topic.size() + 1));
+  return found;
+}
+
+class Mqtt : public BridgeTest {
+ protected:
+  void SetUp() override {
+    BridgeTest::SetUp();
+    broker = std::make_unique<Broker>(dir.path());
+    ASSERT_TRUE(broker->start());
+    config.extra += "mqtt: { broker: 'mqtt://127.0.0.1:" + std::to_string(broker->port()) +
+                    "', client_id: site-17, topic: fleet/site-17, publish: { period: 60s } }\n";
+  }
+  /// The next document of `bank` that `holds` (subscribed before `action`, which makes it come).
+  std::optional<nlohmann::ordered_json> document_after(const std::string& bank, const std::function<void()>& action,
+                                                       const std::function<bool(const nlohmann::ordered_json&)>& holds) {
+    const auto topic = "fleet/site-17/" + bank;
+    Subscription subscription(*broker, dir.path() / ("sub-" + std::to_string(++subscriptions_)), topic);
+    std::this_thread::sleep_for(300ms);  // mosquitto_sub is subscribed (the retained one comes first)
+    action();
+    std::optional<nlohmann::ordered_json> found;
+    eventually([&] {
+      for (const auto& payload : payloads(subscription.lines(), topic)) {
+        const auto document = nlohmann::ordered_json::parse(payload);
+        if (holds(document)) {
+          found = document;
+          return true;
+        }
+      }
+      return false;
+    }, 6000ms);
+    return found;
+  }
+  int subscriptions_ = 0;
+  std::unique_ptr<Broker> broker;
+};
+
+TEST_F(Mqtt, StatusIsRetainedOnlineAndOfflineAfterACleanStop) {
+  start();
+  EXPECT_TRUE(eventually([&] { return broker->subscribe("fleet/site-17/status", 1, 1) == "fleet/site-17/status online\n"; }))
+      << daemon->log();
+  auto offline = std::async(std::launch::async, [&] { return broker->subscribe("fleet/site-17/status", 2); });
+  std::this_thread::sleep_for(300ms);
+  daemon->signal(SIGTERM);
+  EXPECT_EQ(offline.get(), "fleet/site-17/status online\nfleet/site-17/status offline\n");
+  EXPECT_NE(daemon->log().find("mqtt: connected to 127.0.0.1:" + std::to_string(broker->port()) + " as site-17"), std::string::npos);
+}
+
+// SIGKILL: no goodbye; the broker publishes the will.
+TEST_F(Mqtt, AKilledBridgeIsOfflineByItsWill) {
+  start();
+  ASSERT_TRUE(eventually([&] { return broker->subscribe("fleet/site-17/status", 1, 1) == "fleet/site-17/status online\n"; }));
+  auto offline = std::async(std::launch::async, [&] { return broker->subscribe("fleet/site-17/status", 2); });
+  std::this_thread::sleep_for(300ms);
+  daemon->signal(SIGKILL);
+  EXPECT_EQ(offline.get(), "fleet/site-17/status online\nfleet/site-17/status offline\n");
+}
+
+TEST_F(Mqtt, TheD1DocumentCarriesFedValuesInUnitsThenNullWhenTheDeviceGoesOffLine) {
+  config.unimabus_extra = "  offline_after: 1s\n";
+  start();
+  auto feed = feed_client();
+  const auto fed = document_after("D1", [&] {
+    feed_and_wait(feed, R"({"addr":5,"slot":0,"offset":1,"values":[1234]})", 0x0012, 1234);
+  }, [](const nlohmann::ordered_json& d) { return d["engine_speed"] == 1234; });
+  ASSERT_TRUE(fed);
+  EXPECT_EQ((*fed)["online"], true) << fed->dump();
+  EXPECT_TRUE((*fed)["time"].get<std::string>().ends_with("Z")) << fed->dump();
+  EXPECT_TRUE((*fed)["oil_temperature"].is_null()) << "never measured: " << fed->dump();
+  auto it = fed->begin();
+  EXPECT_EQ(it.key(), "time");
+  EXPECT_EQ((++it).key(), "online");
+
+  // A value in tenths: oil_temperature (D1+0x21, scale 0.1) fed as 853 reads 85.3.
+  const auto tenths = document_after("D1", [&] {
+    feed_and_wait(feed, R"({"addr":5,"slot":0,"offset":33,"values":[853]})", 0x0011 + 33, 853);
+  }, [](const nlohmann::ordered_json& d) { return d["oil_temperature"].is_number(); });
+  ASSERT_TRUE(tenths);
+  EXPECT_DOUBLE_EQ((*tenths)["oil_temperature"].get<double>(), 85.3) << tenths->dump();
+
+  // Nothing heard for offline_after: off line, every analog value null, at once (on change).
+  const auto gone = document_after("D1", [] {}, [](const nlohmann::ordered_json& d) { return d["online"] == false; });
+  ASSERT_TRUE(gone);
+  EXPECT_TRUE((*gone)["engine_speed"].is_null()) << gone->dump();
+  EXPECT_TRUE((*gone)["oil_temperature"].is_null()) << gone->dump();
+}
+
+// Banks A and B show what the config maps into them, keyed as the config writes it.
+TEST_F(Mqtt, AAndBAreKeyedByTheirMappingSources) {
+  config.devices = "{ D1: { type: unigen-chp, address: 5 } }\nmapping:\n  A: [ D1.oil_temperature ]\n  B: [ D1+0x11.7, X.2 ]";
+  start();
+  auto feed = feed_client();
+  const auto a = document_after("A", [&] {
+    feed_and_wait(feed, R"({"addr":5,"slot":0,"offset":33,"values":[853]})", 0x0011 + 33, 853);
+  }, [](const nlohmann::ordered_json& d) { return d["D1.oil_temperature"].is_number(); });
+  ASSERT_TRUE(a);
+  EXPECT_DOUBLE_EQ((*a)["D1.oil_temperature"].get<double>(), 85.3) << a->dump();
+  const auto b = document_after("B", [&] {
+    feed_and_wait(feed, R"({"addr":5,"slot":0,"offset":17,"values":[128]})", 0x0011 + 17, 128);
+  }, [](const nlohmann::ordered_json& d) { return d["D1+0x11.7"] == 1; });
+  ASSERT_TRUE(b);
+  EXPECT_EQ((*b)["X.2"], 0) << b->dump();
+}
+
+// The broker goes away: Modbus serves on, the log says so once; it comes back: status and
+// every bank are published again, with the values of now (not a backlog).
+TEST_F(Mqtt, ABrokerThatGoesAndComesBackGetsEverythingAgainWhileModbusServesOn) {
+  start();
+  ASSERT_TRUE(eventually([&] { return broker->subscribe("fleet/site-17/status", 1, 1) == "fleet/site-17/status online\n"; }));
+  broker->stop();
+  ModbusClient client(config.modbus_port);
+  auto feed = feed_client();
+  feed_and_wait(feed, R"({"addr":5,"slot":0,"offset":1,"values":[777]})", 0x0012, 777);
+  for (int i = 0; i < 50; ++i) ASSERT_TRUE(client.read_input(0x0011, 16));
+  ASSERT_TRUE(eventually([&] { return daemon->log().find("mqtt: the connection to") != std::string::npos; })) << daemon->log();
+
+  ASSERT_TRUE(broker->start());  // persistence off: it knows nothing retained
+  Subscription subscription(*broker, dir.path() / "again", "fleet/site-17/+");
+  EXPECT_TRUE(eventually([&] { return !payloads(subscription.lines(), "fleet/site-17/S7").empty(); }, 10000ms));
+  const auto again = subscription.lines();
+  const auto status = payloads(again, "fleet/site-17/status");
+  ASSERT_FALSE(status.empty()) << again << daemon->log();
+  EXPECT_EQ(status.front(), "online");
+  const auto d1 = payloads(again, "fleet/site-17/D1");
+  ASSERT_FALSE(d1.empty()) << again;
+  EXPECT_EQ(nlohmann::json::parse(d1.front())["engine_speed"], 777);
+  EXPECT_FALSE(payloads(again, "fleet/site-17/C").empty()) << again;
+  EXPECT_TRUE(client.read_input(0x0011, 16));
+  // Once each: one drop, one connection again.
+  const auto log = daemon->log();
+  std::size_t drops = 0;
+  for (auto at = log.find("mqtt: the connection to"); at != std::string::npos; at = log.find("mqtt: the connection to", at + 1)) ++drops;
+  EXPECT_EQ(drops, 1u) << log;
+}
+
+// mqtts: the broker's certificate checked against the CA and the name, the bridge's own
+// certificate presented to a broker that requires one; certificates made by openssl.
+TEST_F(Mqtt, OverTlsWithTheBrokersCaAndAClientCertificate) {
+  broker.reset();
+  const auto certs = dir.path() / "certs";
+  const auto made = run(std::string(UNIMA_SOURCE_DIR) + "/tests/integration/tls/make_certificates.sh " + certs.string());
+  ASSERT_EQ(made.status, 0) << made.output;
+  const auto pem = [&](const std::string& name) { return (certs / name).string(); };
+  broker = std::make_unique<Broker>(dir.path(), "cafile " + pem("ca.pem") + "\ncertfile " + pem("server.pem") + "\nkeyfile " +
+                                                    pem("server.key") + "\nrequire_certificate true\n");
+  ASSERT_TRUE(broker->start());
+  config.extra = "mqtt: { broker: 'mqtts://localhost:" + std::to_string(broker->port()) + "', client_id: site-17, topic: fleet/site-17, " +
+                 "ca: " + pem("ca.pem") + ", certificate: " + pem("operator.pem") + ", key: " + pem("operator.key") + " }\n";
+  start();
+  const auto subscribe = "mosquitto_sub -p " + std::to_string(broker->port()) + " --cafile " + pem("ca.pem") + " --cert " +
+                         pem("viewer.pem") + " --key " + pem("viewer.key") + " -h localhost -t fleet/site-17/status -C 1 -W 2 2>&1";
+  EXPECT_TRUE(eventually([&] { return run(subscribe).output == "online\n"; }, 8000ms)) << run(subscribe).output << daemon->log();
+}
+
+// A broker whose certificate is not of the configured CA is refused, and said so once.
+TEST_F(Mqtt, ABrokerWithACertificateOfAnotherCaIsRefused) {
+  broker.reset();
+  const auto certs = dir.path() / "certs";
+  ASSERT_EQ(run(std::string(UNIMA_SOURCE_DIR) + "/tests/integration/tls/make_certificates.sh " + certs.string()).status, 0);
+  const auto pem = [&](const std::string& name) { return (certs / name).string(); };
+  broker = std::make_unique<Broker>(dir.path(), "certfile " + pem("server.pem") + "\nkeyfile " + pem("server.key") + "\n");
+  ASSERT_TRUE(broker->start());
+  config.extra = "mqtt: { broker: 'mqtts://localhost:" + std::to_string(broker->port()) + "', client_id: site-17, " +
+                 "ca: " + pem("other-ca.pem") + " }\n";
+  start();
+  EXPECT_TRUE(daemon->wait_for_log("mqtt: no connection to localhost:" + std::to_string(broker->port()), 8000ms)) << daemon->log();
+  ModbusClient client(config.modbus_port);
+  EXPECT_TRUE(client.read_input(0x0011, 1));
+  EXPECT_EQ(daemon->log_count("mqtt: no connection to"), 1u) << daemon->log();
+}
+
+// MQTT 5, and a broker that lets in only a name with its password (the password kept in a
+// file of its own, not in the config); a wrong one is refused by the broker, said once.
+TEST_F(Mqtt, Version5WithTheNameAndPasswordTheBrokerRequires) {
+  broker.reset();
+  const auto passwd = dir.path() / "broker-passwd";
+  ASSERT_EQ(run("mosquitto_passwd -c -b " + passwd.string() + " site-17 'right horse'").status, 0);
+  broker = std::make_unique<Broker>(dir.path(), "password_file " + passwd.string() + "\n");
+  // No anonymous clients: every one needs a name of the password file.
+  test_support::write_file(dir.path() / "mosquitto.conf",
+                           replaced(read_file(dir.path() / "mosquitto.conf"), "allow_anonymous true", "allow_anonymous false"));
+  ASSERT_TRUE(broker->start());
+  test_support::write_file(dir.path() / "mqtt-password", "right horse\n");
+  config.extra = "mqtt: { broker: 'mqtt://127.0.0.1:" + std::to_string(broker->port()) + "', client_id: site-17, " +
+                 "topic: fleet/site-17, version: 5, username: site-17, password_file: " + (dir.path() / "mqtt-password").string() + " }\n";
+  start();
+  const auto subscribe = "mosquitto_sub -V mqttv5 -u site-17 -P 'right horse' -p " + std::to_string(broker->port()) +
+                         " -t fleet/site-17/status -C 1 -W 2 2>&1";
+  EXPECT_TRUE(eventually([&] { return run(subscribe).output == "online\n"; }, 8000ms)) << run(subscribe).output << daemon->log();
+
+  daemon->terminate();
+  daemon.reset();
+  test_support::write_file(dir.path() / "mqtt-password", "wrong horse\n");
+  start();
+  EXPECT_TRUE(daemon->wait_for_log("mqtt: no connection to 127.0.0.1:" + std::to_string(broker->port()), 8000ms)) << daemon->log();
+  EXPECT_NE(daemon->log().find("the broker refused the connection: Not authorized"), std::string::npos) << daemon->log();
+}
+
+// A reload to another topic: the old one says offline, the new one online and every bank.
+TEST_F(Mqtt, AReloadToAnotherTopicMovesTheBridgeThere) {
+  start();
+  ASSERT_TRUE(eventually([&] { return broker->subscribe("fleet/site-17/status", 1, 1) == "fleet/site-17/status online\n"; }));
+  auto yaml = read_file(daemon->config_path());
+  daemon->rewrite_config(replaced(yaml, "topic: fleet/site-17", "topic: fleet/site-18"));
+  daemon->signal(SIGHUP);
+  EXPECT_TRUE(eventually([&] { return broker->subscribe("fleet/site-18/status", 1, 1) == "fleet/site-18/status online\n"; }, 8000ms))
+      << daemon->log();
+  EXPECT_EQ(broker->subscribe("fleet/site-17/status", 1, 1), "fleet/site-17/status offline\n");
+  EXPECT_FALSE(broker->subscribe("fleet/site-18/D1", 1, 2).empty());
+
+  // A reload that leaves mqtt as it was (the section moved down a line) keeps the connection.
+  yaml = read_file(daemon->config_path());
+  daemon->rewrite_config("\n" + replaced(yaml, "topic: fleet/site-17", "topic: fleet/site-18"));
+  daemon->signal(SIGHUP);
+  ASSERT_TRUE(eventually([&] { return daemon->log_count("SIGHUP: reloading") == 2; })) << daemon->log();
+  std::this_thread::sleep_for(300ms);
+  EXPECT_EQ(daemon->log_count("mqtt: connected to"), 2u) << daemon->log();
+}
+
+// A broker that stalls (SIGSTOP: the connection stays, nothing is acknowledged) while D1
+// changes, then dies and comes back: the subscriber gets the present, not the queue of
+// documents made meanwhile (the complaint of "stale values re-sent as fresh").
+TEST_F(Mqtt, AfterABrokerStallOnlyThePresentIsPublishedNotABacklog) {
+  start();
+  ASSERT_TRUE(eventually([&] { return broker->subscribe("fleet/site-17/status", 1, 1) == "fleet/site-17/status online\n"; }));
+  auto feed = feed_client();
+  broker->signal(SIGSTOP);
+  for (int speed = 1; speed <= 30; ++speed) {
+    feed.send(R"({"addr":5,"slot":0,"offset":1,"values":[)" + std::to_string(speed) + "]}\n");
+    std::this_thread::sleep_for(110ms);  // each one a document of its own (at most one per 100 ms)
+  }
+  broker->signal(SIGKILL);
+  broker->stop();
+  ASSERT_TRUE(broker->start());
+  Subscription subscription(*broker, dir.path() / "after", "fleet/site-17/D1");
+  ASSERT_TRUE(eventually([&] { return !payloads(subscription.lines(), "fleet/site-17/D1").empty(); }, 10000ms)) << daemon->log();
+  std::this_thread::sleep_for(1000ms);
+  const auto documents = payloads(subscription.lines(), "fleet/site-17/D1");
+  EXPECT_LE(documents.size(), 2u) << subscription.lines();
+  for (const auto& document : documents) EXPECT_EQ(nlohmann::json::parse(document)["engine_speed"], 30) << document;
+}
+
+/// mosquitto_pub: one message, QoS 1.
+void publish(const Broker& broker, const std::string& topic, const std::string& payload) {
+  run("mosquitto_pub -p " + std::to_string(broker.port()) + " -q 1 -t '" + topic + "' -m '" + payload + "'");
+}
+
+// commands: true — a write to W or X by MQTT is a Modbus write: in the bank, kept in the
+// state file before the result says ok, sent to UnimaBUS; a bad one changes nothing and
+// says why.
+TEST_F(Mqtt, CommandsWriteWAndXLikeModbusAndAnswerOnTheResultTopic) {
+  config.extra = replaced(config.extra, "publish:", "commands: true, publish:");
+  config.extra += "state: { file: " + (dir.path() / "state").string() + " }\n";
+  start();
+  ASSERT_TRUE(eventually([&] { return broker->subscribe("fleet/site-17/status", 1, 1) == "fleet/site-17/status online\n"; }));
+  auto feed = feed_client();
+  Subscription results(*broker, dir.path() / "results", "fleet/site-17/set/result");
+  std::this_thread::sleep_for(300ms);
+  publish(*broker, "fleet/site-17/set/W/3", "1234");
+  EXPECT_TRUE(feed.wait_for_line(R"({"bank":"W","offset":3,"value":1234})"));
+  publish(*broker, "fleet/site-17/set/X/2", "1");
+  EXPECT_TRUE(feed.wait_for_line(R"({"bank":"X","offset":0,"value":4})"));
+  publish(*broker, "fleet/site-17/set/W/16", "1");
+  publish(*broker, "fleet/site-17/set/X/1", "on");
+  ASSERT_TRUE(eventually([&] { return payloads(results.lines(), "fleet/site-17/set/result").size() == 4; })) << results.lines();
+  const auto answers = payloads(results.lines(), "fleet/site-17/set/result");
+  EXPECT_EQ(answers[0], R"({"topic":"fleet/site-17/set/W/3","ok":true,"error":null})");
+  EXPECT_EQ(answers[1], R"({"topic":"fleet/site-17/set/X/2","ok":true,"error":null})");
+  EXPECT_EQ(answers[2], R"({"topic":"fleet/site-17/set/W/16","ok":false,"error":"W has the offsets 0..15, not '16'"})");
+  EXPECT_EQ(answers[3], R"({"topic":"fleet/site-17/set/X/1","ok":false,"error":"the payload must be 0 or 1, not 'on'"})");
+
+  ModbusClient client(config.modbus_port);
+  EXPECT_EQ(client.read_holding(0x0103, 1), std::vector<std::uint16_t>{1234});
+  // Kept: after a SIGKILL the value is back (the result said ok only once it was on the disk).
+  daemon->signal(SIGKILL);
+  ASSERT_TRUE(eventually([&] { return !daemon->running(); }));
+  daemon.reset();
+  start();
+  ModbusClient after(config.modbus_port);
+  EXPECT_EQ(after.read_holding(0x0103, 1), std::vector<std::uint16_t>{1234});
+}
+
+// commands off (the default): nothing is subscribed, nothing changes.
+TEST_F(Mqtt, WithoutCommandsASetTopicChangesNothing) {
+  start();
+  ASSERT_TRUE(eventually([&] { return broker->subscribe("fleet/site-17/status", 1, 1) == "fleet/site-17/status online\n"; }));
+  Subscription results(*broker, dir.path() / "results", "fleet/site-17/set/result");
+  publish(*broker, "fleet/site-17/set/W/3", "1234");
+  std::this_thread::sleep_for(500ms);
+  ModbusClient client(config.modbus_port);
+  EXPECT_EQ(client.read_holding(0x0103, 1), std::vector<std::uint16_t>{0x7FFF});
+  EXPECT_EQ(results.lines(), "");
+}
+
+}  // namespace
+}  // namespace unima::test

@@ -1,0 +1,77 @@
+#include "tls/memory_session.hpp"
+
+#include <openssl/err.h>
+
+#include <stdexcept>
+
+namespace unima::tls {
+
+MemorySession::MemorySession(SSL_CTX* context) : ssl_(SSL_new(context)) {
+  if (ssl_ == nullptr) throw std::runtime_error("OpenSSL cannot make a session");
+  in_ = BIO_new(BIO_s_mem());
+  out_ = BIO_new(BIO_s_mem());
+  // An empty input is "more to come", not the end of the stream.
+  BIO_set_mem_eof_return(in_, -1);
+  BIO_set_mem_eof_return(out_, -1);
+  SSL_set_bio(ssl_, in_, out_);
+  SSL_set_accept_state(ssl_);
+}
+
+MemorySession::~MemorySession() { SSL_free(ssl_); }
+
+void MemorySession::feed(std::span<const std::uint8_t> ciphertext) {
+  if (!ciphertext.empty()) BIO_write(in_, ciphertext.data(), static_cast<int>(ciphertext.size()));
+}
+
+MemorySession::Status MemorySession::status_of(int result) {
+  switch (SSL_get_error(ssl_, result)) {
+    case SSL_ERROR_WANT_READ:
+    case SSL_ERROR_WANT_WRITE:  // a memory BIO takes everything: only while a handshake waits
+      return Status::want_input;
+    case SSL_ERROR_ZERO_RETURN:
+      return Status::closed;
+    default: {
+      const unsigned long code = ERR_get_error();
+      error_ = code != 0 && ERR_reason_error_string(code) ? ERR_reason_error_string(code) : "TLS protocol error";
+      ERR_clear_error();
+      return Status::failed;
+    }
+  }
+}
+
+MemorySession::Status MemorySession::handshake() {
+  const int result = SSL_do_handshake(ssl_);
+  return result == 1 ? Status::done : status_of(result);
+}
+
+MemorySession::Status MemorySession::read(std::span<std::uint8_t> out, std::size_t& n) {
+  n = 0;
+  if (out.empty()) return Status::done;
+  const int result = SSL_read(ssl_, out.data(), static_cast<int>(out.size()));
+  if (result > 0) {
+    n = static_cast<std::size_t>(result);
+    return Status::done;
+  }
+  return status_of(result);
+}
+
+bool MemorySession::write(std::span<const std::uint8_t> plaintext) {
+  if (plaintext.empty()) return true;
+  const int result = SSL_write(ssl_, plaintext.data(), static_cast<int>(plaintext.size()));
+  if (result == static_cast<int>(plaintext.size())) return true;
+  status_of(result);
+  return false;
+}
+
+void MemorySession::take_output(std::vector<std::uint8_t>& out) {
+  const auto pending = BIO_ctrl_pending(out_);
+  if (pending == 0) return;
+  const auto at = out.size();
+  out.resize(at + pending);
+  const int taken = BIO_read(out_, out.data() + at, static_cast<int>(pending));
+  out.resize(at + static_cast<std::size_t>(taken > 0 ? taken : 0));
+}
+
+bool MemorySession::has_output() const { return BIO_ctrl_pending(out_) > 0; }
+
+}  // namespace unima::tls
