@@ -3,7 +3,9 @@
 # serving both, measured by one client (unima-bench-tls-load) in paired rounds whose order
 # alternates: FC4 × 64 at 8 and 64 connections, TLS as a ratio of plain (medians); full
 # ECDSA P-256 handshakes per second; and plain TCP of a daemon with TLS configured but
-# idle against one without TLS (unima-bench-load, 64 connections).
+# idle against one without TLS (unima-bench-load, 64 connections). Beside requests/s, the
+# daemon's own CPU time in each round (utime + stime from /proc): requests per CPU-second
+# of the daemon, which the client sharing the machine's cores does not change.
 # Usage: bench/tls.sh [BUILD_DIR] [ROUNDS] [SECONDS]   (default build-release 5 3)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -36,6 +38,7 @@ start_daemon() {  # name, plain port, tls port (0: none)
 
 plain=$(free_port); tls=$(free_port); bare=$(free_port)
 start_daemon both "$plain" "$tls"
+both_pid=${pids[0]}
 start_daemon bare "$bare" 0
 
 plain_rps() { "$tls_load" --port "$plain" --connections "$1" --duration "$seconds" | field rps; }
@@ -45,20 +48,34 @@ tls_rps() {
 }
 load_rps() { "$load" --port "$1" --connections 64 --function 4 --address 4352 --quantity 64 --duration "$seconds" --warmup 0.5 --json | field rps; }
 
-declare -A ratios plains tlss
+cpu_seconds() { awk -v hz="$(getconf CLK_TCK)" '{ print ($14 + $15) / hz }' "/proc/$both_pid/stat"; }
+# Runs one measurement ($@ prints requests/s) and prints "requests/s requests-per-daemon-CPU-second".
+with_daemon_cpu() {
+  local before rps after
+  before=$(cpu_seconds); rps=$("$@"); after=$(cpu_seconds)
+  echo "$rps $(python3 -c "print(round($rps * $seconds / max($after - $before, 0.01)))")"
+}
+
+declare -A ratios plains tlss cpu_ratios cpu_plains cpu_tlss
 for connections in 8 64; do
-  r=(); p=(); t=()
+  r=(); p=(); t=(); cr=(); cp=(); ct=()
   for round in $(seq "$rounds"); do
-    if [ $((round % 2)) = 1 ]; then a=$(plain_rps "$connections"); b=$(tls_rps "$connections")
-    else b=$(tls_rps "$connections"); a=$(plain_rps "$connections"); fi
+    if [ $((round % 2)) = 1 ]; then read -r a ca < <(with_daemon_cpu plain_rps "$connections"); read -r b cb < <(with_daemon_cpu tls_rps "$connections")
+    else read -r b cb < <(with_daemon_cpu tls_rps "$connections"); read -r a ca < <(with_daemon_cpu plain_rps "$connections"); fi
     p+=("$a"); t+=("$b"); r+=("$(python3 -c "print($b / $a)")")
+    cp+=("$ca"); ct+=("$cb"); cr+=("$(python3 -c "print($cb / $ca)")")
   done
   ratios[$connections]=$(median "${r[@]}"); plains[$connections]=$(median "${p[@]}"); tlss[$connections]=$(median "${t[@]}")
+  cpu_ratios[$connections]=$(median "${cr[@]}"); cpu_plains[$connections]=$(median "${cp[@]}"); cpu_tlss[$connections]=$(median "${ct[@]}")
 done
-h=()
+handshakes_per_s() {
+  "$tls_load" --port "$tls" --tls "$certs/ca.pem" "$certs/operator.pem" "$certs/operator.key" \
+    --mode handshakes --connections 8 --duration "$seconds" | field handshakes_per_s
+}
+h=(); ch=()
 for _ in $(seq "$rounds"); do
-  h+=("$("$tls_load" --port "$tls" --tls "$certs/ca.pem" "$certs/operator.pem" "$certs/operator.key" \
-          --mode handshakes --connections 8 --duration "$seconds" | field handshakes_per_s)")
+  read -r a ca < <(with_daemon_cpu handshakes_per_s)
+  h+=("$a"); ch+=("$ca")
 done
 idle=()
 for round in $(seq "$rounds"); do
@@ -72,5 +89,9 @@ echo "|---|---|---|---|"
 for connections in 8 64; do
   echo "| FC4 × 64, $connections connections, requests/s | ${plains[$connections]} | ${tlss[$connections]} | ${ratios[$connections]} |"
 done
+for connections in 8 64; do
+  echo "| FC4 × 64, $connections connections, requests per CPU-second of the daemon | ${cpu_plains[$connections]} | ${cpu_tlss[$connections]} | ${cpu_ratios[$connections]} |"
+done
 echo "| full handshakes/s (ECDSA P-256, TLS 1.3, 8 at once) | | $(median "${h[@]}") | |"
+echo "| full handshakes per CPU-second of the daemon | | $(median "${ch[@]}") | |"
 echo "| plain FC4 × 64 at 64 connections, TLS configured and idle vs no TLS (unima-bench-load) | | | $(median "${idle[@]}") |"
