@@ -75,7 +75,7 @@ Bridge::Bridge(asio::io_context& io, config::Config config)
   http_users_ = read_http_users(core_->config, nullptr);
   http_ = make_http_server(core_->config);
   mqtt_ = make_mqtt(core_->config);
-  lay_out_mqtt();
+  lay_out();
   publisher_.set_transport(transport_.get());
   publisher_.watch(*core_->store);
 }
@@ -294,6 +294,11 @@ void Bridge::start() {
     mqtt_tick();
   }
   heartbeat();
+}
+
+void Bridge::lay_out() {
+  register_rows_ = config::register_map(core_->config);
+  lay_out_mqtt();
 }
 
 void Bridge::heartbeat() {
@@ -542,7 +547,7 @@ void Bridge::commit(ReloadPlan plan) {
       mqtt_tick();
     }
   }
-  lay_out_mqtt();
+  lay_out();
   // The serial line is reopened only when its settings changed; opening never throws (a
   // line that cannot be opened is retried), so this comes after the commit.
   if (!plan.same_rtu) {

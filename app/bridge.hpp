@@ -59,6 +59,8 @@ class Bridge {
   /// The front panel and counters as one JSON document (`unima-bridge status`);
   /// app/bridge_status.cpp.
   std::string status_document() const;
+  /// The same document as JSON, for what is built from it (/metrics, the front panel).
+  nlohmann::json status_json() const;
   /// What the HTTP server answers for `target` (app/bridge_http.cpp).
   io::HttpResponse http_response(std::string_view target);
   /// The bound HTTP port, 0 when there is none.
@@ -87,6 +89,8 @@ class Bridge {
   void publish_mqtt();
   void take_command(std::string_view topic, std::string_view payload);
   void mqtt_tick();
+  /// The running config's register map and what is published of it (after each load).
+  void lay_out();
   void lay_out_mqtt();
   /// Who may ask (app/bridge_http.cpp): nullopt lets the request through.
   std::optional<io::HttpResponse> http_gate(std::string_view authorization, const std::string& peer);
@@ -126,7 +130,7 @@ class Bridge {
   LiveView live_;  // the front pages listening to /api/events
   std::optional<web::BasicAuth> http_users_;  // http.users; nullopt: the HTTP server asks no one
   std::unique_ptr<io::MqttClient> mqtt_;         // SPEC §12
-  std::vector<config::MapRow> mqtt_rows_;        // the running config's register map
+  std::vector<config::MapRow> register_rows_;    // the running config's register map: the page, /api/registers, MQTT
   std::vector<mqtt::BankLayout> mqtt_layouts_;   // its published banks
   std::optional<mqtt::PublishSchedule> mqtt_schedule_;
   asio::steady_timer mqtt_timer_;

@@ -81,8 +81,8 @@ std::optional<io::HttpResponse> Bridge::http_gate(std::string_view authorization
 
 LiveSnapshot Bridge::live_snapshot() const {
   LiveSnapshot snapshot;
-  snapshot.panel = panel_of(nlohmann::json::parse(status_document()));
-  for (const auto& row : config::register_map(core_->config)) {
+  snapshot.panel = panel_of(status_json());
+  for (const auto& row : register_rows_) {
     std::uint16_t value = 0;
     snapshot.addresses.push_back(row.address);
     snapshot.values.push_back(core_->space->read(row.address, std::span(&value, 1)) ? std::optional(value) : std::nullopt);
@@ -118,11 +118,11 @@ io::HttpResponse Bridge::http_response(std::string_view target) {
     return {200, text_type, "ok\n", {}, {}};
   }
   if (path == "/metrics")
-    return {200, metrics::prometheus_content_type, metrics::prometheus_text(nlohmann::json::parse(status_document())), {}, {}};
+    return {200, metrics::prometheus_content_type, metrics::prometheus_text(status_json()), {}, {}};
   if (path == "/api/status") return {200, json_type, status_document() + "\n", {}, {}};
   if (path == "/api/registers") {
     auto registers = nlohmann::json::array();
-    for (const auto& row : config::register_map(core_->config)) {
+    for (const auto& row : register_rows_) {
       auto j = config::map_row_json(row);
       std::uint16_t value = 0;
       j["value"] = core_->space->read(row.address, std::span(&value, 1)) ? nlohmann::json(value) : nlohmann::json(nullptr);

@@ -93,8 +93,7 @@ void Bridge::lay_out_mqtt() {
     mqtt_schedule_.reset();
     return;
   }
-  mqtt_rows_ = config::register_map(core_->config);
-  mqtt_layouts_ = mqtt::bank_layouts(mqtt_rows_, core_->config.mapping);
+  mqtt_layouts_ = mqtt::bank_layouts(register_rows_, core_->config.mapping);
   mqtt_schedule_.emplace(mqtt_layouts_.size(), core_->config.mqtt->period, core_->config.mqtt->on_change);
 }
 
@@ -110,10 +109,10 @@ void Bridge::mqtt_tick() {
 void Bridge::publish_mqtt() {
   // A broker that does not keep up gets the latest state once it does, not a queue of states.
   if (!mqtt_ || !mqtt_->connected() || mqtt_->backlogged() || !mqtt_schedule_) return;
-  std::vector<std::optional<std::uint16_t>> values(mqtt_rows_.size());
-  for (std::size_t i = 0; i < mqtt_rows_.size(); ++i) {
+  std::vector<std::optional<std::uint16_t>> values(register_rows_.size());
+  for (std::size_t i = 0; i < register_rows_.size(); ++i) {
     std::uint16_t value = 0;
-    if (core_->space->read(mqtt_rows_[i].address, std::span(&value, 1))) values[i] = value;
+    if (core_->space->read(register_rows_[i].address, std::span(&value, 1))) values[i] = value;
   }
   // Each bank's state as one string of its raw values and on-line flag: compared whole.
   std::vector<std::string> states;

@@ -53,6 +53,10 @@ nlohmann::json port_counters(const char* name, const modbus::TransactionCounters
 }  // namespace
 
 std::string Bridge::status_document() const {
+  return status_json().dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
+nlohmann::json Bridge::status_json() const {
   const auto now = SteadyClock::now();
   const auto& config = core_->config;
   const auto& store = *core_->store;
@@ -191,7 +195,7 @@ std::string Bridge::status_document() const {
     mqtt["last_error"] = mqtt_->last_error().empty() ? nlohmann::json(nullptr) : nlohmann::json(mqtt_->last_error());
     doc["mqtt"] = mqtt;
   }
-  return doc.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+  return doc;
 }
 
 }  // namespace unima::app

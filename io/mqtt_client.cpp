@@ -150,7 +150,7 @@ void MqttClient::watch() {
       if (!*alive) return;
       reading_ = false;
       if (ec || !socket_) return;
-      after_io(mosquitto_loop_read(mosq_, 1), "read");
+      after_io(mosquitto_loop_read(mosq_, 1));
     });
   }
   if (!writing_ && mosquitto_want_write(mosq_)) {
@@ -159,12 +159,12 @@ void MqttClient::watch() {
       if (!*alive) return;
       writing_ = false;
       if (ec || !socket_) return;
-      after_io(mosquitto_loop_write(mosq_, 1), "write");
+      after_io(mosquitto_loop_write(mosq_, 1));
     });
   }
 }
 
-void MqttClient::after_io(int rc, const char*) {
+void MqttClient::after_io(int rc) {
   if (rc == MOSQ_ERR_SUCCESS && mosquitto_socket(mosq_) >= 0) return watch();
   lost(rc == MOSQ_ERR_SUCCESS ? std::string("the connection closed") : reason(rc));
 }

@@ -78,7 +78,7 @@ class MqttClient {
   void resolve();
   void connect(const std::string& address);
   void watch();
-  void after_io(int rc, const char* what);
+  void after_io(int rc);
   void lost(const std::string& why);
   void retry_later();
   void release_socket();

@@ -61,12 +61,25 @@ class Broker {
 
 /// mosquitto_sub in the background, its "topic payload" lines in a file the test reads
 /// as they come.
+/// mosquitto_pub: one message, QoS 1.
+void publish(const Broker& broker, const std::string& topic, const std::string& payload) {
+  run("mosquitto_pub -p " + std::to_string(broker.port()) + " -q 1 -t '" + topic + "' -m '" + payload + "'");
+}
+
+/// mosquitto_sub on `topic` into `file`, subscribed when the constructor returns: it also
+/// listens on a probe topic of its own, published to until the probe comes back.
 class Subscription {
  public:
   Subscription(const Broker& broker, const std::filesystem::path& file, const std::string& topic) : file_(file) {
-    const auto started = run("mosquitto_sub -p " + std::to_string(broker.port()) + " -t '" + topic + "' -v > " + file.string() +
-                             " 2>&1 & echo $!");
+    const auto probe = "probe/" + file.filename().string();
+    const auto started = run("mosquitto_sub -p " + std::to_string(broker.port()) + " -t '" + topic + "' -t '" + probe + "' -v > " +
+                             file.string() + " 2>&1 & echo $!");
     pid_ = std::stoi(started.output);
+    const bool subscribed = eventually([&] {
+      publish(broker, probe, "ready");
+      return lines().find(probe + " ready") != std::string::npos;
+    });
+    EXPECT_TRUE(subscribed) << "mosquitto_sub did not subscribe to " << topic << ": " << lines();
   }
   ~Subscription() { ::kill(pid_, SIGTERM); }
   std::string lines() const { return read_file(file_); }
@@ -105,7 +118,6 @@ class Mqtt : public BridgeTest {
                                                        const std::function<bool(const nlohmann::ordered_json&)>& holds) {
     const auto topic = "fleet/site-17/" + bank;
     Subscription subscription(*broker, dir.path() / ("sub-" + std::to_string(++subscriptions_)), topic);
-    std::this_thread::sleep_for(300ms);  // mosquitto_sub is subscribed (the retained one comes first)
     action();
     std::optional<nlohmann::ordered_json> found;
     eventually([&] {
@@ -329,11 +341,6 @@ TEST_F(Mqtt, AfterABrokerStallOnlyThePresentIsPublishedNotABacklog) {
   for (const auto& document : documents) EXPECT_EQ(nlohmann::json::parse(document)["engine_speed"], 30) << document;
 }
 
-/// mosquitto_pub: one message, QoS 1.
-void publish(const Broker& broker, const std::string& topic, const std::string& payload) {
-  run("mosquitto_pub -p " + std::to_string(broker.port()) + " -q 1 -t '" + topic + "' -m '" + payload + "'");
-}
-
 // commands: true — a write to W or X by MQTT is a Modbus write: in the bank, kept in the
 // state file before the result says ok, sent to UnimaBUS; a bad one changes nothing and
 // says why.
@@ -344,7 +351,6 @@ TEST_F(Mqtt, CommandsWriteWAndXLikeModbusAndAnswerOnTheResultTopic) {
   ASSERT_TRUE(eventually([&] { return broker->subscribe("fleet/site-17/status", 1, 1) == "fleet/site-17/status online\n"; }));
   auto feed = feed_client();
   Subscription results(*broker, dir.path() / "results", "fleet/site-17/set/result");
-  std::this_thread::sleep_for(300ms);
   publish(*broker, "fleet/site-17/set/W/3", "1234");
   EXPECT_TRUE(feed.wait_for_line(R"({"bank":"W","offset":3,"value":1234})"));
   publish(*broker, "fleet/site-17/set/X/2", "1");
@@ -378,7 +384,7 @@ TEST_F(Mqtt, WithoutCommandsASetTopicChangesNothing) {
   std::this_thread::sleep_for(500ms);
   ModbusClient client(config.modbus_port);
   EXPECT_EQ(client.read_holding(0x0103, 1), std::vector<std::uint16_t>{0x7FFF});
-  EXPECT_EQ(results.lines(), "");
+  EXPECT_EQ(payloads(results.lines(), "fleet/site-17/set/result"), std::vector<std::string>{}) << results.lines();
 }
 
 }  // namespace
