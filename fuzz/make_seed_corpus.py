@@ -264,6 +264,32 @@ def state_journal() -> None:
     write("state_journal", "crlf", header.replace(b"\n", b"\r\n") + records)
 
 
+def tls_records() -> None:
+    # The script of fuzz/tls_records_fuzzer.cpp: [op, n, content] for ops 0-4, [op, n] for 5-7.
+    def seal(op: int, content: bytes = b"") -> bytes:
+        return bytes([op, len(content)]) + content
+
+    def act(op: int, n: int = 0) -> bytes:
+        return bytes([op, n])
+
+    request = SEED_TCP["seed004-tcp-read-query"]
+    key_update = bytes([24, 0, 0, 1])
+    write("tls_records", "one-request", seal(0, request))
+    write("tls_records", "requests-in-pieces",
+          seal(0, request) + act(6) + seal(0, request[:5]) + act(6) + seal(0, request[5:]) + act(7, 11))
+    write("tls_records", "key-update-requested", seal(0, request) + seal(1, key_update + b"\x01") + seal(0, request) + act(7, 11))
+    write("tls_records", "key-update-not-requested", seal(1, key_update + b"\x00") + seal(0, request))
+    write("tls_records", "key-update-split", seal(1, key_update[:2]) + seal(1, key_update[2:] + b"\x00") + seal(0, request))
+    write("tls_records", "padded", seal(4 + 8 * 20, request) + seal(0, request))
+    write("tls_records", "empty-records", act(5, 23) + seal(0, request) + act(5, 0))
+    write("tls_records", "close-notify", seal(0, request) + seal(2, bytes([1, 0])) + seal(0, request))
+    write("tls_records", "user-canceled", seal(2, bytes([1, 90])) + seal(0, request) + seal(2, bytes([1, 0])))
+    write("tls_records", "fatal-alert", seal(0, request) + seal(2, bytes([2, 40])))
+    write("tls_records", "new-session-ticket", seal(1, bytes([4, 0, 0, 1, 0])))
+    write("tls_records", "change-cipher-spec", seal(3, bytes([20, 3, 3, 0, 1, 1])))
+    write("tls_records", "answers-across-key-limit", act(7, 32) * 12 + seal(0, request))
+
+
 def table_ids(folder: str) -> list[str]:
     ids = []
     for path in sorted((ROOT / folder).glob("*.yaml")):
@@ -299,5 +325,5 @@ def dictionaries() -> None:
 
 
 for make in (mbap_request, rtu_framer, feed_line, command_filter, source_ref, config_loader, master_codec,
-             replay_reader, state_journal, dictionaries):
+             replay_reader, state_journal, tls_records, dictionaries):
     make()

@@ -166,7 +166,8 @@ class TcpSlaveServer::Connection : public std::enable_shared_from_this<Connectio
     if (status == tls::MemorySession::Status::want_input) return flush_records_then_read();
     const auto identity = tls::client_identity(tls_->native_handle());
     role_ = identity.role;
-    spdlog::debug("modbus tls: {} connected as {} (role {})", peer_, identity.subject, role_ ? *role_ : "none");
+    spdlog::debug("modbus tls: {} connected as {} (role {}), {} on {}", peer_, identity.subject, role_ ? *role_ : "none",
+                  SSL_get_version(tls_->native_handle()), tls_->records_own() ? "the port's record layer" : "OpenSSL's records");
     // The monitor's port field names the client: its role, or its certificate's subject.
     peer_ = (role_ ? *role_ : identity.subject) + "@" + peer_;
     handshaken_ = true;

@@ -48,7 +48,8 @@ ContextPtr load_server_credentials(const TlsFiles& files, std::string_view secti
   if (!context) throw std::runtime_error(fmt::format("{}: OpenSSL cannot make a context: {}", section, openssl_reason()));
   // MB/TCP Security requires TLS 1.2 or later.
   SSL_CTX_set_min_proto_version(context.get(), TLS1_2_VERSION);
-  SSL_CTX_set_options(context.get(), SSL_OP_NO_COMPRESSION | SSL_OP_CIPHER_SERVER_PREFERENCE);
+  // No renegotiation: a TLS 1.2 client cannot start a second handshake in the middle of its requests.
+  SSL_CTX_set_options(context.get(), SSL_OP_NO_COMPRESSION | SSL_OP_CIPHER_SERVER_PREFERENCE | SSL_OP_NO_RENEGOTIATION);
   // Modbus masters keep their connection for hours: resumption would save little, while
   // the TLS 1.3 tickets it needs cost every full handshake two encryptions and a write.
   SSL_CTX_set_num_tickets(context.get(), 0);

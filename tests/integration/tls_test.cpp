@@ -9,6 +9,7 @@
 #include <csignal>
 #include <filesystem>
 #include <sstream>
+#include <span>
 
 #include "tests/integration/certificate_fixture.hpp"
 
@@ -33,8 +34,10 @@ class Tls : public CertificateTest {
 
   /// The client's output lines: "server: CN", one per request (the response PDU in hex),
   /// "version: …" — or up to an "error: …" line.
-  std::vector<std::string> client(const std::string& identity, const std::vector<std::string>& requests) const {
-    std::string command = tls_dir + "/modbus_tls_client.py " + std::to_string(tls_port) + " " + (certs / "ca.pem").string();
+  std::vector<std::string> client(const std::string& identity, const std::vector<std::string>& requests,
+                                  const std::string& options = "") const {
+    std::string command = tls_dir + "/modbus_tls_client.py " + options + " " + std::to_string(tls_port) + " " +
+                          (certs / "ca.pem").string();
     if (!identity.empty()) command += " " + (certs / (identity + ".pem")).string() + " " + (certs / (identity + ".key")).string();
     command += " --";
     for (const auto& r : requests) command += " " + r;
@@ -129,50 +132,128 @@ TEST_F(Tls, ACertificateRenewedOnDiskServesAfterSighupAndABadOneKeepsTheOld) {
   EXPECT_EQ(lines[1].substr(0, 4), "0402");
 }
 
+// A TLS client on OpenSSL over memory and a socket: the test decides what goes out in
+// which segment, and when the client renews its keys.
+class MemoryClient {
+ public:
+  MemoryClient(std::uint16_t port, const std::string& certificate, const std::string& key)
+      : context_(SSL_CTX_new(TLS_client_method())), socket_(Socket::tcp(port)) {
+    loaded_ = SSL_CTX_use_certificate_file(context_, certificate.c_str(), SSL_FILETYPE_PEM) == 1 &&
+              SSL_CTX_use_PrivateKey_file(context_, key.c_str(), SSL_FILETYPE_PEM) == 1;
+    ssl_ = SSL_new(context_);
+    in_ = BIO_new(BIO_s_mem());
+    out_ = BIO_new(BIO_s_mem());
+    BIO_set_mem_eof_return(in_, -1);
+    SSL_set_bio(ssl_, in_, out_);
+    SSL_set_connect_state(ssl_);
+  }
+  ~MemoryClient() {
+    SSL_free(ssl_);
+    SSL_CTX_free(context_);
+  }
+  MemoryClient(const MemoryClient&) = delete;
+  MemoryClient& operator=(const MemoryClient&) = delete;
+
+  /// The handshake up to the client's Finished, which waits in the output. False if it fails.
+  bool handshake() {
+    if (!loaded_) return false;
+    while (SSL_do_handshake(ssl_) != 1) {
+      flush();
+      if (!receive()) return false;
+    }
+    return true;
+  }
+  /// Puts `request` in the output: it goes with whatever is there in the next flush.
+  void write(std::span<const std::uint8_t> request) {
+    EXPECT_EQ(SSL_write(ssl_, request.data(), static_cast<int>(request.size())), static_cast<int>(request.size()));
+  }
+  /// Sends the output in one segment.
+  void flush() {
+    std::string bytes(static_cast<std::size_t>(BIO_ctrl_pending(out_)), '\0');
+    BIO_read(out_, bytes.data(), static_cast<int>(bytes.size()));
+    if (!bytes.empty()) socket_.send(bytes);
+  }
+  /// The plaintext of the answer, waiting up to 2 s for each piece; empty if none came.
+  std::vector<std::uint8_t> answer() {
+    std::vector<std::uint8_t> answer(260);
+    int got = -1;
+    for (int tries = 0; tries < 5 && got <= 0; ++tries) {
+      got = SSL_read(ssl_, answer.data(), static_cast<int>(answer.size()));
+      if (got <= 0 && !receive()) break;
+    }
+    answer.resize(static_cast<std::size_t>(std::max(got, 0)));
+    return answer;
+  }
+  SSL* ssl() const { return ssl_; }
+
+ private:
+  bool receive() {
+    std::uint8_t buffer[16384];
+    const auto n = read_before(socket_.fd(), std::chrono::steady_clock::now() + 2s, buffer);
+    if (n > 0) BIO_write(in_, buffer, static_cast<int>(n));
+    return n > 0;
+  }
+
+  SSL_CTX* context_;
+  Socket socket_;
+  bool loaded_ = false;
+  SSL* ssl_ = nullptr;
+  BIO* in_ = nullptr;
+  BIO* out_ = nullptr;
+};
+
 // A client whose first request travels in the same segment as its handshake's Finished
 // (what an asynchronous client does at once) is answered: the request is in the session
 // when the handshake completes, and no more bytes will come from the socket until it is.
-// The client here is OpenSSL over memory, so the segment is exactly that.
 TEST_F(Tls, ARequestThatComesWithTheClientsFinishedIsAnswered) {
   start_tls();
-  SSL_CTX* context = SSL_CTX_new(TLS_client_method());
-  ASSERT_EQ(SSL_CTX_use_certificate_file(context, pem("operator.pem").c_str(), SSL_FILETYPE_PEM), 1);
-  ASSERT_EQ(SSL_CTX_use_PrivateKey_file(context, pem("operator.key").c_str(), SSL_FILETYPE_PEM), 1);
-  SSL* ssl = SSL_new(context);
-  BIO* in = BIO_new(BIO_s_mem());
-  BIO* out = BIO_new(BIO_s_mem());
-  BIO_set_mem_eof_return(in, -1);
-  SSL_set_bio(ssl, in, out);
-  SSL_set_connect_state(ssl);
-  auto socket = Socket::tcp(tls_port);
-  const auto flush = [&] {
-    std::string bytes(static_cast<std::size_t>(BIO_ctrl_pending(out)), '\0');
-    BIO_read(out, bytes.data(), static_cast<int>(bytes.size()));
-    socket.send(bytes);
-  };
-  const auto receive = [&] {
-    std::uint8_t buffer[16384];
-    const auto n = read_before(socket.fd(), std::chrono::steady_clock::now() + 2s, buffer);
-    if (n > 0) BIO_write(in, buffer, static_cast<int>(n));
-    return n > 0;
-  };
-  ASSERT_NE(SSL_do_handshake(ssl), 1);  // ClientHello
-  flush();
-  while (SSL_do_handshake(ssl) != 1) ASSERT_TRUE(receive()) << daemon->log();
+  MemoryClient client(tls_port, pem("operator.pem"), pem("operator.key"));
+  ASSERT_TRUE(client.handshake()) << daemon->log();
   const std::uint8_t request[] = {0x00, 0x07, 0x00, 0x00, 0x00, 0x06, 0x01, 0x04, 0x00, 0x11, 0x00, 0x01};
-  ASSERT_EQ(SSL_write(ssl, request, sizeof request), static_cast<int>(sizeof request));
-  flush();  // the Finished and the request, one send
-  std::uint8_t answer[64];
-  int got = -1;
-  for (int tries = 0; tries < 5 && got <= 0; ++tries) {
-    got = SSL_read(ssl, answer, sizeof answer);
-    if (got <= 0 && !receive()) break;
-  }
-  ASSERT_EQ(got, 11) << daemon->log();
+  client.write(request);
+  client.flush();  // the Finished and the request, one send
+  const auto answer = client.answer();
+  ASSERT_EQ(answer.size(), 11u) << daemon->log();
   EXPECT_EQ(answer[1], 0x07);
   EXPECT_EQ(answer[7], 0x04);
-  SSL_free(ssl);
-  SSL_CTX_free(context);
+}
+
+// After a TLS 1.3 handshake the port protects the records itself (tls/record_layer), after
+// TLS 1.2 OpenSSL does: clients of both versions read and write alike.
+TEST_F(Tls, ClientsOfTls12AndTls13AreServedAlike) {
+  config.log_level = "debug";
+  start_tls();
+  for (const std::string options : {"--tls1.2", ""}) {
+    const auto lines = client("operator", {"0601000005", "0401000001", "0400110001"}, options);
+    ASSERT_EQ(lines.size(), 5u) << options << ::testing::PrintToString(lines);
+    EXPECT_EQ(lines[1], "0601000005");
+    EXPECT_EQ(lines[2], "04020005");
+    EXPECT_EQ(lines[3].substr(0, 4), "0402");
+    EXPECT_EQ(lines[4], options.empty() ? "version: TLSv1.3" : "version: TLSv1.2");
+  }
+  EXPECT_TRUE(daemon->wait_for_log("TLSv1.2 on OpenSSL's records")) << daemon->log();
+  EXPECT_TRUE(daemon->wait_for_log("TLSv1.3 on the port's record layer")) << daemon->log();
+}
+
+// RFC 8446 §4.6.3 against the real daemon: a client renews its key and asks the server to
+// renew its own; requests before and after are answered.
+TEST_F(Tls, AClientThatUpdatesItsKeysMidConnectionIsAnsweredOnBothSides) {
+  start_tls();
+  MemoryClient client(tls_port, pem("operator.pem"), pem("operator.key"));
+  ASSERT_TRUE(client.handshake()) << daemon->log();
+  const auto write_w = [&](std::uint8_t transaction, std::uint8_t value) {
+    const std::vector<std::uint8_t> request{0x00, transaction, 0x00, 0x00, 0x00, 0x06, 0x01, 0x06, 0x01, 0x00, 0x00, value};
+    client.write(request);
+    client.flush();
+    return client.answer() == request;  // fn 6 echoes the request
+  };
+  EXPECT_TRUE(write_w(1, 0x11)) << daemon->log();
+  ASSERT_EQ(SSL_key_update(client.ssl(), SSL_KEY_UPDATE_REQUESTED), 1);
+  EXPECT_TRUE(write_w(2, 0x22)) << daemon->log();  // the answer comes under the server's next key
+  ASSERT_EQ(SSL_key_update(client.ssl(), SSL_KEY_UPDATE_NOT_REQUESTED), 1);
+  EXPECT_TRUE(write_w(3, 0x33)) << daemon->log();
+  ModbusClient plain(config.modbus_port);
+  EXPECT_EQ(plain.read_input(0x0100, 1), std::vector<std::uint16_t>{0x33});
 }
 
 // SPEC §10 and §11: a client that connects and never completes the handshake holds no

@@ -1,7 +1,9 @@
 // tls::MemorySession: the TLS port's session over memory (SPEC §11) against OpenSSL's own
 // client over memory — a handshake, records split anywhere, a request that comes with the
-// client's Finished, close_notify, and bytes that are not TLS. A self-signed ECDSA P-256
-// certificate made here.
+// client's Finished, KeyUpdates both ways, padded records, answers longer than a record,
+// close_notify, forged records and bytes that are not TLS. Each with the records after the
+// handshake in tls/record_layer (the port's context: no tickets) and in OpenSSL (a context
+// that sends tickets, and TLS 1.2). A self-signed ECDSA P-256 certificate made here.
 
 #include <gtest/gtest.h>
 
@@ -18,7 +20,10 @@ namespace {
 
 using Status = MemorySession::Status;
 
-class MemorySessionTest : public ::testing::Test {
+enum class Records { own, openssls };
+void PrintTo(Records records, std::ostream* out) { *out << (records == Records::own ? "own" : "OpenSSL's"); }
+
+class MemorySessionTest : public ::testing::TestWithParam<Records> {
  protected:
   void SetUp() override {
     key_ = EVP_EC_gen("P-256");
@@ -34,6 +39,9 @@ class MemorySessionTest : public ::testing::Test {
     server_context_ = SSL_CTX_new(TLS_server_method());
     SSL_CTX_use_certificate(server_context_, cert_);
     SSL_CTX_use_PrivateKey(server_context_, key_);
+    // The port's contexts send no tickets (tls/server_credentials); OpenSSL keeps the
+    // records of a session that sent some.
+    SSL_CTX_set_num_tickets(server_context_, GetParam() == Records::own ? 0 : 2);
     client_context_ = SSL_CTX_new(TLS_client_method());
     client_ = SSL_new(client_context_);
     client_in_ = BIO_new(BIO_s_mem());
@@ -70,6 +78,28 @@ class MemorySessionTest : public ::testing::Test {
     to_client();
     ASSERT_EQ(SSL_do_handshake(client_), 1);
   }
+  void handshake() {
+    handshake_but_the_last_flight();
+    server_->feed(from_client());
+    ASSERT_EQ(server_->handshake(), Status::done);
+    EXPECT_EQ(server_->records_own(), GetParam() == Records::own);
+    to_client();
+  }
+  void send_from_client(const std::string& text) {
+    ASSERT_EQ(SSL_write(client_, text.data(), static_cast<int>(text.size())), static_cast<int>(text.size()));
+    server_->feed(from_client());
+  }
+  void answer(const std::string& text) {
+    ASSERT_TRUE(server_->write(std::span(reinterpret_cast<const std::uint8_t*>(text.data()), text.size())));
+    to_client();
+  }
+  std::string read_at_client() {
+    std::string text;
+    char buffer[4096];
+    int n = 0;
+    while ((n = SSL_read(client_, buffer, sizeof buffer)) > 0) text.append(buffer, static_cast<std::size_t>(n));
+    return text;
+  }
   std::string read_all() {
     std::string text;
     std::uint8_t buffer[64];
@@ -88,13 +118,14 @@ class MemorySessionTest : public ::testing::Test {
   std::unique_ptr<MemorySession> server_;
 };
 
-TEST_F(MemorySessionTest, ARequestThatComesWithTheFinishedIsReadOnceTheHandshakeIsDone) {
+TEST_P(MemorySessionTest, ARequestThatComesWithTheFinishedIsReadOnceTheHandshakeIsDone) {
   handshake_but_the_last_flight();
   ASSERT_EQ(SSL_write(client_, "request", 7), 7);
   server_->feed(from_client());  // Finished and the request in one piece
   EXPECT_FALSE(server_->handshaken());
   EXPECT_EQ(server_->handshake(), Status::done);
   EXPECT_TRUE(server_->handshaken());
+  EXPECT_EQ(server_->records_own(), GetParam() == Records::own);
   EXPECT_EQ(read_all(), "request");
 
   ASSERT_TRUE(server_->write(std::span(reinterpret_cast<const std::uint8_t*>("answer"), 6)));
@@ -106,7 +137,7 @@ TEST_F(MemorySessionTest, ARequestThatComesWithTheFinishedIsReadOnceTheHandshake
   EXPECT_EQ(std::string(answer, 6), "answer");
 }
 
-TEST_F(MemorySessionTest, ARecordFedByteByByteIsReadWhenItIsWhole) {
+TEST_P(MemorySessionTest, ARecordFedByteByByteIsReadWhenItIsWhole) {
   handshake_but_the_last_flight();
   server_->feed(from_client());
   ASSERT_EQ(server_->handshake(), Status::done);
@@ -123,7 +154,7 @@ TEST_F(MemorySessionTest, ARecordFedByteByByteIsReadWhenItIsWhole) {
   EXPECT_EQ(std::string(reinterpret_cast<char*>(buffer), n), "0123456789");
 }
 
-TEST_F(MemorySessionTest, CloseNotifyIsClosedAndGarbageIsAFailureWithAReason) {
+TEST_P(MemorySessionTest, CloseNotifyIsClosedAndGarbageIsAFailureWithAReason) {
   handshake_but_the_last_flight();
   server_->feed(from_client());
   ASSERT_EQ(server_->handshake(), Status::done);
@@ -138,6 +169,111 @@ TEST_F(MemorySessionTest, CloseNotifyIsClosedAndGarbageIsAFailureWithAReason) {
   other.feed(std::span(reinterpret_cast<const std::uint8_t*>(not_tls.data()), not_tls.size()));
   EXPECT_EQ(other.handshake(), Status::failed);
   EXPECT_FALSE(other.error().empty());
+}
+
+// RFC 8446 §4.6.3: a client may renew its key, and ask the server to renew its own.
+TEST_P(MemorySessionTest, AClientsKeyUpdateIsFollowedAndAnsweredWhenItAsks) {
+  handshake();
+  ASSERT_EQ(SSL_key_update(client_, SSL_KEY_UPDATE_REQUESTED), 1);
+  send_from_client("after the update");
+  EXPECT_EQ(read_all(), "after the update");
+  answer("under the server's next key");
+  EXPECT_EQ(read_at_client(), "under the server's next key");
+  ASSERT_EQ(SSL_key_update(client_, SSL_KEY_UPDATE_NOT_REQUESTED), 1);
+  send_from_client("second");
+  EXPECT_EQ(read_all(), "second");
+  answer("and again");
+  EXPECT_EQ(read_at_client(), "and again");
+}
+
+TEST_P(MemorySessionTest, PaddedRecordsAreReadWithoutTheirPadding) {
+  handshake();
+  ASSERT_EQ(SSL_set_block_padding(client_, 512), 1);
+  send_from_client("request");
+  EXPECT_EQ(read_all(), "request");
+}
+
+TEST_P(MemorySessionTest, AnAnswerLongerThanARecordArrivesWhole) {
+  handshake();
+  std::string long_answer(40000, '\0');
+  for (std::size_t i = 0; i < long_answer.size(); ++i) long_answer[i] = static_cast<char>('a' + i % 26);
+  answer(long_answer);
+  EXPECT_EQ(read_at_client(), long_answer);
+}
+
+TEST_P(MemorySessionTest, AForgedRecordEndsTheSessionWithAReasonAndTheClientIsTold) {
+  handshake();
+  ASSERT_EQ(SSL_write(client_, "write W", 7), 7);
+  auto record = from_client();
+  record.back() ^= 0x01;  // a bit of the tag
+  server_->feed(record);
+  std::uint8_t buffer[16];
+  std::size_t n = 0;
+  EXPECT_EQ(server_->read(buffer, n), Status::failed);
+  EXPECT_EQ(n, 0U);
+  EXPECT_FALSE(server_->error().empty());
+  to_client();
+  char answer[16];
+  EXPECT_LE(SSL_read(client_, answer, sizeof answer), 0);
+  EXPECT_EQ(SSL_get_error(client_, -1), SSL_ERROR_SSL);  // the server's alert, not "want more"
+}
+
+INSTANTIATE_TEST_SUITE_P(Records, MemorySessionTest, ::testing::Values(Records::own, Records::openssls),
+                         [](const auto& info) { return info.param == Records::own ? "OwnRecordLayer" : "OpenSSLs"; });
+
+TEST(MemorySessionTls12, OpenSSLKeepsTheRecordsOfATls12Session) {
+  EVP_PKEY* key = EVP_EC_gen("P-256");
+  X509* cert = X509_new();
+  X509_gmtime_adj(X509_getm_notBefore(cert), 0);
+  X509_gmtime_adj(X509_getm_notAfter(cert), 3600);
+  X509_set_pubkey(cert, key);
+  X509_sign(cert, key, EVP_sha256());
+  SSL_CTX* server_context = SSL_CTX_new(TLS_server_method());
+  SSL_CTX_use_certificate(server_context, cert);
+  SSL_CTX_use_PrivateKey(server_context, key);
+  SSL_CTX_set_num_tickets(server_context, 0);
+  SSL_CTX* client_context = SSL_CTX_new(TLS_client_method());
+  SSL_CTX_set_max_proto_version(client_context, TLS1_2_VERSION);
+  SSL* client = SSL_new(client_context);
+  BIO* client_in = BIO_new(BIO_s_mem());
+  BIO* client_out = BIO_new(BIO_s_mem());
+  BIO_set_mem_eof_return(client_in, -1);
+  SSL_set_bio(client, client_in, client_out);
+  SSL_set_connect_state(client);
+  {
+    MemorySession server(server_context);
+    const auto pass = [&] {
+      std::vector<std::uint8_t> bytes(static_cast<std::size_t>(BIO_ctrl_pending(client_out)));
+      BIO_read(client_out, bytes.data(), static_cast<int>(bytes.size()));
+      server.feed(bytes);
+      const auto status = server.handshake();
+      bytes.clear();
+      server.take_output(bytes);
+      BIO_write(client_in, bytes.data(), static_cast<int>(bytes.size()));
+      return status;
+    };
+    for (int round = 0; round < 4 && !server.handshaken(); ++round) {
+      SSL_do_handshake(client);
+      pass();
+    }
+    ASSERT_TRUE(server.handshaken());
+    ASSERT_EQ(SSL_do_handshake(client), 1);
+    EXPECT_EQ(SSL_version(server.native_handle()), TLS1_2_VERSION);
+    EXPECT_FALSE(server.records_own());
+    ASSERT_EQ(SSL_write(client, "twelve", 6), 6);
+    std::vector<std::uint8_t> bytes(static_cast<std::size_t>(BIO_ctrl_pending(client_out)));
+    BIO_read(client_out, bytes.data(), static_cast<int>(bytes.size()));
+    server.feed(bytes);
+    std::uint8_t buffer[16];
+    std::size_t n = 0;
+    ASSERT_EQ(server.read(buffer, n), Status::done);
+    EXPECT_EQ(std::string(reinterpret_cast<char*>(buffer), n), "twelve");
+  }
+  SSL_free(client);
+  SSL_CTX_free(client_context);
+  SSL_CTX_free(server_context);
+  X509_free(cert);
+  EVP_PKEY_free(key);
 }
 
 }  // namespace

@@ -2,12 +2,13 @@
 """A Modbus/TCP Security client for the tests (SPEC §11), on Python's ssl module: TLS 1.2+
 with a client certificate, then Modbus requests over the TLS stream.
 
-  modbus_tls_client.py PORT CA [CERT KEY] -- REQUEST...
+  modbus_tls_client.py [--tls1.2] PORT CA [CERT KEY] -- REQUEST...
 
 Each REQUEST is a PDU in hex ("0600000007", "0400110001"); for each one line is printed:
 the response PDU in hex, or "error: <why>" (and the client stops) when the handshake or the
 connection fails; first "server: <CN>" of the certificate the server presented, last
-"version: TLSv1.x". Exit status 0 when every request was answered.
+"version: TLSv1.x". --tls1.2 caps the client at TLS 1.2. Exit status 0 when every request
+was answered.
 """
 
 import socket
@@ -18,11 +19,16 @@ import sys
 
 def main() -> int:
     args = sys.argv[1:]
+    tls12_only = args[0] == "--tls1.2"
+    if tls12_only:
+        args = args[1:]
     split = args.index("--")
     port, ca, *identity = args[:split]
     requests = args[split + 1:]
     context = ssl.SSLContext(ssl.PROTOCOL_TLS_CLIENT)
     context.minimum_version = ssl.TLSVersion.TLSv1_2
+    if tls12_only:
+        context.maximum_version = ssl.TLSVersion.TLSv1_2
     context.load_verify_locations(ca)
     if identity:
         context.load_cert_chain(identity[0], identity[1])
