@@ -41,40 +41,50 @@ start_daemon both "$plain" "$tls"
 both_pid=${pids[0]}
 start_daemon bare "$bare" 0
 
-plain_rps() { "$tls_load" --port "$plain" --connections "$1" --duration "$seconds" | field rps; }
-tls_rps() {
+plain_run() { "$tls_load" --port "$plain" --connections "$1" --duration "$seconds"; }
+tls_run() {
   "$tls_load" --port "$tls" --tls "$certs/ca.pem" "$certs/operator.pem" "$certs/operator.key" --connections "$1" \
-    --duration "$seconds" | field rps
+    --duration "$seconds"
 }
 load_rps() { "$load" --port "$1" --connections 64 --function 4 --address 4352 --quantity 64 --duration "$seconds" --warmup 0.5 --json | field rps; }
 
 cpu_seconds() { awk -v hz="$(getconf CLK_TCK)" '{ print ($14 + $15) / hz }' "/proc/$both_pid/stat"; }
-# Runs one measurement ($@ prints requests/s) and prints "requests/s requests-per-daemon-CPU-second".
+# Runs one measurement ($@ prints the client's JSON) and prints "requests/s
+# requests-per-daemon-CPU-second client-CPU-µs-per-request".
 with_daemon_cpu() {
-  local before rps after
-  before=$(cpu_seconds); rps=$("$@"); after=$(cpu_seconds)
-  echo "$rps $(python3 -c "print(round($rps * $seconds / max($after - $before, 0.01)))")"
+  local before json rps after
+  before=$(cpu_seconds); json=$("$@"); after=$(cpu_seconds)
+  rps=$(echo "$json" | field rps)
+  echo "$rps $(python3 -c "print(round($rps * $seconds / max($after - $before, 0.01)))") $(echo "$json" | field client_cpu_us)"
 }
 
-declare -A ratios plains tlss cpu_ratios cpu_plains cpu_tlss
+declare -A ratios plains tlss cpu_ratios cpu_plains cpu_tlss client_plains client_tlss
 for connections in 8 64; do
-  r=(); p=(); t=(); cr=(); cp=(); ct=()
+  r=(); p=(); t=(); cr=(); cp=(); ct=(); kp=(); kt=()
   for round in $(seq "$rounds"); do
-    if [ $((round % 2)) = 1 ]; then read -r a ca < <(with_daemon_cpu plain_rps "$connections"); read -r b cb < <(with_daemon_cpu tls_rps "$connections")
-    else read -r b cb < <(with_daemon_cpu tls_rps "$connections"); read -r a ca < <(with_daemon_cpu plain_rps "$connections"); fi
+    if [ $((round % 2)) = 1 ]; then read -r a ca ka < <(with_daemon_cpu plain_run "$connections"); read -r b cb kb < <(with_daemon_cpu tls_run "$connections")
+    else read -r b cb kb < <(with_daemon_cpu tls_run "$connections"); read -r a ca ka < <(with_daemon_cpu plain_run "$connections"); fi
     p+=("$a"); t+=("$b"); r+=("$(python3 -c "print($b / $a)")")
     cp+=("$ca"); ct+=("$cb"); cr+=("$(python3 -c "print($cb / $ca)")")
+    kp+=("$ka"); kt+=("$kb")
   done
   ratios[$connections]=$(median "${r[@]}"); plains[$connections]=$(median "${p[@]}"); tlss[$connections]=$(median "${t[@]}")
   cpu_ratios[$connections]=$(median "${cr[@]}"); cpu_plains[$connections]=$(median "${cp[@]}"); cpu_tlss[$connections]=$(median "${ct[@]}")
+  client_plains[$connections]=$(median "${kp[@]}"); client_tlss[$connections]=$(median "${kt[@]}")
 done
 handshakes_per_s() {
   "$tls_load" --port "$tls" --tls "$certs/ca.pem" "$certs/operator.pem" "$certs/operator.key" \
     --mode handshakes --connections 8 --duration "$seconds" | field handshakes_per_s
 }
+# Handshakes per second, and per CPU-second of the daemon.
+handshakes_with_daemon_cpu() {
+  local before n after
+  before=$(cpu_seconds); n=$(handshakes_per_s); after=$(cpu_seconds)
+  echo "$n $(python3 -c "print(round($n * $seconds / max($after - $before, 0.01)))")"
+}
 h=(); ch=()
 for _ in $(seq "$rounds"); do
-  read -r a ca < <(with_daemon_cpu handshakes_per_s)
+  read -r a ca < <(handshakes_with_daemon_cpu)
   h+=("$a"); ch+=("$ca")
 done
 idle=()
@@ -91,6 +101,9 @@ for connections in 8 64; do
 done
 for connections in 8 64; do
   echo "| FC4 × 64, $connections connections, requests per CPU-second of the daemon | ${cpu_plains[$connections]} | ${cpu_tlss[$connections]} | ${cpu_ratios[$connections]} |"
+done
+for connections in 8 64; do
+  echo "| FC4 × 64, $connections connections, the client's CPU µs per request (same machine) | ${client_plains[$connections]} | ${client_tlss[$connections]} | |"
 done
 echo "| full handshakes/s (ECDSA P-256, TLS 1.3, 8 at once) | | $(median "${h[@]}") | |"
 echo "| full handshakes per CPU-second of the daemon | | $(median "${ch[@]}") | |"
