@@ -114,7 +114,13 @@ class TcpSlaveServer::Connection : public std::enable_shared_from_this<Connectio
       std::size_t n = 0;
       const auto status = tls_->read(std::span(in_.data() + in_used_, in_.size() - in_used_), n);
       if (status == tls::MemorySession::Status::closed) return finish("closed by the client");
-      if (status == tls::MemorySession::Status::failed) return finish("TLS: " + tls_->error());
+      if (status == tls::MemorySession::Status::failed) {
+        // A record that does not authenticate is an attack or a broken path: the operator hears of it.
+        send_alert();
+        platform::warn_from_peer("modbus tls: broken sessions", peer_, "modbus tls: {} broke the session: {}; closing its connection",
+                                 peer_, tls_->error());
+        return finish("TLS: " + tls_->error());
+      }
       if (status == tls::MemorySession::Status::want_input) {
         plaintext_waits_ = false;
         break;
@@ -143,6 +149,14 @@ class TcpSlaveServer::Connection : public std::enable_shared_from_this<Connectio
                       });
   }
 
+  // The alert that tells the client why goes out before the connection closes, if the
+  // socket takes it at once.
+  void send_alert() {
+    tls_->take_output(cipher_out_);
+    boost::system::error_code ignored;
+    if (!cipher_out_.empty()) socket_.write_some(asio::buffer(cipher_out_), ignored);
+  }
+
   // SPEC §11: the client must show a certificate the CA signed, within frame_timeout like
   // any started request (a client stuck in the handshake holds no slot); its role then
   // says what it may write, and names it in the monitor and the log.
@@ -155,10 +169,7 @@ class TcpSlaveServer::Connection : public std::enable_shared_from_this<Connectio
   void handshake_step() {
     const auto status = tls_->handshake();
     if (status == tls::MemorySession::Status::failed || status == tls::MemorySession::Status::closed) {
-      // The alert that tells the client why goes out before the connection closes.
-      tls_->take_output(cipher_out_);
-      boost::system::error_code ec;
-      if (!cipher_out_.empty()) socket_.write_some(asio::buffer(cipher_out_), ec);
+      send_alert();
       const auto why = status == tls::MemorySession::Status::closed ? std::string("closed") : tls_->error();
       platform::warn_from_peer("modbus tls: failed handshakes", peer_, "modbus tls: {} failed the TLS handshake: {}", peer_, why);
       return finish("failed the TLS handshake");

@@ -4,6 +4,7 @@
 // authentication in the handshake, write rights from the client certificate's role,
 // renewal on SIGHUP, a client stuck in the handshake cut like any slow client.
 
+#include <openssl/err.h>
 #include <openssl/ssl.h>
 
 #include <csignal>
@@ -167,11 +168,17 @@ class MemoryClient {
   void write(std::span<const std::uint8_t> request) {
     EXPECT_EQ(SSL_write(ssl_, request.data(), static_cast<int>(request.size())), static_cast<int>(request.size()));
   }
-  /// Sends the output in one segment.
-  void flush() {
+  /// Sends the output in one segment; `forged`: with the last bit of its last record's tag flipped.
+  void flush(bool forged = false) {
     std::string bytes(static_cast<std::size_t>(BIO_ctrl_pending(out_)), '\0');
     BIO_read(out_, bytes.data(), static_cast<int>(bytes.size()));
+    if (forged && !bytes.empty()) bytes.back() = static_cast<char>(bytes.back() ^ 1);
     if (!bytes.empty()) socket_.send(bytes);
+  }
+  /// OpenSSL's reason for the last failure, e.g. the alert the server sent.
+  static std::string last_error() {
+    const unsigned long code = ERR_get_error();
+    return code != 0 && ERR_reason_error_string(code) ? ERR_reason_error_string(code) : "none";
   }
   /// The plaintext of the answer, waiting up to 2 s for each piece; empty if none came.
   std::vector<std::uint8_t> answer() {
@@ -254,6 +261,28 @@ TEST_F(Tls, AClientThatUpdatesItsKeysMidConnectionIsAnsweredOnBothSides) {
   EXPECT_TRUE(write_w(3, 0x33)) << daemon->log();
   ModbusClient plain(config.modbus_port);
   EXPECT_EQ(plain.read_input(0x0100, 1), std::vector<std::uint16_t>{0x33});
+}
+
+// RFC 8446 §5.2: a record that does not authenticate ends the connection with the
+// bad_record_mac alert, and nothing of it is served; other clients go on.
+TEST_F(Tls, AForgedRecordIsRefusedWithAnAlertAndTheNextClientIsServed) {
+  start_tls();
+  ModbusClient plain(config.modbus_port);
+  const auto w_before = plain.read_input(0x0100, 1);
+  {
+    MemoryClient forger(tls_port, pem("operator.pem"), pem("operator.key"));
+    ASSERT_TRUE(forger.handshake()) << daemon->log();
+    forger.flush();  // the Finished on its own
+    const std::vector<std::uint8_t> request{0x00, 0x01, 0x00, 0x00, 0x00, 0x06, 0x01, 0x06, 0x01, 0x00, 0x00, 0x66};
+    forger.write(request);
+    forger.flush(true);
+    EXPECT_TRUE(forger.answer().empty());
+    EXPECT_NE(MemoryClient::last_error().find("bad record mac"), std::string::npos);
+  }
+  EXPECT_TRUE(daemon->wait_for_log("broke the session: a record that is not authentic")) << daemon->log();
+  const auto lines = client("operator", {"0401000001"});
+  ASSERT_EQ(lines.size(), 3u) << ::testing::PrintToString(lines);
+  EXPECT_EQ(plain.read_input(0x0100, 1), w_before);  // the forged write was not served
 }
 
 // SPEC §10 and §11: a client that connects and never completes the handshake holds no
