@@ -4,6 +4,9 @@
 // that ask or not, alerts, padding, empty records, unknown inner types, and bytes that are
 // no record at all; cut into pieces anywhere.
 //
+// A client that sends more records in a row without data than RecordLayer allows is
+// treated as one that misbehaves: what it sent arrives up to there.
+//
 // Input: a script. Each step is one byte `op` and, for the steps that carry content, one
 // byte `n` and n bytes: op % 8 == 0 application data, 1 a handshake message (a KeyUpdate
 // when the content is one, and then the client's key moves on), 2 an alert, 3 raw bytes,
@@ -48,6 +51,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   Bytes piece;
   std::string read, expected, answered, mirror_read;
   bool only_data = true;  // nothing but application data sealed as a client would
+  int records_without_data = 0;  // in a row: more than RecordLayer allows is a flood
+  const auto count_record = [&](bool data) {
+    records_without_data = data ? 0 : records_without_data + 1;
+    if (records_without_data > RecordLayer::max_records_without_data) only_data = false;
+  };
   Status status = Status::want_input;
   const auto feed_piece = [&] {
     server.feed(piece);
@@ -65,6 +73,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       case 0:
         client.seal(ContentType::application_data, content, piece);
         expected.append(content.begin(), content.end());
+        count_record(!content.empty());
         break;
       case 1:
         client.seal(ContentType::handshake, content, piece);
@@ -88,11 +97,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         padded.resize(padded.size() + op / 8, 0);
         client.seal(static_cast<ContentType>(0), padded, piece);
         expected.append(content.begin(), content.end());
+        count_record(!content.empty());
         break;
       }
       case 5:
         client.seal(static_cast<ContentType>(n), {}, piece);
         only_data = only_data && n == static_cast<std::size_t>(ContentType::application_data);
+        count_record(false);
         break;
       case 6:
         feed_piece();

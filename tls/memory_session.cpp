@@ -137,6 +137,8 @@ void MemorySession::take_over_records() {
   std::vector<std::uint8_t> rest;
   take_pending(in_, rest);
   records_->feed(rest);
+  // OpenSSL's record buffers (about 34 KiB a connection) are not needed any more.
+  (void)SSL_free_buffers(ssl_);
 }
 
 

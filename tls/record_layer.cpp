@@ -73,6 +73,10 @@ RecordLayer::Status RecordLayer::open_next_record() {
   input_start_ += record_header_size + length;
   if (!opened) return fail("a record that is not authentic", bad_record_mac);
   if (opened->content.size() > max_record_plaintext) return fail("a record longer than TLS allows", record_overflow);
+  const bool data = opened->type == ContentType::application_data && !opened->content.empty();
+  records_without_data_ = data ? 0 : records_without_data_ + 1;
+  if (records_without_data_ > max_records_without_data)
+    return fail(fmt::format("more than {} records in a row without data", max_records_without_data), unexpected_message);
   switch (opened->type) {
     case ContentType::application_data:
       plaintext_.insert(plaintext_.end(), opened->content.begin(), opened->content.end());

@@ -20,6 +20,10 @@ class RecordLayer {
   /// Records sealed under one key before the server moves to the next (RFC 8446 §5.5 puts
   /// AES-GCM's limit at 2^24.5 records).
   static constexpr std::uint64_t default_records_per_key = std::uint64_t{1} << 24;
+  /// Records in a row that carry no application data (KeyUpdates, user_canceled, empty
+  /// records) before the connection counts as a flood: each KeyUpdate costs a key
+  /// derivation, far more than the 22 bytes that ask for it.
+  static constexpr int max_records_without_data = 16;
 
   /// The client's and the server's application traffic secrets (the first generation).
   RecordLayer(std::uint16_t cipher_suite, std::span<const std::uint8_t> client_secret,
@@ -58,6 +62,7 @@ class RecordLayer {
   std::size_t plaintext_start_ = 0;
   std::vector<std::uint8_t> handshake_;  // post-handshake messages, possibly split across records
   std::vector<std::uint8_t> output_;
+  int records_without_data_ = 0;
   Status ended_ = Status::done;  // closed or failed once the connection is over
   std::string error_;
 };

@@ -59,9 +59,8 @@ std::vector<std::uint8_t> expand_label(const EVP_MD* digest, std::span<const std
   info.insert(info.end(), full_label.begin(), full_label.end());
   info.push_back(0);  // an empty context
 
-  EVP_KDF* kdf = EVP_KDF_fetch(nullptr, OSSL_KDF_NAME_HKDF, nullptr);
-  EVP_KDF_CTX* context = kdf ? EVP_KDF_CTX_new(kdf) : nullptr;
-  EVP_KDF_free(kdf);
+  static EVP_KDF* const hkdf = EVP_KDF_fetch(nullptr, OSSL_KDF_NAME_HKDF, nullptr);  // once, as the ciphers
+  EVP_KDF_CTX* context = hkdf ? EVP_KDF_CTX_new(hkdf) : nullptr;
   int mode = EVP_KDF_HKDF_MODE_EXPAND_ONLY;
   const OSSL_PARAM parameters[] = {
       OSSL_PARAM_construct_int(OSSL_KDF_PARAM_MODE, &mode),

@@ -100,6 +100,25 @@ TEST(RecordLayer, AKeyUpdateThatAsksForOneIsAnsweredBeforeTheNextAnswer) {
   EXPECT_EQ(read_all(mirror, last), "y");
 }
 
+// Each KeyUpdate costs a key derivation: a client may not ask for them without end.
+TEST(RecordLayer, SixteenRecordsWithoutDataInARowAreAllowedAndTheSeventeenthIsAFlood) {
+  const auto after = [](int updates) {
+    RecordLayer server(aes_128_gcm_sha256, client_secret, server_secret);
+    Client client;
+    for (int i = 0; i < updates; ++i) {
+      client.send(ContentType::handshake, Bytes{24, 0, 0, 1, 1});
+      client.sealing.next_generation();
+    }
+    client.send(ContentType::application_data, Bytes{'d'});
+    server.feed(client.wire);
+    Status last{};
+    const auto text = read_all(server, last);
+    return text == "d" ? std::string("served") : server.error();
+  };
+  EXPECT_EQ(after(16), "served");
+  EXPECT_EQ(after(17), "more than 16 records in a row without data");
+}
+
 struct Refusal {
   const char* what;
   ContentType type;
