@@ -34,6 +34,7 @@ void keep_application_secrets(const SSL* ssl, const char* line) {
   if (into == nullptr) return;
   const auto hex = text.substr(text.rfind(' ') + 1);
   into->clear();
+  into->reserve(hex.size() / 2);  // no reallocation leaves a copy of the secret behind
   for (std::size_t i = 0; i + 1 < hex.size(); i += 2) {
     const int high = hex_digit(hex[i]);
     const int low = hex_digit(hex[i + 1]);
