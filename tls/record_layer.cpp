@@ -111,15 +111,11 @@ RecordLayer::Status RecordLayer::take_handshake_messages() {
   if (handshake_[1] != 0 || handshake_[2] != 0 || handshake_[3] != 1 || handshake_[4] > update_requested)
     return fail("a malformed KeyUpdate", decode_error);
   if (handshake_.size() != key_update_size) return fail("a KeyUpdate not at the end of its record", unexpected_message);
-  const bool requested = handshake_[4] == update_requested;
+  // Our own KeyUpdate goes before the next application data (seal): one for however many
+  // requests came while the server was silent.
+  key_update_owed_ = key_update_owed_ || handshake_[4] == update_requested;
   handshake_.clear();
   receiving_.next_generation();
-  if (requested) {
-    // Our own KeyUpdate goes before the next application data, under the old key.
-    const std::array<std::uint8_t, key_update_size> update{key_update, 0, 0, 1, 0};
-    sending_.seal(ContentType::handshake, update, output_);
-    sending_.next_generation();
-  }
   return Status::done;
 }
 
@@ -141,10 +137,11 @@ void RecordLayer::write(std::span<const std::uint8_t> plaintext) {
 }
 
 void RecordLayer::seal(ContentType type, std::span<const std::uint8_t> content) {
-  if (sending_.records() >= records_per_key_) {
-    const std::array<std::uint8_t, key_update_size> update{key_update, 0, 0, 1, 0};
+  if (key_update_owed_ || sending_.records() >= records_per_key_) {
+    const std::array<std::uint8_t, key_update_size> update{key_update, 0, 0, 1, 0};  // not requested
     sending_.seal(ContentType::handshake, update, output_);
     sending_.next_generation();
+    key_update_owed_ = false;
   }
   sending_.seal(type, content, output_);
 }

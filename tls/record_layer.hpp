@@ -3,6 +3,8 @@
 // §6): records cut from the stream of ciphertext and opened, application data out of them,
 // answers sealed into records, the client's KeyUpdate followed (and answered when it asks),
 // close_notify and other alerts, and a KeyUpdate of its own before the AEAD's limit.
+// A requested KeyUpdate is answered once before the next answer, however many requests
+// came while the server was silent (§4.6.3).
 // Everything a TLS 1.3 client may send after its Finished is handled here; anything else
 // ends the connection. Bytes in, bytes out: no socket, no SSL*.
 
@@ -62,6 +64,7 @@ class RecordLayer {
   std::size_t plaintext_start_ = 0;
   std::vector<std::uint8_t> handshake_;  // post-handshake messages, possibly split across records
   std::vector<std::uint8_t> output_;
+  bool key_update_owed_ = false;  // the client asked for one (RFC 8446 §4.6.3)
   int records_without_data_ = 0;
   Status ended_ = Status::done;  // closed or failed once the connection is over
   std::string error_;
