@@ -73,6 +73,9 @@ RecordLayer::Status RecordLayer::open_next_record() {
   input_start_ += record_header_size + length;
   if (!opened) return fail("a record that is not authentic", bad_record_mac);
   if (opened->content.size() > max_record_plaintext) return fail("a record longer than TLS allows", record_overflow);
+  // §5.1: the pieces of a handshake message come in consecutive records.
+  if (!handshake_.empty() && opened->type != ContentType::handshake)
+    return fail("a record between the pieces of a handshake message", unexpected_message);
   const bool data = opened->type == ContentType::application_data && !opened->content.empty();
   records_without_data_ = data ? 0 : records_without_data_ + 1;
   if (records_without_data_ > max_records_without_data)

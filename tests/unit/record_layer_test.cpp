@@ -152,6 +152,8 @@ INSTANTIATE_TEST_SUITE_P(
                       Refusal{"KeyUpdate of length 2", ContentType::handshake, Bytes{24, 0, 0, 2, 0, 0}},
                       Refusal{"KeyUpdate asking 2", ContentType::handshake, Bytes{24, 0, 0, 1, 2}},
                       Refusal{"KeyUpdate then more", ContentType::handshake, Bytes{24, 0, 0, 1, 0, 24}},
+                      Refusal{"KeyUpdate cut by data", ContentType::handshake, Bytes{24, 0}},
+                      Refusal{"empty handshake record", ContentType::handshake, Bytes{}},
                       Refusal{"fatal alert", ContentType::alert, Bytes{2, 40}},
                       Refusal{"alert of 3 bytes", ContentType::alert, Bytes{1, 0, 0}},
                       Refusal{"inner change_cipher_spec", static_cast<ContentType>(20), Bytes{1}}),
