@@ -2,8 +2,9 @@
 // TCP or TLS, so that the daemon's TLS figures are a ratio of its plain ones measured by
 // one client. One thread, Asio; every loop bounded by --duration.
 //
-//   unima-bench-tls-load --port N [--tls CA CERT KEY] [--mode requests|handshakes]
-//                        [--connections 8] [--duration 3] [--address 4352] [--quantity 64]
+//   unima-bench-tls-load --port N [--tls CA CERT KEY] [--records openssl|port]
+//                        [--mode requests|handshakes] [--connections 8] [--duration 3]
+//                        [--address 4352] [--quantity 64]
 //
 // requests:   each connection sends FC4 × quantity, one request in flight, and checks the
 //             answer; prints {"rps":…,"p50_us":…,"p99_us":…,"client_cpu_us":…} (the
@@ -19,6 +20,7 @@
 #include <memory>
 #include <optional>
 #include <span>
+#include <string_view>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -27,6 +29,7 @@
 #include <sys/resource.h>
 
 #include "platform/asio.hpp"
+#include "tls/record_layer.hpp"
 
 namespace {
 
@@ -42,6 +45,7 @@ struct Options {
   double duration = 3;
   std::uint16_t address = 4352;
   std::uint16_t quantity = 64;
+  bool port_records = false;  // --records port
 };
 
 Options parse(int argc, char** argv) {
@@ -59,6 +63,7 @@ Options parse(int argc, char** argv) {
     else if (a == "--duration") o.duration = std::stod(next());
     else if (a == "--address") o.address = static_cast<std::uint16_t>(std::stoi(next()));
     else if (a == "--quantity") o.quantity = static_cast<std::uint16_t>(std::stoi(next()));
+    else if (a == "--records") o.port_records = next() == "port";
     else throw std::runtime_error("unknown option " + a);
   }
   if (o.port == 0) throw std::runtime_error("--port is required");
@@ -70,15 +75,21 @@ Options parse(int argc, char** argv) {
 // daemon's tls/record_layer). Asio's SSL stream, which this client used before, cost it
 // more CPU per request than the daemon; on a machine whose cores both share, that held
 // the daemon's TLS figures down (docs/performance.md).
+//
+// With --records port the records after a TLS 1.3 handshake go through the port's own
+// tls::RecordLayer instead, mirrored (it receives under the server's secret): a client
+// that costs less per request than the daemon, so that the daemon, not the client, is what
+// the end-to-end figure measures on a machine where both share the cores.
 class ClientSession {
  public:
-  explicit ClientSession(SSL_CTX* context) : ssl_(SSL_new(context)) {
+  ClientSession(SSL_CTX* context, bool port_records) : ssl_(SSL_new(context)), port_records_(port_records) {
     if (ssl_ == nullptr) throw std::runtime_error("OpenSSL cannot make a session");
     in_ = BIO_new(BIO_s_mem());
     out_ = BIO_new(BIO_s_mem());
     BIO_set_mem_eof_return(in_, -1);
     SSL_set_bio(ssl_, in_, out_);
     SSL_set_connect_state(ssl_);
+    SSL_set_ex_data(ssl_, secrets_index(), &secrets_);
   }
   ~ClientSession() { SSL_free(ssl_); }
   ClientSession(const ClientSession&) = delete;
@@ -86,22 +97,68 @@ class ClientSession {
 
   enum class Step : std::uint8_t { done, want_input, failed };
 
-  void feed(const std::uint8_t* data, std::size_t size) { BIO_write(in_, data, static_cast<int>(size)); }
-  Step handshake() { return step(SSL_do_handshake(ssl_)); }
+  // Keeps a handshake's two application traffic secrets (NSS key-log lines) for --records port.
+  static void keep_secrets(const SSL* ssl, const char* line) {
+    auto* secrets = static_cast<std::array<std::vector<std::uint8_t>, 2>*>(SSL_get_ex_data(ssl, secrets_index()));
+    const std::string_view text(line);
+    const int which = text.starts_with("CLIENT_TRAFFIC_SECRET_0 ") ? 0 : text.starts_with("SERVER_TRAFFIC_SECRET_0 ") ? 1 : -1;
+    if (secrets == nullptr || which < 0) return;
+    auto& secret = (*secrets)[static_cast<std::size_t>(which)];
+    const auto hex = text.substr(text.rfind(' ') + 1);
+    for (std::size_t i = 0; i + 1 < hex.size(); i += 2)
+      secret.push_back(static_cast<std::uint8_t>(std::stoi(std::string(hex.substr(i, 2)), nullptr, 16)));
+  }
+
+  void feed(const std::uint8_t* data, std::size_t size) {
+    if (records_) return records_->feed(std::span(data, size));
+    BIO_write(in_, data, static_cast<int>(size));
+  }
+  Step handshake() {
+    const auto result = step(SSL_do_handshake(ssl_));
+    if (result == Step::done && port_records_) {
+      if (SSL_version(ssl_) != TLS1_3_VERSION || secrets_[0].empty() || secrets_[1].empty()) return Step::failed;
+      take_bio_output(finished_);
+      records_.emplace(SSL_CIPHER_get_protocol_id(SSL_get_current_cipher(ssl_)), secrets_[1], secrets_[0]);
+      std::vector<std::uint8_t> rest(static_cast<std::size_t>(BIO_ctrl_pending(in_)));
+      if (!rest.empty()) BIO_read(in_, rest.data(), static_cast<int>(rest.size()));
+      records_->feed(rest);
+    }
+    return result;
+  }
   bool write(std::span<const std::uint8_t> plaintext) {
+    if (records_) {
+      records_->write(plaintext);
+      return true;
+    }
     return SSL_write(ssl_, plaintext.data(), static_cast<int>(plaintext.size())) == static_cast<int>(plaintext.size());
   }
   Step read(std::span<std::uint8_t> out, std::size_t& n) {
+    if (records_) {
+      const auto status = records_->read(out, n);
+      return status == tls::RecordLayer::Status::done         ? Step::done
+             : status == tls::RecordLayer::Status::want_input ? Step::want_input
+                                                               : Step::failed;
+    }
     const int result = SSL_read(ssl_, out.data(), static_cast<int>(out.size()));
     n = result > 0 ? static_cast<std::size_t>(result) : 0;
     return result > 0 ? Step::done : step(result);
   }
   void take_output(std::vector<std::uint8_t>& out) {
-    out.resize(static_cast<std::size_t>(BIO_ctrl_pending(out_)));
-    if (!out.empty()) BIO_read(out_, out.data(), static_cast<int>(out.size()));
+    out.clear();
+    if (!records_) return take_bio_output(out);
+    out.swap(finished_);
+    records_->take_output(out);
   }
 
  private:
+  static int secrets_index() {
+    static const int index = SSL_get_ex_new_index(0, nullptr, nullptr, nullptr, nullptr);
+    return index;
+  }
+  void take_bio_output(std::vector<std::uint8_t>& out) {
+    out.resize(static_cast<std::size_t>(BIO_ctrl_pending(out_)));
+    if (!out.empty()) BIO_read(out_, out.data(), static_cast<int>(out.size()));
+  }
   Step step(int result) {
     if (result == 1) return Step::done;
     const int error = SSL_get_error(ssl_, result);
@@ -110,6 +167,10 @@ class ClientSession {
   SSL* ssl_;
   BIO* in_;
   BIO* out_;
+  bool port_records_;
+  std::array<std::vector<std::uint8_t>, 2> secrets_;  // the client's, the server's
+  std::optional<tls::RecordLayer> records_;
+  std::vector<std::uint8_t> finished_;  // the client's Finished, out with the first request
 };
 
 // One client connection, plain or TLS.
@@ -138,7 +199,7 @@ class Client : public std::enable_shared_from_this<Client> {
   void connect() {
     if (Clock::now() >= shared_.until) return;
     socket_.emplace(io_);
-    if (shared_.tls) session_.emplace(shared_.tls);
+    if (shared_.tls) session_.emplace(shared_.tls, shared_.options.port_records);
     connected_at_ = Clock::now();
     socket_->async_connect(tcp::endpoint(asio::ip::address_v4::loopback(), shared_.options.port),
                            [this, self = shared_from_this()](const boost::system::error_code& ec) {
@@ -271,6 +332,7 @@ int main(int argc, char** argv) {
       // Every handshake a full one.
       SSL_CTX_set_session_cache_mode(tls.get(), SSL_SESS_CACHE_OFF);
       SSL_CTX_set_options(tls.get(), SSL_OP_NO_TICKET);
+      if (options.port_records) SSL_CTX_set_keylog_callback(tls.get(), ClientSession::keep_secrets);
     }
     const auto start = Clock::now();
     Client::Shared shared{options, tls.get(),
