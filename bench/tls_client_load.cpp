@@ -29,6 +29,7 @@
 #include <sys/resource.h>
 
 #include "platform/asio.hpp"
+#include "tls/key_log.hpp"
 #include "tls/record_layer.hpp"
 
 namespace {
@@ -100,13 +101,9 @@ class ClientSession {
   // Keeps a handshake's two application traffic secrets (NSS key-log lines) for --records port.
   static void keep_secrets(const SSL* ssl, const char* line) {
     auto* secrets = static_cast<std::array<std::vector<std::uint8_t>, 2>*>(SSL_get_ex_data(ssl, secrets_index()));
-    const std::string_view text(line);
-    const int which = text.starts_with("CLIENT_TRAFFIC_SECRET_0 ") ? 0 : text.starts_with("SERVER_TRAFFIC_SECRET_0 ") ? 1 : -1;
-    if (secrets == nullptr || which < 0) return;
-    auto& secret = (*secrets)[static_cast<std::size_t>(which)];
-    const auto hex = text.substr(text.rfind(' ') + 1);
-    for (std::size_t i = 0; i + 1 < hex.size(); i += 2)
-      secret.push_back(static_cast<std::uint8_t>(std::stoi(std::string(hex.substr(i, 2)), nullptr, 16)));
+    if (secrets == nullptr) return;
+    if (!tls::read_key_log_secret(line, "CLIENT_TRAFFIC_SECRET_0", (*secrets)[0]))
+      tls::read_key_log_secret(line, "SERVER_TRAFFIC_SECRET_0", (*secrets)[1]);
   }
 
   void feed(const std::uint8_t* data, std::size_t size) {

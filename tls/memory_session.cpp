@@ -1,10 +1,11 @@
 #include "tls/memory_session.hpp"
 
+#include "tls/key_log.hpp"
+
 #include <openssl/crypto.h>
 #include <openssl/err.h>
 
 #include <stdexcept>
-#include <string_view>
 
 namespace unima::tls {
 
@@ -15,32 +16,14 @@ int secrets_index() {
   return index;
 }
 
-int hex_digit(char c) {
-  if (c >= '0' && c <= '9') return c - '0';
-  if (c >= 'a' && c <= 'f') return c - 'a' + 10;
-  if (c >= 'A' && c <= 'F') return c - 'A' + 10;
-  return -1;
-}
-
-// OpenSSL calls this with each secret of a handshake as a line of the NSS key-log format,
-// "LABEL <client random> <secret>" in hex; a session keeps the two it needs, in memory only.
+// OpenSSL calls this with each secret of a handshake (tls/key_log); a session keeps the two
+// it needs, in memory only.
 void keep_application_secrets(const SSL* ssl, const char* line) {
   auto* secrets = static_cast<MemorySession::TrafficSecrets*>(SSL_get_ex_data(ssl, secrets_index()));
   if (secrets == nullptr) return;
-  const std::string_view text(line);
-  std::vector<std::uint8_t>* into = nullptr;
-  if (text.starts_with("CLIENT_TRAFFIC_SECRET_0 ")) into = &secrets->client;
-  if (text.starts_with("SERVER_TRAFFIC_SECRET_0 ")) into = &secrets->server;
-  if (into == nullptr) return;
-  const auto hex = text.substr(text.rfind(' ') + 1);
-  into->clear();
-  into->reserve(hex.size() / 2);  // no reallocation leaves a copy of the secret behind
-  for (std::size_t i = 0; i + 1 < hex.size(); i += 2) {
-    const int high = hex_digit(hex[i]);
-    const int low = hex_digit(hex[i + 1]);
-    if (high < 0 || low < 0) return secrets->forget();
-    into->push_back(static_cast<std::uint8_t>(high << 4 | low));
-  }
+  // A secret with broken hex stays empty, and OpenSSL keeps the records (take_over_records).
+  if (!read_key_log_secret(line, "CLIENT_TRAFFIC_SECRET_0", secrets->client))
+    read_key_log_secret(line, "SERVER_TRAFFIC_SECRET_0", secrets->server);
 }
 
 // Appends what `bio` holds to `out`.
