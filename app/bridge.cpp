@@ -2,7 +2,6 @@
 
 #include <spdlog/spdlog.h>
 
-#include "app/bank_model.hpp"
 #include "app/bridge_core.hpp"
 #include "app/reload_plan.hpp"
 #include "banks/register_space.hpp"
@@ -63,6 +62,7 @@ Bridge::Bridge(asio::io_context& io, config::Config config)
   monitor_ = std::make_unique<monitor::Monitor>(core_->config.monitor);
   if (!core_->config.state.file.empty()) {
     state_ = std::make_unique<io::StateFile>(io_, core_->config.state.file);
+    core_->writes->set_journal(state_.get());
     restore_state();
   }
   transport_ = make_transport(core_->config);
@@ -90,9 +90,7 @@ std::unique_ptr<Bridge::Core> Bridge::build_core(config::Config config) {
   core->store->set_mapping(config.mapping);
   core->space = std::make_unique<banks::RegisterSpace>(config::address_map(config), *core->store,
                                                        banks::AccessRules{config.modbus.readable_write_banks});
-  core->space->set_write_listener(
-      [this](BankId bank, std::uint16_t offset, std::uint16_t value) { persist(bank, offset, value); });
-  core->model = std::make_unique<app::BankModel>(*core->space);
+  core->writes = std::make_unique<banks::WritePath>(*core->space, state_.get());
   core->router = std::make_unique<unimabus::TelegramRouter>(
       unimabus::standard_routes(config.unimabus.address, *core->store, device_addresses(config)), *core->store);
   core->presence = std::make_unique<unimabus::Presence>(config.unimabus.offline_after);
@@ -248,17 +246,9 @@ void Bridge::restore_state() {
       if (const auto value = image.output(block->output)) store.set_user_output(block->output, *value);
 }
 
-void Bridge::persist(BankId bank, std::uint16_t offset, std::uint16_t value) {
-  if (!state_) return;
-  using Kind = state::PersistedValue::Kind;
-  if (bank == BankId::W) state_->record({Kind::w, offset, value});
-  else if (bank == BankId::X) state_->record({Kind::x, offset, value});
-  else state_->record({Kind::output, static_cast<std::uint16_t>(offset - banks::c_bank::user_analog_outputs + 1), value});
-}
-
 io::SlaveContext Bridge::slave_context() {
   io::SlaveContext context;
-  context.registers = core_->model.get();
+  context.registers = core_->writes.get();
   context.state = state_.get();
   context.unit_id = core_->config.modbus.address;
   const auto& ext = core_->config.modbus.extensions;

@@ -34,9 +34,6 @@
 namespace unima::banks {
 class RegisterSpace;
 }
-namespace unima::app {
-class BankModel;
-}
 
 namespace unima::app {
 
@@ -109,7 +106,6 @@ class Bridge {
   std::unique_ptr<io::ControlSocket> make_control_socket(const std::string& path);
   std::unique_ptr<io::TelegramRecorder> make_recorder(const config::Config& config) const;
   void restore_state();
-  void persist(banks::BankId bank, std::uint16_t offset, std::uint16_t value);
 
   asio::io_context& io_;
   std::unique_ptr<Core> core_;

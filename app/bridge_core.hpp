@@ -7,7 +7,7 @@
 #include "banks/register_store.hpp"
 #include "config/config.hpp"
 #include "app/bridge.hpp"
-#include "app/bank_model.hpp"
+#include "banks/write_path.hpp"
 #include "modbus/capture.hpp"
 #include "unimabus/presence.hpp"
 #include "unimabus/telegram_router.hpp"
@@ -18,7 +18,7 @@ struct Bridge::Core {
   config::Config config;
   std::unique_ptr<banks::RegisterStore> store;
   std::unique_ptr<banks::RegisterSpace> space;
-  std::unique_ptr<app::BankModel> model;
+  std::unique_ptr<banks::WritePath> writes;  // the one write path (banks/write_path.hpp)
   std::unique_ptr<unimabus::TelegramRouter> router;
   std::unique_ptr<unimabus::Presence> presence;
   std::vector<modbus::CaptureRule> capture_rules;

@@ -54,9 +54,8 @@ std::unique_ptr<io::MqttClient> Bridge::make_mqtt(const config::Config& config) 
   return client;
 }
 
-// A command is a Modbus write by other means: the register space takes it (W and X are
-// writable there, every check is the same), its listener records it in the state file,
-// the publisher sends it to UnimaBUS; the result goes out once the state file holds it.
+// A command is a Modbus write by other means: it takes the one write path (rights, the
+// register space, the state file, UnimaBUS) and is answered once what it kept is durable.
 void Bridge::take_command(std::string_view topic, std::string_view payload) {
   const auto& prefix = core_->config.mqtt->topic;
   const auto set = prefix + "/set/";
@@ -69,20 +68,15 @@ void Bridge::take_command(std::string_view topic, std::string_view payload) {
   if (const auto* error = std::get_if<std::string>(&parsed)) return answer(*error);
   const auto& command = std::get<mqtt::Command>(parsed);
   const auto base = core_->config.bank_bases[banks::index_of(command.bank)];
-  std::uint16_t value = command.value;
-  std::uint16_t address = static_cast<std::uint16_t>(base + command.offset);
-  if (command.bank == banks::BankId::X) {
-    address = base;
-    const auto bits = core_->store->read(banks::BankId::X, 0);
-    value = command.value ? static_cast<std::uint16_t>(bits | 1u << command.offset)
-                          : static_cast<std::uint16_t>(bits & ~(1u << command.offset));
-  }
-  const auto recorded_before = state_ ? state_->recorded() : 0;
-  if (!core_->space->write(address, std::span(&value, 1)))
+  auto& writes = *core_->writes;
+  const auto result = command.bank == banks::BankId::X
+                          ? writes.write_bit(base, command.offset, command.value != 0, nullptr)
+                          : writes.write_registers(static_cast<std::uint16_t>(base + command.offset),
+                                                   std::span(&command.value, 1), nullptr);
+  if (result.status != modbus::WriteResult::Status::written)
     return answer(fmt::format("{} is not writable in this config", banks::bank_name(command.bank)));
   spdlog::info("mqtt: {} = {} ({})", topic, payload.substr(0, 20), banks::bank_name(command.bank));
-  if (!state_ || state_->recorded() == recorded_before) return answer({});
-  state_->when_durable(state_->recorded(), [answer](bool durable) {
+  io::answer_once_durable(state_.get(), result.kept_as, [answer](bool durable) {
     answer(durable ? std::string() : std::string("the state file could not be written: the value is not kept"));
   });
 }

@@ -18,9 +18,9 @@ struct AccessRules {
 
 class RegisterSpace {
  public:
-  /// A master's write that took effect, as it landed in the store: W+offset, X, or, for a
-  /// write block (MBS_RegW), bank C at its user output's offset. What the state file keeps.
-  using WriteListener = std::function<void(BankId bank, std::uint16_t offset, std::uint16_t value)>;
+  /// A value of a write as it landed in the store: W+offset, X, or, for a write block
+  /// (MBS_RegW), bank C at its user output's offset. What the state file keeps.
+  using Landed = std::function<void(BankId bank, std::uint16_t offset, std::uint16_t value)>;
 
   RegisterSpace(AddressMap map, RegisterStore& store, AccessRules rules)
       : map_(std::move(map)), store_(store), rules_(rules) {}
@@ -28,10 +28,9 @@ class RegisterSpace {
   /// Fills `out` from `first` on. False, and `out` unspecified, when any register of the
   /// range is not readable (the caller answers exception 02).
   bool read(std::uint16_t first, std::span<std::uint16_t> out) const;
-  /// All or nothing: false, and nothing written, when any register is not writable.
-  bool write(std::uint16_t first, std::span<const std::uint16_t> values);
-
-  void set_write_listener(WriteListener listener) { write_listener_ = std::move(listener); }
+  /// All or nothing: false, and nothing written, when any register is not writable;
+  /// `landed` hears every value written. Only banks::WritePath writes (write_path.hpp).
+  bool write(std::uint16_t first, std::span<const std::uint16_t> values, const Landed& landed);
 
   const AddressMap& map() const { return map_; }
   RegisterStore& store() { return store_; }
@@ -51,7 +50,6 @@ class RegisterSpace {
   AddressMap map_;
   RegisterStore& store_;
   AccessRules rules_;
-  WriteListener write_listener_;
 };
 
 }  // namespace unima::banks

@@ -13,7 +13,7 @@
 #include <utility>
 #include <vector>
 
-#include "app/bank_model.hpp"
+#include "banks/write_path.hpp"
 #include "banks/register_space.hpp"
 #include "banks/register_store.hpp"
 #include "config/config.hpp"
@@ -58,7 +58,7 @@ class BridgeBanks {
   BridgeBanks(const config::Config& config, const banks::AddressMap& map)
       : store(config::bank_shapes(config)),
         space(map, store, banks::AccessRules{config.modbus.readable_write_banks}),
-        model(space),
+        model(space, nullptr),
         router(unimabus::standard_routes(config.unimabus.address, store, device_addresses(config)), store) {
     store.set_mapping(config.mapping);
   }
@@ -79,7 +79,7 @@ class BridgeBanks {
 
   banks::RegisterStore store;
   banks::RegisterSpace space;
-  app::BankModel model;
+  banks::WritePath model;
   unimabus::TelegramRouter router;
 };
 

@@ -174,18 +174,15 @@ modbus::Served RtuSlavePort::serve(const RtuFrame& query, modbus::Recipient reci
 
 void RtuSlavePort::answer(const RtuFrame& query) {
   std::array<std::uint8_t, modbus::max_pdu_size> response{};
-  auto* state = context_.state;
-  const auto recorded_before = state ? state->recorded() : 0;
   const auto served = serve(query, modbus::Recipient::this_slave, response);
   std::vector<std::uint8_t> adu(served.length + 3);
   modbus::write_rtu_adu(query.bytes[0], std::span<const std::uint8_t>(response.data(), served.length), adu);
   if (served.fault && context_.on_fault) context_.on_fault();
   report(served.state, query.bytes, adu);
   const auto not_before = query.end + timing_.reply_delay;
-  if (!state || state->recorded() == recorded_before) return send(std::move(adu), not_before);
-  // A write is acknowledged only once the state file holds it (SPEC §10); one it could not
-  // take is not answered at all, and the master's time-out tells it so.
-  state->when_durable(state->recorded(), [this, g = guard(), adu, not_before](bool durable) mutable {
+  // A write the state file could not take is not answered at all, and the master's
+  // time-out tells it so.
+  answer_once_durable(context_.state, served.kept_as, [this, g = guard(), adu = std::move(adu), not_before](bool durable) mutable {
     if (!HandlerGuard::alive(g) || !guard_.current(g) || !durable) return;
     send(std::move(adu), not_before);
   });

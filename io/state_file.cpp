@@ -309,7 +309,13 @@ void StateFile::record(const PersistedValue& value) {
   });
 }
 
-std::uint64_t StateFile::recorded() const { return shared_->recorded; }
+std::uint64_t StateFile::keep(banks::BankId bank, std::uint16_t offset, std::uint16_t value) {
+  using Kind = PersistedValue::Kind;
+  if (bank == banks::BankId::W) record({Kind::w, offset, value});
+  else if (bank == banks::BankId::X) record({Kind::x, offset, value});
+  else record({Kind::output, static_cast<std::uint16_t>(offset - banks::c_bank::user_analog_outputs + 1), value});
+  return shared_->recorded;
+}
 
 void StateFile::when_durable(std::uint64_t sequence, Done done) {
   if (sequence <= shared_->durable) return done(true);

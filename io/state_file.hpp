@@ -14,13 +14,16 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <utility>
 
+#include "banks/write_path.hpp"
 #include "platform/asio.hpp"
 #include "state/state_image.hpp"
 
 namespace unima::io {
 
-class StateFile {
+/// The journal of banks::WritePath on the disk.
+class StateFile final : public banks::WriteJournal {
  public:
   /// Called on the loop once the record is on the disk (true), or its write failed (false:
   /// the write must not be acknowledged).
@@ -46,19 +49,29 @@ class StateFile {
   const state::StateImage& restored() const { return restored_; }
   const std::filesystem::path& path() const { return path_; }
 
-  /// Appends a value; on the disk after this turn of the loop's group commit.
-  void record(const state::PersistedValue& value);
-  /// The number of the last record: `when_durable(recorded(), …)` waits for all so far.
-  std::uint64_t recorded() const;
+  /// Appends a written value (W, X, or C at a user output's offset); on the disk after
+  /// this turn of the loop's group commit. Returns its record's number.
+  std::uint64_t keep(banks::BankId bank, std::uint16_t offset, std::uint16_t value) override;
   /// Calls `done` once record number `sequence` is durable, or failed; at once when it is.
   void when_durable(std::uint64_t sequence, Done done);
   Counters counters() const;
 
  private:
+  void record(const state::PersistedValue& value);
+
   struct Shared;  // the loop's side and the sync thread's side, io/state_file.cpp
   std::filesystem::path path_;
   state::StateImage restored_;
   std::shared_ptr<Shared> shared_;
 };
+
+/// How every entry point that takes a write answers (SPEC §10): at once when the write
+/// kept nothing (`kept_as` 0, or no state file), else once the state file holds it —
+/// `answer(true)` — or could not take it — `answer(false)`: it must not be acknowledged.
+template <typename Answer>
+void answer_once_durable(StateFile* state, std::uint64_t kept_as, Answer&& answer) {
+  if (state == nullptr || kept_as == 0) return answer(true);
+  state->when_durable(kept_as, std::forward<Answer>(answer));
+}
 
 }  // namespace unima::io

@@ -87,11 +87,9 @@ class TcpSlaveServer::Connection : public std::enable_shared_from_this<Connectio
 
   // Answers what in_ holds: at once, or once the state file holds what it wrote.
   void serve() {
-    const auto* state = server_.context_.state;
-    const auto recorded_before = state ? state->recorded() : 0;
     if (!process()) return finish_broken_stream();
     if (out_used_ == 0) return read();
-    if (state && state->recorded() != recorded_before) return send_once_durable();
+    if (kept_as_ != 0) return send_once_durable();
     send();
   }
 
@@ -214,6 +212,7 @@ class TcpSlaveServer::Connection : public std::enable_shared_from_this<Connectio
           modbus::serve_request(modbus::Link::tcp, modbus::recipient_of(modbus::Link::tcp, unit, context.unit_id),
                                 adu.pdu, pdu_out, *context.registers, context.options, server_.write_rights(role_));
       if (served.fault && context.on_fault) context.on_fault();
+      kept_as_ = std::max(kept_as_, served.kept_as);
       const auto size = modbus::write_mbap_header(adu.header.transaction_id, unit, served.length, adu_out) + served.length;
       if (context.on_transaction) {
         context.on_transaction(modbus::Transaction{port_kind(), peer_, std::chrono::system_clock::now(),
@@ -252,8 +251,7 @@ class TcpSlaveServer::Connection : public std::enable_shared_from_this<Connectio
   // behind it in this batch wait with it, so they keep their order. A write the file could
   // not take is never acknowledged: the connection closes, and the master tries again.
   void send_once_durable() {
-    auto& state = *server_.context_.state;
-    state.when_durable(state.recorded(), [this, self = shared_from_this()](bool durable) {
+    answer_once_durable(server_.context_.state, std::exchange(kept_as_, 0), [this, self = shared_from_this()](bool durable) {
       if (finished_) return;
       if (!durable) return finish("its write could not be kept in the state file");
       send();
@@ -377,6 +375,7 @@ class TcpSlaveServer::Connection : public std::enable_shared_from_this<Connectio
   std::size_t in_used_ = 0;
   std::vector<std::uint8_t> out_;  // out_used_ bytes of answers, then spare room
   std::size_t out_used_ = 0;
+  std::uint64_t kept_as_ = 0;  // what the writes among out_'s answers kept: they wait for it
   Clock::time_point last_activity_;
   std::optional<Clock::time_point> adu_started_;  // when the first bytes of an incomplete request came
   bool finished_ = false;

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <array>
+#include <optional>
 #include <string_view>
 
 namespace unima::modbus {
@@ -27,41 +28,43 @@ std::size_t read_registers(std::span<const std::uint8_t> req, std::span<std::uin
   return 2 + 2 * std::size_t{count};
 }
 
-// SPEC §11: a client may write only what its rights list; exception 01 tells it so before
-// the address is looked at, so a client without the right learns nothing of the map.
-bool may_write(const WriteRights* rights, std::uint16_t first, std::uint16_t count) {
-  return rights == nullptr || rights->allows(first, count);
+// The exception a refused write is answered with; nullopt when it was written.
+std::optional<ExceptionCode> refusal_of(const WriteResult& result) {
+  switch (result.status) {
+    case WriteResult::Status::written: return std::nullopt;
+    case WriteResult::Status::not_allowed: return ExceptionCode::illegal_function;
+    case WriteResult::Status::not_writable: return ExceptionCode::illegal_data_address;
+  }
+  return ExceptionCode::illegal_data_address;
 }
 
-std::size_t write_single_register(std::span<const std::uint8_t> req, std::span<std::uint8_t> rsp,
-                                  RegisterModel& registers, const WriteRights* rights) {
+Handled write_single_register(std::span<const std::uint8_t> req, std::span<std::uint8_t> rsp,
+                              RegisterModel& registers, const WriteRights* rights) {
   const std::uint8_t fn = req[0];
-  if (req.size() != 5) return write_exception(fn, ExceptionCode::illegal_data_value, rsp);
-  if (!may_write(rights, be16(req, 1), 1)) return write_exception(fn, ExceptionCode::illegal_function, rsp);
+  if (req.size() != 5) return {write_exception(fn, ExceptionCode::illegal_data_value, rsp)};
   const std::uint16_t value = be16(req, 3);
-  if (!registers.write_registers(be16(req, 1), std::span(&value, 1)))
-    return write_exception(fn, ExceptionCode::illegal_data_address, rsp);
+  const auto result = registers.write_registers(be16(req, 1), std::span(&value, 1), rights);
+  if (const auto refusal = refusal_of(result)) return {write_exception(fn, *refusal, rsp)};
   std::copy(req.begin(), req.end(), rsp.begin());  // the echo of seed §5.2
-  return req.size();
+  return {req.size(), result.kept_as};
 }
 
-std::size_t write_multiple_registers(std::span<const std::uint8_t> req, std::span<std::uint8_t> rsp,
-                                     RegisterModel& registers, const WriteRights* rights) {
+Handled write_multiple_registers(std::span<const std::uint8_t> req, std::span<std::uint8_t> rsp,
+                                 RegisterModel& registers, const WriteRights* rights) {
   const std::uint8_t fn = req[0];
-  if (req.size() < 6) return write_exception(fn, ExceptionCode::illegal_data_value, rsp);
+  if (req.size() < 6) return {write_exception(fn, ExceptionCode::illegal_data_value, rsp)};
   const std::uint16_t first = be16(req, 1);
   const std::uint16_t count = be16(req, 3);
   if (count == 0 || count > max_write_registers || first + count > 0x10000)
-    return write_exception(fn, ExceptionCode::illegal_data_address, rsp);
+    return {write_exception(fn, ExceptionCode::illegal_data_address, rsp)};
   if (req[5] != 2 * count || req.size() != 6 + std::size_t{req[5]})
-    return write_exception(fn, ExceptionCode::illegal_data_value, rsp);
-  if (!may_write(rights, first, count)) return write_exception(fn, ExceptionCode::illegal_function, rsp);
+    return {write_exception(fn, ExceptionCode::illegal_data_value, rsp)};
   std::array<std::uint16_t, max_write_registers> values;
   for (std::size_t i = 0; i < count; ++i) values[i] = be16(req, 6 + 2 * i);
-  if (!registers.write_registers(first, std::span(values.data(), count)))
-    return write_exception(fn, ExceptionCode::illegal_data_address, rsp);
+  const auto result = registers.write_registers(first, std::span(values.data(), count), rights);
+  if (const auto refusal = refusal_of(result)) return {write_exception(fn, *refusal, rsp)};
   std::copy_n(req.begin(), 5, rsp.begin());
-  return 5;
+  return {5, result.kept_as};
 }
 
 // Function 43 / MEI 14 (Modbus Application Protocol V1.1b3 §6.21).
@@ -124,24 +127,24 @@ ExceptionCode exception_of(std::span<const std::uint8_t> response) {
   return ExceptionCode::none;
 }
 
-std::size_t handle_request(std::span<const std::uint8_t> request, std::span<std::uint8_t> response,
-                           RegisterModel& registers, const HandlerOptions& options, const WriteRights* rights) {
+Handled handle_request(std::span<const std::uint8_t> request, std::span<std::uint8_t> response,
+                       RegisterModel& registers, const HandlerOptions& options, const WriteRights* rights) {
   const std::uint8_t fn = request[0];
   switch (fn) {
-    case function::read_input_registers: return read_registers(request, response, registers, options);
+    case function::read_input_registers: return {read_registers(request, response, registers, options)};
     case function::write_single_register: return write_single_register(request, response, registers, rights);
     case function::read_holding_registers:
-      if (options.read_holding_registers) return read_registers(request, response, registers, options);
+      if (options.read_holding_registers) return {read_registers(request, response, registers, options)};
       break;
     case function::write_multiple_registers:
       if (options.write_multiple_registers) return write_multiple_registers(request, response, registers, rights);
       break;
     case function::encapsulated_interface:
-      if (options.device_identification) return read_device_identification(request, response, options.identity);
+      if (options.device_identification) return {read_device_identification(request, response, options.identity)};
       break;
     default: break;
   }
-  return write_exception(fn, ExceptionCode::illegal_function, response);
+  return {write_exception(fn, ExceptionCode::illegal_function, response)};
 }
 
 }  // namespace unima::modbus

@@ -32,10 +32,17 @@ struct HandlerOptions {
   DeviceIdentity identity;
 };
 
-/// Writes the response to `request` into `response` (at least max_pdu_size bytes) and
-/// returns its length. A request PDU must hold at least the function code. A well-formed
-/// write to a register outside `rights` (nullptr: every register) is exception 01.
-std::size_t handle_request(std::span<const std::uint8_t> request, std::span<std::uint8_t> response,
+/// A response PDU written, and what a write in it kept (WriteResult::kept_as).
+struct Handled {
+  std::size_t length = 0;
+  std::uint64_t kept_as = 0;
+};
+
+/// Writes the response to `request` into `response` (at least max_pdu_size bytes). A
+/// request PDU must hold at least the function code. A well-formed write to a register
+/// outside `rights` (nullptr: every register) is exception 01, one outside the writable
+/// registers 02 (`registers` decides both, banks::WritePath for the bridge).
+Handled handle_request(std::span<const std::uint8_t> request, std::span<std::uint8_t> response,
                            RegisterModel& registers, const HandlerOptions& options,
                            const WriteRights* rights = nullptr);
 

@@ -13,14 +13,20 @@ Served serve_request(Link link, Recipient recipient, std::span<const std::uint8_
                      RegisterModel& registers, const HandlerOptions& options, const WriteRights* rights) {
   Served served;
   switch (recipient) {
-    case Recipient::this_slave:
-      served.length = handle_request(pdu, out, registers, options, rights);
+    case Recipient::this_slave: {
+      const auto handled = handle_request(pdu, out, registers, options, rights);
+      served.length = handled.length;
+      served.kept_as = handled.kept_as;
       served.state = state_of_response(out.first(served.length));
       served.fault = served.state != TransactionState::done;
       break;
-    case Recipient::broadcast:
-      served.state = state_of_response(out.first(handle_request(pdu, out, registers, options, rights)));
+    }
+    case Recipient::broadcast: {
+      const auto handled = handle_request(pdu, out, registers, options, rights);
+      served.kept_as = handled.kept_as;
+      served.state = state_of_response(out.first(handled.length));
       break;
+    }
     case Recipient::another_slave:
       served.state = TransactionState::not_for_me;
       if (link == Link::rtu) break;

@@ -29,6 +29,9 @@ struct Served {
   std::size_t length = 0;  // of the response PDU in `out`; 0: nothing to send
   TransactionState state = TransactionState::done;
   bool fault = false;      // C+0x13 bit 15
+  /// What a write in it kept for a restart: the answer waits until that is durable
+  /// (io::answer_once_durable); 0, answer at once.
+  std::uint64_t kept_as = 0;
 };
 
 /// Serves a request PDU (at least its function code) for `recipient` into `out` (at

@@ -34,7 +34,7 @@
 #include "config/config.hpp"
 #include "monitor/monitor.hpp"
 #include "monitor/monitor_sinks.hpp"
-#include "app/bank_model.hpp"
+#include "banks/write_path.hpp"
 #include "modbus/mbap.hpp"
 #include "monitor/monitor_line.hpp"
 #include "modbus/request_handler.hpp"
@@ -71,14 +71,14 @@ double serve_cost(std::size_t n) {
                                         "monitor-cost");
   banks::RegisterStore store(config::bank_shapes(config));
   banks::RegisterSpace space(config::address_map(config), store, banks::AccessRules{true});
-  app::BankModel model(space);
+  banks::WritePath model(space, nullptr);
   modbus::HandlerOptions options;
   std::array<std::uint8_t, modbus::max_pdu_size> pdu{};
   std::array<std::uint8_t, modbus::max_tcp_adu_size> out{};
   std::size_t sink = 0;
   const auto ns = ns_per_op(n, [&](std::size_t) {
     const auto adu = modbus::parse_tcp_adu(query);
-    const auto length = modbus::handle_request(adu.pdu, pdu, model, options);
+    const auto length = modbus::handle_request(adu.pdu, pdu, model, options).length;
     sink += modbus::write_tcp_adu(adu.header.transaction_id, adu.header.unit_id, std::span(pdu.data(), length), out);
   });
   if (sink == 0) std::puts("?");

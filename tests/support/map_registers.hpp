@@ -1,7 +1,8 @@
 #pragma once
 // A register model over two maps, for the tests of the request handler and the ports: an
 // address missing from `readable` (or, for a write, from `writable`) fails the whole
-// request, like a register the bridge does not have. A write changes all or nothing.
+// request, like a register the bridge does not have. A write asks the rights first and
+// changes all or nothing, as banks::WritePath does.
 
 #include <cstdint>
 #include <map>
@@ -27,11 +28,15 @@ class MapRegisters : public modbus::RegisterModel {
     }
     return true;
   }
-  bool write_registers(std::uint16_t first, std::span<const std::uint16_t> values) override {
+  // As banks::WritePath: the rights first, then all or nothing; nothing is kept.
+  modbus::WriteResult write_registers(std::uint16_t first, std::span<const std::uint16_t> values,
+                                      const modbus::WriteRights* rights) override {
+    using Status = modbus::WriteResult::Status;
+    if (rights && !rights->allows(first, static_cast<std::uint16_t>(values.size()))) return {Status::not_allowed};
     for (std::size_t i = 0; i < values.size(); ++i)
-      if (!writable.contains(static_cast<std::uint16_t>(first + i))) return false;
+      if (!writable.contains(static_cast<std::uint16_t>(first + i))) return {Status::not_writable};
     for (std::size_t i = 0; i < values.size(); ++i) writable[static_cast<std::uint16_t>(first + i)] = values[i];
-    return true;
+    return {Status::written};
   }
 
   Values readable;

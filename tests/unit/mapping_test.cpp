@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "banks/register_space.hpp"
+#include "banks/write_path.hpp"
 #include "banks/table_catalog.hpp"
 #include "banks/table_reference.hpp"
 #include "config/register_map.hpp"
@@ -113,6 +114,7 @@ class Mapped : public ::testing::Test {
     store = std::make_unique<banks::RegisterStore>(config::bank_shapes(config));
     store->set_mapping(config.mapping);
     space = std::make_unique<banks::RegisterSpace>(config::address_map(config), *store, banks::AccessRules{});
+    writes = std::make_unique<banks::WritePath>(*space, nullptr);
     store->set_online(BankId::D1, true);
   }
   std::uint16_t read(std::uint16_t address) {
@@ -126,6 +128,10 @@ class Mapped : public ::testing::Test {
   config::Config config;
   std::unique_ptr<banks::RegisterStore> store;
   std::unique_ptr<banks::RegisterSpace> space;
+  std::unique_ptr<banks::WritePath> writes;
+  bool write(std::uint16_t address, std::uint16_t value) {
+    return writes->write_registers(address, std::span(&value, 1), nullptr).status == modbus::WriteResult::Status::written;
+  }
 };
 
 TEST_F(Mapped, BankAFollowsItsSourcesAtOnce) {
@@ -136,7 +142,7 @@ TEST_F(Mapped, BankAFollowsItsSourcesAtOnce) {
   EXPECT_EQ(read(0x1000), 854);
   EXPECT_EQ(read(0x1001), 0x7FFF);  // unmapped entry
   std::uint16_t w = 1234;
-  ASSERT_TRUE(space->write(0x3002, std::span(&w, 1)));
+  ASSERT_TRUE(write(0x3002, w));
   EXPECT_EQ(read(0x1002), 1234);
   EXPECT_EQ(read(0x1003), 0x7FFF);  // S1 off-line
   EXPECT_EQ(read(0x100F), 0x7FFF);
@@ -206,7 +212,7 @@ TEST_F(Mapped, BankBAndUserBitsComposeTheirSourceBits) {
   telegram(BankId::D1, 0x11, 0x0081);  // bits 0 and 7
   EXPECT_EQ(read(0x1010), 0x0001);
   std::uint16_t x = 0x000A;  // bits 1 and 3
-  ASSERT_TRUE(space->write(0x3010, std::span(&x, 1)));
+  ASSERT_TRUE(write(0x3010, x));
   EXPECT_EQ(read(0x1010), 0x0003);
   EXPECT_EQ(read(0x1020 + 0x10), 0x0001);  // user inputs bit 0 = D1+0x11.0
   EXPECT_EQ(read(0x1020 + 0x12), 0x0002);  // user outputs bit 1 = X.1
@@ -221,7 +227,7 @@ TEST_F(Mapped, UserBitsArePublishedWhenTheirSourcesChange) {
   telegram(BankId::D1, 0x11, 0x0001);  // user_inputs bit 0
   telegram(BankId::D1, 0x11, 0x0003);  // no change of bit 0: nothing more
   std::uint16_t x = 0x0002;            // user_outputs bit 1 = X.1
-  ASSERT_TRUE(space->write(0x3010, std::span(&x, 1)));
+  ASSERT_TRUE(write(0x3010, x));
   store->set_online(BankId::D1, false);  // its bits read 0 now
   const std::vector<std::tuple<BankId, std::uint16_t, std::uint16_t>> expected = {
       {BankId::C, 0x10, 0x0001}, {BankId::X, 0, 0x0002}, {BankId::C, 0x12, 0x0002}, {BankId::C, 0x10, 0x0000}};
@@ -238,13 +244,13 @@ TEST_F(Mapped, WriteBlockSetsItsUserOutputAndPublishes) {
   std::vector<std::tuple<BankId, std::uint16_t, std::uint16_t>> published;
   store->set_change_listener([&](BankId b, std::uint16_t o, std::uint16_t v) { published.emplace_back(b, o, v); });
   std::uint16_t value = 2345;
-  ASSERT_TRUE(space->write(0x0201, std::span(&value, 1)));
+  ASSERT_TRUE(write(0x0201, value));
   EXPECT_EQ(read(0x1020 + 3), 2345);  // UsrAO 4 = C+0x03
   ASSERT_EQ(published.size(), 1u);
   EXPECT_EQ(published[0], std::make_tuple(BankId::C, std::uint16_t{3}, std::uint16_t{2345}));
   std::uint16_t out = 0;
   EXPECT_FALSE(space->read(0x0201, std::span(&out, 1)));  // RegW is write-only
-  EXPECT_FALSE(space->write(0x0200, std::span(&value, 1)));  // RegR is read-only
+  EXPECT_FALSE(write(0x0200, value));  // RegR is read-only
 }
 
 std::string config_error(const std::string& yaml) {

@@ -39,7 +39,7 @@ class Handler : public ::testing::Test {
  protected:
   Bytes handle(const Bytes& request) {
     std::array<std::uint8_t, max_pdu_size> response{};
-    const auto n = handle_request(request, response, registers, options);
+    const auto n = handle_request(request, response, registers, options).length;
     return Bytes(response.begin(), response.begin() + static_cast<std::ptrdiff_t>(n));
   }
   // A readable window 0x0011..0x0014 and a writable one 0x0100..0x0101.

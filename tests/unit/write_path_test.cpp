@@ -1,0 +1,158 @@
+// banks::WritePath, the one way a value from outside gets into W, X or a write block's
+// output: rights before anything, all or nothing, every value kept in the journal and
+// the number the answer waits for, every value published (the store's change listener).
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <tuple>
+#include <vector>
+
+#include "banks/table_catalog.hpp"
+#include "banks/write_path.hpp"
+
+namespace unima::banks {
+namespace {
+
+using Status = modbus::WriteResult::Status;
+using Value = std::tuple<BankId, std::uint16_t, std::uint16_t>;
+
+Window bank_window(BankId bank, std::uint16_t first, std::uint16_t count) {
+  Window w;
+  w.bank = bank;
+  w.first = first;
+  w.count = count;
+  w.name = "bank " + std::string(bank_name(bank));
+  return w;
+}
+
+Window write_block(std::uint16_t address, std::uint8_t output) {
+  Window w;
+  w.kind = Window::Kind::write_block;
+  w.first = address;
+  w.count = 1;
+  w.output = output;
+  w.name = "write block";
+  return w;
+}
+
+// Numbers its records from 1, as io::StateFile does.
+struct Journal final : WriteJournal {
+  std::uint64_t keep(BankId bank, std::uint16_t offset, std::uint16_t value) override {
+    kept.emplace_back(bank, offset, value);
+    return kept.size();
+  }
+  std::vector<Value> kept;
+};
+
+struct WritePathTest : ::testing::Test {
+  WritePathTest() {
+    store.set_change_listener([this](BankId b, std::uint16_t o, std::uint16_t v) { published.emplace_back(b, o, v); });
+  }
+
+  RegisterStore store{standard_shapes({find_device_type("unigen-chp"), nullptr, nullptr, nullptr}, io_module_table(),
+                                      bridge_internal_table())};
+  RegisterSpace space{AddressMap({bank_window(BankId::A, 0x1000, 16), bank_window(BankId::C, 0x1020, 20),
+                                  bank_window(BankId::D1, 0x1100, 64), bank_window(BankId::W, 0x3000, 16),
+                                  bank_window(BankId::X, 0x3010, 1), write_block(0x4000, 3)}),
+                      store, AccessRules{}};
+  Journal journal;
+  WritePath writes{space, &journal};
+  std::vector<Value> published;
+};
+
+TEST_F(WritePathTest, AWriteIntoWLandsIsKeptAndPublishedAndSaysWhatItKept) {
+  const std::array<std::uint16_t, 2> values = {7, 8};
+  const auto result = writes.write_registers(0x3002, values, nullptr);
+  EXPECT_EQ(result.status, Status::written);
+  EXPECT_EQ(result.kept_as, 2u);  // the last of its two records: the answer waits for both
+  EXPECT_EQ(store.read(BankId::W, 2), 7);
+  EXPECT_EQ(store.read(BankId::W, 3), 8);
+  const std::vector<Value> expected = {{BankId::W, 2, 7}, {BankId::W, 3, 8}};
+  EXPECT_EQ(journal.kept, expected);
+  EXPECT_EQ(published, expected);
+}
+
+TEST_F(WritePathTest, AWriteAcrossWIntoXTakesBoth) {
+  const std::array<std::uint16_t, 2> across = {0x1111, 0x0003};
+  EXPECT_EQ(writes.write_registers(0x300F, across, nullptr).status, Status::written);
+  EXPECT_EQ(store.read(BankId::W, 15), 0x1111);
+  EXPECT_EQ(store.read(BankId::X, 0), 0x0003);
+  const std::vector<Value> expected = {{BankId::W, 15, 0x1111}, {BankId::X, 0, 0x0003}};
+  EXPECT_EQ(journal.kept, expected);
+}
+
+TEST_F(WritePathTest, AWriteBlockKeepsItsUserOutputAtItsOffsetInC) {
+  const std::array<std::uint16_t, 1> value = {555};
+  EXPECT_EQ(writes.write_registers(0x4000, value, nullptr).status, Status::written);
+  EXPECT_EQ(store.read(BankId::C, c_bank::user_analog_outputs + 2), 555);
+  const std::vector<Value> expected = {{BankId::C, c_bank::user_analog_outputs + 2, 555}};
+  EXPECT_EQ(journal.kept, expected);
+}
+
+TEST_F(WritePathTest, AReadOnlyRegisterRefusesAndNothingIsWrittenKeptOrPublished) {
+  store.set_online(BankId::D1, true);
+  const std::array<std::uint16_t, 1> value = {1234};
+  for (const std::uint16_t address : {0x1100, 0x1121, 0x1020, 0x1000})  // D1, D1, C, A
+    EXPECT_EQ(writes.write_registers(address, value, nullptr).status, Status::not_writable) << address;
+  EXPECT_EQ(store.read(BankId::C, 0), 0x7FFF);
+  EXPECT_TRUE(journal.kept.empty());
+  EXPECT_TRUE(published.empty());
+}
+
+TEST_F(WritePathTest, ARangePartlyOutsideTheWritableRegistersWritesNothing) {
+  const std::array<std::uint16_t, 3> three = {1, 2, 3};
+  EXPECT_EQ(writes.write_registers(0x300F, three, nullptr).status, Status::not_writable);  // W+15, X, then a gap
+  const std::array<std::uint16_t, 2> two = {1, 2};
+  EXPECT_EQ(writes.write_registers(0x2FFF, two, nullptr).status, Status::not_writable);  // a gap, then W+0
+  EXPECT_EQ(writes.write_registers(0xFFFF, two, nullptr).status, Status::not_writable);  // past the top
+  EXPECT_EQ(writes.write_registers(0x3000, std::span<const std::uint16_t>(), nullptr).status, Status::not_writable);
+  for (std::uint16_t i = 0; i < 16; ++i) EXPECT_EQ(store.read(BankId::W, i), 0x7FFF) << i;
+  EXPECT_EQ(store.read(BankId::X, 0), 0);
+  EXPECT_TRUE(journal.kept.empty());
+}
+
+TEST_F(WritePathTest, RightsComeFirstAndRefuseEvenWhereThereIsNoRegister) {
+  auto rights = modbus::WriteRights::nothing();
+  rights.allow(0x3000, 0x3001);
+  const std::array<std::uint16_t, 2> two = {1, 2};
+  EXPECT_EQ(writes.write_registers(0x3001, two, &rights).status, Status::not_allowed);  // W+2 is not the role's
+  EXPECT_EQ(writes.write_registers(0x1100, two, &rights).status, Status::not_allowed);  // says nothing of the map
+  const auto nothing = modbus::WriteRights::nothing();
+  EXPECT_EQ(writes.write_bit(0x3010, 0, true, &nothing).status, Status::not_allowed);
+  EXPECT_TRUE(journal.kept.empty());
+  EXPECT_EQ(writes.write_registers(0x3000, two, &rights).status, Status::written);
+  EXPECT_EQ(store.read(BankId::W, 1), 2);
+}
+
+TEST_F(WritePathTest, ABitOfXIsSetAndClearedLeavingTheOthers) {
+  const std::array<std::uint16_t, 1> bits = {0x0005};
+  writes.write_registers(0x3010, bits, nullptr);
+  EXPECT_EQ(writes.write_bit(0x3010, 3, true, nullptr).status, Status::written);
+  EXPECT_EQ(store.read(BankId::X, 0), 0x000D);
+  const auto result = writes.write_bit(0x3010, 0, false, nullptr);
+  EXPECT_EQ(store.read(BankId::X, 0), 0x000C);
+  EXPECT_EQ(result.kept_as, 3u);
+  EXPECT_EQ(journal.kept.back(), Value(BankId::X, 0, 0x000C));
+}
+
+TEST_F(WritePathTest, ABitOfAWriteOnlyXIsStillReadModifyWrite) {
+  RegisterSpace strict(space.map(), store, AccessRules{false});
+  WritePath strict_writes(strict, &journal);
+  const std::array<std::uint16_t, 1> bits = {0x0100};
+  strict_writes.write_registers(0x3010, bits, nullptr);
+  strict_writes.write_bit(0x3010, 1, true, nullptr);
+  EXPECT_EQ(store.read(BankId::X, 0), 0x0102);
+}
+
+TEST_F(WritePathTest, WithoutAJournalNothingIsKeptAndTheAnswerNeedNotWait) {
+  WritePath unkept(space, nullptr);
+  const std::array<std::uint16_t, 1> value = {9};
+  const auto result = unkept.write_registers(0x3000, value, nullptr);
+  EXPECT_EQ(result.status, Status::written);
+  EXPECT_EQ(result.kept_as, 0u);
+  EXPECT_EQ(store.read(BankId::W, 0), 9);
+}
+
+}  // namespace
+}  // namespace unima::banks
