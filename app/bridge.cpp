@@ -56,7 +56,7 @@ Bridge::Bridge(asio::io_context& io, config::Config config)
     : io_(io),
       core_(build_core(std::move(config))),
       error_hold_(io, [this](bool error) { core_->store->set_modbus_error(error); }),
-      presence_timer_(io.get_executor(), [this] { return core_->presence->next_expiry(); },
+      presence_timer_(io.get_executor(), [this] { return core_->intake->next_expiry(); },
                       [this] { expire_presence(); }),
       mqtt_timer_(io), heartbeat_timer_(io) {
   monitor_ = std::make_unique<monitor::Monitor>(core_->config.monitor);
@@ -67,6 +67,7 @@ Bridge::Bridge(asio::io_context& io, config::Config config)
   }
   transport_ = make_transport(core_->config);
   recorder_ = make_recorder(core_->config);
+  core_->intake->set_recording(recorder_.get());
   tcp_ = make_tcp_server(core_->config);
   tls_ = make_tls_server(core_->config);
   rtu_ = make_rtu_port(core_->config);
@@ -91,9 +92,9 @@ std::unique_ptr<Bridge::Core> Bridge::build_core(config::Config config) {
   core->space = std::make_unique<banks::RegisterSpace>(config::address_map(config), *core->store,
                                                        banks::AccessRules{config.modbus.readable_write_banks});
   core->writes = std::make_unique<banks::WritePath>(*core->space, state_.get());
-  core->router = std::make_unique<unimabus::TelegramRouter>(
-      unimabus::standard_routes(config.unimabus.address, *core->store, device_addresses(config)), *core->store);
-  core->presence = std::make_unique<unimabus::Presence>(config.unimabus.offline_after);
+  core->intake = std::make_unique<unimabus::TelegramIntake>(
+      unimabus::standard_routes(config.unimabus.address, *core->store, device_addresses(config)), *core->store,
+      config.unimabus.offline_after);
   core->capture_rules = capture_rules(config);
   core->config = std::move(config);
   return core;
@@ -479,9 +480,7 @@ void Bridge::commit(ReloadPlan plan) {
   plan.restore_http.commit();
   auto& core = plan.core;
   core->store->take_state_from(*core_->store);
-  for (BankId bank : core->presence->take_over(*core_->presence, [&](BankId b) { return core->store->online(b); },
-                                               unimabus::Presence::Clock::now()))
-    core->store->set_online(bank, false);
+  const auto presence = core->intake->take_over(*core_->intake, unimabus::TelegramIntake::Clock::now());
   core_ = std::move(core);
   monitor_->reconfigure(core_->config.monitor, std::move(plan.monitor_writer));
   if (plan.control) {  // else the running one stays, on a path that did not change or could not be taken
@@ -494,6 +493,8 @@ void Bridge::commit(ReloadPlan plan) {
   presence_timer_.watch();
 
   if (!plan.same_recorder) recorder_ = std::move(plan.recorder);
+  core_->intake->set_recording(recorder_.get());
+  log_presence(presence);
   if (plan.transport) {
     if (transport_) transport_->stop();
     transport_ = std::move(plan.transport);
@@ -555,19 +556,12 @@ void Bridge::commit(ReloadPlan plan) {
 }
 
 std::string Bridge::on_telegram(const unimabus::Telegram& telegram) {
-  auto outcome = core_->router->apply(telegram);
-  last_telegram_ = std::chrono::steady_clock::now();
-  if (recorder_) recorder_->record(telegram, *last_telegram_);
-  if (outcome.ignored) ++telegram_counts_.ignored;
-  if (!outcome.error.empty()) ++telegram_counts_.refused;
-  for (BankId bank : outcome.updated) ++telegram_counts_.taken[banks::index_of(bank)];
-  if (!outcome.updated.empty()) {
-    const auto now = unimabus::Presence::Clock::now();
-    for (BankId bank : outcome.updated)
-      if (core_->presence->heard(bank, now)) set_online(bank, true);
+  auto taken = core_->intake->take(telegram, unimabus::TelegramIntake::Clock::now());
+  if (!taken.changes.empty()) {
+    log_presence(taken.changes);
     presence_timer_.watch();
   }
-  return outcome.error;
+  return std::move(taken.error);
 }
 
 std::unique_ptr<io::TelegramRecorder> Bridge::make_recorder(const config::Config& config) const {
@@ -575,15 +569,15 @@ std::unique_ptr<io::TelegramRecorder> Bridge::make_recorder(const config::Config
   return std::make_unique<io::TelegramRecorder>(config.unimabus.record, started_at_);
 }
 
-void Bridge::set_online(BankId bank, bool online) {
-  core_->store->set_online(bank, online);
-  spdlog::info("unimabus: {} {}", describe_bank(core_->config, bank), online ? "on-line" : "off-line");
+void Bridge::log_presence(const std::vector<unimabus::TelegramIntake::PresenceChange>& changes) const {
+  for (const auto& change : changes)
+    spdlog::info("unimabus: {} {}", describe_bank(core_->config, change.bank), change.online ? "on-line" : "off-line");
 }
 
 // One timer for all devices, at the earliest moment one can go off-line; telegrams only
 // push that moment later (LazyDeadline).
 void Bridge::expire_presence() {
-  for (BankId bank : core_->presence->expire(unimabus::Presence::Clock::now())) set_online(bank, false);
+  log_presence(core_->intake->expire(unimabus::TelegramIntake::Clock::now()));
   presence_timer_.watch();
 }
 

@@ -26,9 +26,8 @@
 #include "app/live_view.hpp"
 #include "web/basic_auth.hpp"
 #include "io/telegram_recorder.hpp"
-#include "unimabus/presence.hpp"
 #include "unimabus/publisher.hpp"
-#include "unimabus/telegram_router.hpp"
+#include "unimabus/telegram_intake.hpp"
 #include "unimabus/transport.hpp"
 
 namespace unima::banks {
@@ -102,7 +101,7 @@ class Bridge {
   void on_foreign_exchange(std::span<const std::uint8_t> query, std::span<const std::uint8_t> response);
   std::string on_telegram(const unimabus::Telegram& telegram);
   void expire_presence();
-  void set_online(banks::BankId bank, bool online);
+  void log_presence(const std::vector<unimabus::TelegramIntake::PresenceChange>& changes) const;
   std::unique_ptr<io::ControlSocket> make_control_socket(const std::string& path);
   std::unique_ptr<io::TelegramRecorder> make_recorder(const config::Config& config) const;
   void restore_state();
@@ -138,12 +137,6 @@ class Bridge {
   static constexpr std::chrono::seconds stall_limit{2};
   static constexpr std::chrono::seconds stall_report_window{5};
   std::chrono::steady_clock::time_point started_at_ = std::chrono::steady_clock::now();
-  std::optional<std::chrono::steady_clock::time_point> last_telegram_;
-  struct TelegramCounts {
-    std::array<std::uint64_t, banks::bank_count> taken{};  // by the bank that took them
-    std::uint64_t ignored = 0;  // for no configured D_N or S_N: another device's
-    std::uint64_t refused = 0;  // answered with an error (ambiguous, past a bank's end)
-  } telegram_counts_;
 };
 
 }  // namespace unima::app

@@ -9,8 +9,7 @@
 #include "app/bridge.hpp"
 #include "banks/write_path.hpp"
 #include "modbus/capture.hpp"
-#include "unimabus/presence.hpp"
-#include "unimabus/telegram_router.hpp"
+#include "unimabus/telegram_intake.hpp"
 
 namespace unima::app {
 
@@ -19,8 +18,7 @@ struct Bridge::Core {
   std::unique_ptr<banks::RegisterStore> store;
   std::unique_ptr<banks::RegisterSpace> space;
   std::unique_ptr<banks::WritePath> writes;  // the one write path (banks/write_path.hpp)
-  std::unique_ptr<unimabus::TelegramRouter> router;
-  std::unique_ptr<unimabus::Presence> presence;
+  std::unique_ptr<unimabus::TelegramIntake> intake;  // a telegram's owner
   std::vector<modbus::CaptureRule> capture_rules;
 };
 

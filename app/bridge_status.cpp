@@ -73,12 +73,12 @@ nlohmann::json Bridge::status_json() const {
   doc["error"] = (online_bits >> banks::c_bank::modbus_error_bit & 1) != 0;
   doc["online_bits"] = online_bits;
   doc["modbus"] = activity(age<std::chrono::system_clock>(monitor_->last_transaction()));
-  doc["unimabus"] = activity(age<SteadyClock>(last_telegram_));
+  doc["unimabus"] = activity(age<SteadyClock>(core_->intake->last_telegram()));
   doc["unimabus"]["transport"] = config::transport_name(config.unimabus.transport);
   doc["unimabus"]["recording"] =
       config.unimabus.record.file.empty() ? nlohmann::json(nullptr) : nlohmann::json(config.unimabus.record.file);
-  doc["unimabus"]["telegrams_ignored"] = telegram_counts_.ignored;
-  doc["unimabus"]["telegrams_refused"] = telegram_counts_.refused;
+  doc["unimabus"]["telegrams_ignored"] = core_->intake->counts().ignored;
+  doc["unimabus"]["telegrams_refused"] = core_->intake->counts().refused;
   if (const auto clients = transport_ ? transport_->clients() : std::nullopt) doc["unimabus"]["clients"] = *clients;
 
   doc["devices"] = nlohmann::json::array();
@@ -90,7 +90,7 @@ nlohmann::json Bridge::status_json() const {
       d["type"] = device->table->id;
       d["address"] = device->address;
       d["online"] = store.online(bank);
-      d["telegrams"] = telegram_counts_.taken[banks::index_of(bank)];
+      d["telegrams"] = core_->intake->counts().taken[banks::index_of(bank)];
     } else {
       d["type"] = nullptr;
       d["online"] = false;
@@ -102,7 +102,7 @@ nlohmann::json Bridge::status_json() const {
     doc["modules"].push_back(nlohmann::json{{"bank", banks::bank_name(banks::module_bank(n))},
                                             {"slot", n},
                                             {"online", store.online(banks::module_bank(n))},
-                                            {"telegrams", telegram_counts_.taken[banks::index_of(banks::module_bank(n))]}});
+                                            {"telegrams", core_->intake->counts().taken[banks::index_of(banks::module_bank(n))]}});
 
   doc["indicators"] = nlohmann::json::array();
   const auto& indicators = monitor_->indicators();

@@ -109,15 +109,14 @@ std::uint16_t RegisterStore::read(BankId bank, std::uint16_t offset) const {
   return value;
 }
 
-std::size_t RegisterStore::store_telegram(BankId id, std::uint16_t offset, std::span<const std::uint16_t> values) {
+bool RegisterStore::store_telegram(BankId id, std::uint16_t offset, std::span<const std::uint16_t> values) {
   auto& bank = bank_(id);
-  if (offset >= bank.length) return 0;
-  const std::size_t n = std::min<std::size_t>(values.size(), bank.length - offset);
-  std::copy_n(values.begin(), n, bank.raw.begin() + offset);
-  std::fill_n(bank.carried.begin() + offset, n, std::uint8_t{1});
-  refresh_served(bank, offset, n);
+  if (std::size_t{offset} + values.size() > bank.length) return false;
+  std::copy(values.begin(), values.end(), bank.raw.begin() + offset);
+  std::fill_n(bank.carried.begin() + offset, values.size(), std::uint8_t{1});
+  refresh_served(bank, offset, values.size());
   publish_mapped_bits();
-  return n;
+  return true;
 }
 
 void RegisterStore::set_online(BankId id, bool online) {

@@ -53,9 +53,10 @@ class RegisterStore {
   void read(BankId bank, std::uint16_t offset, std::span<std::uint16_t> out) const;
   std::uint16_t read(BankId bank, std::uint16_t offset) const;
 
-  /// Values a UnimaBUS telegram carried into a D_N or S_N bank; those past the bank's end
-  /// are not stored. Returns how many were stored.
-  std::size_t store_telegram(BankId bank, std::uint16_t offset, std::span<const std::uint16_t> values);
+  /// Values a UnimaBUS telegram carried into a D_N or S_N bank. A telegram is taken
+  /// whole or not at all: false, and nothing stored, when it runs past the bank's end
+  /// (or the bank does not exist).
+  bool store_telegram(BankId bank, std::uint16_t offset, std::span<const std::uint16_t> values);
   void set_online(BankId bank, bool online);
   bool online(BankId bank) const { return bank_(bank).online; }
 

@@ -12,17 +12,17 @@
 
 #include "config/config.hpp"
 #include "monitor/monitor_sinks.hpp"
-#include "unimabus/telegram.hpp"
+#include "unimabus/telegram_intake.hpp"
 
 namespace unima::io {
 
-class TelegramRecorder {
+class TelegramRecorder final : public unimabus::TelegramRecording {
  public:
   /// Opens (creating the directory); throws std::runtime_error naming the key and the file
   /// (a symbolic link is refused, never followed).
   TelegramRecorder(const config::RecordConfig& config, std::chrono::steady_clock::time_point origin);
 
-  void record(const unimabus::Telegram& telegram, std::chrono::steady_clock::time_point now);
+  void record(const unimabus::Telegram& telegram, std::chrono::steady_clock::time_point now) override;
   const config::RecordConfig& config() const { return config_; }
 
  private:

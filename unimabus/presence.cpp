@@ -21,16 +21,6 @@ std::vector<banks::BankId> Presence::expire(Clock::time_point now) {
   return gone;
 }
 
-std::vector<banks::BankId> Presence::take_over(const Presence& old, const std::function<bool(banks::BankId)>& kept,
-                                               Clock::time_point now) {
-  std::vector<banks::BankId> offline;
-  for (banks::BankId bank : banks::all_banks) {
-    if (old.online(bank) && kept(bank)) heard(bank, now);
-    else offline.push_back(bank);
-  }
-  return offline;
-}
-
 std::optional<Presence::Clock::time_point> Presence::next_expiry() const {
   std::optional<Clock::time_point> next;
   for (const auto& last : last_heard_)

@@ -5,7 +5,6 @@
 
 #include <array>
 #include <chrono>
-#include <functional>
 #include <optional>
 #include <vector>
 
@@ -26,11 +25,6 @@ class Presence {
   /// When the next on-line bank will go off-line if nothing is heard.
   std::optional<Clock::time_point> next_expiry() const;
   bool online(banks::BankId bank) const { return last_heard_[index_of(bank)].has_value(); }
-  /// For a reload: a bank on-line in `old` whose values the new config kept
-  /// (`kept(bank)`) stays on-line, heard at `now`; every other bank starts off-line and is
-  /// returned, for the caller to show so.
-  std::vector<banks::BankId> take_over(const Presence& old, const std::function<bool(banks::BankId)>& kept,
-                                       Clock::time_point now);
 
  private:
   Clock::duration offline_after_;

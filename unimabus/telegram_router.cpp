@@ -36,14 +36,12 @@ TelegramRouter::Outcome TelegramRouter::apply(const Telegram& telegram) {
     return outcome;
   }
   const Route& route = *matches.front();
-  const std::size_t length = store_.length(route.bank);
-  if (telegram.offset + telegram.values.size() > length) {
+  if (!store_.store_telegram(route.bank, telegram.offset, telegram.values)) {
     outcome.error = fmt::format("registers 0x{:02X}..0x{:02X} run past the end of bank {} ({} registers)",
                                 telegram.offset, telegram.offset + telegram.values.size() - 1,
-                                banks::bank_name(route.bank), length);
+                                banks::bank_name(route.bank), store_.length(route.bank));
     return outcome;
   }
-  store_.store_telegram(route.bank, telegram.offset, telegram.values);
   outcome.updated.push_back(route.bank);
   return outcome;
 }

@@ -32,7 +32,7 @@ const Values offline_d1_0_to_2 = {0x0000, 0x7FFF, 0xFFFF};
 TEST(RegisterStore, DeviceBankReadsOfflineValuesUntilOnLineAndCarried) {
   RegisterStore store(shapes_with_chp_in_d1());
   EXPECT_EQ(read(store, BankId::D1, 0, 3), offline_d1_0_to_2);
-  EXPECT_EQ(store.store_telegram(BankId::D1, 1, Values{11}), 1u);
+  EXPECT_TRUE(store.store_telegram(BankId::D1, 1, Values{11}));
   EXPECT_EQ(read(store, BankId::D1, 0, 3), offline_d1_0_to_2);  // carried, but off-line
   store.set_online(BankId::D1, true);
   EXPECT_EQ(read(store, BankId::D1, 0, 3), (Values{0x0000, 11, 0xFFFF}));  // 0 and 2 never carried
@@ -45,12 +45,15 @@ TEST(RegisterStore, DeviceBankReadsOfflineValuesUntilOnLineAndCarried) {
   EXPECT_EQ(store.read(BankId::D1, 1), 12);
 }
 
-TEST(RegisterStore, TelegramsPastTheEndAreCutAndTheRestServed) {
+TEST(RegisterStore, ATelegramPastTheEndIsRefusedWhole) {
   RegisterStore store(shapes_with_chp_in_d1());
   store.set_online(BankId::D1, true);
-  EXPECT_EQ(store.store_telegram(BankId::D1, 63, Values{1, 2, 3}), 1u);
+  const auto before = store.read(BankId::D1, 63);
+  EXPECT_FALSE(store.store_telegram(BankId::D1, 63, Values{1, 2, 3}));
+  EXPECT_EQ(store.read(BankId::D1, 63), before);  // not even the register inside
+  EXPECT_FALSE(store.store_telegram(BankId::D1, 64, Values{1}));
+  EXPECT_TRUE(store.store_telegram(BankId::D1, 63, Values{1}));
   EXPECT_EQ(store.read(BankId::D1, 63), 1);
-  EXPECT_EQ(store.store_telegram(BankId::D1, 64, Values{1}), 0u);
 }
 
 TEST(RegisterStore, ReloadCarriesServedValuesOver) {

@@ -474,22 +474,6 @@ TEST(Presence, HearingAgainPostponesTheExpiry) {
   EXPECT_EQ(presence.expire(t0 + 9s), (std::vector<BankId>{BankId::D1}));
 }
 
-// A reload keeps a device on-line only when it was on-line and the new config kept its values.
-TEST(Presence, TakeOverKeepsOnlyOnlineBanksTheNewConfigKept) {
-  Presence old(5s);
-  old.heard(BankId::D1, t0);
-  old.heard(BankId::D2, t0);
-  Presence fresh(10s);
-  const auto offline = fresh.take_over(old, [](BankId bank) { return bank != BankId::D2; }, t0 + 3s);
-  EXPECT_TRUE(fresh.online(BankId::D1));
-  EXPECT_FALSE(fresh.online(BankId::D2));  // its table changed
-  EXPECT_FALSE(fresh.online(BankId::D3));  // never heard
-  EXPECT_EQ(fresh.next_expiry(), t0 + 13s);  // heard at the reload, under the new limit
-  EXPECT_EQ(std::count(offline.begin(), offline.end(), BankId::D1), 0);
-  EXPECT_EQ(std::count(offline.begin(), offline.end(), BankId::D2), 1);
-  EXPECT_EQ(offline.size(), banks::bank_count - 1);
-}
-
 TEST(Presence, NextExpiryIsTheEarliest) {
   Presence presence(5s);
   EXPECT_FALSE(presence.next_expiry().has_value());
