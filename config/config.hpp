@@ -4,11 +4,13 @@
 #include <array>
 #include <chrono>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "banks/address_map.hpp"
@@ -45,7 +47,8 @@ struct ReplayConfig {
   std::string file;
   bool loop = false;
   double speed = 1.0;
-  std::shared_ptr<const unimabus::Recording> recording;  // read and checked by the loader
+  std::string file_origin;  // "file:line:col" of `file`, for check_on_host's message
+  std::shared_ptr<const unimabus::Recording> recording;  // read and checked by check_on_host
 };
 
 /// unimabus.record: every telegram received, appended in the replay format.
@@ -59,7 +62,7 @@ struct UnimabusConfig {
   std::uint8_t address = 1;  // the bridge's own UnimaBUS address, seed "Addr"
   TransportKind transport = TransportKind::sim;
   std::string listen;        // feed: "host:port" or "unix:/path", as written
-  ListenEndpoint listen_at;  // feed: `listen` parsed by the loader; what the feed binds
+  ListenEndpoint listen_at;  // feed: `listen` parsed (config/endpoint); what the feed binds
   unsigned max_clients = 16; // feed: connections served at once
   Duration offline_after = std::chrono::seconds(5);
   SimConfig sim;
@@ -68,7 +71,7 @@ struct UnimabusConfig {
 };
 
 struct TcpSlaveConfig {
-  std::string listen = "0.0.0.0";  // an IP address literal (checked by the loader: config/endpoint)
+  std::string listen = "0.0.0.0";  // an IP address literal (checked by the parse: config/endpoint)
   std::uint16_t port = 502;
   unsigned max_clients = 128;
   Duration idle_timeout = std::chrono::seconds(60);  // 0: never
@@ -116,7 +119,7 @@ struct MasterDeviceConfig {
 /// Master-only settings (modbus.master; docs/master.md).
 struct MasterConfig {
   std::string tcp;                      // "host:port" of a Modbus TCP slave to drive instead of modbus.rtu
-  HostPort tcp_target;                  // `tcp` parsed by the loader; what the master connects to
+  HostPort tcp_target;                  // `tcp` parsed (config/endpoint); what the master connects to
   Duration response_timeout{500};
   unsigned retries = 1;                 // of reads; writes are never retried
   unsigned merge_gap = 0;               // registers a merged read may skip
@@ -245,6 +248,19 @@ struct MqttConfig {
   bool operator==(const MqttConfig&) const = default;
 };
 
+/// A path the config names on this machine: the parse only notes it, check_on_host looks
+/// at what is there.
+struct HostPath {
+  enum class Use {
+    unix_socket,  // the daemon listens there: nothing, or a socket it may replace (config/socket_path)
+    log_file,     // the daemon appends there: never through a symbolic link (monitor/log_path)
+  };
+  Use use = Use::log_file;
+  std::string key;     // "status.socket", named in the message
+  std::string path;
+  std::string origin;  // "file:line:col" of the key; of its section, or of the file, for a default
+};
+
 struct Config {
   std::string file;
   UnimabusConfig unimabus;
@@ -260,6 +276,7 @@ struct Config {
   StateConfig state;
   std::optional<HttpConfig> http;  // absent: no HTTP
   std::optional<MqttConfig> mqtt;  // absent: no MQTT
+  std::vector<HostPath> host_paths;  // in the order the file names them
 
   /// The blocks that act in this mode; the others are ignored (with a warning, SPEC §4).
   std::vector<const Block*> active_blocks() const;
@@ -271,14 +288,37 @@ class ConfigError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-Config load_file(const std::string& path);
-/// `origin` names the text in errors, as the file name would.
-Config load_text(const std::string& text, const std::string& origin);
+/// What the parse takes from the machine it runs on, handed in so that the parse itself
+/// reads no environment and a test can pose as any host.
+struct Host {
+  std::string name;  // gethostname(2): the default mqtt.client_id; empty when it has none
+  /// An environment variable's value; empty when it is not set (systemd's $STATE_DIRECTORY).
+  std::function<std::string(std::string_view variable)> environment = [](std::string_view) { return std::string(); };
+
+  static Host this_machine();
+};
+
+/// The YAML text as a Config, or a ConfigError naming `origin`:line:column. Pure: it opens
+/// no file and looks at nothing on disk (check_on_host does), so any text parses the same
+/// on any machine given the same `host`. `origin` names the text in errors, as the file
+/// name would.
+Config parse_text(const std::string& text, const std::string& origin, const Host& host);
+
+/// What `config` names on this machine, looked at once for `unima-bridge check`, the
+/// daemon's start and each reload alike (through load_file): the replay recording is read
+/// and parsed (into unimabus.replay.recording); unix socket paths hold nothing or a socket;
+/// log files are no symbolic links. A ConfigError names the key's file:line:column.
+void check_on_host(Config& config);
+
+/// parse_text, then check_on_host.
+Config load_text(const std::string& text, const std::string& origin, const Host& host = Host::this_machine());
+/// The file read, then load_text: what the daemon and `unima-bridge check` load.
+Config load_file(const std::string& path, const Host& host = Host::this_machine());
 
 /// Bank sizes and tables of this config.
 banks::BankShapes bank_shapes(const Config& config);
 /// Every served window: banks, and the registers of active read and write blocks.
-/// Validated by the loader.
+/// Validated by the parse: no two windows overlap.
 banks::AddressMap address_map(const Config& config);
 
 /// Things that are allowed but probably not meant, for the log at start-up and for

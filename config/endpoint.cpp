@@ -2,6 +2,7 @@
 
 #include <arpa/inet.h>
 
+#include <algorithm>
 #include <charconv>
 
 #include <fmt/format.h>
@@ -119,6 +120,27 @@ std::variant<ListenEndpoint, std::string> parse_listen_endpoint(std::string_view
   if (auto* error = std::get_if<std::string>(&tcp)) return std::move(*error);
   endpoint.tcp = std::get<HostPort>(std::move(tcp));
   return endpoint;
+}
+
+std::variant<MqttBroker, std::string> parse_mqtt_broker(std::string_view url) {
+  MqttBroker broker;
+  std::string_view rest = url;
+  if (rest.starts_with("mqtts://")) {
+    broker.tls = true;
+    rest.remove_prefix(8);
+  } else if (rest.starts_with("mqtt://")) {
+    rest.remove_prefix(7);
+  } else {
+    return fmt::format("'{}' must start with mqtt:// or mqtts://", url);
+  }
+  if (rest.ends_with('/')) rest.remove_suffix(1);
+  const bool has_port = rest.starts_with('[') ? rest.find("]:") != std::string_view::npos
+                                              : std::count(rest.begin(), rest.end(), ':') == 1;
+  const std::string with_port = has_port ? std::string(rest) : fmt::format("{}:{}", rest, broker.tls ? 8883 : 1883);
+  auto endpoint = parse_host_port(with_port, HostRule::address_or_name, PortRule::nonzero);
+  if (auto* error = std::get_if<std::string>(&endpoint)) return std::move(*error);
+  broker.endpoint = std::get<HostPort>(std::move(endpoint));
+  return broker;
 }
 
 bool is_loopback_address(std::string_view text) {

@@ -1,6 +1,6 @@
 #pragma once
-// Addresses, ports and socket paths as the config writes them (SPEC §10), parsed once by
-// the loader into what the daemon binds or connects to. `unima-bridge check` and the
+// Addresses, ports, URLs and socket paths as the config writes them (SPEC §10), parsed once
+// by the config's parse into what the daemon binds or connects to. `unima-bridge check` and the
 // daemon read the same result, so check accepts exactly what the daemon can use: an
 // address the socket layer would refuse ("Invalid argument" at start) is a config error
 // naming file:line:column instead.
@@ -66,5 +66,13 @@ struct ListenEndpoint {
   bool operator==(const ListenEndpoint&) const = default;
 };
 std::variant<ListenEndpoint, std::string> parse_listen_endpoint(std::string_view text);
+
+/// mqtt.broker (SPEC §12): mqtt://host[:port] or mqtts://host[:port], a trailing / allowed.
+struct MqttBroker {
+  bool tls = false;  // mqtts://
+  HostPort endpoint;  // a name or an address; without a port the protocol's own, 1883 or 8883
+  bool operator==(const MqttBroker&) const = default;
+};
+std::variant<MqttBroker, std::string> parse_mqtt_broker(std::string_view url);
 
 }  // namespace unima::config

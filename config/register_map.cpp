@@ -1,4 +1,7 @@
+// The register map (`unima-bridge map`), as rows and as JSON (register_map_json.hpp).
+
 #include "config/register_map.hpp"
+#include "config/register_map_json.hpp"
 
 #include <algorithm>
 
@@ -102,6 +105,19 @@ std::vector<MapRow> register_map(const Config& config) {
     }
   }
   return rows;
+}
+
+nlohmann::json map_row_json(const MapRow& row) {
+  return {{"address", fmt::format("0x{:04X}", row.address)},
+          {"bank", row.bank},
+          {"offset", row.offset},
+          {"id", row.id},
+          {"label", row.label},
+          {"kind", row.kind},
+          {"unit", row.unit},
+          {"scale", row.scale},
+          {"access", row.access},
+          {"source", row.source}};
 }
 
 }  // namespace unima::config

@@ -3,8 +3,9 @@
 // needs the path free, so the socket file a previous run left behind is removed first. A
 // path that names anything else — a file, a directory, a symbolic link — was put there by
 // someone, perhaps to have the daemon delete it: that is an error, and nothing is removed.
-// The loader asks at load time, so `unima-bridge check` refuses what the daemon would; the
-// daemon asks again right before it removes anything, as the file system may have changed.
+// config::check_on_host asks once the config is parsed, so `unima-bridge check` refuses
+// what the daemon would; the daemon asks again right before it removes anything, as the
+// file system may have changed.
 
 #include <optional>
 #include <stdexcept>

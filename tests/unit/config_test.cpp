@@ -598,7 +598,7 @@ TEST(ConfigLoad, MqttBrokerClientTopicAndTheirDefaults) {
   EXPECT_TRUE(starts_with(plain.mqtt->client_id, "unima-bridge")) << plain.mqtt->client_id;
   EXPECT_EQ(plain.mqtt->period, 10s);
 
-  EXPECT_EQ(load_error("mqtt: { broker: 'tcp://x' }\n"), "cfg.yaml:1:17: mqtt.broker 'tcp://x' must start with mqtt:// or mqtts://");
+  EXPECT_EQ(load_error("mqtt: { broker: 'tcp://x' }\n"), "cfg.yaml:1:17: mqtt.broker: 'tcp://x' must start with mqtt:// or mqtts://");
   EXPECT_EQ(load_error("mqtt: { broker: 'mqtt://x', topic: 'a/#' }\n"),
             "cfg.yaml:1:36: mqtt.topic must be a topic prefix without wildcards (# +) or a trailing /");
   EXPECT_EQ(load_error("mqtt: { broker: 'mqtt://x', ca: c.pem }\n"), "cfg.yaml:1:33: mqtt.ca is for mqtts:// brokers");

@@ -131,6 +131,35 @@ TEST(ConfigEndpoints, NamesAndBadAddressesAreRefusedWithTheirPosition) {
                 "' must be a path of 1..107 characters (a unix socket's limit)");
 }
 
+TEST(MqttBroker, IsASchemeAHostAndAnOptionalPort) {
+  using Result = std::variant<MqttBroker, std::string>;
+  EXPECT_EQ(parse_mqtt_broker("mqtt://10.0.0.2"), Result(MqttBroker{false, {"10.0.0.2", 1883}}));
+  EXPECT_EQ(parse_mqtt_broker("mqtts://broker.example"), Result(MqttBroker{true, {"broker.example", 8883}}));
+  EXPECT_EQ(parse_mqtt_broker("mqtts://broker.example:9883/"), Result(MqttBroker{true, {"broker.example", 9883}}));
+  EXPECT_EQ(parse_mqtt_broker("mqtt://[::1]:1884"), Result(MqttBroker{false, {"::1", 1884}}));
+  EXPECT_EQ(parse_mqtt_broker("mqtt://::1"), Result(MqttBroker{false, {"::1", 1883}}));  // IPv6 without a port
+  EXPECT_EQ(std::get<std::string>(parse_mqtt_broker("tcp://x")), "'tcp://x' must start with mqtt:// or mqtts://");
+  EXPECT_EQ(std::get<std::string>(parse_mqtt_broker("mqtt://x:0")), "'x:0' has no valid port (1..65535 after the last colon)");
+  EXPECT_EQ(std::get<std::string>(parse_mqtt_broker("mqtt://bad_host!:1883")),
+            "'bad_host!:1883': 'bad_host!' is neither an IP address nor a host name");
+}
+
+// One check of a listen address and one of a server's PEM files, whichever section.
+TEST(ConfigEndpoints, EveryServerSectionRefusesANameAndAMissingPemAlike) {
+  const std::string name_refused = "'localhost' is a name; the daemon listens on an IP address of this machine (0.0.0.0 "
+                                   "every IPv4 interface, :: every IPv6 one, 127.0.0.1 this machine only)";
+  EXPECT_EQ(error_of("modbus:\n  tcp: { listen: localhost }\n"), "bridge.yaml:2:18: " + name_refused);
+  EXPECT_EQ(error_of("modbus:\n  tls: { listen: localhost }\n"), "bridge.yaml:2:18: " + name_refused);
+  EXPECT_EQ(error_of("http:\n  listen: localhost\n"), "bridge.yaml:2:11: " + name_refused);
+  EXPECT_EQ(error_of("modbus:\n  tls: { certificate: c.pem, ca: ca.pem }\n"),
+            "bridge.yaml:2:8: modbus.tls needs 'key', a PEM file");
+  EXPECT_EQ(error_of("http:\n  tls: { certificate: c.pem }\n"), "bridge.yaml:2:8: http.tls needs 'key', a PEM file");
+  EXPECT_EQ(error_of("modbus:\n  tls: { certificate: '', key: k.pem, ca: ca.pem }\n"),
+            "bridge.yaml:2:23: modbus.tls.certificate must be the path of a PEM file");
+  EXPECT_EQ(error_of("http:\n  tls: { certificate: '', key: k.pem }\n"),
+            "bridge.yaml:2:23: http.tls.certificate must be the path of a PEM file");
+}
+
 TEST(ConfigEndpoints, TheDaemonGetsWhatTheLoaderParsed) {
   const auto feed_config = load_text(feed("'*:7700'"), "bridge.yaml");
   EXPECT_EQ(feed_config.unimabus.listen, "*:7700");

@@ -1,0 +1,68 @@
+// What a parsed Config tells beyond its fields: the blocks that act in its mode, a line's
+// timing, and the warnings for the log at start and for `unima-bridge check`.
+
+#include <fmt/format.h>
+
+#include "config/config.hpp"
+#include "config/master_setup.hpp"
+
+namespace unima::config {
+
+modbus::RtuTiming line_timing(const RtuConfig& line) {
+  return modbus::rtu_timing(line.baud, line.parity != Parity::none, line.stop_bits);
+}
+
+std::string_view block_type_name(Block::Type type) {
+  switch (type) {
+    case Block::Type::read: return "read";
+    case Block::Type::write: return "write";
+    case Block::Type::capture: return "capture";
+    case Block::Type::poll: return "poll";
+    case Block::Type::send: return "send";
+  }
+  return "?";
+}
+
+std::uint16_t Block::extent() const {
+  if (data_type == master::ValueType::bits) return count;
+  return static_cast<std::uint16_t>(master::register_span(data_type));
+}
+
+std::vector<const Block*> Config::active_blocks() const {
+  std::vector<const Block*> active;
+  for (const auto& block : blocks)
+    if (block.is_slave_block() == (modbus.mode == ModbusMode::slave)) active.push_back(&block);
+  return active;
+}
+
+std::vector<std::string> warnings(const Config& config) {
+  std::vector<std::string> found;
+  const bool slave = config.modbus.mode == ModbusMode::slave;
+  if (slave && !config.modbus.master.origin.empty())
+    found.push_back(fmt::format("{}: modbus.master is set, but this bridge is a slave; the master settings are unused",
+                                config.modbus.master.origin));
+  for (const auto& block : config.blocks) {
+    if (block.is_slave_block() != slave)
+      found.push_back(fmt::format("{}: {} block ignored: {} blocks act in {} mode only, this bridge is a {}",
+                                  block.origin, block_type_name(block.type), block_type_name(block.type),
+                                  block.is_slave_block() ? "slave" : "master", slave ? "slave" : "master"));
+    else if (block.type == Block::Type::capture && !config.modbus.rtu)
+      found.push_back(fmt::format("{}: capture block inactive: capture listens on a Modbus RTU line, and "
+                                  "modbus.rtu is not set", block.origin));
+  }
+  if (const auto& http = config.http; http && !is_loopback_address(http->listen)) {
+    if (http->users.empty())
+      found.push_back(fmt::format("{}: http listens on {} without http.users: anyone who reaches the port reads the plant's "
+                                  "values and the monitor", http->origin, http->listen));
+    else if (!http->tls)
+      found.push_back(fmt::format("{}: http listens on {} without http.tls: passwords cross the network in clear",
+                                  http->origin, http->listen));
+  }
+  if (!slave) {
+    const auto more = foreign_slave_warnings(config);
+    found.insert(found.end(), more.begin(), more.end());
+  }
+  return found;
+}
+
+}  // namespace unima::config

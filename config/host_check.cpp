@@ -1,0 +1,73 @@
+// What the config depends on from the machine it runs on: the host's name and environment,
+// given to the parse (Host), and what is on disk where the config points, looked at once
+// after the parse (check_on_host) by `unima-bridge check`, the daemon's start and a reload.
+
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+
+#include <fmt/format.h>
+
+#include "config/config.hpp"
+#include "config/socket_path.hpp"
+#include "monitor/log_path.hpp"
+
+namespace unima::config {
+
+namespace {
+
+std::string host_name() {
+  char name[256] = {};
+  if (::gethostname(name, sizeof name - 1) != 0) return {};
+  return name;
+}
+
+// Read now, so that `check` and a reload see a bad line before anything starts (SPEC §6).
+std::shared_ptr<const unimabus::Recording> read_recording(const ReplayConfig& replay) {
+  std::ifstream in(replay.file, std::ios::binary);
+  if (!in)
+    throw ConfigError(
+        fmt::format("{}: cannot read the recording {}: {}", replay.file_origin, replay.file, std::strerror(errno)));
+  std::ostringstream text;
+  text << in.rdbuf();
+  try {
+    return std::make_shared<const unimabus::Recording>(unimabus::parse_recording(text.str(), replay.file));
+  } catch (const unimabus::RecordingError& e) {
+    throw ConfigError(e.what());
+  }
+}
+
+// Why the daemon will not use `path` as `use` says, or nullopt. A socket path is checked
+// again right before the daemon removes anything (config/socket_path).
+std::optional<std::string> refusal(const HostPath& path) {
+  switch (path.use) {
+    case HostPath::Use::unix_socket: return socket_path_conflict(path.path);
+    case HostPath::Use::log_file: return monitor::refused_log_path(path.path);
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
+Host Host::this_machine() {
+  Host host;
+  host.name = host_name();
+  host.environment = [](std::string_view variable) {
+    const char* value = std::getenv(std::string(variable).c_str());
+    return std::string(value ? value : "");
+  };
+  return host;
+}
+
+void check_on_host(Config& config) {
+  if (auto& replay = config.unimabus.replay; config.unimabus.transport == TransportKind::replay)
+    replay.recording = read_recording(replay);
+  for (const auto& path : config.host_paths)
+    if (const auto refused = refusal(path)) throw ConfigError(fmt::format("{}: {}: {}", path.origin, path.key, *refused));
+}
+
+}  // namespace unima::config

@@ -1,0 +1,159 @@
+// modbus: the mode and address, the RTU line, and the master's settings and devices. The
+// TCP and TLS slaves are read in config/network_sections.cpp.
+
+#include <algorithm>
+#include <cctype>
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include "config/endpoint.hpp"
+#include "config/section_parsers.hpp"
+
+namespace unima::config::sections {
+
+namespace {
+
+RtuConfig parse_rtu_line(const YamlReader& yaml, const YAML::Node& node) {
+  yaml.expect_keys(node, "modbus.rtu", {"device", "baud", "parity", "stop_bits", "rs485", "low_latency", "frame_gap"});
+  RtuConfig r;
+  r.origin = yaml.position(node);
+  if (!node["device"]) yaml.fail(node, "modbus.rtu needs the serial device, e.g. device: /dev/ttyUSB0");
+  r.device = yaml.text(node["device"]);
+  if (const auto baud = node["baud"]) {
+    r.baud = static_cast<unsigned>(yaml.number(baud, 0, 115200));
+    // The seed's rates (4800..19200) and the usual ones above, up to 115200 (SPEC §3).
+    static constexpr unsigned rates[] = {1200, 2400, 4800, 9600, 14400, 19200, 38400, 57600, 115200};
+    if (std::find(std::begin(rates), std::end(rates), r.baud) == std::end(rates))
+      yaml.fail(baud, fmt::format("{} baud is not supported (1200, 2400, 4800, 9600, 14400, 19200, 38400, "
+                                  "57600, 115200)", r.baud));
+  }
+  if (node["parity"]) {
+    const auto p = yaml.choice(node["parity"], {"none", "even", "odd"});
+    r.parity = p == "even" ? Parity::even : p == "odd" ? Parity::odd : Parity::none;
+  }
+  if (node["stop_bits"]) r.stop_bits = static_cast<unsigned>(yaml.number(node["stop_bits"], 1, 2));
+  if (node["rs485"]) {
+    const auto d = yaml.choice(node["rs485"], {"off", "kernel", "rts"});
+    r.rs485 = d == "kernel" ? Rs485Direction::kernel : d == "rts" ? Rs485Direction::rts : Rs485Direction::off;
+  }
+  if (node["low_latency"]) r.low_latency = yaml.boolean(node["low_latency"]);
+  if (const auto gap = node["frame_gap"]; gap && yaml.text(gap) != "auto") {
+    r.frame_gap = yaml.fine_duration(gap);
+    // Shorter than t3.5, a pause the Modbus rule allows inside a frame would cut it.
+    const auto t3_5 = line_timing(r).frame_gap;
+    if (*r.frame_gap < t3_5)
+      yaml.fail(gap, fmt::format("frame_gap {} µs is shorter than t3.5 at {} baud ({} µs)", r.frame_gap->count(),
+                                 r.baud, t3_5.count()));
+  }
+  return r;
+}
+
+Duration positive_duration(const YamlReader& yaml, const YAML::Node& node) {
+  const auto d = yaml.duration(node);
+  if (d.count() == 0) yaml.fail(node, "must be longer than 0");
+  return d;
+}
+
+MasterDeviceConfig parse_master_device(const ParseState& state, const YAML::Node& d, std::uint8_t address) {
+  const auto& yaml = state.yaml;
+  yaml.expect_keys(d, fmt::format("modbus.master.devices.{}", address), {"profile", "min_gap", "response_timeout", "line"});
+  MasterDeviceConfig device;
+  device.origin = yaml.position(d);
+  if (d["profile"]) device.profile = parse_profile(state, d["profile"]);
+  if (const auto line = d["line"]) {
+    // The device's own setting, where it was changed from its profile's default.
+    yaml.expect_keys(line, fmt::format("modbus.master.devices.{}.line", address), {"baud", "parity", "stop_bits"});
+    master::SerialDefaults set;
+    if (device.profile && device.profile->line) set = *device.profile->line;
+    if (line["baud"]) set.baud = static_cast<unsigned>(yaml.number(line["baud"], 1200, 115200));
+    if (line["parity"]) set.parity = static_cast<char>(std::toupper(yaml.choice(line["parity"], {"none", "even", "odd"})[0]));
+    if (line["stop_bits"]) set.stop_bits = static_cast<unsigned>(yaml.number(line["stop_bits"], 1, 2));
+    device.line = set;
+  }
+  if (d["min_gap"]) device.min_gap = yaml.duration(d["min_gap"]);
+  if (d["response_timeout"]) device.response_timeout = positive_duration(yaml, d["response_timeout"]);
+  return device;
+}
+
+void parse_master(ParseState& state, const YAML::Node& node) {
+  const auto& yaml = state.yaml;
+  yaml.expect_keys(node, "modbus.master",
+                   {"tcp", "response_timeout", "retries", "merge_gap", "max_read_registers", "stale_after",
+                    "degrade_after", "backoff", "backoff_max", "min_gap", "devices"});
+  auto& m = state.config.modbus.master;
+  m.origin = yaml.position(node);
+  if (node["tcp"]) {
+    m.tcp = yaml.text(node["tcp"]);
+    auto target = parse_host_port(m.tcp, HostRule::address_or_name, PortRule::nonzero);
+    if (auto* error = std::get_if<std::string>(&target)) yaml.fail(node["tcp"], *error);
+    m.tcp_target = std::get<HostPort>(std::move(target));
+  }
+  if (node["response_timeout"]) m.response_timeout = positive_duration(yaml, node["response_timeout"]);
+  if (node["retries"]) m.retries = static_cast<unsigned>(yaml.number(node["retries"], 0, 5));
+  if (node["merge_gap"]) m.merge_gap = static_cast<unsigned>(yaml.number(node["merge_gap"], 0, 124));
+  if (node["max_read_registers"])
+    m.max_read_registers = static_cast<unsigned>(yaml.number(node["max_read_registers"], 1, 125));
+  if (node["stale_after"]) m.stale_after = positive_duration(yaml, node["stale_after"]);
+  if (node["degrade_after"]) m.degrade_after = static_cast<unsigned>(yaml.number(node["degrade_after"], 1, 100));
+  if (node["backoff"]) m.backoff = positive_duration(yaml, node["backoff"]);
+  if (node["backoff_max"]) m.backoff_max = positive_duration(yaml, node["backoff_max"]);
+  if (m.backoff_max < m.backoff)
+    yaml.fail(node["backoff_max"] ? node["backoff_max"] : node["backoff"], "backoff_max must not be shorter than backoff");
+  if (node["min_gap"]) m.min_gap = yaml.duration(node["min_gap"]);
+  if (const auto devices = node["devices"]) {
+    if (!devices.IsMap())
+      yaml.fail(devices, "modbus.master.devices must map Modbus addresses to { profile, min_gap, response_timeout }");
+    for (const auto& entry : devices) {
+      const auto address = static_cast<std::uint8_t>(yaml.number(entry.first, 1, 247));
+      m.devices[address] = parse_master_device(state, entry.second, address);
+    }
+  }
+}
+
+}  // namespace
+
+const master::DeviceProfile* parse_profile(const ParseState& state, const YAML::Node& node) {
+  const auto id = state.yaml.text(node);
+  const auto* found = master::find_profile(id);
+  if (!found)
+    state.yaml.fail(node, fmt::format("unknown device profile '{}' (known: {})", id, fmt::join(master::profile_ids(), ", ")));
+  return found;
+}
+
+void parse_modbus(ParseState& state, const YAML::Node& node) {
+  const auto& yaml = state.yaml;
+  yaml.expect_keys(node, "modbus", {"mode", "address", "tcp", "tls", "rtu", "readable_write_banks", "extensions", "master"});
+  auto& m = state.config.modbus;
+  if (node["mode"]) {
+    const auto mode = yaml.choice(node["mode"], {"slave", "master"});
+    m.mode = mode == "master" ? ModbusMode::master : ModbusMode::slave;
+  }
+  if (node["address"]) m.address = static_cast<std::uint8_t>(yaml.number(node["address"], 0, 255));
+  if (node["readable_write_banks"]) m.readable_write_banks = yaml.boolean(node["readable_write_banks"]);
+  if (const auto ext = node["extensions"]) {
+    yaml.expect_keys(ext, "modbus.extensions", {"function_3", "function_16", "function_43"});
+    if (ext["function_3"]) m.extensions.function_3 = yaml.boolean(ext["function_3"]);
+    if (ext["function_16"]) m.extensions.function_16 = yaml.boolean(ext["function_16"]);
+    if (ext["function_43"]) m.extensions.function_43 = yaml.boolean(ext["function_43"]);
+  }
+  if (node["tcp"]) m.tcp = parse_modbus_tcp(state, node["tcp"]);
+  if (node["tls"]) m.tls = parse_modbus_tls(state, node["tls"]);
+  if (node["rtu"]) m.rtu = parse_rtu_line(yaml, node["rtu"]);
+  // An RTU slave answers one address of 1..247 (0 is broadcast, 248..255 reserved).
+  if (m.rtu && m.mode == ModbusMode::slave && (m.address < 1 || m.address > 247))
+    yaml.fail(node["address"] ? node["address"] : node,
+              fmt::format("modbus.address {} cannot be an RTU slave's address (1..247)", m.address));
+  if (node["master"]) parse_master(state, node["master"]);
+  if (m.mode == ModbusMode::master) {
+    // SPEC §3: in master mode the RTU line belongs to the master; a TCP target is the extension.
+    if (!m.rtu && m.master.tcp.empty())
+      yaml.fail(node["mode"] ? node["mode"] : node,
+                "master mode needs the line to drive: modbus.rtu, or modbus.master.tcp (host:port)");
+    if (m.rtu && !m.master.tcp.empty())
+      yaml.fail(node["master"]["tcp"], "modbus.master.tcp and modbus.rtu are both set; the master drives one "
+                                       "line: remove one of them");
+  }
+}
+
+}  // namespace unima::config::sections

@@ -1,0 +1,196 @@
+// What listens on the network or connects to it, besides the feed: the Modbus TCP and TLS
+// slaves, the HTTP server, the MQTT client. A listen address and a PEM file are read by
+// one function each, whichever section holds them.
+
+#include <algorithm>
+#include <array>
+#include <utility>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "config/endpoint.hpp"
+#include "config/section_parsers.hpp"
+
+namespace unima::config::sections {
+
+namespace {
+
+constexpr std::array<std::string_view, 7> tcp_keys = {"listen",        "port",  "max_clients", "idle_timeout",
+                                                       "frame_timeout", "allow", "read_only"};
+
+// Where a server listens: an IP address of this machine (config/endpoint) and a port,
+// 0 for any free one.
+void parse_listen_address(const YamlReader& yaml, const YAML::Node& section, std::string& listen,
+                          std::uint16_t& port) {
+  if (section["listen"]) {
+    listen = yaml.text(section["listen"]);
+    if (const auto error = listen_address_error(listen, HostRule::listen_address)) yaml.fail(section["listen"], *error);
+  }
+  if (section["port"]) port = static_cast<std::uint16_t>(yaml.number(section["port"], 0, 65535));
+}
+
+// The required PEM files of a TLS server; `section` names it in messages. Whether they
+// hold what they should is tls::load_server_credentials' question, at start and in `check`.
+void parse_pem_files(const YamlReader& yaml, const YAML::Node& node, std::string_view section,
+                     std::initializer_list<std::pair<const char*, std::string*>> files) {
+  for (const auto& [key, file] : files) {
+    if (!node[key]) yaml.fail(node, fmt::format("{} needs '{}', a PEM file", section, key));
+    *file = yaml.text(node[key]);
+    if (file->empty()) yaml.fail(node[key], fmt::format("{}.{} must be the path of a PEM file", section, key));
+  }
+}
+
+PeerAllowList parse_allow_list(const YamlReader& yaml, const YAML::Node& node, std::string_view key) {
+  if (!node.IsSequence() || node.size() == 0)
+    yaml.fail(node, fmt::format("{} must be a list of addresses and CIDR ranges, e.g. [192.168.10.0/24, 127.0.0.1]", key));
+  PeerAllowList list;
+  for (const auto& item : node) {
+    auto parsed = parse_network_range(yaml.text(item));
+    if (auto* error = std::get_if<std::string>(&parsed)) yaml.fail(item, fmt::format("{}: {}", key, *error));
+    list.ranges.push_back(std::get<NetworkRange>(std::move(parsed)));
+  }
+  return list;
+}
+
+// The keys modbus.tcp and modbus.tls share; `key` names the section in messages.
+TcpSlaveConfig parse_tcp_slave(const YamlReader& yaml, const YAML::Node& node, std::string_view key, TcpSlaveConfig t) {
+  parse_listen_address(yaml, node, t.listen, t.port);
+  if (node["max_clients"]) t.max_clients = static_cast<unsigned>(yaml.number(node["max_clients"], 1, 10000));
+  if (node["idle_timeout"]) t.idle_timeout = yaml.duration(node["idle_timeout"]);
+  if (node["frame_timeout"]) {
+    t.frame_timeout = yaml.duration(node["frame_timeout"]);
+    if (t.frame_timeout.count() <= 0) yaml.fail(node["frame_timeout"], fmt::format("{}.frame_timeout must be above 0", key));
+  }
+  if (node["allow"]) t.allow = parse_allow_list(yaml, node["allow"], fmt::format("{}.allow", key));
+  if (node["read_only"]) t.read_only = yaml.boolean(node["read_only"]);
+  return t;
+}
+
+// A role's `write: [W, X, 0x0201]`: banks by name, registers by address.
+modbus::WriteRights parse_role(const YamlReader& yaml, const std::string& name, const YAML::Node& node,
+                               const banks::AddressMap& map) {
+  if (!node.IsMap()) yaml.fail(node, fmt::format("modbus.tls.roles.{} must be {{ write: [...] }}", name));
+  yaml.expect_keys(node, fmt::format("modbus.tls.roles.{}", name), {"write"});
+  auto rights = modbus::WriteRights::nothing();
+  const auto write = node["write"];
+  if (!write) return rights;
+  if (!write.IsSequence())
+    yaml.fail(write, fmt::format("modbus.tls.roles.{}.write must be a list of banks and registers, e.g. [W, X, 0x0201]", name));
+  for (const auto& item : write) {
+    const auto text = yaml.text(item);
+    if (const auto bank = banks::parse_bank_name(text)) {
+      const auto window = std::find_if(map.windows().begin(), map.windows().end(), [&](const banks::Window& w) {
+        return w.kind == banks::Window::Kind::bank && w.bank == *bank;
+      });
+      if (window == map.windows().end()) yaml.fail(item, fmt::format("bank {} is not served by this config", text));
+      rights.allow(window->first, static_cast<std::uint16_t>(window->end() - 1));
+    } else {
+      const auto address = static_cast<std::uint16_t>(yaml.number(item, 0, 0xFFFF));
+      if (!map.find(address)) yaml.fail(item, fmt::format("register {:#06x} is in no bank or block of this config", address));
+      rights.allow(address, address);
+    }
+  }
+  return rights;
+}
+
+}  // namespace
+
+TcpSlaveConfig parse_modbus_tcp(ParseState& state, const YAML::Node& node) {
+  state.yaml.expect_keys(node, "modbus.tcp", tcp_keys);
+  return parse_tcp_slave(state.yaml, node, "modbus.tcp", TcpSlaveConfig{});
+}
+
+TlsSlaveConfig parse_modbus_tls(ParseState& state, const YAML::Node& node) {
+  const auto& yaml = state.yaml;
+  std::vector<std::string_view> keys(tcp_keys.begin(), tcp_keys.end());
+  for (const char* k : {"certificate", "key", "ca", "roles"}) keys.push_back(k);
+  yaml.expect_keys(node, "modbus.tls", keys);
+  TlsSlaveConfig tls;
+  tls.origin = yaml.position(node);
+  tls.connection = parse_tcp_slave(yaml, node, "modbus.tls", TlsSlaveConfig::default_connection());
+  parse_pem_files(yaml, node, "modbus.tls", {{"certificate", &tls.certificate}, {"key", &tls.key}, {"ca", &tls.ca}});
+  if (const auto roles = node["roles"]) {
+    if (!roles.IsMap()) yaml.fail(roles, "modbus.tls.roles must map each role to { write: [...] }");
+    for (const auto& role : roles) state.tls_roles.emplace_back(yaml.text(role.first), role.second);
+  }
+  return tls;
+}
+
+void resolve_tls_roles(ParseState& state) {
+  auto& tls = state.config.modbus.tls;
+  if (!tls) return;
+  const auto map = address_map(state.config);
+  for (const auto& [name, node] : state.tls_roles) tls->roles.insert_or_assign(name, parse_role(state.yaml, name, node, map));
+}
+
+void parse_http(ParseState& state, const YAML::Node& node) {
+  const auto& yaml = state.yaml;
+  yaml.expect_keys(node, "http", {"listen", "port", "max_clients", "tls", "users"});
+  HttpConfig h;
+  h.origin = yaml.position(node);
+  parse_listen_address(yaml, node, h.listen, h.port);
+  if (node["max_clients"]) h.max_clients = static_cast<unsigned>(yaml.number(node["max_clients"], 1, 1000));
+  if (const auto tls = node["tls"]) {
+    yaml.expect_keys(tls, "http.tls", {"certificate", "key"});
+    HttpTlsConfig t;
+    parse_pem_files(yaml, tls, "http.tls", {{"certificate", &t.certificate}, {"key", &t.key}});
+    h.tls = t;
+  }
+  if (const auto users = node["users"]) {
+    h.users = yaml.text(users);
+    if (h.users.empty()) yaml.fail(users, "http.users must be the path of a file of name:password-hash lines");
+  }
+  state.config.http = h;
+}
+
+void parse_mqtt(ParseState& state, const YAML::Node& node) {
+  const auto& yaml = state.yaml;
+  yaml.expect_keys(node, "mqtt", {"broker", "client_id", "topic", "username", "password_file", "ca", "certificate",
+                                  "key", "version", "publish", "commands"});
+  MqttConfig m;
+  m.origin = yaml.position(node);
+  if (!node["broker"]) yaml.fail(node, "mqtt needs 'broker', e.g. mqtt://127.0.0.1:1883 or mqtts://broker.example:8883");
+  m.broker = yaml.text(node["broker"]);
+  auto broker = parse_mqtt_broker(m.broker);
+  if (auto* error = std::get_if<std::string>(&broker)) yaml.fail(node["broker"], fmt::format("mqtt.broker: {}", *error));
+  m.tls = std::get<MqttBroker>(broker).tls;
+  m.endpoint = std::get<MqttBroker>(broker).endpoint;
+  const auto& host_name = state.host.name;
+  m.client_id = node["client_id"] ? yaml.text(node["client_id"])
+                                  : host_name.empty() ? std::string("unima-bridge") : "unima-bridge-" + host_name;
+  if (m.client_id.empty() || m.client_id.size() > 64)
+    yaml.fail(node["client_id"] ? node["client_id"] : node, "mqtt.client_id must be 1..64 characters");
+  m.topic = node["topic"] ? yaml.text(node["topic"]) : "unima/" + m.client_id;
+  if (m.topic.empty() || m.topic.back() == '/' || m.topic.find_first_of("#+") != std::string::npos)
+    yaml.fail(node["topic"] ? node["topic"] : node, "mqtt.topic must be a topic prefix without wildcards (# +) or a trailing /");
+  if (node["username"]) m.username = yaml.text(node["username"]);
+  if (node["password_file"]) m.password_file = yaml.text(node["password_file"]);
+  if (!m.password_file.empty() && m.username.empty())
+    yaml.fail(node["password_file"], "mqtt.password_file needs mqtt.username");
+  for (const auto& [key, file] : {std::pair{"ca", &m.ca}, std::pair{"certificate", &m.certificate}, std::pair{"key", &m.key}}) {
+    if (!node[key]) continue;
+    if (!m.tls) yaml.fail(node[key], fmt::format("mqtt.{} is for mqtts:// brokers", key));
+    *file = yaml.text(node[key]);
+  }
+  if (m.certificate.empty() != m.key.empty())
+    yaml.fail(node, "mqtt.certificate and mqtt.key go together (the client's certificate and its key)");
+  if (node["version"]) {
+    const auto version = yaml.text(node["version"]);
+    if (version == "3.1.1") m.version = 4;
+    else if (version == "5") m.version = 5;
+    else yaml.fail(node["version"], "mqtt.version must be 3.1.1 or 5");
+  }
+  if (const auto publish = node["publish"]) {
+    yaml.expect_keys(publish, "mqtt.publish", {"period", "on_change"});
+    if (publish["period"]) {
+      m.period = yaml.duration(publish["period"]);
+      if (m.period < std::chrono::seconds(1)) yaml.fail(publish["period"], "mqtt.publish.period must be 1s or more");
+    }
+    if (publish["on_change"]) m.on_change = yaml.boolean(publish["on_change"]);
+  }
+  if (node["commands"]) m.commands = yaml.boolean(node["commands"]);
+  state.config.mqtt = m;
+}
+
+}  // namespace unima::config::sections

@@ -1,0 +1,138 @@
+// The config's parse is pure (parse_text: no file opened, nothing looked at on disk, the
+// host's name and environment handed in as Host); what the config names on this machine is
+// looked at by check_on_host, which `unima-bridge check`, the daemon's start and a reload
+// share through load_file. Its errors name the key's file:line:column as the parse's do.
+
+#include <gtest/gtest.h>
+
+#include <functional>
+#include <map>
+#include <string>
+
+#include "config/config.hpp"
+#include "tests/support/error_message.hpp"
+#include "tests/support/temp_files.hpp"
+
+namespace unima::config {
+namespace {
+
+using test_support::TempDir;
+
+/// A machine called `name` whose environment holds `variables` only.
+Host host_called(std::string name, std::map<std::string, std::string, std::less<>> variables = {}) {
+  Host host;
+  host.name = std::move(name);
+  host.environment = [variables = std::move(variables)](std::string_view variable) {
+    const auto found = variables.find(variable);
+    return found == variables.end() ? std::string() : found->second;
+  };
+  return host;
+}
+
+std::string host_error(Config& config) {
+  return test_support::error_message<ConfigError>([&] { check_on_host(config); });
+}
+
+constexpr const char* one_telegram = "{\"t\":0,\"addr\":5,\"slot\":0,\"offset\":1,\"values\":[7]}\n";
+
+TEST(ConfigParse, AMissingRecordingParsesAndTheHostCheckNamesIt) {
+  auto config = parse_text("unimabus:\n  transport: replay\n  file: /nonexistent/recording.jsonl\n", "cfg.yaml",
+                           host_called("plc-7"));
+  EXPECT_EQ(config.unimabus.replay.file, "/nonexistent/recording.jsonl");
+  EXPECT_EQ(config.unimabus.replay.file_origin, "cfg.yaml:3:9");
+  EXPECT_FALSE(config.unimabus.replay.recording);
+  EXPECT_TRUE(host_error(config).starts_with("cfg.yaml:3:9: cannot read the recording /nonexistent/recording.jsonl: "))
+      << host_error(config);
+}
+
+TEST(ConfigHostCheck, ReadsTheRecordingIntoTheConfig) {
+  TempDir dir;
+  const auto file = (dir.path() / "rec.jsonl").string();
+  test_support::write_file(file, one_telegram);
+  auto config = parse_text("unimabus: { transport: replay, file: " + file + " }\n", "cfg.yaml", host_called("plc-7"));
+  check_on_host(config);
+  ASSERT_TRUE(config.unimabus.replay.recording);
+  ASSERT_EQ(config.unimabus.replay.recording->entries.size(), 1u);
+
+  test_support::write_file(file, std::string(one_telegram) + "not json\n");
+  auto bad = parse_text("unimabus: { transport: replay, file: " + file + " }\n", "cfg.yaml", host_called("plc-7"));
+  EXPECT_TRUE(host_error(bad).starts_with(file + ":2: ")) << host_error(bad);  // the recording's own line
+}
+
+TEST(ConfigParse, NotesThePathsTheHostCheckLooksAtWithTheirPositions) {
+  const auto config = parse_text(
+      "unimabus:\n"
+      "  transport: feed\n"
+      "  listen: unix:/run/x/feed.sock\n"
+      "  record: { file: /var/log/x/rec.jsonl }\n"
+      "monitor:\n"
+      "  file: /var/log/x/monitor.log\n",
+      "bridge.yaml", host_called("plc-7"));
+  ASSERT_EQ(config.host_paths.size(), 4u);
+  const auto expect = [&](std::size_t n, HostPath::Use use, const char* key, const char* path, const char* origin) {
+    EXPECT_EQ(config.host_paths[n].use, use) << n;
+    EXPECT_EQ(config.host_paths[n].key, key) << n;
+    EXPECT_EQ(config.host_paths[n].path, path) << n;
+    EXPECT_EQ(config.host_paths[n].origin, origin) << n;
+  };
+  expect(0, HostPath::Use::log_file, "unimabus.record.file", "/var/log/x/rec.jsonl", "bridge.yaml:4:19");
+  expect(1, HostPath::Use::unix_socket, "unimabus.listen", "/run/x/feed.sock", "bridge.yaml:3:11");
+  expect(2, HostPath::Use::log_file, "monitor.file", "/var/log/x/monitor.log", "bridge.yaml:6:9");
+  // status.socket's default is where the daemon listens when the file does not say: the
+  // message points at the file's first section.
+  expect(3, HostPath::Use::unix_socket, "status.socket", "/run/unima-bridge/control.sock", "bridge.yaml:1:1");
+}
+
+TEST(ConfigHostCheck, ARegularFileWhereASocketGoesParsesAndIsRefusedOnTheHost) {
+  TempDir dir;
+  const auto file = (dir.path() / "control.sock").string();
+  test_support::write_file(file, "precious");
+  auto config = parse_text("log: { level: info }\nstatus:\n  socket: " + file + "\n", "bridge.yaml", host_called("x"));
+  EXPECT_EQ(host_error(config), "bridge.yaml:3:11: status.socket: " + file +
+                                    " names a regular file, not a socket; the daemon never removes it to listen there");
+  EXPECT_EQ(test_support::read_file(file), "precious");
+}
+
+TEST(ConfigHostCheck, AcceptsWhatIsFreeOrASocket) {
+  TempDir dir;
+  auto config = parse_text("status:\n  socket: " + (dir.path() / "control.sock").string() + "\nmonitor:\n  file: " +
+                               (dir.path() / "monitor.log").string() + "\n",
+                           "bridge.yaml", host_called("x"));
+  EXPECT_NO_THROW(check_on_host(config));
+}
+
+TEST(ConfigParse, TheHostNameGivesTheDefaultMqttClient) {
+  const auto named = parse_text("mqtt: { broker: 'mqtt://10.0.0.2' }\n", "m.yaml", host_called("plc-7"));
+  ASSERT_TRUE(named.mqtt);
+  EXPECT_EQ(named.mqtt->client_id, "unima-bridge-plc-7");
+  EXPECT_EQ(named.mqtt->topic, "unima/unima-bridge-plc-7");
+  const auto nameless = parse_text("mqtt: { broker: 'mqtt://10.0.0.2' }\n", "m.yaml", host_called(""));
+  EXPECT_EQ(nameless.mqtt->client_id, "unima-bridge");
+  const auto set = parse_text("mqtt: { broker: 'mqtt://10.0.0.2', client_id: site-17 }\n", "m.yaml", host_called("plc-7"));
+  EXPECT_EQ(set.mqtt->client_id, "site-17");
+}
+
+TEST(ConfigParse, TheStateFileFollowsTheEnvironmentGiven) {
+  const auto service = parse_text("", "/etc/unima/bridge.yaml",
+                                  host_called("x", {{"STATE_DIRECTORY", "/var/lib/unima-bridge:/var/lib/other"}}));
+  EXPECT_EQ(service.state.file, "/var/lib/unima-bridge/state");
+  const auto by_hand = parse_text("", "/etc/unima/bridge.yaml", host_called("x"));
+  EXPECT_EQ(by_hand.state.file, "/etc/unima/bridge.state");
+  const auto set = parse_text("state: { file: /srv/s }\n", "/etc/unima/bridge.yaml",
+                              host_called("x", {{"STATE_DIRECTORY", "/var/lib/unima-bridge"}}));
+  EXPECT_EQ(set.state.file, "/srv/s");
+}
+
+TEST(ConfigLoad, LoadTextIsTheParseAndTheHostCheck) {
+  TempDir dir;
+  const auto file = (dir.path() / "rec.jsonl").string();
+  test_support::write_file(file, one_telegram);
+  const auto config = load_text("unimabus: { transport: replay, file: " + file + " }\n", "cfg.yaml", host_called("x"));
+  EXPECT_TRUE(config.unimabus.replay.recording);
+  EXPECT_TRUE(test_support::error_message<ConfigError>([&] {
+                (void)load_text("unimabus: { transport: replay, file: " + file + ".gone }\n", "cfg.yaml");
+              }).starts_with("cfg.yaml:1:38: cannot read the recording "));
+}
+
+}  // namespace
+}  // namespace unima::config
