@@ -7,9 +7,9 @@
 #include "banks/register_space.hpp"
 #include "banks/table_catalog.hpp"
 #include "config/socket_path.hpp"
-#include "io/feed_transport.hpp"
-#include "io/replay_transport.hpp"
-#include "io/sim_transport.hpp"
+#include "io/unimabus/feed_transport.hpp"
+#include "io/unimabus/replay_transport.hpp"
+#include "io/unimabus/sim_transport.hpp"
 #include "io/tls_context.hpp"
 #include "modbus/capture.hpp"
 

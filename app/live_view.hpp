@@ -16,7 +16,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "io/event_sink.hpp"
+#include "io/north/event_sink.hpp"
 #include "monitor/command_filter.hpp"
 #include "monitor/recent_transactions.hpp"
 

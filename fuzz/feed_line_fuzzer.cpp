@@ -1,4 +1,4 @@
-// Fuzz target: what a feed driver sends (SPEC §6), down io/feed_transport's path:
+// Fuzz target: what a feed driver sends (SPEC §6), down io/unimabus/feed_transport's path:
 // unimabus::LineSplitter cuts the stream into lines, parse_feed_line makes telegrams (or
 // the answer {"error":…}), unimabus::TelegramRouter puts them into the banks of
 // config/examples/chp-site.yaml, where three D_N share one address.

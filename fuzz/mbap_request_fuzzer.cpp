@@ -1,5 +1,5 @@
 // Fuzz target: what a Modbus TCP client sends, down the TCP slave's path
-// (io/tcp_slave_server's process()): modbus::parse_tcp_adu cuts the stream into ADUs,
+// (io/modbus/tcp_slave_server's process()): modbus::parse_tcp_adu cuts the stream into ADUs,
 // recipient_of and serve_request answer each one against the banks of
 // config/examples/four-devices.yaml, and the monitor's capture rule reads the exchange.
 //

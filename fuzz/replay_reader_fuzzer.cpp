@@ -1,6 +1,6 @@
 // Fuzz target: a recording to replay (SPEC §6 `replay`), as the config loader reads the
 // file: unimabus::parse_recording, then unimabus::ReplaySchedule playing it as
-// io/replay_transport does, for a while.
+// io/unimabus/replay_transport does, for a while.
 //
 // Input: byte 0 chooses the speed and whether the recording loops; the rest is the file.
 

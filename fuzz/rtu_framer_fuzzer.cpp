@@ -1,5 +1,5 @@
 // Fuzz target: what arrives on an RS-485 line, down the RTU port's path
-// (io/rtu_slave_port): modbus::RtuFramer cuts the bytes by length and silence, the
+// (io/modbus/rtu_slave_port): modbus::RtuFramer cuts the bytes by length and silence, the
 // queries for the bridge are served against the banks of config/examples/four-devices.yaml,
 // another slave's query and its response are paired (modbus::BusListener) and read by the
 // capture blocks and the monitor's capture rule.

@@ -2,7 +2,7 @@
 // A server's TLS session whose records go through memory, not a socket: the port reads
 // ciphertext from its socket as it reads plain Modbus/TCP and feeds it in, takes the
 // ciphertext out and sends it with the same non-blocking send as a plain answer
-// (io/tcp_slave_server). So a TLS request costs the same system calls as a plain one and
+// (io/modbus/tcp_slave_server). So a TLS request costs the same system calls as a plain one and
 // no layer of asynchronous operations of its own. OpenSSL does the handshake; after a TLS
 // 1.3 handshake the records are tls/record_layer's, on OpenSSL's AEAD, which costs the
 // port less than half of OpenSSL 3.0's record layer per request (docs/performance.md,

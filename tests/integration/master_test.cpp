@@ -46,7 +46,7 @@ TEST_F(MasterTest, Sic184V3SeedFramesOnTheWire) {
 }
 
 // 14400 baud has no termios constant: the master opens its line the way the slave port does
-// (io/serial_line), through termios2, instead of failing to start.
+// (io/modbus/serial_line), through termios2, instead of failing to start.
 TEST_F(MasterTest, AMasterLineAt14400BaudOpensAndPolls) {
   simulate({"1=sic184-v3"});
   config.line = "rtu: { device: " + sim->pty() + ", baud: 14400 }";

@@ -12,7 +12,7 @@
 #include "config/config.hpp"
 #include "config/socket_path.hpp"
 #include "io/control_socket.hpp"
-#include "io/feed_transport.hpp"
+#include "io/unimabus/feed_transport.hpp"
 #include "tests/integration/bridge_fixture.hpp"
 
 namespace unima::test {

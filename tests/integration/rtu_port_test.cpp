@@ -6,7 +6,7 @@
 
 #include <map>
 
-#include "io/rtu_slave_port.hpp"
+#include "io/modbus/rtu_slave_port.hpp"
 #include "tests/integration/rtu_line.hpp"
 #include "tests/support/map_registers.hpp"
 #include "tests/support/seed_frames.hpp"

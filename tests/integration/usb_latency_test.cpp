@@ -5,7 +5,7 @@
 
 #include <fstream>
 
-#include "io/usb_latency.hpp"
+#include "io/modbus/usb_latency.hpp"
 #include "tests/integration/harness.hpp"
 
 namespace unima::test {

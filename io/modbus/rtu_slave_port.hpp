@@ -5,7 +5,7 @@
 // Not4Me, paired with that slave's response when one follows, and handed to the foreign
 // listener (capture blocks). The decisions are pure: framing modbus::RtuFramer's, whose
 // request it is and its answer modbus/slave_session's, the pairing modbus::BusListener's;
-// this adapter owns the port (opened by io/serial_line), the timers and the clock.
+// this adapter owns the port (opened by io/modbus/serial_line), the timers and the clock.
 //
 // A port that cannot be opened or goes away (a USB adapter unplugged) is reopened with
 // back-off; the rest of the daemon runs on meanwhile.
@@ -24,7 +24,7 @@
 #include "platform/asio.hpp"
 #include "io/handler_guard.hpp"
 #include "io/lazy_deadline.hpp"
-#include "io/slave_context.hpp"
+#include "io/modbus/slave_context.hpp"
 #include "modbus/bus_listener.hpp"
 #include "modbus/rtu_framer.hpp"
 #include "modbus/slave_session.hpp"

@@ -1,4 +1,4 @@
-#include "io/master_rtu_link.hpp"
+#include "io/modbus/master_rtu_link.hpp"
 
 #include <termios.h>
 
@@ -9,7 +9,7 @@
 #include <spdlog/spdlog.h>
 
 #include "config/master_setup.hpp"
-#include "io/serial_line.hpp"
+#include "io/modbus/serial_line.hpp"
 
 namespace unima::io {
 

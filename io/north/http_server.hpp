@@ -18,7 +18,7 @@
 #include <utility>
 #include <vector>
 
-#include "io/event_sink.hpp"
+#include "io/north/event_sink.hpp"
 #include "io/retrying_acceptor.hpp"
 #include "platform/asio_ssl.hpp"
 

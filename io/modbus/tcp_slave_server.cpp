@@ -1,4 +1,4 @@
-#include "io/tcp_slave_server.hpp"
+#include "io/modbus/tcp_slave_server.hpp"
 
 #include <algorithm>
 #include <array>

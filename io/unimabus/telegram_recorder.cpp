@@ -1,4 +1,4 @@
-#include "io/telegram_recorder.hpp"
+#include "io/unimabus/telegram_recorder.hpp"
 
 #include "unimabus/feed_codec.hpp"
 

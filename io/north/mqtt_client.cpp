@@ -1,4 +1,4 @@
-#include "io/mqtt_client.hpp"
+#include "io/north/mqtt_client.hpp"
 
 #include <mosquitto.h>
 

@@ -1,4 +1,4 @@
-#include "io/master_tcp_link.hpp"
+#include "io/modbus/master_tcp_link.hpp"
 
 #include <spdlog/spdlog.h>
 

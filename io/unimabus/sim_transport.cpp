@@ -1,4 +1,4 @@
-#include "io/sim_transport.hpp"
+#include "io/unimabus/sim_transport.hpp"
 
 #include <spdlog/spdlog.h>
 

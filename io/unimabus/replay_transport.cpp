@@ -1,4 +1,4 @@
-#include "io/replay_transport.hpp"
+#include "io/unimabus/replay_transport.hpp"
 
 #include <spdlog/spdlog.h>
 

@@ -1,4 +1,4 @@
-#include "io/usb_latency.hpp"
+#include "io/modbus/usb_latency.hpp"
 
 #include <cerrno>
 #include <cstring>

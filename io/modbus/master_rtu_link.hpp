@@ -1,6 +1,6 @@
 #pragma once
 // The master's RTU line (SPEC §3, Modbus over Serial Line V1.02 §2.5): a serial port in
-// raw mode, opened as the slave port's is (io/serial_line). A response ends when its length, known from its first bytes, is there; a
+// raw mode, opened as the slave port's is (io/modbus/serial_line). A response ends when its length, known from its first bytes, is there; a
 // frame whose length cannot be known (wrong function, garbage) or that stops short ends
 // at a silence of t3.5 — stretched to `late_byte_tolerance`, because USB adapters deliver
 // bytes in bursts with gaps of their latency timer.
@@ -10,7 +10,7 @@
 
 #include "config/config.hpp"
 #include "platform/asio.hpp"
-#include "io/master_link.hpp"
+#include "io/modbus/master_link.hpp"
 #include "master/master_plan.hpp"
 
 namespace unima::io {

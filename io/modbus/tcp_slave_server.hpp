@@ -22,7 +22,7 @@
 #include "modbus/write_rights.hpp"
 #include "platform/asio_ssl.hpp"
 #include "io/retrying_acceptor.hpp"
-#include "io/slave_context.hpp"
+#include "io/modbus/slave_context.hpp"
 
 namespace unima::io {
 

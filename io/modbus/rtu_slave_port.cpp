@@ -1,8 +1,8 @@
-#include "io/rtu_slave_port.hpp"
+#include "io/modbus/rtu_slave_port.hpp"
 
 #include <spdlog/spdlog.h>
 
-#include "io/serial_line.hpp"
+#include "io/modbus/serial_line.hpp"
 #include "io/state_file.hpp"
 #include "modbus/protocol.hpp"
 #include "modbus/rtu_adu.hpp"

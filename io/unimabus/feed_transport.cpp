@@ -1,4 +1,4 @@
-#include "io/feed_transport.hpp"
+#include "io/unimabus/feed_transport.hpp"
 
 #include <array>
 #include <deque>

@@ -1,4 +1,4 @@
-#include "io/serial_line.hpp"
+#include "io/modbus/serial_line.hpp"
 
 #include <linux/serial.h>
 #include <sys/ioctl.h>
@@ -8,7 +8,7 @@
 
 #include <fmt/format.h>
 
-#include "io/usb_latency.hpp"
+#include "io/modbus/usb_latency.hpp"
 
 namespace unima::io {
 
