@@ -14,6 +14,8 @@
 #include "metrics/prometheus.hpp"
 #include "monitor/command_filter.hpp"
 #include "platform/peer_warnings.hpp"
+#include "values/store_snapshot.hpp"
+#include "values/value_json.hpp"
 #include "web/page_files.hpp"
 
 namespace unima::app {
@@ -58,6 +60,40 @@ nlohmann::json panel_of(const nlohmann::json& status) {
   return panel;
 }
 
+// Every bank's values now, by the bank's place in the model.
+std::vector<std::vector<values::Value>> all_values(const values::ValueModel& model, const values::Snapshot& snapshot) {
+  std::vector<std::vector<values::Value>> all;
+  for (const auto& layout : model.banks()) all.push_back(model.evaluate(layout.bank, snapshot));
+  return all;
+}
+
+// The values that read `row`'s register, as /api/registers lists them with the row.
+nlohmann::json row_values(const config::MapRow& row, const values::ValueModel& model,
+                          const std::vector<std::vector<values::Value>>& all) {
+  auto list = nlohmann::json::array();
+  const auto bank = banks::parse_bank_name(row.bank);
+  for (std::size_t b = 0; bank && b < model.banks().size(); ++b) {
+    const auto& layout = model.banks()[b];
+    if (layout.bank != *bank) continue;
+    for (std::size_t i = 0; i < layout.values.size(); ++i) {
+      const auto& offsets = layout.values[i].offsets;
+      if (std::find(offsets.begin(), offsets.end(), row.offset) == offsets.end()) continue;
+      auto entry = values::value_json(layout.values[i], all[b][i]);
+      entry["label"] = layout.values[i].label;
+      list.push_back(std::move(entry));
+    }
+  }
+  return list;
+}
+
+// {"value", "state"} (and "set": false): what changes of a value on the page.
+nlohmann::json live_value(const values::ValueDef& def, const values::Value& value) {
+  auto j = values::value_json(def, value);
+  j.erase("name");
+  j.erase("unit");
+  return j;
+}
+
 }  // namespace
 
 std::optional<io::HttpResponse> Bridge::http_gate(std::string_view authorization, const std::string& peer) {
@@ -86,6 +122,13 @@ LiveSnapshot Bridge::live_snapshot() const {
     std::uint16_t value = 0;
     snapshot.addresses.push_back(row.address);
     snapshot.values.push_back(core_->space->read(row.address, std::span(&value, 1)) ? std::optional(value) : std::nullopt);
+  }
+  const auto registers = values::snapshot_of(*core_->store);
+  for (const auto& layout : value_model_.banks()) {
+    const auto values = value_model_.evaluate(layout.bank, registers);
+    const auto bank = std::string(banks::bank_name(layout.bank)) + "/";
+    for (std::size_t i = 0; i < values.size(); ++i)
+      snapshot.named_values.emplace_back(bank + layout.values[i].name, live_value(layout.values[i], values[i]));
   }
   return snapshot;
 }
@@ -121,11 +164,13 @@ io::HttpResponse Bridge::http_response(std::string_view target) {
     return {200, metrics::prometheus_content_type, metrics::prometheus_text(status_json()), {}, {}};
   if (path == "/api/status") return {200, json_type, status_document() + "\n", {}, {}};
   if (path == "/api/registers") {
+    const auto values_now = all_values(value_model_, values::snapshot_of(*core_->store));
     auto registers = nlohmann::json::array();
     for (const auto& row : register_rows_) {
       auto j = config::map_row_json(row);
       std::uint16_t value = 0;
       j["value"] = core_->space->read(row.address, std::span(&value, 1)) ? nlohmann::json(value) : nlohmann::json(nullptr);
+      j["values"] = row_values(row, value_model_, values_now);
       registers.push_back(std::move(j));
     }
     return {200, json_type, registers.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) + "\n", {}, {}};
