@@ -115,8 +115,8 @@ void Bridge::publish_mqtt() {
   std::vector<std::string> states;
   for (const auto bank : mqtt_banks_) {
     bank_values.push_back(value_model_.evaluate(bank, snapshot));
-    const auto& reading = snapshot[banks::index_of(bank)];
-    states.push_back(mqtt::bank_values(*value_model_.bank(bank), bank_values.back(), reading.online).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace));
+    const auto state = mqtt::bank_values(*value_model_.bank(bank), bank_values.back(), snapshot[banks::index_of(bank)].online);
+    states.push_back(state.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace));
   }
   const auto now = std::chrono::system_clock::now();
   const auto& prefix = core_->config.mqtt->topic;

@@ -26,7 +26,8 @@ nlohmann::json reading_json(const ValueDef& def, const Value& value) {
 }
 
 nlohmann::json value_json(const ValueDef& def, const Value& value) {
-  nlohmann::json j = {{"name", def.name}, {"value", reading_json(def, value)}, {"unit", def.unit}, {"state", state_name(value.state)}};
+  nlohmann::json j = {
+      {"name", def.name}, {"value", reading_json(def, value)}, {"unit", def.unit}, {"state", state_name(value.state)}};
   if (value.state == State::not_set) j["set"] = false;
   return j;
 }

@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "banks/tenths.hpp"
+#include "config/config.hpp"
 #include "values/value_model.hpp"
 
 namespace unima::values {

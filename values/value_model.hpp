@@ -9,13 +9,15 @@
 #include <cstdint>
 #include <optional>
 #include <string>
-#include <string_view>
 #include <variant>
 #include <vector>
 
 #include "banks/bank_id.hpp"
 #include "banks/source_ref.hpp"
-#include "config/config.hpp"
+
+namespace unima::config {
+struct Config;
+}
 
 namespace unima::values {
 

@@ -74,7 +74,8 @@ function buildBanks(rows) {
     const details = element('details', { class: 'bank', 'data-bank': bank });
     details.open = byBank.size <= 4 || bank.startsWith('D');
     const { table, count } = bankTable(bank, bankRows);
-    details.append(element('summary', {}, `${bank} — ${count || bankRows.length} values from ${bankRows[0].address}`), table);
+    const values = count || bankRows.length;
+    details.append(element('summary', {}, `${bank} — ${values} value${values === 1 ? '' : 's'} from ${bankRows[0].address}`), table);
     banks.append(details);
   }
 }

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 
+#include "config/config.hpp"
 #include "mqtt/bank_documents.hpp"
 #include "mqtt/command.hpp"
 #include "values/store_snapshot.hpp"

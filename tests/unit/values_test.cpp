@@ -39,7 +39,8 @@ class ValuesTest : public ::testing::Test {
   nlohmann::json value(BankId bank, std::string_view name) const {
     const auto* layout = model.bank(bank);
     if (!layout) return "no bank";
-    const auto found = std::find_if(layout->values.begin(), layout->values.end(), [&](const ValueDef& d) { return d.name == name; });
+    const auto found =
+        std::find_if(layout->values.begin(), layout->values.end(), [&](const ValueDef& d) { return d.name == name; });
     if (found == layout->values.end()) return "no value";
     const auto index = static_cast<std::size_t>(found - layout->values.begin());
     return value_json(*found, model.evaluate(bank, snapshot_of(store))[index]);
