@@ -157,6 +157,17 @@ std::vector<ValueDef> b_values(const banks::Mapping& mapping) {
   return values;
 }
 
+// C+0x10 and C+0x12 show mapped bits as B does (SPEC §1): an unmapped bit is not mapped
+// rather than false, a mapped one says why its source has no value.
+void map_user_bits(std::vector<ValueDef>& values, std::uint16_t offset,
+                   const std::array<std::optional<banks::SourceRef>, banks::Mapping::entries>& sources) {
+  for (auto& value : values)
+    if (value.decoding == Decoding::bit_field && value.offsets.front() == offset && value.first_bit == value.last_bit) {
+      value.decoding = Decoding::mapped_bit;
+      value.source = sources[value.first_bit];
+    }
+}
+
 std::vector<ValueDef> w_values() {
   std::vector<ValueDef> values;
   for (std::uint16_t n = 0; n < banks::analog_bank_length; ++n) {
@@ -182,6 +193,10 @@ ValueModel::ValueModel(const config::Config& config) {
       case BankId::X: layout.values.push_back(def("x", "", "", Decoding::word, {0})); break;
       default:
         if (shape.table) layout.values = table_values(*shape.table, shape.length);
+    }
+    if (bank == BankId::C) {
+      map_user_bits(layout.values, banks::c_bank::user_binary_inputs, config.mapping.user_inputs);
+      map_user_bits(layout.values, banks::c_bank::user_binary_outputs, config.mapping.user_outputs);
     }
     if (!layout.values.empty()) banks_.push_back(std::move(layout));
   }

@@ -22,7 +22,8 @@ const std::string config_yaml =
     "  D3: { type: nsu2, address: 7 }\n"
     "mapping:\n"
     "  A: [ D1.engine_speed, D1.mains_active_power ]\n"
-    "  B: [ D1+0x11.7, X.2 ]\n";
+    "  B: [ D1+0x11.7, X.2 ]\n"
+    "  user_inputs: [ D1.remote_start ]\n";
 
 class ValuesTest : public ::testing::Test {
  protected:
@@ -163,6 +164,17 @@ TEST_F(ValuesTest, BankBShowsMappedBitsAsBooleansKeyedByTheirSources) {
   EXPECT_EQ(value(BankId::B, "X.2")["state"], "not set") << "X was never written";
   store.write(BankId::X, 0, 1u << 2);
   EXPECT_EQ(value(BankId::B, "X.2")["value"], true);
+}
+
+TEST_F(ValuesTest, TheUserBitsOfCAreMappedBitsLikeB) {
+  EXPECT_EQ(value(BankId::C, "user_binary_inputs.user_binary_input_1")["state"], "not measured")
+      << "D1 on line, its control_inputs never carried";
+  EXPECT_EQ(value(BankId::C, "user_binary_inputs.user_binary_input_2")["state"], "not mapped");
+  feed(BankId::D1, 0x11, {1u << 7});
+  EXPECT_EQ(value(BankId::C, "user_binary_inputs.user_binary_input_1")["value"], true);
+  store.set_online(BankId::D1, false);
+  EXPECT_EQ(value(BankId::C, "user_binary_inputs.user_binary_input_1")["state"], "off-line");
+  EXPECT_EQ(value(BankId::C, "user_binary_inputs")["value"], 0) << "the word reads as Modbus reads it";
 }
 
 TEST_F(ValuesTest, WNeverWrittenIsNotSetAndWrittenIsItsValue) {
