@@ -67,19 +67,32 @@ std::vector<std::vector<values::Value>> all_values(const values::ValueModel& mod
   return all;
 }
 
-// The values that read `row`'s register, as /api/registers lists them with the row.
-nlohmann::json row_values(const config::MapRow& row, const values::ValueModel& model,
+// Where `row`'s register takes its value from: its bank's register, or a read block's
+// source (MBS_RegR); nullopt for a write block, which holds none.
+std::optional<banks::SourceRef> origin_of(const config::MapRow& row, const config::Config& config) {
+  if (const auto bank = banks::parse_bank_name(row.bank)) return banks::SourceRef{*bank, row.offset, std::nullopt, {}};
+  if (row.bank != "read") return std::nullopt;
+  for (const auto* block : config.active_blocks())
+    if (block->type == config::Block::Type::read && block->reg == row.address) return block->source;
+  return std::nullopt;
+}
+
+// The values that read `row`'s register (a read block: its source's), as /api/registers
+// lists them with the row, each with the bank it belongs to.
+nlohmann::json row_values(const config::MapRow& row, const config::Config& config, const values::ValueModel& model,
                           const std::vector<std::vector<values::Value>>& all) {
   auto list = nlohmann::json::array();
-  const auto bank = banks::parse_bank_name(row.bank);
-  for (std::size_t b = 0; bank && b < model.banks().size(); ++b) {
+  const auto origin = origin_of(row, config);
+  for (std::size_t b = 0; origin && b < model.banks().size(); ++b) {
     const auto& layout = model.banks()[b];
-    if (layout.bank != *bank) continue;
+    if (layout.bank != origin->bank) continue;
     for (std::size_t i = 0; i < layout.values.size(); ++i) {
-      const auto& offsets = layout.values[i].offsets;
-      if (std::find(offsets.begin(), offsets.end(), row.offset) == offsets.end()) continue;
-      auto entry = values::value_json(layout.values[i], all[b][i]);
-      entry["label"] = layout.values[i].label;
+      const auto& def = layout.values[i];
+      if (std::find(def.offsets.begin(), def.offsets.end(), origin->offset) == def.offsets.end()) continue;
+      if (origin->bit && (def.type != values::ValueType::boolean || def.first_bit != *origin->bit)) continue;
+      auto entry = values::value_json(def, all[b][i]);
+      entry["label"] = def.label;
+      entry["bank"] = banks::bank_name(layout.bank);
       list.push_back(std::move(entry));
     }
   }
@@ -170,7 +183,7 @@ io::HttpResponse Bridge::http_response(std::string_view target) {
       auto j = config::map_row_json(row);
       std::uint16_t value = 0;
       j["value"] = core_->space->read(row.address, std::span(&value, 1)) ? nlohmann::json(value) : nlohmann::json(nullptr);
-      j["values"] = row_values(row, value_model_, values_now);
+      j["values"] = row_values(row, core_->config, value_model_, values_now);
       registers.push_back(std::move(j));
     }
     return {200, json_type, registers.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) + "\n", {}, {}};

@@ -3,7 +3,7 @@
 'use strict';
 
 const MAX_LINES = 200;
-const cells = new Map();      // "D1/engine_speed" -> the cell of that value
+const cells = new Map();      // "D1/engine_speed" -> the cells of that value (its bank's, a read block's)
 const byAddress = new Map();  // "0x1100" -> the cells of the values that read that register
 let source = null;
 
@@ -24,7 +24,8 @@ function shown(value, unit) {
 }
 
 // A bank's table: one row per value, at the first register it reads; a register without
-// values (a reserve) is not listed, a function block's register shows what it reads.
+// values (a reserve) is not listed; a read block lists its source's values, a write block
+// that it is write only.
 function bankTable(bank, rows) {
   const table = element('table');
   const head = element('tr');
@@ -37,7 +38,8 @@ function bankTable(bank, rows) {
     tr.append(element('td', { class: 'address' }, row.address), element('td', {}, name),
               element('td', { class: 'label', lang: 'cs' }, label), cell);
     table.append(tr);
-    cells.set(key, cell);
+    if (!cells.has(key)) cells.set(key, []);
+    cells.get(key).push(cell);
     if (!byAddress.has(row.address)) byAddress.set(row.address, []);
     byAddress.get(row.address).push(cell);
     setValue(key, value, false);
@@ -45,16 +47,17 @@ function bankTable(bank, rows) {
   };
   const listed = new Set();
   for (const row of rows) {
-    if (row.values.length === 0 && (row.bank === 'read' || row.bank === 'write')) {
-      // Not a bank's value: the register as Modbus reads it (a write block's cannot be).
-      addRow(row, `${bank}/${row.id}`, row.id, row.label, '', { value: row.value, state: row.value === null ? 'write only' : 'ok' });
-      cells.get(`${bank}/${row.id}`).dataset.block = 'true';
+    if (row.bank === 'write') {  // a write block: nothing to read back
+      addRow(row, `write/${row.id}`, row.id, row.label, '', { value: null, state: 'write only' });
       continue;
     }
     for (const value of row.values) {
-      if (listed.has(value.name)) continue;  // a 32-bit pair: listed at its low word
-      listed.add(value.name);
-      addRow(row, `${bank}/${value.name}`, value.name, value.label, value.unit, value);
+      const key = `${value.bank}/${value.name}`;
+      if (listed.has(key)) continue;  // a 32-bit pair: listed at its low word
+      listed.add(key);
+      // A read block shows its source's value under the block's name.
+      const name = bank === 'read' ? `${row.id} = ${value.bank}.${value.name}` : value.name;
+      addRow(row, key, name, value.label, value.unit, value);
     }
   }
   return { table, count: listed.size };
@@ -81,8 +84,10 @@ function buildBanks(rows) {
 }
 
 function setValue(key, value, flash = true) {
-  const cell = cells.get(key);
-  if (!cell) return;
+  for (const cell of cells.get(key) || []) showValue(cell, value, flash);
+}
+
+function showValue(cell, value, flash) {
   cell.textContent = shown(value, cell.dataset.unit);
   cell.dataset.state = value.state;
   if (value.set === false) cell.dataset.set = 'false';
@@ -99,7 +104,6 @@ function setRaw(address, raw) {
   for (const cell of byAddress.get(address) || []) {
     cell.dataset.raw = raw === null || raw === undefined ? '' : String(raw);
     cell.title = raw === null || raw === undefined ? `${address}: not readable` : `${address} = ${raw}`;
-    if (cell.dataset.block && raw !== null && raw !== undefined) cell.textContent = String(raw);
   }
 }
 

@@ -8,6 +8,7 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <csignal>
 #include <optional>
 #include <sstream>
@@ -127,12 +128,27 @@ TEST_F(Http, HealthStatusAndRegistersWithTheValueFedAMomentBefore) {
       EXPECT_EQ(r["values"][0]["state"], "ok") << r.dump();
     } else if (r["address"] == "0x0014") {  // operating_hours_high: no telegram carried it
       EXPECT_EQ(r["values"][0], (nlohmann::json{{"name", "operating_hours"}, {"value", nullptr}, {"unit", "s"},
-                                                {"state", "not measured"}, {"label", "Motohodiny, nižší slovo"}}))
+                                                {"state", "not measured"}, {"label", "Motohodiny, nižší slovo"}, {"bank", "D1"}}))
           << r.dump();
     } else if (r["bank"] == "W" && r["offset"] == 0) {
       EXPECT_EQ(r["values"][0]["set"], false) << "never written: " << r.dump();
     }
   EXPECT_TRUE(found) << registers.dump();
+}
+
+// A read block (MBS_RegR) lists its source's value, in its unit, as the page shows it.
+TEST_F(Http, ARegistersReadBlockHasItsSourcesValue) {
+  config.blocks = "  - { type: read, register: 0x0200, source: D1.engine_speed }\n";
+  start_http();
+  auto feed = feed_client();
+  feed_and_wait(feed, R"({"addr":5,"slot":0,"offset":1,"values":[1234]})", 0x0012, 1234);
+  const auto registers = nlohmann::json::parse(get(http_port, "/api/registers").body);
+  const auto block = std::find_if(registers.begin(), registers.end(), [](const auto& r) { return r["address"] == "0x0200"; });
+  ASSERT_NE(block, registers.end()) << registers.dump();
+  EXPECT_EQ((*block)["value"], 1234) << block->dump();
+  EXPECT_EQ((*block)["values"], (nlohmann::json::array({{{"name", "engine_speed"}, {"bank", "D1"}, {"value", 1234},
+                                                          {"unit", "min-1"}, {"state", "ok"}, {"label", "Otáčky"}}})))
+      << block->dump();
 }
 
 // The loop stopped for 2.5 s (SIGSTOP): /healthz says so once it turns again, for a few
