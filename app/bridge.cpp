@@ -289,6 +289,7 @@ void Bridge::start() {
 
 void Bridge::lay_out() {
   register_rows_ = config::register_map(core_->config);
+  value_model_ = values::ValueModel(core_->config);
   lay_out_mqtt();
 }
 

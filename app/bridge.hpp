@@ -10,12 +10,14 @@
 #include <string>
 
 #include "config/config.hpp"
+#include "config/register_map.hpp"
 #include "platform/asio.hpp"
 #include "io/control_socket.hpp"
 #include "io/error_hold.hpp"
 #include "io/north/http_server.hpp"
 #include "io/north/mqtt_client.hpp"
 #include "mqtt/bank_documents.hpp"
+#include "values/value_model.hpp"
 #include "io/lazy_deadline.hpp"
 #include "monitor/monitor.hpp"
 #include "io/modbus/rtu_slave_port.hpp"
@@ -125,8 +127,9 @@ class Bridge {
   LiveView live_;  // the front pages listening to /api/events
   std::optional<web::BasicAuth> http_users_;  // http.users; nullopt: the HTTP server asks no one
   std::unique_ptr<io::MqttClient> mqtt_;         // SPEC §12
-  std::vector<config::MapRow> register_rows_;    // the running config's register map: the page, /api/registers, MQTT
-  std::vector<mqtt::BankLayout> mqtt_layouts_;   // its published banks
+  std::vector<config::MapRow> register_rows_;    // the running config's register map: the page, /api/registers
+  values::ValueModel value_model_;               // its values: the page, /api/registers, MQTT (SPEC §17)
+  std::vector<banks::BankId> mqtt_banks_;        // the banks published of them
   std::optional<mqtt::PublishSchedule> mqtt_schedule_;
   asio::steady_timer mqtt_timer_;
   // The loop's heartbeat: /healthz reports a stall when it has not beaten for 2 s.

@@ -14,6 +14,8 @@
 #include "metrics/prometheus.hpp"
 #include "monitor/command_filter.hpp"
 #include "platform/peer_warnings.hpp"
+#include "values/store_snapshot.hpp"
+#include "values/value_json.hpp"
 #include "web/page_files.hpp"
 
 namespace unima::app {
@@ -58,6 +60,53 @@ nlohmann::json panel_of(const nlohmann::json& status) {
   return panel;
 }
 
+// Every bank's values now, by the bank's place in the model.
+std::vector<std::vector<values::Value>> all_values(const values::ValueModel& model, const values::Snapshot& snapshot) {
+  std::vector<std::vector<values::Value>> all;
+  for (const auto& layout : model.banks()) all.push_back(model.evaluate(layout.bank, snapshot));
+  return all;
+}
+
+// Where `row`'s register takes its value from: its bank's register, or a read block's
+// source (MBS_RegR); nullopt for a write block, which holds none.
+std::optional<banks::SourceRef> origin_of(const config::MapRow& row, const config::Config& config) {
+  if (const auto bank = banks::parse_bank_name(row.bank)) return banks::SourceRef{*bank, row.offset, std::nullopt, {}};
+  if (row.bank != "read") return std::nullopt;
+  for (const auto* block : config.active_blocks())
+    if (block->type == config::Block::Type::read && block->reg == row.address) return block->source;
+  return std::nullopt;
+}
+
+// The values that read `row`'s register (a read block: its source's), as /api/registers
+// lists them with the row, each with the bank it belongs to.
+nlohmann::json row_values(const config::MapRow& row, const config::Config& config, const values::ValueModel& model,
+                          const std::vector<std::vector<values::Value>>& all) {
+  auto list = nlohmann::json::array();
+  const auto origin = origin_of(row, config);
+  for (std::size_t b = 0; origin && b < model.banks().size(); ++b) {
+    const auto& layout = model.banks()[b];
+    if (layout.bank != origin->bank) continue;
+    for (std::size_t i = 0; i < layout.values.size(); ++i) {
+      const auto& def = layout.values[i];
+      if (std::find(def.offsets.begin(), def.offsets.end(), origin->offset) == def.offsets.end()) continue;
+      if (origin->bit && (def.type != values::ValueType::boolean || def.first_bit != *origin->bit)) continue;
+      auto entry = values::value_json(def, all[b][i]);
+      entry["label"] = def.label;
+      entry["bank"] = banks::bank_name(layout.bank);
+      list.push_back(std::move(entry));
+    }
+  }
+  return list;
+}
+
+// {"value", "state"} (and "set": false): what changes of a value on the page.
+nlohmann::json live_value(const values::ValueDef& def, const values::Value& value) {
+  auto j = values::value_json(def, value);
+  j.erase("name");
+  j.erase("unit");
+  return j;
+}
+
 }  // namespace
 
 std::optional<io::HttpResponse> Bridge::http_gate(std::string_view authorization, const std::string& peer) {
@@ -86,6 +135,13 @@ LiveSnapshot Bridge::live_snapshot() const {
     std::uint16_t value = 0;
     snapshot.addresses.push_back(row.address);
     snapshot.values.push_back(core_->space->read(row.address, std::span(&value, 1)) ? std::optional(value) : std::nullopt);
+  }
+  const auto registers = values::snapshot_of(*core_->store);
+  for (const auto& layout : value_model_.banks()) {
+    const auto values = value_model_.evaluate(layout.bank, registers);
+    const auto bank = std::string(banks::bank_name(layout.bank)) + "/";
+    for (std::size_t i = 0; i < values.size(); ++i)
+      snapshot.named_values.emplace_back(bank + layout.values[i].name, live_value(layout.values[i], values[i]));
   }
   return snapshot;
 }
@@ -121,11 +177,13 @@ io::HttpResponse Bridge::http_response(std::string_view target) {
     return {200, metrics::prometheus_content_type, metrics::prometheus_text(status_json()), {}, {}};
   if (path == "/api/status") return {200, json_type, status_document() + "\n", {}, {}};
   if (path == "/api/registers") {
+    const auto values_now = all_values(value_model_, values::snapshot_of(*core_->store));
     auto registers = nlohmann::json::array();
     for (const auto& row : register_rows_) {
       auto j = config::map_row_json(row);
       std::uint16_t value = 0;
       j["value"] = core_->space->read(row.address, std::span(&value, 1)) ? nlohmann::json(value) : nlohmann::json(nullptr);
+      j["values"] = row_values(row, core_->config, value_model_, values_now);
       registers.push_back(std::move(j));
     }
     return {200, json_type, registers.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) + "\n", {}, {}};

@@ -1,7 +1,7 @@
 // The bridge on MQTT (SPEC §12): its client, and what it publishes — every 100 ms the
 // banks whose values or on-line state changed, every `period` and after each
-// (re)connection all of them. The values are read as Modbus reads them (the register
-// space), so a bank's document and a Modbus read never disagree.
+// (re)connection all of them. The values come from the value model (values/), read from
+// the register store that Modbus reads, so a bank's document and a Modbus read never disagree.
 
 #include <fstream>
 
@@ -10,9 +10,9 @@
 #include "app/bridge.hpp"
 #include "app/bridge_core.hpp"
 #include "banks/register_space.hpp"
-#include "config/register_map.hpp"
 #include "io/state_file.hpp"
 #include "mqtt/command.hpp"
+#include "values/store_snapshot.hpp"
 
 namespace unima::app {
 
@@ -83,12 +83,12 @@ void Bridge::take_command(std::string_view topic, std::string_view payload) {
 
 void Bridge::lay_out_mqtt() {
   if (!core_->config.mqtt) {
-    mqtt_layouts_.clear();
+    mqtt_banks_.clear();
     mqtt_schedule_.reset();
     return;
   }
-  mqtt_layouts_ = mqtt::bank_layouts(register_rows_, core_->config.mapping);
-  mqtt_schedule_.emplace(mqtt_layouts_.size(), core_->config.mqtt->period, core_->config.mqtt->on_change);
+  mqtt_banks_ = mqtt::published_banks(value_model_);
+  mqtt_schedule_.emplace(mqtt_banks_.size(), core_->config.mqtt->period, core_->config.mqtt->on_change);
 }
 
 void Bridge::mqtt_tick() {
@@ -103,31 +103,23 @@ void Bridge::mqtt_tick() {
 void Bridge::publish_mqtt() {
   // A broker that does not keep up gets the latest state once it does, not a queue of states.
   if (!mqtt_ || !mqtt_->connected() || mqtt_->backlogged() || !mqtt_schedule_) return;
-  std::vector<std::optional<std::uint16_t>> values(register_rows_.size());
-  for (std::size_t i = 0; i < register_rows_.size(); ++i) {
-    std::uint16_t value = 0;
-    if (core_->space->read(register_rows_[i].address, std::span(&value, 1))) values[i] = value;
-  }
-  // Each bank's state as one string of its raw values and on-line flag: compared whole.
+  const auto snapshot = values::snapshot_of(*core_->store);
+  // Each bank's state as the text of its values and on-line flag: compared whole.
+  std::vector<std::vector<values::Value>> bank_values;
   std::vector<std::string> states;
-  std::vector<bool> online;
-  for (const auto& layout : mqtt_layouts_) {
-    const auto bank = banks::parse_bank_name(layout.bank);
-    const bool is_station = bank && (banks::is_device_bank(*bank) || banks::is_module_bank(*bank));
-    online.push_back(!is_station || core_->store->online(*bank));
-    std::string state(1, online.back() ? '1' : '0');
-    for (const auto& reg : layout.registers) {
-      const auto& v = values[reg.row];
-      state += v ? fmt::format("{:04X}", *v) : std::string("----");
-    }
-    states.push_back(std::move(state));
+  for (const auto bank : mqtt_banks_) {
+    bank_values.push_back(value_model_.evaluate(bank, snapshot));
+    const auto state = mqtt::bank_values(*value_model_.bank(bank), bank_values.back(), snapshot[banks::index_of(bank)].online);
+    states.push_back(state.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace));
   }
   const auto now = std::chrono::system_clock::now();
   const auto& prefix = core_->config.mqtt->topic;
   for (const auto index : mqtt_schedule_->due(states, mqtt::PublishSchedule::Clock::now())) {
-    const auto& layout = mqtt_layouts_[index];
-    const auto document = mqtt::bank_document(layout, values, online[index], now);
-    mqtt_->publish(prefix + "/" + layout.bank, document.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace), true);
+    const auto bank = mqtt_banks_[index];
+    const auto document =
+        mqtt::bank_document(*value_model_.bank(bank), bank_values[index], snapshot[banks::index_of(bank)].online, now);
+    mqtt_->publish(prefix + "/" + std::string(banks::bank_name(bank)),
+                   document.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace), true);
   }
 }
 

@@ -27,6 +27,25 @@ nlohmann::json changed_values(const LiveSnapshot& before, const LiveSnapshot& no
   return values;
 }
 
+nlohmann::json all_named(const LiveSnapshot& snapshot) {
+  auto values = nlohmann::json::object();
+  for (const auto& [key, value] : snapshot.named_values) values[key] = value;
+  return values;
+}
+
+nlohmann::json changed_named(const LiveSnapshot& before, const LiveSnapshot& now) {
+  auto values = nlohmann::json::object();
+  for (std::size_t i = 0; i < now.named_values.size(); ++i)
+    if (now.named_values[i] != before.named_values[i]) values[now.named_values[i].first] = now.named_values[i].second;
+  return values;
+}
+
+bool same_layout(const LiveSnapshot& a, const LiveSnapshot& b) {
+  return a.addresses == b.addresses && a.named_values.size() == b.named_values.size() &&
+         std::equal(a.named_values.begin(), a.named_values.end(), b.named_values.begin(),
+                    [](const auto& x, const auto& y) { return x.first == y.first; });
+}
+
 }  // namespace
 
 std::string sse_event(std::string_view name, const nlohmann::json& data) {
@@ -48,7 +67,8 @@ void LiveView::subscribe(std::shared_ptr<io::EventSink> sink, monitor::CommandFi
   // The last lines, not the whole ring: a page opens on the present.
   const auto first = recent.next_number() > first_lines ? recent.next_number() - first_lines : 0;
   page.next_line = first;
-  std::string events = sse_event("panel", last_->panel) + sse_event("registers", all_values(*last_));
+  std::string events = sse_event("panel", last_->panel) + sse_event("registers", all_values(*last_)) +
+                       sse_event("values", all_named(*last_));
   auto lines = recent.since(page.next_line, page.filter, first_lines);
   page.next_line = lines.next;
   events += sse_event("monitor", {{"lines", lines.lines}, {"skipped", 0}});
@@ -57,12 +77,14 @@ void LiveView::subscribe(std::shared_ptr<io::EventSink> sink, monitor::CommandFi
 
 void LiveView::update(LiveSnapshot now, const monitor::RecentTransactions& recent) {
   std::string shared;  // what every page gets alike
-  if (!last_ || last_->addresses != now.addresses) {
+  if (!last_ || !same_layout(*last_, now)) {
     shared += sse_event("layout", nlohmann::json::object());
     shared += sse_event("registers", all_values(now));
+    shared += sse_event("values", all_named(now));
     shared += sse_event("panel", now.panel);
   } else {
     if (auto changes = changed_values(*last_, now); !changes.empty()) shared += sse_event("registers", changes);
+    if (auto changes = changed_named(*last_, now); !changes.empty()) shared += sse_event("values", changes);
     if (now.panel != last_->panel) shared += sse_event("panel", now.panel);
   }
   last_ = std::move(now);

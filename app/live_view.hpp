@@ -2,7 +2,9 @@
 // The front page's live feed (SPEC §13, /api/events): server-sent events that carry only
 // what changed. The Bridge takes a snapshot on each heartbeat while a page listens; this
 // compares it with the last one and sends each page
-//   event: registers  {"0x1100": 1234, "0x1101": null, ...}  the values that changed
+//   event: registers  {"0x1100": 1234, "0x1101": null, ...}  the raw registers that changed
+//   event: values     {"D1/engine_speed": {"value": 1234, "state": "ok"}, ...}
+//                                                          the values (values/) that changed
 //   event: panel      {...}                                  the LEDs, devices, indicators, when changed
 //   event: monitor    {"lines": [...], "skipped": n}         new monitor lines through the page's filter
 //   event: layout     {}                                     the register map changed (a reload): fetch it again
@@ -12,6 +14,8 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -26,6 +30,8 @@ struct LiveSnapshot {
   nlohmann::json panel;                                   // what the front panel shows
   std::vector<std::uint16_t> addresses;                   // every served register, in address order
   std::vector<std::optional<std::uint16_t>> values;       // nullopt: unreadable (a write bank)
+  /// The value model's values by "<bank>/<name>", each {"value", "state"} as the page shows it.
+  std::vector<std::pair<std::string, nlohmann::json>> named_values;
 };
 
 class LiveView {

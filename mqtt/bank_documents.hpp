@@ -1,50 +1,35 @@
 #pragma once
-// What the bridge publishes of each bank on MQTT (SPEC §12): `<prefix>/<bank>`, a JSON
-// object of the bank's registers by their table identifiers (A and B: by their mapping
-// source, as the config writes it) in engineering units — raw × scale, `null` for an
-// analog register's 0x7FFF ("not measured") — with "online" and "time". And when a bank
-// is due: on change, at most every 100 ms, and all of them every `period` and after a
+// What the bridge publishes of each bank on MQTT (SPEC §12, §17): `<prefix>/<bank>`, a
+// JSON object of the bank's values (values/value_model.hpp) by their names, flat — a
+// 32-bit pair as one key ("operating_hours"), a byte pair and a bit word's bits as dotted
+// keys ("knock_rank_1.level", "status.state"), A and B by their mapping sources
+// ("D1.oil_temperature") — with `null` for a value not measured or of an off-line device,
+// and "online" and "time". Unmapped entries and reserves are left out. And when a bank is
+// due: on change, at most every 100 ms, and all of them every `period` and after a
 // reconnect. Pure: values and time points are passed in.
 
 #include <chrono>
 #include <cstdint>
-#include <optional>
 #include <span>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
-#include "banks/source_ref.hpp"
-#include "config/register_map.hpp"
+#include "values/value_model.hpp"
 
 namespace unima::mqtt {
 
-struct BankRegister {
-  std::string key;   // table identifier, or the mapping source for A and B
-  std::string kind;  // analog, bits, ...
-  double scale = 1.0;
-  std::size_t row = 0;  // index into the register map's rows (and so into a values vector)
-  std::optional<unsigned> bit;  // B: one mapped bit of the register, 0 or 1
-};
+/// The banks published of a value model: A, B, C, D1..D4, S1..S7 (not W or X), in the
+/// model's order.
+std::vector<banks::BankId> published_banks(const values::ValueModel& model);
 
-struct BankLayout {
-  std::string bank;  // "D1", "A", ...
-  std::vector<BankRegister> registers;
-};
+/// "online", then the values in the table's order: what changes a bank's document.
+nlohmann::ordered_json bank_values(const values::BankValues& layout, std::span<const values::Value> values, bool online);
 
-/// The published banks of a register map (A, B, C, D1..D4, S1..S7; not W, X or blocks), in
-/// the map's order; A's mapped registers and B's mapped bits keyed by their sources in
-/// `mapping` (B's bits one entry each).
-std::vector<BankLayout> bank_layouts(const std::vector<config::MapRow>& rows, const banks::Mapping& mapping);
-
-/// One register's value as published: a number in engineering units, or null.
-nlohmann::json engineering_value(const BankRegister& reg, std::optional<std::uint16_t> raw);
-
-/// The document of `layout` ("time", "online", then the registers in the table's order);
-/// `values` are the register map's, by row.
-nlohmann::ordered_json bank_document(const BankLayout& layout, std::span<const std::optional<std::uint16_t>> values, bool online,
-                             std::chrono::system_clock::time_point now);
+/// The document: "time", then bank_values().
+nlohmann::ordered_json bank_document(const values::BankValues& layout, std::span<const values::Value> values, bool online,
+                                     std::chrono::system_clock::time_point now);
 
 /// Which banks are due, from their values and the clock.
 class PublishSchedule {

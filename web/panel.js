@@ -2,9 +2,9 @@
 // live from /api/events (app/live_view.hpp): a full picture on connecting, changes after.
 'use strict';
 
-const NOT_MEASURED = 0x7FFF;  // seed 004: a value the device does not measure
 const MAX_LINES = 200;
-const cells = new Map();      // "0x1100" -> { cell, row }
+const cells = new Map();      // "D1/engine_speed" -> the cells of that value (its bank's, a read block's)
+const byAddress = new Map();  // "0x1100" -> the cells of the values that read that register
 let source = null;
 
 const element = (tag, attributes = {}, text) => {
@@ -14,22 +14,60 @@ const element = (tag, attributes = {}, text) => {
   return e;
 };
 
-function shown(row, raw) {
-  if (raw === null || raw === undefined) return { text: '—', measured: true };
-  if (raw === NOT_MEASURED && row.kind === 'analog') return { text: 'not measured', measured: false };
-  if (row.kind === 'bits') return { text: '0x' + raw.toString(16).toUpperCase().padStart(4, '0'), measured: true };
-  if (row.kind === 'analog') {
-    const signed = raw >= 0x8000 ? raw - 0x10000 : raw;
-    const digits = row.scale < 1 ? Math.round(-Math.log10(row.scale)) : 0;
-    return { text: (signed * row.scale).toFixed(digits) + (row.unit ? ' ' + row.unit : ''), measured: true };
+// A value as the daemon decoded it (values/, SPEC §17): its reading in its unit, or why
+// it has none, in words ("not measured", "off-line", "not set", "not mapped").
+function shown(value, unit) {
+  if (value.state !== 'ok') return value.state;
+  if (typeof value.value === 'boolean') return value.value ? 'on' : 'off';
+  if (typeof value.value === 'string') return `"${value.value}"`;
+  return String(value.value) + (unit ? ' ' + unit : '');
+}
+
+// A bank's table: one row per value, at the first register it reads; a register without
+// values (a reserve) is not listed; a read block lists its source's values, a write block
+// that it is write only.
+function bankTable(bank, rows) {
+  const table = element('table');
+  const head = element('tr');
+  for (const [name, cls] of [['address', 'address'], ['name', ''], ['label', 'label'], ['value', '']]) head.append(element('th', cls ? { class: cls } : {}, name));
+  table.append(head);
+  const addRow = (row, key, name, label, unit, value) => {
+    const tr = element('tr');
+    const cell = element('td', { class: 'value', 'data-address': row.address, 'data-key': key });
+    cell.dataset.unit = unit || '';
+    tr.append(element('td', { class: 'address' }, row.address), element('td', {}, name),
+              element('td', { class: 'label', lang: 'cs' }, label), cell);
+    table.append(tr);
+    if (!cells.has(key)) cells.set(key, []);
+    cells.get(key).push(cell);
+    if (!byAddress.has(row.address)) byAddress.set(row.address, []);
+    byAddress.get(row.address).push(cell);
+    setValue(key, value, false);
+    setRaw(row.address, row.value);
+  };
+  const listed = new Set();
+  for (const row of rows) {
+    if (row.bank === 'write') {  // a write block: nothing to read back
+      addRow(row, `write/${row.id}`, row.id, row.label, '', { value: null, state: 'write only' });
+      continue;
+    }
+    for (const value of row.values) {
+      const key = `${value.bank}/${value.name}`;
+      if (listed.has(key)) continue;  // a 32-bit pair: listed at its low word
+      listed.add(key);
+      // A read block shows its source's value under the block's name.
+      const name = bank === 'read' ? `${row.id} = ${value.bank}.${value.name}` : value.name;
+      addRow(row, key, name, value.label, value.unit, value);
+    }
   }
-  return { text: String(raw) + (row.unit ? ' ' + row.unit : ''), measured: true };
+  return { table, count: listed.size };
 }
 
 function buildBanks(rows) {
   const banks = document.getElementById('banks');
   banks.replaceChildren(element('h2', {}, 'Banks'));
   cells.clear();
+  byAddress.clear();
   const byBank = new Map();
   for (const row of rows) {
     if (!byBank.has(row.bank)) byBank.set(row.bank, []);
@@ -38,35 +76,34 @@ function buildBanks(rows) {
   for (const [bank, bankRows] of byBank) {
     const details = element('details', { class: 'bank', 'data-bank': bank });
     details.open = byBank.size <= 4 || bank.startsWith('D');
-    details.append(element('summary', {}, `${bank} — ${bankRows.length} registers from ${bankRows[0].address}`));
-    const table = element('table');
-    const head = element('tr');
-    for (const [name, cls] of [['address', 'address'], ['name', ''], ['label', 'label'], ['value', '']]) head.append(element('th', cls ? { class: cls } : {}, name));
-    table.append(head);
-    for (const row of bankRows) {
-      const tr = element('tr');
-      const cell = element('td', { class: 'value', 'data-address': row.address });
-      tr.append(element('td', { class: 'address' }, row.address), element('td', {}, row.id),
-                element('td', { class: 'label', lang: 'cs' }, row.label), cell);
-      table.append(tr);
-      cells.set(row.address, { cell, row });
-      setValue(row.address, row.value, false);
-    }
-    details.append(table);
+    const { table, count } = bankTable(bank, bankRows);
+    const values = count || bankRows.length;
+    details.append(element('summary', {}, `${bank} — ${values} value${values === 1 ? '' : 's'} from ${bankRows[0].address}`), table);
     banks.append(details);
   }
 }
 
-function setValue(address, raw, flash = true) {
-  const entry = cells.get(address);
-  if (!entry) return;
-  const { text, measured } = shown(entry.row, raw);
-  entry.cell.textContent = text;
-  entry.cell.dataset.raw = raw === null ? '' : String(raw);
-  entry.cell.dataset.measured = String(measured);
+function setValue(key, value, flash = true) {
+  for (const cell of cells.get(key) || []) showValue(cell, value, flash);
+}
+
+function showValue(cell, value, flash) {
+  cell.textContent = shown(value, cell.dataset.unit);
+  cell.dataset.state = value.state;
+  if (value.set === false) cell.dataset.set = 'false';
+  else delete cell.dataset.set;
   if (flash) {
-    entry.cell.classList.add('changed');
-    setTimeout(() => entry.cell.classList.remove('changed'), 50);
+    cell.classList.add('changed');
+    setTimeout(() => cell.classList.remove('changed'), 50);
+  }
+}
+
+// The raw register beside the values read from it: the cells' title, for the technician
+// who compares with a Modbus read.
+function setRaw(address, raw) {
+  for (const cell of byAddress.get(address) || []) {
+    cell.dataset.raw = raw === null || raw === undefined ? '' : String(raw);
+    cell.title = raw === null || raw === undefined ? `${address}: not readable` : `${address} = ${raw}`;
   }
 }
 
@@ -132,7 +169,10 @@ function connect() {
   };
   source.addEventListener('panel', e => showPanel(JSON.parse(e.data)));
   source.addEventListener('registers', e => {
-    for (const [address, raw] of Object.entries(JSON.parse(e.data))) setValue(address, raw);
+    for (const [address, raw] of Object.entries(JSON.parse(e.data))) setRaw(address, raw);
+  });
+  source.addEventListener('values', e => {
+    for (const [key, value] of Object.entries(JSON.parse(e.data))) setValue(key, value);
   });
   source.addEventListener('monitor', e => showLines(JSON.parse(e.data)));
   // The map changed (a reload): build it again, then a new stream's full picture fills it.

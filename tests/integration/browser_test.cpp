@@ -1,7 +1,8 @@
 // The front page in a real browser (SPEC §13): headless Chromium, driven over WebDriver
 // by tests/integration/browser/page_in_chromium.py, loads the daemon's page and the test
-// checks its DOM — a value fed a moment before, D1 on line, and a value fed while the
-// page is open, which only the live feed (/api/events) can bring.
+// checks its DOM — a value fed a moment before in its unit, D1 on line, values that have
+// none saying why, and a value fed while the page is open, which only the live feed
+// (/api/events) can bring.
 
 #include <chrono>
 #include <future>
@@ -49,7 +50,8 @@ TEST_F(PageTest, ThePageInChromiumShowsAFedValueD1OnLineAndLaterValuesLive) {
   ASSERT_NO_FATAL_FAILURE(start_with_page());
   auto feed = feed_client();
   feed_and_wait(feed, R"({"addr":5,"slot":0,"offset":1,"values":[1234]})", 0x0012, 1234);
-  open_page("--online D1 --expect 0x0012=1234", "0x0012=4321");
+  // 0x0032 is D1's oil_temperature, never fed; 0x0100 is W+0, never written.
+  open_page("--online D1 --expect 0x0012=1234 --expect 0x0032=32767 --expect 0x0100=32767", "0x0012=4321");
   // The page showed the first value: feed the next while it stays open.
   const bool page_ready = page_shows_first_expectations();
   if (page_ready) feed_and_wait(feed, R"({"addr":5,"slot":0,"offset":1,"values":[4321]})", 0x0012, 4321);
@@ -62,6 +64,9 @@ TEST_F(PageTest, ThePageInChromiumShowsAFedValueD1OnLineAndLaterValuesLive) {
   EXPECT_EQ(shown["online"]["D4"], false) << result.output;
   // engine_speed, min-1 (seed 004's table for UNIGEN CHP): shown in its unit.
   EXPECT_EQ(shown["values"]["0x0012"]["text"], "4321 min-1") << result.output;
+  // SPEC §17: why a value has none, in words.
+  EXPECT_EQ(shown["values"]["0x0032"]["text"], "not measured") << result.output;
+  EXPECT_EQ(shown["values"]["0x0100"]["text"], "not set") << result.output;
 }
 
 // The daemon restarts while the page is open: the page reconnects by itself and shows

@@ -8,6 +8,7 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <csignal>
 #include <optional>
 #include <sstream>
@@ -119,8 +120,35 @@ TEST_F(Http, HealthStatusAndRegistersWithTheValueFedAMomentBefore) {
       found = true;
       EXPECT_EQ(r["id"], "engine_speed") << r.dump();
       EXPECT_EQ(r["value"], 1234) << r.dump();
+      // SPEC §17: beside the raw register, the value model's values read from it.
+      ASSERT_EQ(r["values"].size(), 1u) << r.dump();
+      EXPECT_EQ(r["values"][0]["name"], "engine_speed") << r.dump();
+      EXPECT_EQ(r["values"][0]["value"], 1234) << r.dump();
+      EXPECT_EQ(r["values"][0]["unit"], "min-1") << r.dump();
+      EXPECT_EQ(r["values"][0]["state"], "ok") << r.dump();
+    } else if (r["address"] == "0x0014") {  // operating_hours_high: no telegram carried it
+      EXPECT_EQ(r["values"][0], (nlohmann::json{{"name", "operating_hours"}, {"value", nullptr}, {"unit", "s"},
+                                                {"state", "not measured"}, {"label", "Motohodiny, nižší slovo"}, {"bank", "D1"}}))
+          << r.dump();
+    } else if (r["bank"] == "W" && r["offset"] == 0) {
+      EXPECT_EQ(r["values"][0]["set"], false) << "never written: " << r.dump();
     }
   EXPECT_TRUE(found) << registers.dump();
+}
+
+// A read block (MBS_RegR) lists its source's value, in its unit, as the page shows it.
+TEST_F(Http, ARegistersReadBlockHasItsSourcesValue) {
+  config.blocks = "  - { type: read, register: 0x0200, source: D1.engine_speed }\n";
+  start_http();
+  auto feed = feed_client();
+  feed_and_wait(feed, R"({"addr":5,"slot":0,"offset":1,"values":[1234]})", 0x0012, 1234);
+  const auto registers = nlohmann::json::parse(get(http_port, "/api/registers").body);
+  const auto block = std::find_if(registers.begin(), registers.end(), [](const auto& r) { return r["address"] == "0x0200"; });
+  ASSERT_NE(block, registers.end()) << registers.dump();
+  EXPECT_EQ((*block)["value"], 1234) << block->dump();
+  EXPECT_EQ((*block)["values"], (nlohmann::json::array({{{"name", "engine_speed"}, {"bank", "D1"}, {"value", 1234},
+                                                          {"unit", "min-1"}, {"state", "ok"}, {"label", "Otáčky"}}})))
+      << block->dump();
 }
 
 // The loop stopped for 2.5 s (SIGSTOP): /healthz says so once it turns again, for a few
@@ -244,6 +272,10 @@ TEST_F(Http, EventsSendTheWholePictureThenOnlyWhatChanged) {
   ASSERT_TRUE(all);
   EXPECT_GT(all->size(), 50u);
   EXPECT_EQ((*all)["0x0012"], 0x7FFF) << "not measured before anything was fed";
+  const auto all_values = events.next("values");
+  ASSERT_TRUE(all_values);
+  EXPECT_EQ((*all_values)["D1/engine_speed"], (nlohmann::json{{"value", nullptr}, {"state", "off-line"}}));
+  EXPECT_EQ((*all_values)["W/w_00"], (nlohmann::json{{"value", nullptr}, {"state", "not set"}, {"set", false}}));
 
   auto feed = feed_client();
   feed_and_wait(feed, R"({"addr":5,"slot":0,"offset":1,"values":[1234]})", 0x0012, 1234);
@@ -251,6 +283,12 @@ TEST_F(Http, EventsSendTheWholePictureThenOnlyWhatChanged) {
   ASSERT_TRUE(changed);
   // The value fed, and D1's bit in C+0x13 (bank C at its default 0x1020): nothing else.
   EXPECT_EQ(*changed, (nlohmann::json{{"0x0012", 1234}, {"0x1033", 1}}));
+  const auto changed_values = events.next("values");
+  ASSERT_TRUE(changed_values);
+  EXPECT_EQ((*changed_values)["D1/engine_speed"], (nlohmann::json{{"value", 1234}, {"state", "ok"}}));
+  EXPECT_EQ((*changed_values)["D1/oil_temperature"], (nlohmann::json{{"value", nullptr}, {"state", "not measured"}}))
+      << "on line, never fed";
+  EXPECT_FALSE(changed_values->contains("W/w_00")) << "only what changed";
   const auto online = events.next("panel");
   ASSERT_TRUE(online);
   EXPECT_EQ((*online)["devices"][0]["online"], true) << online->dump();

@@ -32,7 +32,7 @@ class RecordingSink : public io::EventSink {
 };
 
 LiveSnapshot snapshot(std::optional<std::uint16_t> a, std::optional<std::uint16_t> b, bool online = false) {
-  return {nlohmann::json{{"devices", {{{"bank", "D1"}, {"online", online}}}}}, {0x1100, 0x1101}, {a, b}};
+  return {nlohmann::json{{"devices", {{{"bank", "D1"}, {"online", online}}}}}, {0x1100, 0x1101}, {a, b}, {}};
 }
 
 // An FC4 read of `quantity` registers from `start` by a TCP client: MBAP + PDU.
@@ -68,6 +68,30 @@ TEST(LiveView, APageGetsEverythingFirstThenOnlyWhatChanged) {
   EXPECT_EQ(page->take(), "event: registers\ndata: {\"0x1100\":null}\n\n");
 }
 
+// The value model's values (values/) go to the page like the raw registers: all of them
+// first, then only those that changed, each with the state the page shows in words.
+TEST(LiveView, NamedValuesGoFirstInFullThenOnlyThoseThatChanged) {
+  const auto with_values = [](nlohmann::json speed, std::string state) {
+    LiveSnapshot s{nlohmann::json::object(), {0x1101}, {1}, {}};
+    s.named_values = {{"D1/engine_speed", {{"value", speed}, {"state", state}}},
+                      {"W/w_00", {{"value", nullptr}, {"state", "not set"}, {"set", false}}}};
+    return s;
+  };
+  LiveView view;
+  monitor::RecentTransactions recent;
+  auto page = std::make_shared<RecordingSink>();
+  view.subscribe(page, {}, with_values(1500, "ok"), recent);
+  const auto first = page->take();
+  EXPECT_NE(first.find("event: values\ndata: {\"D1/engine_speed\":{\"state\":\"ok\",\"value\":1500},"
+                       "\"W/w_00\":{\"set\":false,\"state\":\"not set\",\"value\":null}}\n\n"),
+            std::string::npos)
+      << first;
+  view.update(with_values(nullptr, "off-line"), recent);
+  EXPECT_EQ(page->take(), "event: values\ndata: {\"D1/engine_speed\":{\"state\":\"off-line\",\"value\":null}}\n\n");
+  view.update(with_values(nullptr, "off-line"), recent);
+  EXPECT_EQ(page->take(), "");
+}
+
 // A page that opens between two snapshots gets the last one, so that a value which
 // changed and changed back before the next is not left showing the middle value.
 TEST(LiveView, ALatePageStartsFromTheLastSnapshotSoTheChangesAfterAreExact) {
@@ -95,7 +119,7 @@ TEST(LiveView, AClosedPageIsForgottenAndALayoutChangeSendsEverything) {
   EXPECT_EQ(view.pages(), 1u);
   stays->take();
 
-  LiveSnapshot reloaded{nlohmann::json::object(), {0x2000}, {7}};
+  LiveSnapshot reloaded{nlohmann::json::object(), {0x2000}, {7}, {}};
   view.update(reloaded, recent);
   const auto events = stays->take();
   EXPECT_TRUE(events.starts_with("event: layout\ndata: {}\n\n")) << events;

@@ -1,68 +1,86 @@
-// mqtt::bank_documents (SPEC §12): which banks are published and how a value reads in
-// engineering units, and when a bank is due.
+// mqtt::bank_documents (SPEC §12, §17): which banks are published and what their
+// documents hold of the value model, and when a bank is due.
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
+#include "config/config.hpp"
 #include "mqtt/bank_documents.hpp"
 #include "mqtt/command.hpp"
+#include "values/store_snapshot.hpp"
 
 namespace unima::mqtt {
 namespace {
 
 using namespace std::chrono_literals;
 
-config::MapRow row(std::string bank, std::string id, std::string kind, double scale, std::string source = "") {
-  config::MapRow r;
-  r.bank = std::move(bank);
-  r.id = std::move(id);
-  r.kind = std::move(kind);
-  r.scale = scale;
-  r.source = std::move(source);
-  return r;
-}
+// A bank document holds the value model's values (SPEC §17) by their names, flat.
+TEST(MqttDocuments, ValuesByTheirNamesFlatAndAByItsMappingSource) {
+  const auto config = config::load_text(
+      "devices: { D1: { type: unigen-chp, address: 5 }, D2: { type: uis, address: 6 } }\n"
+      "mapping: { A: [ D1.oil_temperature ], B: [ X.0, D1+0x11.7 ] }\n",
+      "mqtt.yaml");
+  const values::ValueModel model(config);
+  const auto published = published_banks(model);
+  EXPECT_EQ(std::count(published.begin(), published.end(), banks::BankId::W), 0) << "W and X are not published";
+  EXPECT_EQ(std::count(published.begin(), published.end(), banks::BankId::X), 0);
+  EXPECT_EQ(std::count(published.begin(), published.end(), banks::BankId::D1), 1);
 
-TEST(MqttDocuments, BanksByTheirTableIdentifiersAndAByItsMappingSource) {
-  std::vector<config::MapRow> rows = {
-      row("A", "a_00", "analog", 0.1, "D1.oil_temperature (raw)"), row("D1", "engine_speed", "analog", 1),
-      row("D1", "oil_temperature", "analog", 0.1), row("D1", "status_word", "bits", 1), row("W", "w_00", "analog", 1),
-      row("read", "r_00", "analog", 1), row("B", "b", "bits", 1, "0=X.0 3=D1+0x15.3")};
-  banks::Mapping mapping;
-  mapping.analog[0] = banks::SourceRef{};
-  mapping.analog[0]->text = "D1.oil_temperature";
-  mapping.bits[0] = banks::SourceRef{};
-  mapping.bits[0]->text = "X.0";
-  mapping.bits[3] = banks::SourceRef{};
-  mapping.bits[3]->text = "D1+0x15.3";
-  const auto layouts = bank_layouts(rows, mapping);
-  ASSERT_EQ(layouts.size(), 3u) << "W and blocks are not published";
-  EXPECT_EQ(layouts[0].bank, "A");
-  EXPECT_EQ(layouts[0].registers[0].key, "D1.oil_temperature") << "the source as the config writes it";
-  EXPECT_EQ(layouts[1].bank, "D1");
-  ASSERT_EQ(layouts[1].registers.size(), 3u);
-  EXPECT_EQ(layouts[2].bank, "B");
-  ASSERT_EQ(layouts[2].registers.size(), 2u) << "one entry per mapped bit";
-
-  const std::vector<std::optional<std::uint16_t>> values = {853, 1500, 0x7FFF, 0x8001, 7, std::nullopt, 0b1000};
+  banks::RegisterStore store(config::bank_shapes(config));
+  store.set_mapping(config.mapping);
+  store.set_online(banks::BankId::D1, true);
+  store.set_online(banks::BankId::D2, true);
+  const std::vector<std::uint16_t> d1 = {0x0042, 1500, 0x0010, 0x0002};
+  store.store_telegram(banks::BankId::D1, 0, d1);
+  const std::vector<std::uint16_t> oil = {853};
+  store.store_telegram(banks::BankId::D1, 0x21, oil);
+  const std::vector<std::uint16_t> control_inputs = {0};
+  store.store_telegram(banks::BankId::D1, 0x11, control_inputs);
+  const std::vector<std::uint16_t> uis = {0x0001, 41234};
+  store.store_telegram(banks::BankId::D2, 0, uis);
+  const std::vector<std::uint16_t> knock = {16 << 8 | 3};
+  store.store_telegram(banks::BankId::D2, 0x08, knock);
+  const auto snapshot = values::snapshot_of(store);
   const auto time = std::chrono::sys_days{std::chrono::year{2026} / 11 / 24} + 12h + 30min;
-  const auto d1 = bank_document(layouts[1], values, true, time);
-  EXPECT_EQ(d1.dump(), R"({"time":"2026-11-24T12:30:00.000000Z","online":true,"engine_speed":1500,"oil_temperature":null,"status_word":32769})");
-  const auto a = bank_document(layouts[0], values, true, time);
-  EXPECT_DOUBLE_EQ(a["D1.oil_temperature"].get<double>(), 85.3);
-  EXPECT_EQ(a["D1.oil_temperature"].dump(), "85.3");
-  const auto b = bank_document(layouts[2], values, true, time);
-  EXPECT_EQ(b["X.0"], 0);
-  EXPECT_EQ(b["D1+0x15.3"], 1);
-}
+  const auto document = [&](banks::BankId bank) {
+    return bank_document(*model.bank(bank), model.evaluate(bank, snapshot), snapshot[banks::index_of(bank)].online, time);
+  };
 
-TEST(MqttDocuments, SignedValuesAndScalesInEngineeringUnits) {
-  const BankRegister tenths{"t", "analog", 0.1, 0, std::nullopt};
-  EXPECT_EQ(engineering_value(tenths, 0xFFF6).dump(), "-1.0");
-  EXPECT_EQ(engineering_value(tenths, 0x7FFF), nullptr);
-  EXPECT_EQ(engineering_value(tenths, std::nullopt), nullptr);
-  const BankRegister bits{"b", "bits", 1, 0, std::nullopt};
-  EXPECT_EQ(engineering_value(bits, 0x7FFF), 0x7FFF) << "only an analog value can be not measured";
-  const BankRegister hundredths{"h", "analog", 0.01, 0, std::nullopt};
-  EXPECT_EQ(engineering_value(hundredths, 12345).dump(), "123.45");
+  const auto chp = document(banks::BankId::D1);
+  auto key = chp.begin();
+  EXPECT_EQ(key.key(), "time");
+  EXPECT_EQ((++key).key(), "online");
+  EXPECT_EQ(chp["time"], "2026-11-24T12:30:00.000000Z");
+  EXPECT_EQ(chp["engine_speed"], 1500);
+  EXPECT_EQ(chp["operating_hours"], 2 * 65536 + 16) << "a 32-bit pair as one value";
+  EXPECT_FALSE(chp.contains("operating_hours_low"));
+  EXPECT_EQ(chp["status"], 0x42);
+  EXPECT_EQ(chp["status.state"], 0x42) << "a bit word's fields beside the word, as dotted keys";
+  EXPECT_EQ(chp["status.power_mode"], false);
+  EXPECT_EQ(chp["oil_temperature"].dump(), "85.3");
+  EXPECT_TRUE(chp["mains_active_power"].is_null()) << "not measured";
+
+  const auto ignition = document(banks::BankId::D2);
+  EXPECT_EQ(ignition["engine_speed"], 41234) << "unsigned where the table says so";
+  EXPECT_EQ(ignition["knock_rank_1.cylinder"], 3) << "a byte pair as two values";
+  EXPECT_DOUBLE_EQ(ignition["knock_rank_1.level"].get<double>(), 12.5);
+  EXPECT_FALSE(ignition.contains("knock_rank_1"));
+  EXPECT_FALSE(ignition.contains("reserve_06")) << "reserves are not published";
+
+  const auto a = document(banks::BankId::A);
+  EXPECT_EQ(a["D1.oil_temperature"].dump(), "85.3") << "the source as the config writes it, in its unit";
+  EXPECT_FALSE(a.contains("a_01")) << "an unmapped entry is not published";
+  const auto b = document(banks::BankId::B);
+  EXPECT_EQ(b["D1+0x11.7"], false);
+  EXPECT_FALSE(b.contains("X.0")) << "X was never written";
+
+  store.set_online(banks::BankId::D1, false);
+  const auto offline = values::snapshot_of(store);
+  const auto gone = bank_document(*model.bank(banks::BankId::D1), model.evaluate(banks::BankId::D1, offline), false, time);
+  EXPECT_EQ(gone["online"], false);
+  EXPECT_TRUE(gone["status.power_mode"].is_null()) << "an off-line device's bits are null, not false";
+  EXPECT_TRUE(gone["engine_speed"].is_null());
 }
 
 TEST(MqttSchedule, ChangedBanksAtMostEvery100msAndAllEveryPeriodAndAfterAReconnect) {

@@ -1,0 +1,26 @@
+#pragma once
+// The values as JSON, one way for every consumer (SPEC §17): a number in its unit (whole
+// when the scale has no decimals), a boolean, a string, or null; the state in words.
+
+#include <string_view>
+
+#include <nlohmann/json.hpp>
+
+#include "values/value_model.hpp"
+
+namespace unima::values {
+
+/// "ok", "not measured", "off-line", "not set", "not mapped": what the page shows.
+std::string_view state_name(State state);
+
+/// The reading alone: what an MQTT bank document holds under the value's name.
+nlohmann::json reading_json(const ValueDef& def, const Value& value);
+
+/// {"name", "value", "unit", "state"}, and "set": false for a W or X no master wrote:
+/// what /api/registers and the page show.
+nlohmann::json value_json(const ValueDef& def, const Value& value);
+
+/// Whether MQTT publishes it: not an unmapped entry, not a setpoint never written.
+bool published(const Value& value);
+
+}  // namespace unima::values
