@@ -12,6 +12,7 @@
 namespace unima::io {
 
 class StateFile;
+struct Runtime;
 
 struct SlaveContext {
   modbus::RegisterModel* registers = nullptr;
@@ -25,5 +26,10 @@ struct SlaveContext {
   /// Called after every transaction, when set (the monitor, indicators). Must not block.
   std::function<void(const modbus::Transaction&)> on_transaction;
 };
+
+/// The running banks served as the config says (the write path, the extensions, the own
+/// unit id), faults to the error hold, transactions to the monitor; a TCP slave's
+/// maximum read (an RTU port sets its own).
+SlaveContext slave_context(Runtime& runtime);
 
 }  // namespace unima::io

@@ -25,7 +25,7 @@ using TlsStream = beast::ssl_stream<beast::tcp_stream>;
 }  // namespace
 
 // What the server keeps of a connection, whatever its stream.
-class HttpServer::ConnectionBase : public EventSink {
+class HttpServer::ConnectionBase : public web::EventSink {
  public:
   virtual void start() = 0;
   virtual void close() = 0;
@@ -157,7 +157,7 @@ class HttpServer::Connection : public HttpServer::ConnectionBase, public std::en
 
   // The header, then events as they come until the client goes: no more requests on this
   // connection, and no request deadline (the browser sends nothing while it listens).
-  void open_stream(std::function<void(std::shared_ptr<EventSink>)> start, bool head_only) {
+  void open_stream(std::function<void(std::shared_ptr<web::EventSink>)> start, bool head_only) {
     auto header = std::make_shared<http::response<http::empty_body>>(http::status::ok, 11);
     header->set(http::field::server, "unima-bridge");
     header->set(http::field::content_type, "text/event-stream");
@@ -174,7 +174,7 @@ class HttpServer::Connection : public HttpServer::ConnectionBase, public std::en
                                if (!queued_.empty() && !writing_) write_queued();
                                watch_for_close();
                              });
-    if (!head_only) start(std::static_pointer_cast<EventSink>(this->shared_from_this()));
+    if (!head_only) start(std::static_pointer_cast<web::EventSink>(this->shared_from_this()));
   }
 
   void write_queued() {

@@ -18,7 +18,7 @@
 #include <utility>
 #include <vector>
 
-#include "io/north/event_sink.hpp"
+#include "web/event_sink.hpp"
 #include "io/retrying_acceptor.hpp"
 #include "platform/asio_ssl.hpp"
 
@@ -40,7 +40,7 @@ struct HttpResponse {
   std::vector<std::pair<std::string, std::string>> headers;
   /// Set for an event stream: after the header (200, text/event-stream) the connection
   /// stays open and this is called with its sink; `body` is ignored. A HEAD gets the header only.
-  std::function<void(std::shared_ptr<EventSink>)> stream;
+  std::function<void(std::shared_ptr<web::EventSink>)> stream;
 };
 
 /// Answers a GET (or HEAD) of `target` (the path and query as sent).

@@ -1,4 +1,4 @@
-// The front page's live feed (app/live_view): the whole picture for a page that opens,
+// The front page's live feed (web/live_view): the whole picture for a page that opens,
 // then only what changed; the monitor pane's lines through each page's own filter
 // (monitor/recent_transactions); and which files the page is served from (web/).
 
@@ -6,14 +6,14 @@
 
 #include <array>
 
-#include "app/live_view.hpp"
+#include "web/live_view.hpp"
 #include "monitor/recent_transactions.hpp"
 #include "web/page_files.hpp"
 
-namespace unima::app {
+namespace unima::web {
 namespace {
 
-class RecordingSink : public io::EventSink {
+class RecordingSink : public web::EventSink {
  public:
   bool send(std::string_view events) override {
     if (closed_) return false;
@@ -198,4 +198,4 @@ TEST(PageFiles, ServesTheEmbeddedFilesByNameAndNothingElse) {
 }
 
 }  // namespace
-}  // namespace unima::app
+}  // namespace unima::web

@@ -1,30 +1,24 @@
-// Bridge::http_response: what each path of the HTTP server answers (SPEC §13). The
-// counters come from the status document, so /metrics, /api/status and `unima-bridge
-// status` never disagree.
+#include "io/north/http_answers.hpp"
 
 #include <algorithm>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include "app/bridge.hpp"
-#include "app/bridge_core.hpp"
-#include "config/register_map.hpp"
 #include "config/register_map_json.hpp"
 #include "metrics/prometheus.hpp"
 #include "monitor/command_filter.hpp"
-#include "platform/peer_warnings.hpp"
 #include "values/store_snapshot.hpp"
 #include "values/value_json.hpp"
 #include "web/page_files.hpp"
 
-namespace unima::app {
+namespace unima::io {
 
 namespace {
 
 constexpr auto json_type = "application/json";
 constexpr auto text_type = "text/plain; charset=utf-8";
-io::HttpResponse not_found() {
+HttpResponse not_found() {
   return {404, text_type, "not found: /, /metrics, /healthz, /api/status, /api/registers, /api/events\n", {}, {}};
 }
 
@@ -109,36 +103,18 @@ nlohmann::json live_value(const values::ValueDef& def, const values::Value& valu
 
 }  // namespace
 
-std::optional<io::HttpResponse> Bridge::http_gate(std::string_view authorization, const std::string& peer) {
-  if (!http_users_) return std::nullopt;
-  const auto result = http_users_->check(authorization, web::BasicAuth::Clock::now());
-  switch (result.verdict) {
-    case web::BasicAuth::Verdict::allowed:
-      return std::nullopt;
-    case web::BasicAuth::Verdict::too_many:
-      platform::warn_from_peer("http: logins refused as too many", peer,
-                               "http: too many logins to check ({} a second): {} asked to wait", web::BasicAuth::checks_per_second, peer);
-      return io::HttpResponse{429, text_type, "too many logins at once: try again in a second\n", {{"Retry-After", "1"}}, {}};
-    case web::BasicAuth::Verdict::refused:
-      break;
-  }
-  if (!authorization.empty())
-    platform::warn_from_peer("http: logins refused", peer, "http: {} gave a name and password that http.users does not hold", peer);
-  return io::HttpResponse{401, text_type, "log in: a name and password of http.users\n",
-                          {{"WWW-Authenticate", "Basic realm=\"unima-bridge\", charset=\"UTF-8\""}}, {}};
-}
-
-LiveSnapshot Bridge::live_snapshot() const {
-  LiveSnapshot snapshot;
-  snapshot.panel = panel_of(status_json());
-  for (const auto& row : register_rows_) {
+web::LiveSnapshot HttpAnswers::live_snapshot() const {
+  const auto& banks = *runtime_.banks;
+  web::LiveSnapshot snapshot;
+  snapshot.panel = panel_of(runtime_.status());
+  for (const auto& row : banks.register_rows) {
     std::uint16_t value = 0;
     snapshot.addresses.push_back(row.address);
-    snapshot.values.push_back(core_->space->read(row.address, std::span(&value, 1)) ? std::optional(value) : std::nullopt);
+    snapshot.values.push_back(banks.space->read(row.address, std::span(&value, 1)) ? std::optional(value) : std::nullopt);
   }
-  const auto registers = values::snapshot_of(*core_->store);
-  for (const auto& layout : value_model_.banks()) {
-    const auto values = value_model_.evaluate(layout.bank, registers);
+  const auto registers = values::snapshot_of(*banks.store);
+  for (const auto& layout : banks.value_model.banks()) {
+    const auto values = banks.value_model.evaluate(layout.bank, registers);
     const auto bank = std::string(banks::bank_name(layout.bank)) + "/";
     for (std::size_t i = 0; i < values.size(); ++i)
       snapshot.named_values.emplace_back(bank + layout.values[i].name, live_value(layout.values[i], values[i]));
@@ -146,7 +122,21 @@ LiveSnapshot Bridge::live_snapshot() const {
   return snapshot;
 }
 
-io::HttpResponse Bridge::http_response(std::string_view target) {
+HttpResponse HttpAnswers::registers() const {
+  const auto& banks = *runtime_.banks;
+  const auto values_now = all_values(banks.value_model, values::snapshot_of(*banks.store));
+  auto registers = nlohmann::json::array();
+  for (const auto& row : banks.register_rows) {
+    auto j = config::map_row_json(row);
+    std::uint16_t value = 0;
+    j["value"] = banks.space->read(row.address, std::span(&value, 1)) ? nlohmann::json(value) : nlohmann::json(nullptr);
+    j["values"] = row_values(row, banks.config, banks.value_model, values_now);
+    registers.push_back(std::move(j));
+  }
+  return {200, json_type, registers.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) + "\n", {}, {}};
+}
+
+HttpResponse HttpAnswers::answer(std::string_view target) {
   const auto path = target.substr(0, target.find('?'));
   if (path == "/api/events") {
     monitor::CommandFilter filter;
@@ -155,40 +145,24 @@ io::HttpResponse Bridge::http_response(std::string_view target) {
     } catch (const monitor::FilterSyntaxError& e) {
       return {400, text_type, fmt::format("{}\n", e.what()), {}, {}};
     }
-    io::HttpResponse response;
-    response.stream = [this, filter](std::shared_ptr<io::EventSink> sink) {
-      live_.subscribe(std::move(sink), filter, live_snapshot(), monitor_->recent());
+    HttpResponse response;
+    response.stream = [this, filter](std::shared_ptr<web::EventSink> sink) {
+      live_.subscribe(std::move(sink), filter, live_snapshot(), runtime_.monitor->recent());
     };
     return response;
   }
   if (const auto file = web::served_file(path))
     return {200, std::string(file->content_type), std::string(file->text), page_headers, {}};
+  // Answered on the loop: after a stall this is the first thing to run, and says so.
   if (path == "/healthz") {
-    // Answered on the loop: after a stall this is the first thing to run, and says so.
-    const auto silent = std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - last_turn_);
-    if (silent > stall_limit)
-      return {503, text_type, fmt::format("stalled: the event loop did not turn for {} ms\n", silent.count()), {}, {}};
-    if (std::chrono::steady_clock::now() < stall_reported_until_)
-      return {503, text_type, fmt::format("stalled: the event loop did not turn for {} ms a moment ago\n", last_stall_.count()),
-              {}, {}};
+    if (const auto stall = health_.stall(LoopHealth::Clock::now())) return {503, text_type, "stalled: " + *stall + "\n", {}, {}};
     return {200, text_type, "ok\n", {}, {}};
   }
-  if (path == "/metrics")
-    return {200, metrics::prometheus_content_type, metrics::prometheus_text(status_json()), {}, {}};
-  if (path == "/api/status") return {200, json_type, status_document() + "\n", {}, {}};
-  if (path == "/api/registers") {
-    const auto values_now = all_values(value_model_, values::snapshot_of(*core_->store));
-    auto registers = nlohmann::json::array();
-    for (const auto& row : register_rows_) {
-      auto j = config::map_row_json(row);
-      std::uint16_t value = 0;
-      j["value"] = core_->space->read(row.address, std::span(&value, 1)) ? nlohmann::json(value) : nlohmann::json(nullptr);
-      j["values"] = row_values(row, core_->config, value_model_, values_now);
-      registers.push_back(std::move(j));
-    }
-    return {200, json_type, registers.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) + "\n", {}, {}};
-  }
+  if (path == "/metrics") return {200, metrics::prometheus_content_type, metrics::prometheus_text(runtime_.status()), {}, {}};
+  if (path == "/api/status")
+    return {200, json_type, runtime_.status().dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) + "\n", {}, {}};
+  if (path == "/api/registers") return registers();
   return not_found();
 }
 
-}  // namespace unima::app
+}  // namespace unima::io

@@ -1,10 +1,10 @@
-#include "app/live_view.hpp"
+#include "web/live_view.hpp"
 
 #include <algorithm>
 
 #include <fmt/format.h>
 
-namespace unima::app {
+namespace unima::web {
 
 namespace {
 
@@ -60,7 +60,7 @@ std::string LiveView::monitor_event(Page& page, const monitor::RecentTransaction
   return sse_event("monitor", {{"lines", lines.lines}, {"skipped", lines.skipped}});
 }
 
-void LiveView::subscribe(std::shared_ptr<io::EventSink> sink, monitor::CommandFilter filter, LiveSnapshot now,
+void LiveView::subscribe(std::shared_ptr<web::EventSink> sink, monitor::CommandFilter filter, LiveSnapshot now,
                          const monitor::RecentTransactions& recent) {
   if (!last_) last_ = std::move(now);
   Page page{std::move(sink), filter, 0};
@@ -96,4 +96,4 @@ void LiveView::update(LiveSnapshot now, const monitor::RecentTransactions& recen
   if (pages_.empty()) last_.reset();  // the next page starts from a fresh snapshot
 }
 
-}  // namespace unima::app
+}  // namespace unima::web

@@ -20,11 +20,11 @@
 
 #include <nlohmann/json.hpp>
 
-#include "io/north/event_sink.hpp"
+#include "web/event_sink.hpp"
 #include "monitor/command_filter.hpp"
 #include "monitor/recent_transactions.hpp"
 
-namespace unima::app {
+namespace unima::web {
 
 struct LiveSnapshot {
   nlohmann::json panel;                                   // what the front panel shows
@@ -43,7 +43,7 @@ class LiveView {
 
   /// Starts `sink`'s feed: the panel, every value, the last monitor lines through `filter`.
   /// `now` becomes the base of the next changes when no page listened before.
-  void subscribe(std::shared_ptr<io::EventSink> sink, monitor::CommandFilter filter, LiveSnapshot now,
+  void subscribe(std::shared_ptr<web::EventSink> sink, monitor::CommandFilter filter, LiveSnapshot now,
                  const monitor::RecentTransactions& recent);
   /// Sends every page what changed since the last snapshot; forgets closed pages.
   void update(LiveSnapshot now, const monitor::RecentTransactions& recent);
@@ -52,7 +52,7 @@ class LiveView {
 
  private:
   struct Page {
-    std::shared_ptr<io::EventSink> sink;
+    std::shared_ptr<web::EventSink> sink;
     monitor::CommandFilter filter;
     std::uint64_t next_line = 0;
   };
@@ -65,4 +65,4 @@ class LiveView {
 /// "event: <name>\ndata: <json>\n\n"
 std::string sse_event(std::string_view name, const nlohmann::json& data);
 
-}  // namespace unima::app
+}  // namespace unima::web

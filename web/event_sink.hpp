@@ -1,11 +1,11 @@
 #pragma once
 // The open end of a server-sent event stream, as the HTTP server hands it to whoever
-// feeds it (app/live_view). No Asio here, so that the feeding side is testable without it.
+// feeds it (web/live_view). No Asio here, so that the feeding side is testable without it.
 
 #include <cstddef>
 #include <string_view>
 
-namespace unima::io {
+namespace unima::web {
 
 /// The open end of a server-sent event stream (text/event-stream, the page's live
 /// updates). Sending queues; a client that lets more than `max_queued_bytes` pile up is
@@ -19,4 +19,4 @@ class EventSink {
   virtual bool closed() const = 0;
 };
 
-}  // namespace unima::io
+}  // namespace unima::web

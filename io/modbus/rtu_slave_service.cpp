@@ -1,0 +1,85 @@
+#include "io/modbus/rtu_slave_service.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include "io/modbus/port_counters.hpp"
+#include "io/modbus/slave_context.hpp"
+#include "modbus/capture.hpp"
+
+namespace unima::io {
+
+namespace {
+
+bool same_line(const std::optional<config::RtuConfig>& a, const std::optional<config::RtuConfig>& b) {
+  if (a.has_value() != b.has_value()) return false;
+  return !a || (a->device == b->device && a->baud == b->baud && a->parity == b->parity && a->stop_bits == b->stop_bits &&
+                a->rs485 == b->rs485 && a->low_latency == b->low_latency && a->frame_gap == b->frame_gap);
+}
+
+}  // namespace
+
+std::optional<config::RtuConfig> slave_line(const config::Config& config) {
+  if (config.modbus.mode != config::ModbusMode::slave) return std::nullopt;
+  return config.modbus.rtu;
+}
+
+RtuSlaveService::RtuSlaveService(Runtime& runtime) : runtime_(runtime), port_(make_port(runtime.config())) {}
+
+SlaveContext RtuSlaveService::context() const {
+  auto context = slave_context(runtime_);
+  context.options.max_read_registers = modbus::max_read_registers_rtu;
+  return context;
+}
+
+std::unique_ptr<RtuSlavePort> RtuSlaveService::make_port(const config::Config& config) {
+  const auto line = slave_line(config);
+  if (!line) return nullptr;
+  auto port = std::make_unique<RtuSlavePort>(runtime_.io, *line, context());
+  port->set_foreign_listener(
+      [this](std::span<const std::uint8_t> query, std::span<const std::uint8_t> response) { capture(query, response); });
+  return port;
+}
+
+// A write is taken from the master's request, a read from the foreign slave's response.
+void RtuSlaveService::capture(std::span<const std::uint8_t> query, std::span<const std::uint8_t> response) {
+  const auto& rules = runtime_.banks->capture_rules;
+  if (rules.empty()) return;
+  const auto captured =
+      response.empty() ? modbus::captured_writes(rules, query) : modbus::captured_reads(rules, query, response);
+  for (const auto& c : captured) {
+    runtime_.banks->store->set_user_output(c.output, c.value);
+    spdlog::debug("capture: user output {} = {} ({} of device {})", c.output, c.value,
+                  c.via == modbus::Captured::Via::write ? "write" : "read", query[0]);
+  }
+}
+
+void RtuSlaveService::start() {
+  started_ = true;
+  if (port_) port_->start();
+}
+
+void RtuSlaveService::stop() {
+  started_ = false;
+  if (port_) port_->stop();
+}
+
+void RtuSlaveService::stage(const Banks& next) { reopen_ = !same_line(slave_line(runtime_.config()), slave_line(next.config)); }
+
+void RtuSlaveService::commit(const Banks&) {
+  if (!reopen_) {
+    if (port_) port_->set_context(context());
+    return;
+  }
+  reopen_ = false;
+  if (port_) port_->stop();
+  port_ = make_port(runtime_.config());
+  if (port_ && started_) port_->start();
+}
+
+// Listed once it has seen traffic.
+void RtuSlaveService::describe(nlohmann::json& status) const {
+  const auto& counters = runtime_.monitor->counters(modbus::PortKind::rtu);
+  if (counters.transactions > 0) status["ports"].push_back(port_counters("rtu", counters));
+}
+
+}  // namespace unima::io

@@ -1,0 +1,135 @@
+#include "io/modbus/tcp_slave_service.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include "io/modbus/slave_context.hpp"
+#include "io/tls_context.hpp"
+#include "io/modbus/port_counters.hpp"
+
+namespace unima::io {
+
+namespace {
+
+TcpSlaveOptions slave_options(const config::TcpSlaveConfig& c) {
+  TcpSlaveOptions options;
+  options.listen = c.listen;
+  options.port = c.port;
+  options.max_clients = c.max_clients;
+  options.idle_timeout = c.idle_timeout;
+  options.frame_timeout = c.frame_timeout;
+  options.allow = c.allow;
+  options.read_only = c.read_only;
+  return options;
+}
+
+tls::TlsFiles tls_files(const config::TlsSlaveConfig& tls) { return {tls.certificate, tls.key, tls.ca}; }
+
+bool same_endpoint(const config::TcpSlaveConfig* a, const config::TcpSlaveConfig* b) {
+  if ((a == nullptr) != (b == nullptr)) return false;
+  return !a || (a->listen == b->listen && a->port == b->port);
+}
+
+}  // namespace
+
+TcpSlaveService::TcpSlaveService(Runtime& runtime, Security security)
+    : runtime_(runtime), security_(security), server_(make_server(runtime.config())) {}
+
+const config::TcpSlaveConfig* TcpSlaveService::settings(const config::Config& config) const {
+  if (security_ == Security::plain) return config.modbus.tcp ? &*config.modbus.tcp : nullptr;
+  return config.modbus.tls ? &config.modbus.tls->connection : nullptr;
+}
+
+std::unique_ptr<TcpSlaveServer> TcpSlaveService::make_server(const config::Config& config) const {
+  const auto* c = settings(config);
+  if (!c) return nullptr;
+  auto options = slave_options(*c);
+  if (security_ == Security::tls) {
+    const auto& tls = *config.modbus.tls;
+    try {
+      options.tls = TlsSlaveSetup{make_server_tls_context(tls_files(tls)), tls.roles};
+    } catch (const std::exception& e) {
+      throw std::runtime_error(fmt::format("{}: {}", tls.origin, e.what()));
+    }
+  }
+  const auto* name = security_ == Security::tls ? "modbus tls" : "modbus tcp";
+  try {
+    return std::make_unique<TcpSlaveServer>(runtime_.io, options, slave_context(runtime_));
+  } catch (const boost::system::system_error& e) {
+    throw std::runtime_error(fmt::format("{}: cannot listen on {}:{}: {}", name, c->listen, c->port, e.code().message()));
+  }
+}
+
+void TcpSlaveService::start() {
+  started_ = true;
+  if (server_) server_->start();
+}
+
+void TcpSlaveService::stop() {
+  started_ = false;
+  if (server_) server_->stop();
+}
+
+void TcpSlaveService::stage(const Banks& next) {
+  rebind_ = !same_endpoint(settings(runtime_.config()), settings(next.config));
+  if (!rebind_) {
+    // A renewal needs no restart; new files that do not load leave the running ones (SPEC §11).
+    if (server_ && security_ == Security::tls) {
+      try {
+        next_context_ = make_server_tls_context(tls_files(*next.config.modbus.tls));
+      } catch (const std::exception& e) {
+        spdlog::error("modbus tls: {}; the running certificate keeps serving", e.what());
+      }
+    }
+    return;
+  }
+  // The new listener may want the same port on another address.
+  if (server_) {
+    released_ = server_->options();
+    server_->stop();
+  }
+  next_server_ = make_server(next.config);
+}
+
+void TcpSlaveService::abandon() {
+  next_server_.reset();  // first, so that its port is free again
+  next_context_.reset();
+  rebind_ = false;
+  if (released_) {
+    server_ = std::make_unique<TcpSlaveServer>(runtime_.io, *released_, slave_context(runtime_));
+    if (started_) server_->start();
+    released_.reset();
+  }
+}
+
+void TcpSlaveService::commit(const Banks&) {
+  released_.reset();
+  if (rebind_) {
+    server_ = std::move(next_server_);
+    if (server_ && started_) server_->start();
+    rebind_ = false;
+  }
+  if (!server_) return;
+  const auto& c = *settings(runtime_.config());
+  server_->set_limits(c.max_clients, c.idle_timeout, c.frame_timeout);
+  server_->set_access(c.allow, c.read_only);
+  if (security_ == Security::tls) {
+    auto context = next_context_ ? std::move(next_context_) : server_->options().tls->context;
+    server_->set_tls(TlsSlaveSetup{std::move(context), runtime_.config().modbus.tls->roles});
+  }
+  server_->set_context(slave_context(runtime_));
+}
+
+// A port is listed while it is configured or has seen traffic.
+void TcpSlaveService::describe(nlohmann::json& status) const {
+  const auto kind = security_ == Security::tls ? modbus::PortKind::tls : modbus::PortKind::tcp;
+  const auto& counters = runtime_.monitor->counters(kind);
+  if (!server_ && counters.transactions == 0) return;
+  auto j = port_counters(security_ == Security::tls ? "tls" : "tcp", counters);
+  if (server_) {
+    j["listen"] = server_->options().listen + ":" + std::to_string(server_->port());
+    j["clients"] = server_->client_count();
+  }
+  status["ports"].push_back(j);
+}
+
+}  // namespace unima::io

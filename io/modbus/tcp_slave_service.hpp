@@ -1,0 +1,46 @@
+#pragma once
+// The Modbus TCP slave (`modbus.tcp`, SPEC §3) or its Modbus/TCP Security twin
+// (`modbus.tls`, SPEC §11) as a service. A reload keeps the listener and its connections
+// when the address and port did not change (limits, allow list, read-only, roles and
+// renewed certificates apply at once); a new address or port binds a new listener, the
+// running one letting go of the port until the reload commits or is abandoned.
+
+#include <memory>
+#include <optional>
+
+#include "io/modbus/tcp_slave_server.hpp"
+#include "io/service.hpp"
+
+namespace unima::io {
+
+class TcpSlaveService final : public Service {
+ public:
+  enum class Security { plain, tls };
+
+  TcpSlaveService(Runtime& runtime, Security security);
+
+  void start() override;
+  void stop() override;
+  void stage(const Banks& next) override;
+  void abandon() override;
+  void commit(const Banks& previous) override;
+  void describe(nlohmann::json& status) const override;
+
+ private:
+  /// `config`'s slave on this port, or null when it has none; throws when it cannot listen.
+  std::unique_ptr<TcpSlaveServer> make_server(const config::Config& config) const;
+  /// The port's connection settings in `config` (modbus.tcp, or modbus.tls.connection).
+  const config::TcpSlaveConfig* settings(const config::Config& config) const;
+
+  Runtime& runtime_;
+  Security security_;
+  std::unique_ptr<TcpSlaveServer> server_;
+  bool started_ = false;
+  // Staged by a reload:
+  bool rebind_ = false;                               // the endpoint changed
+  std::unique_ptr<TcpSlaveServer> next_server_;       // its listener (null: no port any more)
+  std::optional<TcpSlaveOptions> released_;           // the running one let go of its port
+  std::shared_ptr<asio::ssl::context> next_context_;  // same endpoint: the TLS files read again
+};
+
+}  // namespace unima::io

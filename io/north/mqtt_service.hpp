@@ -1,0 +1,50 @@
+#pragma once
+// MQTT (`mqtt`, SPEC §12) as a service: the client, what it publishes — every 100 ms the
+// banks whose values or on-line state changed, every `period` and after each
+// (re)connection all of them, from the value model (values/) over the register store
+// that Modbus reads, so a document and a Modbus read never disagree — and the commands
+// it takes (`<prefix>/set/W/<n>`, `set/X/<bit>`), written through the one write path. A
+// reload keeps the client (and its session) when the broker settings did not change.
+
+#include <memory>
+#include <optional>
+#include <string_view>
+#include <vector>
+
+#include "io/north/mqtt_client.hpp"
+#include "io/service.hpp"
+#include "mqtt/bank_documents.hpp"
+
+namespace unima::io {
+
+class MqttService final : public Service {
+ public:
+  explicit MqttService(Runtime& runtime);
+
+  void start() override;
+  void stop() override;
+  void stage(const Banks& next) override;
+  void abandon() override;
+  void commit(const Banks& previous) override;
+  void describe(nlohmann::json& status) const override;
+
+ private:
+  std::unique_ptr<MqttClient> make_client(const config::Config& config);
+  /// What the running config publishes, and a schedule that publishes it all first.
+  void lay_out();
+  void tick();
+  void publish();
+  void take_command(std::string_view topic, std::string_view payload);
+
+  Runtime& runtime_;
+  std::unique_ptr<MqttClient> client_;
+  std::vector<banks::BankId> banks_;  // the published banks, in the model's order
+  std::optional<mqtt::PublishSchedule> schedule_;
+  asio::steady_timer timer_;
+  bool started_ = false;
+  // Staged by a reload:
+  bool new_client_ = false;
+  std::unique_ptr<MqttClient> next_client_;  // null with new_client_: no more MQTT
+};
+
+}  // namespace unima::io

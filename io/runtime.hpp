@@ -1,0 +1,63 @@
+#pragma once
+// What the services of the bridge share (app::Bridge owns it and loops over them): the
+// banks of the running config, swapped whole on a reload, and what lives as long as the
+// daemon — the monitor, the state file, the error hold, the publisher to UnimaBUS.
+
+#include <chrono>
+#include <functional>
+#include <memory>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "banks/register_space.hpp"
+#include "banks/register_store.hpp"
+#include "banks/write_path.hpp"
+#include "config/config.hpp"
+#include "config/register_map.hpp"
+#include "io/error_hold.hpp"
+#include "io/state_file.hpp"
+#include "modbus/capture.hpp"
+#include "monitor/monitor.hpp"
+#include "platform/asio.hpp"
+#include "unimabus/publisher.hpp"
+#include "unimabus/telegram_intake.hpp"
+#include "values/value_model.hpp"
+
+namespace unima::io {
+
+/// One config and everything derived from it once: the register store and space, the
+/// one write path, the telegram intake, the capture rules, the register map and the
+/// value model (SPEC §17).
+struct Banks {
+  config::Config config;
+  std::unique_ptr<banks::RegisterStore> store;
+  std::unique_ptr<banks::RegisterSpace> space;
+  std::unique_ptr<banks::WritePath> writes;
+  std::unique_ptr<unimabus::TelegramIntake> intake;
+  std::vector<modbus::CaptureRule> capture_rules;
+  std::vector<config::MapRow> register_rows;  // in address order: the page, /api/registers
+  values::ValueModel value_model;
+};
+
+/// `config`'s banks; the writes go to `journal` (null: kept nowhere).
+std::unique_ptr<Banks> build_banks(config::Config config, banks::WriteJournal* journal);
+
+struct Runtime {
+  Runtime(asio::io_context& io, std::unique_ptr<Banks> first);
+
+  asio::io_context& io;
+  /// The running config's banks. Services read it at each call, so they follow a reload.
+  std::unique_ptr<Banks> banks;
+  std::unique_ptr<monitor::Monitor> monitor;
+  std::unique_ptr<StateFile> state;  // null without `state.file`
+  ErrorHold error_hold;              // C+0x13 bit 15, held 2 s after the last fault
+  unimabus::Publisher publisher;     // W, X and the user outputs to the running transport
+  std::chrono::steady_clock::time_point started_at = std::chrono::steady_clock::now();
+  /// The whole status document (`unima-bridge status --json`), for who shows it.
+  std::function<nlohmann::json()> status;
+
+  const config::Config& config() const { return banks->config; }
+};
+
+}  // namespace unima::io
