@@ -85,6 +85,7 @@ void TcpSlaveService::stage(const Banks& next) {
   // The new listener may want the same port on another address.
   if (server_) {
     released_ = server_->options();
+    released_->port = server_->port();  // the one bound, when the config said 0
     server_->stop();
   }
   next_server_ = make_server(next.config);

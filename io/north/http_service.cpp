@@ -114,6 +114,7 @@ void HttpService::stage(const Banks& next) {
   }
   if (server_) {
     released_ = server_->options();
+    released_->port = server_->port();  // the one bound, when the config said 0
     server_->stop();
   }
   next_server_ = make_server(next.config);
