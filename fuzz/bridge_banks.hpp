@@ -1,5 +1,5 @@
 #pragma once
-// The bridge's banks as the daemon builds them from a config (app::Bridge::build_core), for
+// The bridge's banks as the daemon builds them from a config (io::build_banks), for
 // the targets that serve Modbus requests or route telegrams: the register store, the
 // register space behind the request handler, the telegram router.
 //
@@ -43,7 +43,7 @@ inline const Example& example(const std::string& file) {
   return found->second;
 }
 
-/// Which D_N sits at which UnimaBUS address; app/bridge.cpp's device_addresses, which is
+/// Which D_N sits at which UnimaBUS address; io/runtime.cpp's device_addresses, which is
 /// private to the bridge.
 inline std::vector<std::pair<banks::BankId, std::uint8_t>> device_addresses(const config::Config& config) {
   std::vector<std::pair<banks::BankId, std::uint8_t>> addresses;
