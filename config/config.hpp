@@ -23,7 +23,7 @@
 #include "master/device_profile.hpp"
 #include "master/master_value.hpp"
 #include "modbus/write_rights.hpp"
-#include "modbus/rtu_timing.hpp"
+#include "modbus/rtu/rtu_timing.hpp"
 #include "monitor/monitor_config.hpp"
 #include "unimabus/recording.hpp"
 
@@ -97,7 +97,7 @@ struct RtuConfig {
   std::string origin;  // "file:line:col" of modbus.rtu
 };
 
-/// The character and gap times of `line` (modbus/rtu_timing: the one computation).
+/// The character and gap times of `line` (modbus/rtu/rtu_timing: the one computation).
 modbus::RtuTiming line_timing(const RtuConfig& line);
 
 /// Functions beyond the seed's 4 and 6 (SPEC §3), each on by default.

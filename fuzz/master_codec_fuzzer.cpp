@@ -16,7 +16,7 @@
 #include "fuzz/fuzz_check.hpp"
 #include "master/master_codec.hpp"
 #include "modbus/bytes.hpp"
-#include "modbus/rtu_adu.hpp"
+#include "modbus/rtu/rtu_adu.hpp"
 
 namespace {
 

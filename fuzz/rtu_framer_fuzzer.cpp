@@ -19,11 +19,11 @@
 
 #include "fuzz/bridge_banks.hpp"
 #include "fuzz/fuzz_check.hpp"
-#include "modbus/bus_listener.hpp"
+#include "modbus/rtu/bus_listener.hpp"
 #include "modbus/capture.hpp"
 #include "modbus/register_capture.hpp"
-#include "modbus/rtu_adu.hpp"
-#include "modbus/rtu_framer.hpp"
+#include "modbus/rtu/rtu_adu.hpp"
+#include "modbus/rtu/rtu_framer.hpp"
 #include "modbus/slave_session.hpp"
 
 namespace {

@@ -2,9 +2,9 @@
 
 #include <algorithm>
 
-#include "modbus/crc16.hpp"
-#include "modbus/rtu_adu.hpp"
-#include "modbus/rtu_frame_length.hpp"
+#include "modbus/rtu/crc16.hpp"
+#include "modbus/rtu/rtu_adu.hpp"
+#include "modbus/rtu/rtu_frame_length.hpp"
 #include "modbus/mbap.hpp"
 #include "modbus/bytes.hpp"
 

@@ -7,7 +7,7 @@
 #include <tuple>
 
 #include "modbus/protocol.hpp"
-#include "modbus/rtu_frame_length.hpp"
+#include "modbus/rtu/rtu_frame_length.hpp"
 
 namespace unima::master {
 

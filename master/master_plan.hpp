@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "master/master_value.hpp"
-#include "modbus/rtu_timing.hpp"
+#include "modbus/rtu/rtu_timing.hpp"
 
 namespace unima::master {
 

@@ -1,6 +1,6 @@
 #pragma once
 // Modbus puts every 16-bit field on the wire high byte first (Modbus Application
-// Protocol V1.1b3 §4.2); the CRC of an RTU frame is the one exception (modbus/rtu_adu).
+// Protocol V1.1b3 §4.2); the CRC of an RTU frame is the one exception (modbus/rtu/rtu_adu).
 
 #include <cstddef>
 #include <cstdint>

@@ -37,7 +37,7 @@ struct Served {
 /// Serves a request PDU (at least its function code) for `recipient` into `out` (at
 /// least max_pdu_size bytes). A broadcast never faults: a write to a register the bridge
 /// does not have is meant for the other slaves. Another slave's request on RTU is not
-/// served (the port listens to it, modbus/bus_listener).
+/// served (the port listens to it, modbus/rtu/bus_listener).
 /// `rights`: what this client may write (nullptr: every register), see handle_request.
 Served serve_request(Link link, Recipient recipient, std::span<const std::uint8_t> pdu, std::span<std::uint8_t> out,
                      RegisterModel& registers, const HandlerOptions& options, const WriteRights* rights = nullptr);

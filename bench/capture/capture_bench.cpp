@@ -35,8 +35,8 @@
 
 #include "tests/support/child_process.hpp"
 #include "tests/support/pseudo_terminal.hpp"
-#include "modbus/rtu_adu.hpp"
-#include "modbus/rtu_timing.hpp"
+#include "modbus/rtu/rtu_adu.hpp"
+#include "modbus/rtu/rtu_timing.hpp"
 
 namespace {
 

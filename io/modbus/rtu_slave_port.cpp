@@ -5,7 +5,7 @@
 #include "io/modbus/serial_line.hpp"
 #include "io/state_file.hpp"
 #include "modbus/protocol.hpp"
-#include "modbus/rtu_adu.hpp"
+#include "modbus/rtu/rtu_adu.hpp"
 
 namespace unima::io {
 

@@ -25,10 +25,10 @@
 #include "io/handler_guard.hpp"
 #include "io/lazy_deadline.hpp"
 #include "io/modbus/slave_context.hpp"
-#include "modbus/bus_listener.hpp"
-#include "modbus/rtu_framer.hpp"
+#include "modbus/rtu/bus_listener.hpp"
+#include "modbus/rtu/rtu_framer.hpp"
 #include "modbus/slave_session.hpp"
-#include "modbus/rtu_timing.hpp"
+#include "modbus/rtu/rtu_timing.hpp"
 
 namespace unima::io {
 

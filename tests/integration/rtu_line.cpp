@@ -11,7 +11,7 @@
 #include <cerrno>
 #include <stdexcept>
 
-#include "modbus/rtu_adu.hpp"
+#include "modbus/rtu/rtu_adu.hpp"
 
 #include "tests/support/pseudo_terminal.hpp"
 

@@ -36,8 +36,8 @@
 #include <vector>
 
 #include "tests/support/pseudo_terminal.hpp"
-#include "modbus/crc16.hpp"
-#include "modbus/rtu_adu.hpp"
+#include "modbus/rtu/crc16.hpp"
+#include "modbus/rtu/rtu_adu.hpp"
 #include "modbus/mbap.hpp"
 #include "tests/sim/foreign_slave.hpp"
 

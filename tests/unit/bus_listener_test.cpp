@@ -5,7 +5,7 @@
 
 #include <vector>
 
-#include "modbus/bus_listener.hpp"
+#include "modbus/rtu/bus_listener.hpp"
 
 namespace unima::modbus {
 namespace {

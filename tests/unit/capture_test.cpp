@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "modbus/capture.hpp"
-#include "modbus/rtu_adu.hpp"
+#include "modbus/rtu/rtu_adu.hpp"
 
 namespace unima::modbus {
 namespace {

@@ -6,7 +6,7 @@
 
 #include <cmath>
 
-#include "modbus/crc16.hpp"
+#include "modbus/rtu/crc16.hpp"
 #include "master/master_codec.hpp"
 #include "master/master_value.hpp"
 

@@ -6,7 +6,7 @@
 #include <map>
 #include <vector>
 
-#include "modbus/crc16.hpp"
+#include "modbus/rtu/crc16.hpp"
 #include "modbus/mbap.hpp"
 #include "modbus/request_handler.hpp"
 #include "tests/support/map_registers.hpp"

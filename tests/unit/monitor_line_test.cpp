@@ -5,7 +5,7 @@
 
 #include <vector>
 
-#include "modbus/crc16.hpp"
+#include "modbus/rtu/crc16.hpp"
 #include "monitor/monitor_line.hpp"
 #include "tests/support/seed_frames.hpp"
 

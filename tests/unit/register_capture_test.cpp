@@ -7,7 +7,7 @@
 
 #include "monitor/capture_indicators.hpp"
 #include "modbus/capture.hpp"
-#include "modbus/crc16.hpp"
+#include "modbus/rtu/crc16.hpp"
 #include "modbus/register_capture.hpp"
 #include "tests/support/seed_frames.hpp"
 

@@ -6,10 +6,10 @@
 
 #include <vector>
 
-#include "modbus/rtu_adu.hpp"
-#include "modbus/rtu_frame_length.hpp"
-#include "modbus/rtu_framer.hpp"
-#include "modbus/rtu_timing.hpp"
+#include "modbus/rtu/rtu_adu.hpp"
+#include "modbus/rtu/rtu_frame_length.hpp"
+#include "modbus/rtu/rtu_framer.hpp"
+#include "modbus/rtu/rtu_timing.hpp"
 #include "tests/support/seed_frames.hpp"
 
 namespace unima::modbus {

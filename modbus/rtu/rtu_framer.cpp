@@ -1,10 +1,10 @@
-#include "modbus/rtu_framer.hpp"
+#include "modbus/rtu/rtu_framer.hpp"
 
 #include <algorithm>
 
 #include "modbus/protocol.hpp"
-#include "modbus/rtu_adu.hpp"
-#include "modbus/rtu_frame_length.hpp"
+#include "modbus/rtu/rtu_adu.hpp"
+#include "modbus/rtu/rtu_frame_length.hpp"
 #include "modbus/bytes.hpp"
 
 namespace unima::modbus {

@@ -1,8 +1,8 @@
-#include "modbus/rtu_adu.hpp"
+#include "modbus/rtu/rtu_adu.hpp"
 
 #include <algorithm>
 
-#include "modbus/crc16.hpp"
+#include "modbus/rtu/crc16.hpp"
 
 namespace unima::modbus {
 

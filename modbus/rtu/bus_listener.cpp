@@ -1,4 +1,4 @@
-#include "modbus/bus_listener.hpp"
+#include "modbus/rtu/bus_listener.hpp"
 
 #include <utility>
 

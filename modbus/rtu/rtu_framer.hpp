@@ -27,7 +27,7 @@
 #include <span>
 #include <vector>
 
-#include "modbus/rtu_timing.hpp"
+#include "modbus/rtu/rtu_timing.hpp"
 
 namespace unima::modbus {
 

@@ -1,7 +1,7 @@
-#include "modbus/rtu_frame_length.hpp"
+#include "modbus/rtu/rtu_frame_length.hpp"
 
 #include "modbus/protocol.hpp"
-#include "modbus/rtu_adu.hpp"
+#include "modbus/rtu/rtu_adu.hpp"
 
 namespace unima::modbus {
 

@@ -1,4 +1,4 @@
-#include "modbus/crc16.hpp"
+#include "modbus/rtu/crc16.hpp"
 
 #include <array>
 

@@ -12,7 +12,7 @@
 #include <span>
 #include <vector>
 
-#include "modbus/rtu_framer.hpp"
+#include "modbus/rtu/rtu_framer.hpp"
 
 namespace unima::modbus {
 

@@ -1,4 +1,4 @@
-#include "modbus/rtu_timing.hpp"
+#include "modbus/rtu/rtu_timing.hpp"
 
 #include <cstdint>
 
