@@ -3,105 +3,29 @@
 // status and its will, a bank's document after feed telegrams, a device going off line,
 // and a broker that goes away and comes back while Modbus clients read.
 
-#include <pwd.h>
-#include <unistd.h>
-
 #include <csignal>
 #include <future>
-#include <sstream>
 #include <thread>
 
 #include <nlohmann/json.hpp>
 
 #include "tests/integration/bridge_fixture.hpp"
+#include "tests/support/peers/mqtt_broker.hpp"
+#include "tests/support/peers/mqtt_subscription.hpp"
 
 namespace unima::test {
 namespace {
 
 using namespace std::chrono_literals;
-
-/// A mosquitto broker of the test's own, on 127.0.0.1, daemonized with a pid file;
-/// `listener_extra` adds to its listener (TLS: cafile, certfile, keyfile, ...).
-class Broker {
- public:
-  explicit Broker(const std::filesystem::path& dir, const std::string& listener_extra = "") : dir_(dir), port_(free_port()) {
-    // Started as root, mosquitto would become the user `mosquitto`, who cannot write in the
-    // test's directory: it stays who the test is.
-    const auto* me = ::getpwuid(::geteuid());
-    test_support::write_file(dir_ / "mosquitto.conf", "listener " + std::to_string(port_) + " 127.0.0.1\n" + listener_extra +
-                                                      "allow_anonymous true\npersistence false\n"
-                                                      "user " + std::string(me ? me->pw_name : "root") + "\n"
-                                                      "log_dest file " + (dir_ / "mosquitto.log").string() + "\n"
-                                                      "pid_file " + (dir_ / "mosquitto.pid").string() + "\n");
-  }
-  ~Broker() { stop(); }
-  bool start() {
-    const auto started = run("mosquitto -d -c " + (dir_ / "mosquitto.conf").string() + " 2>&1");
-    return started.status == 0 && wait_for_port(port_);
-  }
-  void stop() {
-    const auto pid_file = dir_ / "mosquitto.pid";
-    if (!std::filesystem::exists(pid_file)) return;
-    run("kill $(cat " + pid_file.string() + ") 2>/dev/null; while kill -0 $(cat " + pid_file.string() +
-        ") 2>/dev/null; do sleep 0.02; done");
-    std::filesystem::remove(pid_file);
-  }
-  std::uint16_t port() const { return port_; }
-  void signal(int signo) const { run("kill -" + std::to_string(signo) + " $(cat " + (dir_ / "mosquitto.pid").string() + ")"); }
-  /// mosquitto_sub: the first `count` messages of `topic` ("topic payload" lines), waiting at most `seconds`.
-  std::string subscribe(const std::string& topic, int count, int seconds = 5) const {
-    return run("mosquitto_sub -p " + std::to_string(port_) + " -t '" + topic + "' -v -C " + std::to_string(count) +
-               " -W " + std::to_string(seconds) + " 2>&1").output;
-  }
-
- private:
-  std::filesystem::path dir_;
-  std::uint16_t port_;
-};
-
-/// mosquitto_sub in the background, its "topic payload" lines in a file the test reads
-/// as they come.
-/// mosquitto_pub: one message, QoS 1.
-void publish(const Broker& broker, const std::string& topic, const std::string& payload) {
-  run("mosquitto_pub -p " + std::to_string(broker.port()) + " -q 1 -t '" + topic + "' -m '" + payload + "'");
-}
-
-/// mosquitto_sub on `topic` into `file`, subscribed when the constructor returns: it also
-/// listens on a probe topic of its own, published to until the probe comes back.
-class Subscription {
- public:
-  Subscription(const Broker& broker, const std::filesystem::path& file, const std::string& topic) : file_(file) {
-    const auto probe = "probe/" + file.filename().string();
-    const auto started = run("mosquitto_sub -p " + std::to_string(broker.port()) + " -t '" + topic + "' -t '" + probe + "' -v > " +
-                             file.string() + " 2>&1 & echo $!");
-    pid_ = std::stoi(started.output);
-    const bool subscribed = eventually([&] {
-      publish(broker, probe, "ready");
-      return lines().find(probe + " ready") != std::string::npos;
-    });
-    EXPECT_TRUE(subscribed) << "mosquitto_sub did not subscribe to " << topic << ": " << lines();
-  }
-  ~Subscription() { ::kill(pid_, SIGTERM); }
-  std::string lines() const { return read_file(file_); }
-
- private:
-  std::filesystem::path file_;
-  int pid_ = 0;
-};
+using test_support::Broker;
+using test_support::payloads;
+using test_support::publish;
+using test_support::Subscription;
 
 /// `text` with every `from` replaced by `to`.
 std::string replaced(std::string text, const std::string& from, const std::string& to) {
   for (auto at = text.find(from); at != std::string::npos; at = text.find(from, at + to.size())) text.replace(at, from.size(), to);
   return text;
-}
-
-/// The payloads of "topic payload" lines whose topic is `topic`.
-std::vector<std::string> payloads(const std::string& lines, const std::string& topic) {
-  std::vector<std::string> found;
-  std::istringstream in(lines);
-  for (std::string line; std::getline(in, line);)
-    if (line.starts_with(topic + " ")) found.push_back(line.substr(topic.size() + 1));
-  return found;
 }
 
 class Mqtt : public BridgeTest {
