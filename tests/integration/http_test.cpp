@@ -121,7 +121,7 @@ TEST_F(Http, HealthzReportsAStalledLoop) {
   start_http();
   ASSERT_EQ(http_get(http_port, "/healthz").status, 200);
   daemon->signal(SIGSTOP);
-  std::this_thread::sleep_for(2500ms);
+  std::this_thread::sleep_for(2500ms);  // the stall under test, longer than /healthz allows
   daemon->signal(SIGCONT);
   const auto stalled = http_get(http_port, "/healthz");
   EXPECT_EQ(stalled.status, 503) << stalled.body;

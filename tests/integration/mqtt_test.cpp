@@ -64,8 +64,10 @@ TEST_F(Mqtt, StatusIsRetainedOnlineAndOfflineAfterACleanStop) {
   start();
   EXPECT_TRUE(eventually([&] { return broker->subscribe("fleet/site-17/status", 1, 1) == "fleet/site-17/status online\n"; }))
       << daemon->log();
+  const auto subscribed = broker->subscriptions_to("fleet/site-17/status");
   auto offline = std::async(std::launch::async, [&] { return broker->subscribe("fleet/site-17/status", 2); });
-  std::this_thread::sleep_for(300ms);
+  // Subscribed before the bridge goes, or "offline" would be published to no one.
+  ASSERT_TRUE(eventually([&] { return broker->subscriptions_to("fleet/site-17/status") > subscribed; }));
   daemon->signal(SIGTERM);
   EXPECT_EQ(offline.get(), "fleet/site-17/status online\nfleet/site-17/status offline\n");
   EXPECT_NE(daemon->log().find("mqtt: connected to 127.0.0.1:" + std::to_string(broker->port()) + " as site-17"), std::string::npos);
@@ -75,8 +77,9 @@ TEST_F(Mqtt, StatusIsRetainedOnlineAndOfflineAfterACleanStop) {
 TEST_F(Mqtt, AKilledBridgeIsOfflineByItsWill) {
   start();
   ASSERT_TRUE(eventually([&] { return broker->subscribe("fleet/site-17/status", 1, 1) == "fleet/site-17/status online\n"; }));
+  const auto subscribed = broker->subscriptions_to("fleet/site-17/status");
   auto offline = std::async(std::launch::async, [&] { return broker->subscribe("fleet/site-17/status", 2); });
-  std::this_thread::sleep_for(300ms);
+  ASSERT_TRUE(eventually([&] { return broker->subscriptions_to("fleet/site-17/status") > subscribed; }));
   daemon->signal(SIGKILL);
   EXPECT_EQ(offline.get(), "fleet/site-17/status online\nfleet/site-17/status offline\n");
 }
@@ -240,6 +243,8 @@ TEST_F(Mqtt, AReloadToAnotherTopicMovesTheBridgeThere) {
   daemon->rewrite_config("\n" + replaced(yaml, "topic: fleet/site-17", "topic: fleet/site-18"));
   daemon->signal(SIGHUP);
   ASSERT_TRUE(eventually([&] { return daemon->log_count("SIGHUP: reloading") == 2; })) << daemon->log();
+  // What is tested is that nothing happens: no event says a connection will not come, so
+  // the test gives one the time it would take.
   std::this_thread::sleep_for(300ms);
   EXPECT_EQ(daemon->log_count("mqtt: connected to"), 2u) << daemon->log();
 }
@@ -261,6 +266,7 @@ TEST_F(Mqtt, AfterABrokerStallOnlyThePresentIsPublishedNotABacklog) {
   ASSERT_TRUE(broker->start());
   Subscription subscription(*broker, dir.path() / "after", "fleet/site-17/D1");
   ASSERT_TRUE(eventually([&] { return !payloads(subscription.lines(), "fleet/site-17/D1").empty(); }, 10000ms)) << daemon->log();
+  // A backlog would follow the first document: what is tested is that none comes in a second.
   std::this_thread::sleep_for(1000ms);
   const auto documents = payloads(subscription.lines(), "fleet/site-17/D1");
   EXPECT_LE(documents.size(), 2u) << subscription.lines();
@@ -281,6 +287,9 @@ TEST_F(Mqtt, CommandsWriteWAndXLikeModbusAndAnswerOnTheResultTopic) {
   EXPECT_TRUE(feed.wait_for_line(R"({"bank":"W","offset":3,"value":1234})"));
   publish(*broker, "fleet/site-17/set/X/2", "1");
   EXPECT_TRUE(feed.wait_for_line(R"({"bank":"X","offset":0,"value":4})"));
+  // A good command is answered once the state file has it, a bad one at once: the bad ones
+  // go after the good ones' answers, so that the answers come in the order asserted below.
+  ASSERT_TRUE(eventually([&] { return payloads(results.lines(), "fleet/site-17/set/result").size() == 2; })) << results.lines();
   publish(*broker, "fleet/site-17/set/W/16", "1");
   publish(*broker, "fleet/site-17/set/X/1", "on");
   ASSERT_TRUE(eventually([&] { return payloads(results.lines(), "fleet/site-17/set/result").size() == 4; })) << results.lines();
@@ -307,6 +316,8 @@ TEST_F(Mqtt, WithoutCommandsASetTopicChangesNothing) {
   ASSERT_TRUE(eventually([&] { return broker->subscribe("fleet/site-17/status", 1, 1) == "fleet/site-17/status online\n"; }));
   Subscription results(*broker, dir.path() / "results", "fleet/site-17/set/result");
   publish(*broker, "fleet/site-17/set/W/3", "1234");
+  // What is tested is that nothing happens (no write, no result): no event marks the end of
+  // a wait for nothing, so the test gives the command the time one would take.
   std::this_thread::sleep_for(500ms);
   ModbusClient client(config.modbus_port);
   EXPECT_EQ(client.read_holding(0x0103, 1), std::vector<std::uint16_t>{0x7FFF});

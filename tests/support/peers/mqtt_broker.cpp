@@ -3,6 +3,8 @@
 #include <pwd.h>
 #include <unistd.h>
 
+#include <cctype>
+
 #include "tests/support/loopback.hpp"
 #include "tests/support/shell_command.hpp"
 #include "tests/support/temp_files.hpp"
@@ -17,6 +19,9 @@ Broker::Broker(const std::filesystem::path& dir, const std::string& listener_ext
                                           "allow_anonymous true\npersistence false\n"
                                           "user " + std::string(me ? me->pw_name : "root") + "\n"
                                           "log_dest file " + (dir_ / "mosquitto.log").string() + "\n"
+                                          // The default kinds, and subscriptions (subscriptions_to).
+                                          "log_type error\nlog_type warning\nlog_type notice\nlog_type information\n"
+                                          "log_type subscribe\n"
                                           "pid_file " + (dir_ / "mosquitto.pid").string() + "\n");
 }
 
@@ -43,6 +48,19 @@ std::string Broker::subscribe(const std::string& topic, int count, int seconds) 
   return run("mosquitto_sub -p " + std::to_string(port_) + " -t '" + topic + "' -v -C " + std::to_string(count) + " -W " +
              std::to_string(seconds) + " 2>&1")
       .output;
+}
+
+// mosquitto 2.0 logs a subscription as "CLIENT QOS TOPIC" with no newline after it: the
+// next line's time may follow the topic at once.
+std::size_t Broker::subscriptions_to(const std::string& topic) const {
+  const auto log = read_file(dir_ / "mosquitto.log");
+  const auto entry = " " + topic;
+  std::size_t count = 0;
+  for (auto at = log.find(entry); at != std::string::npos; at = log.find(entry, at + 1)) {
+    const auto end = at + entry.size();
+    if (end == log.size() || std::isdigit(static_cast<unsigned char>(log[end])) || log[end] == '\n') ++count;
+  }
+  return count;
 }
 
 void publish(const Broker& broker, const std::string& topic, const std::string& payload) {

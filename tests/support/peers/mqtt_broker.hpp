@@ -4,6 +4,7 @@
 // messages, wills, TLS and passwords rather than an imitation of it. Its command-line
 // clients publish and take a topic's first messages.
 
+#include <cstddef>
 #include <cstdint>
 #include <filesystem>
 #include <string>
@@ -25,6 +26,9 @@ class Broker {
   void signal(int signo) const;
   /// mosquitto_sub: the first `count` messages of `topic` ("topic payload" lines), waiting at most `seconds`.
   std::string subscribe(const std::string& topic, int count, int seconds = 5) const;
+  /// How many subscriptions to exactly `topic` the broker has taken so far (its log says):
+  /// a client counted here gets whatever is published to the topic from now on.
+  std::size_t subscriptions_to(const std::string& topic) const;
 
  private:
   std::filesystem::path dir_;
