@@ -6,22 +6,13 @@ namespace unima::test {
 
 ModbusClient::ModbusClient(std::uint16_t port, int unit) : ModbusClient(modbus_new_tcp("127.0.0.1", port), unit) {}
 
-ModbusClient::ModbusClient(modbus_t* ctx, int unit) : ctx_(ctx) {
-  if (!ctx_) return;
-  modbus_set_slave(ctx_, unit);
-  modbus_set_response_timeout(ctx_, 3, 0);
-  connected_ = modbus_connect(ctx_) == 0;
-}
+ModbusClient::ModbusClient(modbus_t* ctx, int unit) : master_(ctx, unit, 3) {}
 
-ModbusClient::~ModbusClient() {
-  if (!ctx_) return;
-  modbus_close(ctx_);
-  modbus_free(ctx_);
-}
+ModbusClient::~ModbusClient() = default;
 
 std::optional<std::vector<std::uint16_t>> ModbusClient::read_input(int address, int count) {
   std::vector<std::uint16_t> values(static_cast<std::size_t>(count));
-  if (modbus_read_input_registers(ctx_, address, count, values.data()) != count) {
+  if (modbus_read_input_registers(*master_, address, count, values.data()) != count) {
     last_error_ = errno;
     return std::nullopt;
   }
@@ -30,7 +21,7 @@ std::optional<std::vector<std::uint16_t>> ModbusClient::read_input(int address, 
 
 std::optional<std::vector<std::uint16_t>> ModbusClient::read_holding(int address, int count) {
   std::vector<std::uint16_t> values(static_cast<std::size_t>(count));
-  if (modbus_read_registers(ctx_, address, count, values.data()) != count) {
+  if (modbus_read_registers(*master_, address, count, values.data()) != count) {
     last_error_ = errno;
     return std::nullopt;
   }
@@ -38,14 +29,14 @@ std::optional<std::vector<std::uint16_t>> ModbusClient::read_holding(int address
 }
 
 bool ModbusClient::write(int address, std::uint16_t value) {
-  if (modbus_write_register(ctx_, address, value) == 1) return true;
+  if (modbus_write_register(*master_, address, value) == 1) return true;
   last_error_ = errno;
   return false;
 }
 
 bool ModbusClient::write_many(int address, const std::vector<std::uint16_t>& values) {
   const int n = static_cast<int>(values.size());
-  if (modbus_write_registers(ctx_, address, n, values.data()) == n) return true;
+  if (modbus_write_registers(*master_, address, n, values.data()) == n) return true;
   last_error_ = errno;
   return false;
 }

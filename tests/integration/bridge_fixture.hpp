@@ -8,10 +8,12 @@
 #include <optional>
 
 #include "tests/integration/harness.hpp"
+#include "tests/support/peers/libmodbus_master.hpp"
 
 namespace unima::test {
 
-/// libmodbus as the SCADA side: an independent Modbus implementation.
+/// libmodbus as the SCADA side (an independent Modbus implementation), its calls made
+/// typed and their errors kept.
 class ModbusClient {
  public:
   explicit ModbusClient(std::uint16_t port, int unit = 1);
@@ -19,7 +21,7 @@ class ModbusClient {
   ModbusClient(const ModbusClient&) = delete;
   ModbusClient& operator=(const ModbusClient&) = delete;
 
-  bool connected() const { return connected_; }
+  bool connected() const { return master_.connected(); }
   std::optional<std::vector<std::uint16_t>> read_input(int address, int count);
   std::optional<std::vector<std::uint16_t>> read_holding(int address, int count);
   bool write(int address, std::uint16_t value);
@@ -32,8 +34,7 @@ class ModbusClient {
   ModbusClient(modbus_t* ctx, int unit);
 
  private:
-  modbus_t* ctx_ = nullptr;
-  bool connected_ = false;
+  test_support::LibmodbusMaster master_;
   int last_error_ = 0;
 };
 

@@ -121,7 +121,7 @@ TEST_F(Feed, EachComponentGoesOffLineOnItsOwn) {
   for (int i = 0; i < 40 && !chp_went_offline; ++i) {
     if (i == 0) feed.send(std::string(R"({"addr":5,"slot":0,"device":"unigen-chp","offset":1,"values":[1500]})") + "\n");
     feed.send(std::string(R"({"addr":5,"slot":0,"device":"uvr","offset":0,"values":[7]})") + "\n");
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));  // the UVR's pace: well within offline_after
     const auto online = client.read_input(0x1033, 1);
     ASSERT_TRUE(online);
     chp_went_offline = i > 0 && (*online)[0] == 0x0002;

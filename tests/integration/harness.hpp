@@ -1,6 +1,7 @@
 #pragma once
 // Integration-test harness: runs the built unima-bridged on a config written to a temp
-// directory, and talks to it as real peers do (raw TCP, libmodbus, feed clients). Every
+// directory, and talks to it as real peers do (raw TCP, libmodbus, feed clients; the
+// loopback sockets of tests/support/loopback, the peers of tests/support/peers). Every
 // wait polls with a deadline; nothing sleeps a fixed time.
 
 #include <sys/types.h>
@@ -17,35 +18,27 @@
 
 #include "tests/support/bridge_config.hpp"
 #include "tests/support/child_process.hpp"
+#include "tests/support/eventually.hpp"
+#include "tests/support/loopback.hpp"
+#include "tests/support/shell_command.hpp"
 #include "tests/support/temp_files.hpp"
 
 namespace unima::test {
 
 using namespace std::chrono_literals;
-using Bytes = std::vector<std::uint8_t>;
+using test_support::Bytes;
+using test_support::CommandResult;
+using test_support::eventually;
+using test_support::free_port;
+using test_support::read_before;
+using test_support::run;
+using test_support::Socket;
+using test_support::wait_for_port;
 
 /// The 1-based number of the line that text appended to `yaml` starts on.
 std::string next_line(const std::string& yaml);
 
-struct CommandResult {
-  int status;          // the exit code, -1 when killed
-  std::string output;  // standard output and error together
-};
-/// Runs a shell command (the CLI under test) to its end.
-CommandResult run(const std::string& command);
-
 using test_support::read_file;
-
-/// A loopback TCP port that was free a moment ago, below the kernel's ephemeral range.
-std::uint16_t free_port();
-
-/// Waits until `fd` (a socket or a pty) has something to read or `deadline` passes (it
-/// looks at least once), then reads once into `buf`: the count read, 0 when nothing came
-/// in time, -1 at end of stream or on an error.
-long read_before(int fd, std::chrono::steady_clock::time_point deadline, std::span<std::uint8_t> buf);
-
-/// Polls `condition` every 10 ms until it holds or `timeout` passes.
-bool eventually(const std::function<bool()>& condition, std::chrono::milliseconds timeout = 5000ms);
 
 using test_support::TempDir;
 
@@ -82,39 +75,6 @@ class Daemon {
   std::filesystem::path log_path_;
   std::unique_ptr<test_support::ChildProcess> process_;
   bool traced_ = false;  // started under strace (UNIMA_TEST_STRACE)
-};
-
-/// Waits until something accepts TCP connections on 127.0.0.1:port.
-bool wait_for_port(std::uint16_t port, std::chrono::milliseconds timeout = 10000ms);
-
-/// A blocking stream socket with receive deadlines.
-class Socket {
- public:
-  static Socket tcp(std::uint16_t port);  // 127.0.0.1
-  static Socket unix_socket(const std::string& path);
-  Socket(Socket&& other) noexcept;
-  Socket& operator=(Socket&&) = delete;
-  ~Socket();
-
-  bool valid() const { return fd_ >= 0; }
-  int fd() const { return fd_; }
-  /// Closes it now (the destructor would later).
-  void close();
-  void send(const Bytes& bytes) const;
-  void send(const std::string& text) const;
-  /// Exactly n bytes, or fewer if the peer closed or the deadline passed.
-  Bytes receive(std::size_t n, std::chrono::milliseconds timeout = 3000ms) const;
-  /// True when the peer closed the connection within `timeout`.
-  bool closed_by_peer(std::chrono::milliseconds timeout = 3000ms) const;
-  /// One line without its "\n", or nullopt at the deadline or when closed.
-  std::optional<std::string> read_line(std::chrono::milliseconds timeout = 3000ms);
-  /// Reads lines until one equals `line`; false at the deadline.
-  bool wait_for_line(const std::string& line, std::chrono::milliseconds timeout = 5000ms);
-
- private:
-  explicit Socket(int fd) : fd_(fd) {}
-  int fd_ = -1;
-  std::string buffered_;
 };
 
 /// The daemon with room for only `max_files` descriptors (UNIMA_TEST_MAX_FILES), once it

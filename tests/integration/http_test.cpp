@@ -3,11 +3,6 @@
 // /api/registers with a value fed a moment before, what a read-only server refuses, the
 // page's embedded files and its live feed /api/events.
 
-#include <arpa/inet.h>
-#include <netinet/in.h>
-#include <sys/socket.h>
-#include <unistd.h>
-
 #include <algorithm>
 #include <csignal>
 #include <optional>
@@ -17,46 +12,15 @@
 #include <nlohmann/json.hpp>
 
 #include "tests/integration/bridge_fixture.hpp"
+#include "tests/support/peers/event_stream.hpp"
+#include "tests/support/peers/http_exchange.hpp"
 
 namespace unima::test {
 namespace {
 
-struct HttpReply {
-  int status = 0;
-  std::string head;
-  std::string body;
-};
-
-/// Sends `request` as it is and reads the reply to the end (Connection: close).
-HttpReply http_exchange(std::uint16_t port, const std::string& request) {
-  HttpReply reply;
-  const int fd = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
-  sockaddr_in address{};
-  address.sin_family = AF_INET;
-  address.sin_port = htons(port);
-  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  timeval timeout{5, 0};
-  ::setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &timeout, sizeof timeout);
-  if (::connect(fd, reinterpret_cast<sockaddr*>(&address), sizeof address) != 0) {
-    ::close(fd);
-    return reply;
-  }
-  (void)::send(fd, request.data(), request.size(), MSG_NOSIGNAL);
-  std::string all;
-  char buffer[4096];
-  for (ssize_t n; (n = ::recv(fd, buffer, sizeof buffer, 0)) > 0;) all.append(buffer, static_cast<std::size_t>(n));
-  ::close(fd);
-  const auto end = all.find("\r\n\r\n");
-  if (end == std::string::npos || all.size() < 12) return reply;
-  reply.head = all.substr(0, end);
-  reply.body = all.substr(end + 4);
-  reply.status = std::stoi(all.substr(9, 3));
-  return reply;
-}
-
-HttpReply get(std::uint16_t port, const std::string& path) {
-  return http_exchange(port, "GET " + path + " HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\n\r\n");
-}
+using test_support::EventStream;
+using test_support::http_exchange;
+using test_support::http_get;
 
 std::optional<double> sample(const std::string& metrics, const std::string& series) {
   std::istringstream lines(metrics);
@@ -78,7 +42,7 @@ class Http : public BridgeTest {
 
 TEST_F(Http, MetricsPassPromtoolAndCountModbusTraffic) {
   start_http();
-  const auto before = get(http_port, "/metrics");
+  const auto before = http_get(http_port, "/metrics");
   ASSERT_EQ(before.status, 200) << before.head;
   EXPECT_NE(before.head.find("Content-Type: text/plain; version=0.0.4"), std::string::npos) << before.head;
   const auto file = dir.path() / "metrics.txt";
@@ -94,7 +58,7 @@ TEST_F(Http, MetricsPassPromtoolAndCountModbusTraffic) {
     for (int i = 0; i < 5; ++i) ASSERT_TRUE(client.read_input(0x0011, 1));
     EXPECT_FALSE(client.read_input(0x0012 + 0x40, 1));  // past D1: an Err02
   }
-  const auto after = get(http_port, "/metrics").body;
+  const auto after = http_get(http_port, "/metrics").body;
   EXPECT_EQ(sample(after, done), *done_before + 5) << after;
   EXPECT_EQ(sample(after, R"(unima_bridge_modbus_transactions_total{port="tcp",state="Err02"})"), 1) << after;
   EXPECT_EQ(sample(after, "unima_bridge_feed_clients"), 0) << after;
@@ -103,17 +67,17 @@ TEST_F(Http, MetricsPassPromtoolAndCountModbusTraffic) {
 
 TEST_F(Http, HealthStatusAndRegistersWithTheValueFedAMomentBefore) {
   start_http();
-  const auto health = get(http_port, "/healthz");
+  const auto health = http_get(http_port, "/healthz");
   EXPECT_EQ(health.status, 200);
   EXPECT_EQ(health.body, "ok\n");
 
   auto feed = feed_client();
   feed_and_wait(feed, R"({"addr":5,"slot":0,"offset":1,"values":[1234]})", 0x0012, 1234);
-  const auto status = nlohmann::json::parse(get(http_port, "/api/status").body);
+  const auto status = nlohmann::json::parse(http_get(http_port, "/api/status").body);
   EXPECT_EQ(status["devices"][0]["online"], true) << status.dump();
   EXPECT_EQ(status["unimabus"]["clients"], 1) << status.dump();
 
-  const auto registers = nlohmann::json::parse(get(http_port, "/api/registers").body);
+  const auto registers = nlohmann::json::parse(http_get(http_port, "/api/registers").body);
   bool found = false;
   for (const auto& r : registers)
     if (r["address"] == "0x0012") {
@@ -142,7 +106,7 @@ TEST_F(Http, ARegistersReadBlockHasItsSourcesValue) {
   start_http();
   auto feed = feed_client();
   feed_and_wait(feed, R"({"addr":5,"slot":0,"offset":1,"values":[1234]})", 0x0012, 1234);
-  const auto registers = nlohmann::json::parse(get(http_port, "/api/registers").body);
+  const auto registers = nlohmann::json::parse(http_get(http_port, "/api/registers").body);
   const auto block = std::find_if(registers.begin(), registers.end(), [](const auto& r) { return r["address"] == "0x0200"; });
   ASSERT_NE(block, registers.end()) << registers.dump();
   EXPECT_EQ((*block)["value"], 1234) << block->dump();
@@ -155,14 +119,14 @@ TEST_F(Http, ARegistersReadBlockHasItsSourcesValue) {
 // seconds, then is back to ok.
 TEST_F(Http, HealthzReportsAStalledLoop) {
   start_http();
-  ASSERT_EQ(get(http_port, "/healthz").status, 200);
+  ASSERT_EQ(http_get(http_port, "/healthz").status, 200);
   daemon->signal(SIGSTOP);
-  std::this_thread::sleep_for(2500ms);
+  std::this_thread::sleep_for(2500ms);  // the stall under test, longer than /healthz allows
   daemon->signal(SIGCONT);
-  const auto stalled = get(http_port, "/healthz");
+  const auto stalled = http_get(http_port, "/healthz");
   EXPECT_EQ(stalled.status, 503) << stalled.body;
   EXPECT_NE(stalled.body.find("stalled: the event loop did not turn for"), std::string::npos) << stalled.body;
-  EXPECT_TRUE(eventually([&] { return get(http_port, "/healthz").status == 200; }, 8000ms));
+  EXPECT_TRUE(eventually([&] { return http_get(http_port, "/healthz").status == 200; }, 8000ms));
 }
 
 TEST_F(Http, ReadOnlyAndBounded) {
@@ -170,7 +134,7 @@ TEST_F(Http, ReadOnlyAndBounded) {
   const auto post = http_exchange(http_port, "POST /metrics HTTP/1.1\r\nHost: x\r\nContent-Length: 0\r\nConnection: close\r\n\r\n");
   EXPECT_EQ(post.status, 405) << post.head;
   EXPECT_NE(post.head.find("Allow: GET, HEAD"), std::string::npos) << post.head;
-  EXPECT_EQ(get(http_port, "/nothing").status, 404);
+  EXPECT_EQ(http_get(http_port, "/nothing").status, 404);
   const auto huge = http_exchange(http_port, "GET /metrics HTTP/1.1\r\nHost: x\r\nX-Big: " + std::string(10000, 'a') + "\r\n\r\n");
   EXPECT_EQ(huge.status, 431) << huge.head;
   const auto head = http_exchange(http_port, "HEAD /healthz HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n");
@@ -178,82 +142,27 @@ TEST_F(Http, ReadOnlyAndBounded) {
   EXPECT_EQ(head.body, "");
   EXPECT_NE(head.head.find("Content-Length: 3"), std::string::npos) << head.head;
   // Nothing of this disturbed the daemon: it still answers.
-  EXPECT_EQ(get(http_port, "/healthz").status, 200);
+  EXPECT_EQ(http_get(http_port, "/healthz").status, 200);
 }
 
 TEST_F(Http, ThePageAndItsFilesComeFromTheBinaryAndNothingElse) {
   start_http();
-  const auto page = get(http_port, "/");
+  const auto page = http_get(http_port, "/");
   ASSERT_EQ(page.status, 200) << page.head;
   EXPECT_NE(page.head.find("Content-Type: text/html; charset=utf-8"), std::string::npos) << page.head;
   EXPECT_NE(page.head.find("Content-Security-Policy: default-src 'self'"), std::string::npos) << page.head;
   EXPECT_NE(page.body.find("<script src=\"/panel.js\""), std::string::npos) << page.body;
   // Every file the page names is served, and the page names nothing from elsewhere.
   EXPECT_EQ(page.body.find("http"), std::string::npos) << page.body;
-  const auto script = get(http_port, "/panel.js");
+  const auto script = http_get(http_port, "/panel.js");
   EXPECT_EQ(script.status, 200);
   EXPECT_NE(script.head.find("Content-Type: text/javascript"), std::string::npos) << script.head;
   EXPECT_NE(script.body.find("new EventSource('/api/events?'"), std::string::npos);
-  EXPECT_EQ(get(http_port, "/panel.css").status, 200);
-  EXPECT_EQ(get(http_port, "/index.html").status, 200);
+  EXPECT_EQ(http_get(http_port, "/panel.css").status, 200);
+  EXPECT_EQ(http_get(http_port, "/index.html").status, 200);
   for (const auto* path : {"/../index.html", "/web/panel.js", "/panel.js/", "//panel.js", "/CMakeLists.txt"})
-    EXPECT_EQ(get(http_port, path).status, 404) << path;
+    EXPECT_EQ(http_get(http_port, path).status, 404) << path;
 }
-
-/// A listener of /api/events: reads the stream's events as they come.
-class EventStream {
- public:
-  EventStream(std::uint16_t port, const std::string& target) {
-    fd_ = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
-    sockaddr_in address{};
-    address.sin_family = AF_INET;
-    address.sin_port = htons(port);
-    address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    timeval timeout{0, 200'000};
-    ::setsockopt(fd_, SOL_SOCKET, SO_RCVTIMEO, &timeout, sizeof timeout);
-    if (::connect(fd_, reinterpret_cast<sockaddr*>(&address), sizeof address) != 0) return;
-    const auto request = "GET " + target + " HTTP/1.1\r\nHost: 127.0.0.1\r\nAccept: text/event-stream\r\n\r\n";
-    (void)::send(fd_, request.data(), request.size(), MSG_NOSIGNAL);
-  }
-  ~EventStream() { ::close(fd_); }
-
-  /// The header, once it came.
-  std::string head(std::chrono::milliseconds within = 5000ms) {
-    eventually([&] { return receive(), received_.find("\r\n\r\n") != std::string::npos; }, within);
-    const auto end = received_.find("\r\n\r\n");
-    if (end == std::string::npos) return {};
-    auto header = received_.substr(0, end);
-    received_.erase(0, end + 4);
-    return header;
-  }
-  /// The data of the next event named `name` (others before it are skipped), or nullopt.
-  std::optional<nlohmann::json> next(const std::string& name, std::chrono::milliseconds within = 5000ms) {
-    std::optional<nlohmann::json> found;
-    eventually([&] {
-      receive();
-      for (auto end = received_.find("\n\n"); end != std::string::npos; end = received_.find("\n\n")) {
-        const auto block = received_.substr(0, end);
-        received_.erase(0, end + 2);
-        const auto data = block.find("\ndata: ");
-        if (block.starts_with("event: " + name + "\n") && data != std::string::npos) {
-          found = nlohmann::json::parse(block.substr(data + 7));
-          return true;
-        }
-      }
-      return false;
-    }, within);
-    return found;
-  }
-
- private:
-  void receive() {
-    char buffer[65536];
-    const auto n = ::recv(fd_, buffer, sizeof buffer, 0);
-    if (n > 0) received_.append(buffer, static_cast<std::size_t>(n));
-  }
-  int fd_ = -1;
-  std::string received_;
-};
 
 // What the page lives on: the whole picture on connecting, then what changed and only
 // that — one register fed, one register in the next event — and the panel when a
@@ -317,7 +226,7 @@ TEST_F(Http, EventsCarryMonitorLinesThroughThePagesFilter) {
   EXPECT_NE(line.find(" tcp:127.0.0.1:"), std::string::npos) << line;
   EXPECT_NE(line.find("PDU=03 00 11 00 01"), std::string::npos) << line;
 
-  const auto refused = get(http_port, "/api/events?fn=300");
+  const auto refused = http_get(http_port, "/api/events?fn=300");
   EXPECT_EQ(refused.status, 400);
   EXPECT_NE(refused.body.find("'300' is not xx or a number 0..255"), std::string::npos) << refused.body;
 }

@@ -30,7 +30,7 @@ class LogOutage : public BridgeTest {
     const auto until = std::chrono::steady_clock::now() + how_long;
     while (std::chrono::steady_clock::now() < until) {
       ASSERT_TRUE(client.read_input(0x0011, 1)) << daemon->log();
-      std::this_thread::sleep_for(5ms);
+      std::this_thread::sleep_for(5ms);  // a SCADA's pace: reads spread over `how_long`, not a flood
     }
   }
 };

@@ -15,25 +15,12 @@
 #include <nlohmann/json.hpp>
 
 #include "tests/integration/bridge_fixture.hpp"
+#include "tests/support/peers/cli_process.hpp"
 
 namespace unima::test {
 namespace {
 
-/// `unima-bridge ARGS...` running beside the test, its output going to a file.
-class CliProcess {
- public:
-  CliProcess(const std::filesystem::path& output, std::vector<std::string> args)
-      : output_(output), process_(with_program(std::move(args)), test_support::stopped_by_sigterm(output)) {}
-  std::string output() const { return read_file(output_); }
-
- private:
-  static std::vector<std::string> with_program(std::vector<std::string> args) {
-    args.insert(args.begin(), UNIMA_BRIDGE_CLI);
-    return args;
-  }
-  std::filesystem::path output_;
-  test_support::ChildProcess process_;
-};
+using test_support::CliProcess;
 
 Bytes read_query(std::uint16_t transaction, std::uint8_t unit, std::uint16_t first, std::uint16_t count) {
   return {static_cast<std::uint8_t>(transaction >> 8), static_cast<std::uint8_t>(transaction), 0x00, 0x00, 0x00, 0x06,

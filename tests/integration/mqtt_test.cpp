@@ -3,105 +3,29 @@
 // status and its will, a bank's document after feed telegrams, a device going off line,
 // and a broker that goes away and comes back while Modbus clients read.
 
-#include <pwd.h>
-#include <unistd.h>
-
 #include <csignal>
 #include <future>
-#include <sstream>
 #include <thread>
 
 #include <nlohmann/json.hpp>
 
 #include "tests/integration/bridge_fixture.hpp"
+#include "tests/support/peers/mqtt_broker.hpp"
+#include "tests/support/peers/mqtt_subscription.hpp"
 
 namespace unima::test {
 namespace {
 
 using namespace std::chrono_literals;
-
-/// A mosquitto broker of the test's own, on 127.0.0.1, daemonized with a pid file;
-/// `listener_extra` adds to its listener (TLS: cafile, certfile, keyfile, ...).
-class Broker {
- public:
-  explicit Broker(const std::filesystem::path& dir, const std::string& listener_extra = "") : dir_(dir), port_(free_port()) {
-    // Started as root, mosquitto would become the user `mosquitto`, who cannot write in the
-    // test's directory: it stays who the test is.
-    const auto* me = ::getpwuid(::geteuid());
-    test_support::write_file(dir_ / "mosquitto.conf", "listener " + std::to_string(port_) + " 127.0.0.1\n" + listener_extra +
-                                                      "allow_anonymous true\npersistence false\n"
-                                                      "user " + std::string(me ? me->pw_name : "root") + "\n"
-                                                      "log_dest file " + (dir_ / "mosquitto.log").string() + "\n"
-                                                      "pid_file " + (dir_ / "mosquitto.pid").string() + "\n");
-  }
-  ~Broker() { stop(); }
-  bool start() {
-    const auto started = run("mosquitto -d -c " + (dir_ / "mosquitto.conf").string() + " 2>&1");
-    return started.status == 0 && wait_for_port(port_);
-  }
-  void stop() {
-    const auto pid_file = dir_ / "mosquitto.pid";
-    if (!std::filesystem::exists(pid_file)) return;
-    run("kill $(cat " + pid_file.string() + ") 2>/dev/null; while kill -0 $(cat " + pid_file.string() +
-        ") 2>/dev/null; do sleep 0.02; done");
-    std::filesystem::remove(pid_file);
-  }
-  std::uint16_t port() const { return port_; }
-  void signal(int signo) const { run("kill -" + std::to_string(signo) + " $(cat " + (dir_ / "mosquitto.pid").string() + ")"); }
-  /// mosquitto_sub: the first `count` messages of `topic` ("topic payload" lines), waiting at most `seconds`.
-  std::string subscribe(const std::string& topic, int count, int seconds = 5) const {
-    return run("mosquitto_sub -p " + std::to_string(port_) + " -t '" + topic + "' -v -C " + std::to_string(count) +
-               " -W " + std::to_string(seconds) + " 2>&1").output;
-  }
-
- private:
-  std::filesystem::path dir_;
-  std::uint16_t port_;
-};
-
-/// mosquitto_sub in the background, its "topic payload" lines in a file the test reads
-/// as they come.
-/// mosquitto_pub: one message, QoS 1.
-void publish(const Broker& broker, const std::string& topic, const std::string& payload) {
-  run("mosquitto_pub -p " + std::to_string(broker.port()) + " -q 1 -t '" + topic + "' -m '" + payload + "'");
-}
-
-/// mosquitto_sub on `topic` into `file`, subscribed when the constructor returns: it also
-/// listens on a probe topic of its own, published to until the probe comes back.
-class Subscription {
- public:
-  Subscription(const Broker& broker, const std::filesystem::path& file, const std::string& topic) : file_(file) {
-    const auto probe = "probe/" + file.filename().string();
-    const auto started = run("mosquitto_sub -p " + std::to_string(broker.port()) + " -t '" + topic + "' -t '" + probe + "' -v > " +
-                             file.string() + " 2>&1 & echo $!");
-    pid_ = std::stoi(started.output);
-    const bool subscribed = eventually([&] {
-      publish(broker, probe, "ready");
-      return lines().find(probe + " ready") != std::string::npos;
-    });
-    EXPECT_TRUE(subscribed) << "mosquitto_sub did not subscribe to " << topic << ": " << lines();
-  }
-  ~Subscription() { ::kill(pid_, SIGTERM); }
-  std::string lines() const { return read_file(file_); }
-
- private:
-  std::filesystem::path file_;
-  int pid_ = 0;
-};
+using test_support::Broker;
+using test_support::payloads;
+using test_support::publish;
+using test_support::Subscription;
 
 /// `text` with every `from` replaced by `to`.
 std::string replaced(std::string text, const std::string& from, const std::string& to) {
   for (auto at = text.find(from); at != std::string::npos; at = text.find(from, at + to.size())) text.replace(at, from.size(), to);
   return text;
-}
-
-/// The payloads of "topic payload" lines whose topic is `topic`.
-std::vector<std::string> payloads(const std::string& lines, const std::string& topic) {
-  std::vector<std::string> found;
-  std::istringstream in(lines);
-  for (std::string line; std::getline(in, line);)
-    if (line.starts_with(topic + " ")) found.push_back(line.substr(topic.size() + 1));
-  return found;
 }
 
 class Mqtt : public BridgeTest {
@@ -140,8 +64,10 @@ TEST_F(Mqtt, StatusIsRetainedOnlineAndOfflineAfterACleanStop) {
   start();
   EXPECT_TRUE(eventually([&] { return broker->subscribe("fleet/site-17/status", 1, 1) == "fleet/site-17/status online\n"; }))
       << daemon->log();
+  const auto subscribed = broker->subscriptions_to("fleet/site-17/status");
   auto offline = std::async(std::launch::async, [&] { return broker->subscribe("fleet/site-17/status", 2); });
-  std::this_thread::sleep_for(300ms);
+  // Subscribed before the bridge goes, or "offline" would be published to no one.
+  ASSERT_TRUE(eventually([&] { return broker->subscriptions_to("fleet/site-17/status") > subscribed; }));
   daemon->signal(SIGTERM);
   EXPECT_EQ(offline.get(), "fleet/site-17/status online\nfleet/site-17/status offline\n");
   EXPECT_NE(daemon->log().find("mqtt: connected to 127.0.0.1:" + std::to_string(broker->port()) + " as site-17"), std::string::npos);
@@ -151,8 +77,9 @@ TEST_F(Mqtt, StatusIsRetainedOnlineAndOfflineAfterACleanStop) {
 TEST_F(Mqtt, AKilledBridgeIsOfflineByItsWill) {
   start();
   ASSERT_TRUE(eventually([&] { return broker->subscribe("fleet/site-17/status", 1, 1) == "fleet/site-17/status online\n"; }));
+  const auto subscribed = broker->subscriptions_to("fleet/site-17/status");
   auto offline = std::async(std::launch::async, [&] { return broker->subscribe("fleet/site-17/status", 2); });
-  std::this_thread::sleep_for(300ms);
+  ASSERT_TRUE(eventually([&] { return broker->subscriptions_to("fleet/site-17/status") > subscribed; }));
   daemon->signal(SIGKILL);
   EXPECT_EQ(offline.get(), "fleet/site-17/status online\nfleet/site-17/status offline\n");
 }
@@ -316,6 +243,8 @@ TEST_F(Mqtt, AReloadToAnotherTopicMovesTheBridgeThere) {
   daemon->rewrite_config("\n" + replaced(yaml, "topic: fleet/site-17", "topic: fleet/site-18"));
   daemon->signal(SIGHUP);
   ASSERT_TRUE(eventually([&] { return daemon->log_count("SIGHUP: reloading") == 2; })) << daemon->log();
+  // What is tested is that nothing happens: no event says a connection will not come, so
+  // the test gives one the time it would take.
   std::this_thread::sleep_for(300ms);
   EXPECT_EQ(daemon->log_count("mqtt: connected to"), 2u) << daemon->log();
 }
@@ -337,6 +266,7 @@ TEST_F(Mqtt, AfterABrokerStallOnlyThePresentIsPublishedNotABacklog) {
   ASSERT_TRUE(broker->start());
   Subscription subscription(*broker, dir.path() / "after", "fleet/site-17/D1");
   ASSERT_TRUE(eventually([&] { return !payloads(subscription.lines(), "fleet/site-17/D1").empty(); }, 10000ms)) << daemon->log();
+  // A backlog would follow the first document: what is tested is that none comes in a second.
   std::this_thread::sleep_for(1000ms);
   const auto documents = payloads(subscription.lines(), "fleet/site-17/D1");
   EXPECT_LE(documents.size(), 2u) << subscription.lines();
@@ -357,6 +287,9 @@ TEST_F(Mqtt, CommandsWriteWAndXLikeModbusAndAnswerOnTheResultTopic) {
   EXPECT_TRUE(feed.wait_for_line(R"({"bank":"W","offset":3,"value":1234})"));
   publish(*broker, "fleet/site-17/set/X/2", "1");
   EXPECT_TRUE(feed.wait_for_line(R"({"bank":"X","offset":0,"value":4})"));
+  // A good command is answered once the state file has it, a bad one at once: the bad ones
+  // go after the good ones' answers, so that the answers come in the order asserted below.
+  ASSERT_TRUE(eventually([&] { return payloads(results.lines(), "fleet/site-17/set/result").size() == 2; })) << results.lines();
   publish(*broker, "fleet/site-17/set/W/16", "1");
   publish(*broker, "fleet/site-17/set/X/1", "on");
   ASSERT_TRUE(eventually([&] { return payloads(results.lines(), "fleet/site-17/set/result").size() == 4; })) << results.lines();
@@ -383,6 +316,8 @@ TEST_F(Mqtt, WithoutCommandsASetTopicChangesNothing) {
   ASSERT_TRUE(eventually([&] { return broker->subscribe("fleet/site-17/status", 1, 1) == "fleet/site-17/status online\n"; }));
   Subscription results(*broker, dir.path() / "results", "fleet/site-17/set/result");
   publish(*broker, "fleet/site-17/set/W/3", "1234");
+  // What is tested is that nothing happens (no write, no result): no event marks the end of
+  // a wait for nothing, so the test gives the command the time one would take.
   std::this_thread::sleep_for(500ms);
   ModbusClient client(config.modbus_port);
   EXPECT_EQ(client.read_holding(0x0103, 1), std::vector<std::uint16_t>{0x7FFF});

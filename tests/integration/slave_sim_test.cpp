@@ -8,28 +8,12 @@
 #include <cerrno>
 
 #include "tests/integration/master_fixture.hpp"
+#include "tests/support/peers/libmodbus_master.hpp"
 
 namespace unima::test {
 namespace {
 
-class LibmodbusMaster {
- public:
-  explicit LibmodbusMaster(modbus_t* ctx, int slave) : ctx_(ctx) {
-    modbus_set_slave(ctx_, slave);
-    modbus_set_response_timeout(ctx_, 1, 0);
-    connected_ = modbus_connect(ctx_) == 0;
-  }
-  ~LibmodbusMaster() {
-    modbus_close(ctx_);
-    modbus_free(ctx_);
-  }
-  modbus_t* operator*() const { return ctx_; }
-  bool connected() const { return connected_; }
-
- private:
-  modbus_t* ctx_;
-  bool connected_ = false;
-};
+using test_support::LibmodbusMaster;
 
 TEST(SlaveSim, StepperDriverOverRtuAsLibmodbusSeesIt) {
   TempDir dir;

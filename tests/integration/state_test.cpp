@@ -90,6 +90,7 @@ TEST_F(State, KilledAtRandomInstantsDuringWritesEveryAcknowledgedValueIsBack) {
         in_flight[offset].reset();
       }
     });
+    // The instant of the kill is what the test varies.
     std::this_thread::sleep_for(std::chrono::milliseconds(std::uniform_int_distribution(5, 120)(random)));
     daemon->signal(SIGKILL);
     stop = true;

@@ -15,54 +15,12 @@
 #include <sstream>
 
 #include "tests/integration/bridge_fixture.hpp"
+#include "tests/support/peers/notify_socket.hpp"
 
 namespace unima::test {
 namespace {
 
-/// The service manager's end of NOTIFY_SOCKET: a bound datagram socket.
-class NotifySocket {
- public:
-  explicit NotifySocket(const std::filesystem::path& path) : path_(path) {
-    fd_ = ::socket(AF_UNIX, SOCK_DGRAM | SOCK_CLOEXEC, 0);
-    sockaddr_un addr{};
-    addr.sun_family = AF_UNIX;
-    std::strncpy(addr.sun_path, path.c_str(), sizeof addr.sun_path - 1);
-    if (::bind(fd_, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0) throw std::runtime_error("bind notify");
-  }
-  ~NotifySocket() {
-    ::close(fd_);
-    ::unlink(path_.c_str());
-  }
-  NotifySocket(const NotifySocket&) = delete;
-  NotifySocket& operator=(const NotifySocket&) = delete;
-
-  std::string environment() const { return "NOTIFY_SOCKET=" + path_.string(); }
-
-  /// Reads messages until one carries the assignment `line` (e.g. "READY=1"); returns that
-  /// whole message, or nullopt at the deadline. Every message read is kept in `seen()`.
-  std::optional<std::string> wait_for(const std::string& line, std::chrono::milliseconds timeout = 5000ms) {
-    const auto deadline = std::chrono::steady_clock::now() + timeout;
-    std::uint8_t buf[4096];
-    while (true) {
-      const auto got = read_before(fd_, deadline, buf);
-      if (got <= 0) return std::nullopt;
-      seen_.emplace_back(reinterpret_cast<const char*>(buf), static_cast<std::size_t>(got));
-      if (carries(seen_.back(), line)) return seen_.back();
-    }
-  }
-  static bool carries(const std::string& message, const std::string& line) {
-    std::istringstream in(message);
-    for (std::string l; std::getline(in, l);)
-      if (l == line) return true;
-    return false;
-  }
-  const std::vector<std::string>& seen() const { return seen_; }
-
- private:
-  std::filesystem::path path_;
-  int fd_ = -1;
-  std::vector<std::string> seen_;
-};
+using test_support::NotifySocket;
 
 class UnderSystemd : public BridgeTest {
  protected:

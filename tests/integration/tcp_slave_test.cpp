@@ -177,7 +177,7 @@ TEST_F(Limits, ClientsThatDribbleBytesNeverLockARealMasterOut) {
     for (auto& d : dribblers) d.send(Bytes{0x00});  // the start of an MBAP header, never more
     ModbusClient master(config.modbus_port);
     if (master.read_input(0x0011, 1)) ++served;
-    std::this_thread::sleep_for(100ms);
+    std::this_thread::sleep_for(100ms);  // the dribblers' pace: a byte well within frame_timeout of the last
   }
   EXPECT_GE(served, 10) << daemon->log();
   EXPECT_LE(daemon->log_count("modbus tcp: "), 12u) << daemon->log();  // a flood is not logged line by line

@@ -4,7 +4,6 @@
 // authentication in the handshake, write rights from the client certificate's role,
 // renewal on SIGHUP, a client stuck in the handshake cut like any slow client.
 
-#include <openssl/err.h>
 #include <openssl/ssl.h>
 
 #include <csignal>
@@ -13,9 +12,12 @@
 #include <span>
 
 #include "tests/integration/certificate_fixture.hpp"
+#include "tests/support/peers/segmented_tls_client.hpp"
 
 namespace unima::test {
 namespace {
+
+using test_support::SegmentedTlsClient;
 
 class Tls : public CertificateTest {
  protected:
@@ -133,88 +135,12 @@ TEST_F(Tls, ACertificateRenewedOnDiskServesAfterSighupAndABadOneKeepsTheOld) {
   EXPECT_EQ(lines[1].substr(0, 4), "0402");
 }
 
-// A TLS client on OpenSSL over memory and a socket: the test decides what goes out in
-// which segment, and when the client renews its keys.
-class MemoryClient {
- public:
-  MemoryClient(std::uint16_t port, const std::string& certificate, const std::string& key)
-      : context_(SSL_CTX_new(TLS_client_method())), socket_(Socket::tcp(port)) {
-    loaded_ = SSL_CTX_use_certificate_file(context_, certificate.c_str(), SSL_FILETYPE_PEM) == 1 &&
-              SSL_CTX_use_PrivateKey_file(context_, key.c_str(), SSL_FILETYPE_PEM) == 1;
-    ssl_ = SSL_new(context_);
-    in_ = BIO_new(BIO_s_mem());
-    out_ = BIO_new(BIO_s_mem());
-    BIO_set_mem_eof_return(in_, -1);
-    SSL_set_bio(ssl_, in_, out_);
-    SSL_set_connect_state(ssl_);
-  }
-  ~MemoryClient() {
-    SSL_free(ssl_);
-    SSL_CTX_free(context_);
-  }
-  MemoryClient(const MemoryClient&) = delete;
-  MemoryClient& operator=(const MemoryClient&) = delete;
-
-  /// The handshake up to the client's Finished, which waits in the output. False if it fails.
-  bool handshake() {
-    if (!loaded_) return false;
-    while (SSL_do_handshake(ssl_) != 1) {
-      flush();
-      if (!receive()) return false;
-    }
-    return true;
-  }
-  /// Puts `request` in the output: it goes with whatever is there in the next flush.
-  void write(std::span<const std::uint8_t> request) {
-    EXPECT_EQ(SSL_write(ssl_, request.data(), static_cast<int>(request.size())), static_cast<int>(request.size()));
-  }
-  /// Sends the output in one segment; `forged`: with the last bit of its last record's tag flipped.
-  void flush(bool forged = false) {
-    std::string bytes(static_cast<std::size_t>(BIO_ctrl_pending(out_)), '\0');
-    BIO_read(out_, bytes.data(), static_cast<int>(bytes.size()));
-    if (forged && !bytes.empty()) bytes.back() = static_cast<char>(bytes.back() ^ 1);
-    if (!bytes.empty()) socket_.send(bytes);
-  }
-  /// OpenSSL's reason for the last failure, e.g. the alert the server sent.
-  static std::string last_error() {
-    const unsigned long code = ERR_get_error();
-    return code != 0 && ERR_reason_error_string(code) ? ERR_reason_error_string(code) : "none";
-  }
-  /// The plaintext of the answer, waiting up to 2 s for each piece; empty if none came.
-  std::vector<std::uint8_t> answer() {
-    std::vector<std::uint8_t> answer(260);
-    int got = -1;
-    for (int tries = 0; tries < 5 && got <= 0; ++tries) {
-      got = SSL_read(ssl_, answer.data(), static_cast<int>(answer.size()));
-      if (got <= 0 && !receive()) break;
-    }
-    answer.resize(static_cast<std::size_t>(std::max(got, 0)));
-    return answer;
-  }
-  SSL* ssl() const { return ssl_; }
-
- private:
-  bool receive() {
-    std::uint8_t buffer[16384];
-    const auto n = read_before(socket_.fd(), std::chrono::steady_clock::now() + 2s, buffer);
-    if (n > 0) BIO_write(in_, buffer, static_cast<int>(n));
-    return n > 0;
-  }
-
-  SSL_CTX* context_;
-  Socket socket_;
-  bool loaded_ = false;
-  SSL* ssl_ = nullptr;
-  BIO* in_ = nullptr;
-  BIO* out_ = nullptr;
-};
-
 // A client whose first request travels in the same segment as its handshake's Finished
 // (what an asynchronous client does at once) is answered: the request is in the session
 // when the handshake completes, and no more bytes will come from the socket until it is.
 TEST_F(Tls, ARequestThatComesWithTheClientsFinishedIsAnswered) {
   start_tls();
-  MemoryClient client(tls_port, pem("operator.pem"), pem("operator.key"));
+  SegmentedTlsClient client(tls_port, pem("operator.pem"), pem("operator.key"));
   ASSERT_TRUE(client.handshake()) << daemon->log();
   const std::uint8_t request[] = {0x00, 0x07, 0x00, 0x00, 0x00, 0x06, 0x01, 0x04, 0x00, 0x11, 0x00, 0x01};
   client.write(request);
@@ -246,7 +172,7 @@ TEST_F(Tls, ClientsOfTls12AndTls13AreServedAlike) {
 // renew its own; requests before and after are answered.
 TEST_F(Tls, AClientThatUpdatesItsKeysMidConnectionIsAnsweredOnBothSides) {
   start_tls();
-  MemoryClient client(tls_port, pem("operator.pem"), pem("operator.key"));
+  SegmentedTlsClient client(tls_port, pem("operator.pem"), pem("operator.key"));
   ASSERT_TRUE(client.handshake()) << daemon->log();
   const auto write_w = [&](std::uint8_t transaction, std::uint8_t value) {
     const std::vector<std::uint8_t> request{0x00, transaction, 0x00, 0x00, 0x00, 0x06, 0x01, 0x06, 0x01, 0x00, 0x00, value};
@@ -270,14 +196,14 @@ TEST_F(Tls, AForgedRecordIsRefusedWithAnAlertAndTheNextClientIsServed) {
   ModbusClient plain(config.modbus_port);
   const auto w_before = plain.read_input(0x0100, 1);
   {
-    MemoryClient forger(tls_port, pem("operator.pem"), pem("operator.key"));
+    SegmentedTlsClient forger(tls_port, pem("operator.pem"), pem("operator.key"));
     ASSERT_TRUE(forger.handshake()) << daemon->log();
     forger.flush();  // the Finished on its own
     const std::vector<std::uint8_t> request{0x00, 0x01, 0x00, 0x00, 0x00, 0x06, 0x01, 0x06, 0x01, 0x00, 0x00, 0x66};
     forger.write(request);
     forger.flush(true);
     EXPECT_TRUE(forger.answer().empty());
-    EXPECT_NE(MemoryClient::last_error().find("bad record mac"), std::string::npos);
+    EXPECT_NE(SegmentedTlsClient::last_error().find("bad record mac"), std::string::npos);
   }
   EXPECT_TRUE(daemon->wait_for_log("broke the session: a record that is not authentic")) << daemon->log();
   const auto lines = client("operator", {"0401000001"});

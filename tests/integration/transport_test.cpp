@@ -58,7 +58,7 @@ TEST_F(Transport, ARecordingReplaysTheSameTelegramsInOrderAndTime) {
       R"({"addr":5,"slot":0,"device":"unigen-chp","offset":1,"values":[1501]})",
   };
   for (std::size_t i = 0; i < telegrams.size(); ++i) {
-    if (i > 0) std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    if (i > 0) std::this_thread::sleep_for(std::chrono::milliseconds(300));  // the gaps the replay must keep
     feed.send(telegrams[i] + "\n");
   }
   ASSERT_TRUE(eventually([&] { return recorded_lines(first).size() == telegrams.size(); })) << read_file(first);

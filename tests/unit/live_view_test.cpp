@@ -1,6 +1,7 @@
 // The front page's live feed (web/live_view): the whole picture for a page that opens,
 // then only what changed; the monitor pane's lines through each page's own filter
 // (monitor/recent_transactions); and which files the page is served from (web/).
+// In-process, without the daemon; among the integration tests because app/ links io/.
 
 #include <gtest/gtest.h>
 

@@ -1,9 +1,10 @@
 // tls::MemorySession: the TLS port's session over memory (SPEC §11) against OpenSSL's own
-// client over memory — a handshake, records split anywhere, a request that comes with the
-// client's Finished, KeyUpdates both ways, padded records, answers longer than a record,
-// close_notify, forged records and bytes that are not TLS. Each with the records after the
-// handshake in tls/record_layer (the port's context: no tickets) and in OpenSSL (a context
-// that sends tickets, and TLS 1.2). A self-signed ECDSA P-256 certificate made here.
+// client over memory (tests/support/peers/memory_tls_client) — a handshake, records split
+// anywhere, a request that comes with the client's Finished, KeyUpdates both ways, padded
+// records, answers longer than a record, close_notify, forged records and bytes that are
+// not TLS. Each with the records after the handshake in tls/record_layer (the port's
+// context: no tickets) and in OpenSSL (a context that sends tickets, and TLS 1.2). A
+// self-signed ECDSA P-256 certificate made here.
 
 #include <gtest/gtest.h>
 
@@ -13,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "tests/support/peers/memory_tls_client.hpp"
 #include "tls/memory_session.hpp"
 
 namespace unima::tls {
@@ -43,32 +45,24 @@ class MemorySessionTest : public ::testing::TestWithParam<Records> {
     // records of a session that sent some.
     SSL_CTX_set_num_tickets(server_context_, GetParam() == Records::own ? 0 : 2);
     client_context_ = SSL_CTX_new(TLS_client_method());
-    client_ = SSL_new(client_context_);
-    client_in_ = BIO_new(BIO_s_mem());
-    client_out_ = BIO_new(BIO_s_mem());
-    BIO_set_mem_eof_return(client_in_, -1);
-    SSL_set_bio(client_, client_in_, client_out_);
-    SSL_set_connect_state(client_);
+    tls_client_ = std::make_unique<test_support::MemoryTlsClient>(client_context_);
+    client_ = tls_client_->ssl();
     server_ = std::make_unique<MemorySession>(server_context_);
   }
   void TearDown() override {
     server_.reset();
-    SSL_free(client_);
+    tls_client_.reset();
     SSL_CTX_free(client_context_);
     SSL_CTX_free(server_context_);
     X509_free(cert_);
     EVP_PKEY_free(key_);
   }
 
-  std::vector<std::uint8_t> from_client() {
-    std::vector<std::uint8_t> bytes(static_cast<std::size_t>(BIO_ctrl_pending(client_out_)));
-    BIO_read(client_out_, bytes.data(), static_cast<int>(bytes.size()));
-    return bytes;
-  }
+  std::vector<std::uint8_t> from_client() { return tls_client_->take_output(); }
   void to_client() {
     std::vector<std::uint8_t> bytes;
     server_->take_output(bytes);
-    BIO_write(client_in_, bytes.data(), static_cast<int>(bytes.size()));
+    tls_client_->give_input(bytes);
   }
   // Until the client's handshake is done; its Finished stays in its output.
   void handshake_but_the_last_flight() {
@@ -112,9 +106,8 @@ class MemorySessionTest : public ::testing::TestWithParam<Records> {
   X509* cert_ = nullptr;
   SSL_CTX* server_context_ = nullptr;
   SSL_CTX* client_context_ = nullptr;
-  SSL* client_ = nullptr;
-  BIO* client_in_ = nullptr;
-  BIO* client_out_ = nullptr;
+  std::unique_ptr<test_support::MemoryTlsClient> tls_client_;
+  SSL* client_ = nullptr;  // tls_client_'s session
   std::unique_ptr<MemorySession> server_;
 };
 
@@ -234,22 +227,17 @@ TEST(MemorySessionTls12, OpenSSLKeepsTheRecordsOfATls12Session) {
   SSL_CTX_set_num_tickets(server_context, 0);
   SSL_CTX* client_context = SSL_CTX_new(TLS_client_method());
   SSL_CTX_set_max_proto_version(client_context, TLS1_2_VERSION);
-  SSL* client = SSL_new(client_context);
-  BIO* client_in = BIO_new(BIO_s_mem());
-  BIO* client_out = BIO_new(BIO_s_mem());
-  BIO_set_mem_eof_return(client_in, -1);
-  SSL_set_bio(client, client_in, client_out);
-  SSL_set_connect_state(client);
   {
+    test_support::MemoryTlsClient tls_client(client_context);
+    SSL* client = tls_client.ssl();
     MemorySession server(server_context);
     const auto pass = [&] {
-      std::vector<std::uint8_t> bytes(static_cast<std::size_t>(BIO_ctrl_pending(client_out)));
-      BIO_read(client_out, bytes.data(), static_cast<int>(bytes.size()));
+      auto bytes = tls_client.take_output();
       server.feed(bytes);
       const auto status = server.handshake();
       bytes.clear();
       server.take_output(bytes);
-      BIO_write(client_in, bytes.data(), static_cast<int>(bytes.size()));
+      tls_client.give_input(bytes);
       return status;
     };
     for (int round = 0; round < 4 && !server.handshaken(); ++round) {
@@ -261,15 +249,12 @@ TEST(MemorySessionTls12, OpenSSLKeepsTheRecordsOfATls12Session) {
     EXPECT_EQ(SSL_version(server.native_handle()), TLS1_2_VERSION);
     EXPECT_FALSE(server.records_own());
     ASSERT_EQ(SSL_write(client, "twelve", 6), 6);
-    std::vector<std::uint8_t> bytes(static_cast<std::size_t>(BIO_ctrl_pending(client_out)));
-    BIO_read(client_out, bytes.data(), static_cast<int>(bytes.size()));
-    server.feed(bytes);
+    server.feed(tls_client.take_output());
     std::uint8_t buffer[16];
     std::size_t n = 0;
     ASSERT_EQ(server.read(buffer, n), Status::done);
     EXPECT_EQ(std::string(reinterpret_cast<char*>(buffer), n), "twelve");
   }
-  SSL_free(client);
   SSL_CTX_free(client_context);
   SSL_CTX_free(server_context);
   X509_free(cert);

@@ -10,21 +10,13 @@
 
 #include "banks/table_catalog.hpp"
 #include "banks/write_path.hpp"
+#include "tests/support/bank_layouts.hpp"
 
 namespace unima::banks {
 namespace {
 
 using Status = modbus::WriteResult::Status;
 using Value = std::tuple<BankId, std::uint16_t, std::uint16_t>;
-
-Window bank_window(BankId bank, std::uint16_t first, std::uint16_t count) {
-  Window w;
-  w.bank = bank;
-  w.first = first;
-  w.count = count;
-  w.name = "bank " + std::string(bank_name(bank));
-  return w;
-}
 
 Window write_block(std::uint16_t address, std::uint8_t output) {
   Window w;
@@ -50,8 +42,7 @@ struct WritePathTest : ::testing::Test {
     store.set_change_listener([this](BankId b, std::uint16_t o, std::uint16_t v) { published.emplace_back(b, o, v); });
   }
 
-  RegisterStore store{standard_shapes({find_device_type("unigen-chp"), nullptr, nullptr, nullptr}, io_module_table(),
-                                      bridge_internal_table())};
+  RegisterStore store{shapes_with({&chp(), nullptr, nullptr, nullptr})};
   RegisterSpace space{AddressMap({bank_window(BankId::A, 0x1000, 16), bank_window(BankId::C, 0x1020, 20),
                                   bank_window(BankId::D1, 0x1100, 64), bank_window(BankId::W, 0x3000, 16),
                                   bank_window(BankId::X, 0x3010, 1), write_block(0x4000, 3)}),

@@ -1,0 +1,23 @@
+#pragma once
+// A browser's or Prometheus' request to the bridge's HTTP server (SPEC §13), written by
+// hand on a plain socket: the test sends exactly the bytes it means (a wrong method, a
+// header too large) and sees the reply as it came, which no HTTP library would let it.
+
+#include <cstdint>
+#include <string>
+
+namespace unima::test_support {
+
+struct HttpReply {
+  int status = 0;    // 0: no reply, or not HTTP
+  std::string head;  // the status line and the headers, without the blank line
+  std::string body;
+};
+
+/// Sends `request` as it is to 127.0.0.1:port and reads the reply to the end (Connection: close).
+HttpReply http_exchange(std::uint16_t port, const std::string& request);
+
+/// GET `path`, the connection closed after the reply.
+HttpReply http_get(std::uint16_t port, const std::string& path);
+
+}  // namespace unima::test_support

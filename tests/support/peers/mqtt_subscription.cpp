@@ -1,0 +1,38 @@
+#include "tests/support/peers/mqtt_subscription.hpp"
+
+#include <gtest/gtest.h>
+
+#include <csignal>
+#include <sstream>
+
+#include "tests/support/eventually.hpp"
+#include "tests/support/shell_command.hpp"
+#include "tests/support/temp_files.hpp"
+
+namespace unima::test_support {
+
+Subscription::Subscription(const Broker& broker, const std::filesystem::path& file, const std::string& topic) : file_(file) {
+  const auto probe = "probe/" + file.filename().string();
+  const auto started = run("mosquitto_sub -p " + std::to_string(broker.port()) + " -t '" + topic + "' -t '" + probe + "' -v > " +
+                           file.string() + " 2>&1 & echo $!");
+  pid_ = std::stoi(started.output);
+  const bool subscribed = eventually([&] {
+    publish(broker, probe, "ready");
+    return lines().find(probe + " ready") != std::string::npos;
+  });
+  EXPECT_TRUE(subscribed) << "mosquitto_sub did not subscribe to " << topic << ": " << lines();
+}
+
+Subscription::~Subscription() { ::kill(pid_, SIGTERM); }
+
+std::string Subscription::lines() const { return read_file(file_); }
+
+std::vector<std::string> payloads(const std::string& lines, const std::string& topic) {
+  std::vector<std::string> found;
+  std::istringstream in(lines);
+  for (std::string line; std::getline(in, line);)
+    if (line.starts_with(topic + " ")) found.push_back(line.substr(topic.size() + 1));
+  return found;
+}
+
+}  // namespace unima::test_support

@@ -1,0 +1,34 @@
+#pragma once
+// The fleet's subscriber to the bridge's MQTT documents (SPEC §12): Debian's
+// `mosquitto_sub` in the background, so that a test reads what a real client got, in the
+// order the broker delivered it.
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "tests/support/peers/mqtt_broker.hpp"
+
+namespace unima::test_support {
+
+/// mosquitto_sub on `topic` into `file`, subscribed when the constructor returns: it also
+/// listens on a probe topic of its own, published to until the probe comes back.
+class Subscription {
+ public:
+  Subscription(const Broker& broker, const std::filesystem::path& file, const std::string& topic);
+  ~Subscription();
+  Subscription(const Subscription&) = delete;
+  Subscription& operator=(const Subscription&) = delete;
+
+  /// What came so far: "topic payload" lines.
+  std::string lines() const;
+
+ private:
+  std::filesystem::path file_;
+  int pid_ = 0;
+};
+
+/// The payloads of "topic payload" lines whose topic is `topic`.
+std::vector<std::string> payloads(const std::string& lines, const std::string& topic);
+
+}  // namespace unima::test_support
