@@ -59,56 +59,32 @@ std::unique_ptr<TcpSlaveServer> TcpSlaveService::make_server(const config::Confi
   }
 }
 
-void TcpSlaveService::start() {
-  started_ = true;
-  if (server_) server_->start();
-}
+void TcpSlaveService::start() { server_.start(); }
 
-void TcpSlaveService::stop() {
-  started_ = false;
-  if (server_) server_->stop();
-}
+void TcpSlaveService::stop() { server_.stop(); }
 
 void TcpSlaveService::stage(const Banks& next) {
-  rebind_ = !same_endpoint(settings(runtime_.config()), settings(next.config));
-  if (!rebind_) {
-    // A renewal needs no restart; new files that do not load leave the running ones (SPEC §11).
-    if (server_ && security_ == Security::tls) {
-      try {
-        next_context_ = make_server_tls_context(tls_files(*next.config.modbus.tls));
-      } catch (const std::exception& e) {
-        spdlog::error("modbus tls: {}; the running certificate keeps serving", e.what());
-      }
+  if (!same_endpoint(settings(runtime_.config()), settings(next.config)))
+    return server_.move([&] { return make_server(next.config); });
+  // A renewal needs no restart; new files that do not load leave the running ones (SPEC §11).
+  if (server_ && security_ == Security::tls) {
+    try {
+      next_context_ = make_server_tls_context(tls_files(*next.config.modbus.tls));
+    } catch (const std::exception& e) {
+      spdlog::error("modbus tls: {}; the running certificate keeps serving", e.what());
     }
-    return;
   }
-  // The new listener may want the same port on another address.
-  if (server_) {
-    released_ = server_->options();
-    released_->port = server_->port();  // the one bound, when the config said 0
-    server_->stop();
-  }
-  next_server_ = make_server(next.config);
 }
 
 void TcpSlaveService::abandon() {
-  next_server_.reset();  // first, so that its port is free again
   next_context_.reset();
-  rebind_ = false;
-  if (released_) {
-    server_ = std::make_unique<TcpSlaveServer>(runtime_.io, *released_, slave_context(runtime_));
-    if (started_) server_->start();
-    released_.reset();
-  }
+  server_.abandon([this](const TcpSlaveOptions& options) {
+    return std::make_unique<TcpSlaveServer>(runtime_.io, options, slave_context(runtime_));
+  });
 }
 
 void TcpSlaveService::commit(const Banks&) {
-  released_.reset();
-  if (rebind_) {
-    server_ = std::move(next_server_);
-    if (server_ && started_) server_->start();
-    rebind_ = false;
-  }
+  server_.commit();
   if (!server_) return;
   const auto& c = *settings(runtime_.config());
   server_->set_limits(c.max_clients, c.idle_timeout, c.frame_timeout);
@@ -117,6 +93,7 @@ void TcpSlaveService::commit(const Banks&) {
     auto context = next_context_ ? std::move(next_context_) : server_->options().tls->context;
     server_->set_tls(TlsSlaveSetup{std::move(context), runtime_.config().modbus.tls->roles});
   }
+  next_context_.reset();
   server_->set_context(slave_context(runtime_));
 }
 

@@ -9,6 +9,7 @@
 #include <optional>
 
 #include "io/modbus/tcp_slave_server.hpp"
+#include "io/movable_listener.hpp"
 #include "io/service.hpp"
 
 namespace unima::io {
@@ -34,13 +35,8 @@ class TcpSlaveService final : public Service {
 
   Runtime& runtime_;
   Security security_;
-  std::unique_ptr<TcpSlaveServer> server_;
-  bool started_ = false;
-  // Staged by a reload:
-  bool rebind_ = false;                               // the endpoint changed
-  std::unique_ptr<TcpSlaveServer> next_server_;       // its listener (null: no port any more)
-  std::optional<TcpSlaveOptions> released_;           // the running one let go of its port
-  std::shared_ptr<asio::ssl::context> next_context_;  // same endpoint: the TLS files read again
+  MovableListener<TcpSlaveServer> server_;
+  std::shared_ptr<asio::ssl::context> next_context_;  // staged, same endpoint: the TLS files read again
 };
 
 }  // namespace unima::io

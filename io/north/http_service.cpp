@@ -20,7 +20,7 @@ std::optional<std::tuple<std::string, std::uint16_t, bool>> endpoint(const confi
 
 HttpService::HttpService(Runtime& runtime) : runtime_(runtime), heartbeat_timer_(runtime.io) {
   users_ = read_users(runtime.config());
-  server_ = make_server(runtime.config());
+  server_ = MovableListener<HttpServer>(make_server(runtime.config()));
 }
 
 std::unique_ptr<HttpServer> HttpService::make_server(const config::Config& config) {
@@ -87,62 +87,41 @@ void HttpService::heartbeat() {
 
 void HttpService::start() {
   started_ = true;
-  if (server_) server_->start();
+  server_.start();
   heartbeat();
 }
 
 void HttpService::stop() {
   started_ = false;
-  if (server_) server_->stop();
+  server_.stop();
   heartbeat_timer_.cancel();
 }
 
 void HttpService::stage(const Banks& next) {
   next_users_ = read_users(next.config);
-  rebind_ = endpoint(runtime_.config()) != endpoint(next.config);
-  if (!rebind_) {
-    // As for Modbus/TCP Security: renewed files are read, bad ones leave the running ones.
-    if (server_ && next.config.http->tls) {
-      try {
-        const auto& tls = *next.config.http->tls;
-        next_tls_ = make_server_tls_context({tls.certificate, tls.key, {}}, "http.tls");
-      } catch (const std::exception& e) {
-        spdlog::error("http: {}; the running certificate keeps serving", e.what());
-      }
+  if (endpoint(runtime_.config()) != endpoint(next.config)) return server_.move([&] { return make_server(next.config); });
+  // As for Modbus/TCP Security: renewed files are read, bad ones leave the running ones.
+  if (server_ && next.config.http->tls) {
+    try {
+      const auto& tls = *next.config.http->tls;
+      next_tls_ = make_server_tls_context({tls.certificate, tls.key, {}}, "http.tls");
+    } catch (const std::exception& e) {
+      spdlog::error("http: {}; the running certificate keeps serving", e.what());
     }
-    return;
   }
-  if (server_) {
-    released_ = server_->options();
-    released_->port = server_->port();  // the one bound, when the config said 0
-    server_->stop();
-  }
-  next_server_ = make_server(next.config);
 }
 
 void HttpService::abandon() {
-  next_server_.reset();  // first, so that its port is free again
   next_tls_.reset();
   next_users_.reset();
-  rebind_ = false;
-  if (released_) {
-    server_ = serve(*released_);
-    if (started_) server_->start();
-    released_.reset();
-  }
+  server_.abandon([this](const HttpOptions& options) { return serve(options); });
 }
 
 void HttpService::commit(const Banks&) {
-  released_.reset();
   users_ = std::move(next_users_);
   next_users_.reset();
-  if (rebind_) {
-    server_ = std::move(next_server_);
-    if (server_ && started_) server_->start();
-    rebind_ = false;
-  } else if (server_ && next_tls_) {
-    server_->set_tls_context(std::move(next_tls_));
-  }
+  server_.commit();
+  if (server_ && next_tls_) server_->set_tls_context(std::move(next_tls_));
   next_tls_.reset();
 }
 

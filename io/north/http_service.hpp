@@ -10,6 +10,7 @@
 
 #include "io/north/http_answers.hpp"
 #include "io/north/http_server.hpp"
+#include "io/movable_listener.hpp"
 #include "io/service.hpp"
 #include "web/basic_auth.hpp"
 #include "web/live_view.hpp"
@@ -40,14 +41,11 @@ class HttpService final : public Service {
   LoopHealth health_;
   HttpAnswers answers_{runtime_, live_, health_};
   std::optional<web::BasicAuth> users_;  // nullopt: the server asks no one
-  std::unique_ptr<HttpServer> server_;
+  MovableListener<HttpServer> server_{nullptr};
   asio::steady_timer heartbeat_timer_;
   bool started_ = false;
   // Staged by a reload:
-  bool rebind_ = false;
-  std::unique_ptr<HttpServer> next_server_;
-  std::optional<HttpOptions> released_;  // the running server let go of its port
-  std::shared_ptr<asio::ssl::context> next_tls_;
+  std::shared_ptr<asio::ssl::context> next_tls_;  // same endpoint: http.tls read again
   std::optional<web::BasicAuth> next_users_;
 };
 
