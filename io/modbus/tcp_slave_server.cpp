@@ -416,8 +416,7 @@ void TcpSlaveServer::stop() {
   boost::system::error_code ec;
   accepting_.stop();
   acceptor_.close(ec);
-  auto connections = std::move(connections_);
-  for (const auto& c : connections) c->abandon();
+  for (const auto& c : connections_.take_all()) c->abandon();
 }
 
 namespace {
@@ -473,15 +472,13 @@ void TcpSlaveServer::adopt(tcp::socket socket) {
     evict_longest_idle(fmt::format("{} connections is the limit", options_.max_clients));
   auto connection = std::make_shared<Connection>(*this, std::move(socket));
   spdlog::debug("{}: {} connected", name(), connection->peer());
-  connections_.insert(connection);
+  connections_.add(connection);
   connection->start();
 }
 
 bool TcpSlaveServer::evict_longest_idle(const std::string& why) {
-  if (connections_.empty()) return false;
-  const auto idlest = *std::min_element(connections_.begin(), connections_.end(), [](const auto& a, const auto& b) {
-    return a->last_activity() < b->last_activity();
-  });
+  const auto idlest = connections_.idlest();
+  if (!idlest) return false;
   const auto idle_ms =
       std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - idlest->last_activity()).count();
   platform::warn_from_peer(warning("connections closed for a new client"), idlest->peer(),
@@ -500,12 +497,6 @@ bool TcpSlaveServer::make_room() {
   return true;
 }
 
-void TcpSlaveServer::forget(Connection* connection) {
-  for (auto it = connections_.begin(); it != connections_.end(); ++it)
-    if (it->get() == connection) {
-      connections_.erase(it);
-      return;
-    }
-}
+void TcpSlaveServer::forget(Connection* connection) { connections_.forget(connection); }
 
 }  // namespace unima::io

@@ -21,6 +21,7 @@
 #include "config/peer_allow_list.hpp"
 #include "modbus/write_rights.hpp"
 #include "platform/asio_ssl.hpp"
+#include "io/connection_set.hpp"
 #include "io/retrying_acceptor.hpp"
 #include "io/modbus/slave_context.hpp"
 
@@ -94,7 +95,7 @@ class TcpSlaveServer {
   SlaveContext context_;
   asio::ip::tcp::acceptor acceptor_;
   RetryingAcceptor<asio::ip::tcp::acceptor> accepting_;
-  std::set<std::shared_ptr<Connection>> connections_;
+  ConnectionSet<Connection> connections_;
   bool stopped_ = false;
   // A descriptor held back (/dev/null) so that accept never starves when the process
   // runs out of them: given up for a client, taken back when one is free again.

@@ -247,36 +247,26 @@ void HttpServer::stop() {
   accepting_.stop();
   boost::system::error_code ec;
   acceptor_.close(ec);
-  auto connections = std::move(connections_);
-  for (const auto& c : connections) c->close();
+  for (const auto& c : connections_.take_all()) c->close();
 }
 
 void HttpServer::adopt(tcp::socket socket) {
-  if (connections_.size() >= options_.max_clients) {
-    const auto idlest = *std::min_element(connections_.begin(), connections_.end(), [](const auto& a, const auto& b) {
-      return a->last_activity() < b->last_activity();
-    });
+  if (const auto idlest = connections_.size() >= options_.max_clients ? connections_.idlest() : nullptr) {
     platform::warn_from_peer("http: connections closed for a new client", idlest->peer(),
                              "http: {} connections is the limit: closing {}, the longest idle, for a new client",
                              options_.max_clients, idlest->peer());
     idlest->close();
-    connections_.erase(idlest);
+    connections_.forget(idlest.get());
   }
   std::shared_ptr<ConnectionBase> connection;
   if (options_.tls)
     connection = std::make_shared<Connection<TlsStream>>(*this, std::move(socket), *options_.tls);
   else
     connection = std::make_shared<Connection<PlainStream>>(*this, std::move(socket));
-  connections_.insert(connection);
+  connections_.add(connection);
   connection->start();
 }
 
-void HttpServer::forget(ConnectionBase* connection) {
-  for (auto it = connections_.begin(); it != connections_.end(); ++it)
-    if (it->get() == connection) {
-      connections_.erase(it);
-      return;
-    }
-}
+void HttpServer::forget(ConnectionBase* connection) { connections_.forget(connection); }
 
 }  // namespace unima::io

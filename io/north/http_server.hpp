@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "web/event_sink.hpp"
+#include "io/connection_set.hpp"
 #include "io/retrying_acceptor.hpp"
 #include "platform/asio_ssl.hpp"
 
@@ -80,7 +81,7 @@ class HttpServer {
   HttpGate gate_;
   asio::ip::tcp::acceptor acceptor_;
   RetryingAcceptor<asio::ip::tcp::acceptor> accepting_;
-  std::set<std::shared_ptr<ConnectionBase>> connections_;
+  ConnectionSet<ConnectionBase> connections_;
   bool stopped_ = false;
 };
 

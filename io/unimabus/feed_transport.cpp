@@ -178,19 +178,18 @@ void FeedTransport::stop() {
     unix_acceptor_->close(ec);
     config::remove_socket_file(unix_path_);
   }
-  auto sessions = std::move(sessions_);
-  for (const auto& s : sessions) s->close();
+  for (const auto& s : sessions_.take_all()) s->close();
 }
 
 void FeedTransport::publish(banks::BankId bank, std::uint16_t offset, std::uint16_t value) {
   if (sessions_.empty()) return;
   const auto line = unimabus::format_change(bank, offset, value);
   // Copy first: a session that is too slow closes itself and leaves the set.
-  for (const auto& s : std::vector(sessions_.begin(), sessions_.end())) s->send(line);
+  for (const auto& s : sessions_.copy()) s->send(line);
 }
 
 void FeedTransport::adopt(std::shared_ptr<Session> session) {
-  sessions_.insert(session);
+  sessions_.add(session);
   session->send(snapshot_());
   session->start();
 }
@@ -235,11 +234,7 @@ void FeedTransport::accepted(Socket socket) {
 }
 
 void FeedTransport::forget(Session* session) {
-  for (auto it = sessions_.begin(); it != sessions_.end(); ++it)
-    if (it->get() == session) {
-      sessions_.erase(it);
-      break;
-    }
+  sessions_.forget(session);
   if (refused_ > 0 && sessions_.size() < max_clients_) {
     spdlog::info("feed: accepting clients again ({} refused meanwhile)", refused_);
     refused_ = 0;

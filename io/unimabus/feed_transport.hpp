@@ -9,6 +9,7 @@
 #include <string>
 
 #include "config/endpoint.hpp"
+#include "io/connection_set.hpp"
 #include "io/retrying_acceptor.hpp"
 #include "platform/asio.hpp"
 #include "unimabus/transport.hpp"
@@ -53,7 +54,7 @@ class FeedTransport final : public unimabus::Transport {
   std::unique_ptr<asio::ip::tcp::acceptor> tcp_acceptor_;
   std::unique_ptr<asio::local::stream_protocol::acceptor> unix_acceptor_;
   std::string unix_path_;
-  std::set<std::shared_ptr<Session>> sessions_;
+  ConnectionSet<Session> sessions_;
   std::unique_ptr<RetryingAcceptor<asio::ip::tcp::acceptor>> tcp_accepting_;
   std::unique_ptr<RetryingAcceptor<asio::local::stream_protocol::acceptor>> unix_accepting_;
   bool stopped_ = false;
