@@ -7,20 +7,32 @@
 #   1 client:  writes/s and their ratio to the raw syncs/s (one write waits for one sync);
 #   8, 64:     writes/s, and the daemon's fdatasyncs/s (status `state.syncs`, read during
 #              the load) against the raw syncs/s: the share of the disk's sync rate used.
+#   and the raw loop again while 64 clients read from the daemon: what the CPU work of that
+#   many clients alone leaves of the disk's sync rate on this machine.
+# On a virtual machine an idle vCPU takes up to milliseconds to wake for the interrupt that
+# ends an fdatasync, so a lone raw loop, which leaves the CPUs idle while it waits, looks
+# far slower than the daemon with its clients busy beside it. One busy loop per CPU in
+# SCHED_IDLE keeps them awake for both and yields at once to anything else
+# (STATE_BENCH_AWAKE=0: none).
 # Usage: bench/state_writes.sh [BUILD_DIR] [ROUNDS] [SECONDS]   (default build-release 5 2)
-# Runs about ROUNDS x 6 x (SECONDS + 1) s; loopback only.
+# Runs about ROUNDS x 7 x (SECONDS + 1) s; loopback only. STATE_BENCH_BRIDGED=PATH measures
+# another build of the daemon (e.g. the one before a change) against the same raw loop.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build=${1:-build-release}
 rounds=${2:-5}
 seconds=${3:-2}
-bridged=$build/bin/unima-bridged
+bridged=${STATE_BENCH_BRIDGED:-$build/bin/unima-bridged}
 load=$build/bench/unima-bench-load
 [ -x "$load" ] || load=$(find "$build" -name unima-bench-load -type f | head -1)
 # On the disk, not in a tmpfs: the figure is about a real fdatasync.
 work=$(mktemp -d "${STATE_BENCH_DIR:-$PWD/$build}/state-bench.XXXXXX")
 pid=
-trap '[ -z "$pid" ] || kill "$pid" 2>/dev/null || true; rm -rf "$work"' EXIT
+spinners=()
+trap '[ -z "$pid" ] || kill "$pid" 2>/dev/null || true; for s in "${spinners[@]}"; do kill "$s" 2>/dev/null || true; done; rm -rf "$work"' EXIT
+# Bounded even if this script is killed: each spinner ends on its own after the run's length.
+limit=$(echo "$rounds * 7 * ($seconds + 3) + 60" | bc)
+for _ in $(seq "${STATE_BENCH_AWAKE:-$(nproc)}"); do chrt --idle 0 timeout "$limit" sh -c 'while :; do :; done' & spinners+=($!); done
 port=$((20000 + RANDOM % 10000))
 warmup=0.5
 
@@ -69,6 +81,12 @@ for round in $(seq "$rounds"); do
     results[sync_ratio,$clients]+="$(echo "$s / $r" | bc -l) "
     results[batch,$clients]+="$b "
   done
+  "$load" --port "$port" --connections 64 --function 4 --address 4128 --quantity 16 \
+          --duration "$(echo "$seconds + 1" | bc)" --warmup 0 > /dev/null &
+  readers=$!
+  sleep 0.5
+  results[raw_beside]+="$(raw) "
+  wait "$readers"
   kill "$pid"; wait "$pid" 2>/dev/null || true; pid=
 done
 
@@ -82,6 +100,9 @@ range() { python3 -c 'import sys; v = [float(x) for x in sys.argv[1:]]; print(f"
   w=$(median ${results[writes,1]})
   printf "  1 client:   %6.0f writes/s  %5.0f us per write   writes/raw syncs %.2f (rounds %s)\n" "$w" \
          "$(echo "1000000 / $w" | bc -l)" "$(median ${results[write_ratio,1]})" "$(range ${results[write_ratio,1]})"
+  beside=$(median ${results[raw_beside]})
+  printf "  raw loop while 64 clients read: %6.0f syncs/s  (%.2f of the raw rate above)\n" "$beside" \
+         "$(echo "$beside / $raw_rate" | bc -l)"
   for clients in 8 64; do
     printf "  %2d clients: %6.0f writes/s  %4.1f records per sync   sync rate used %.2f (rounds %s)\n" "$clients" \
            "$(median ${results[writes,$clients]})" "$(median ${results[batch,$clients]})" \
