@@ -147,6 +147,15 @@ StateImage load(const std::filesystem::path& path) {
 
 }  // namespace
 
+// Two threads share the work of a write. The loop queues the value and, when the thread
+// sleeps, wakes it at once: a lone write does not wait for the end of the loop's turn. The
+// thread takes everything queued, appends it, fdatasyncs, and posts one completion to the
+// loop; then it takes what was queued during that sync, so the disk is never idle while
+// writes wait (pipelining), and all the writes of one sync share it (group commit).
+//
+// The thread exists because fdatasync blocks for as long as the disk takes, and the loop
+// must never wait for it; the loop's side never waits for the thread either: the mutex
+// only guards the queue, held for a push or a swap.
 struct StateFile::Shared {
   Shared(asio::io_context& io, std::filesystem::path path, StateImage image, Descriptor fd, std::size_t size)
       : io(io), path(std::move(path)), fd(std::move(fd)), size(size), image(std::move(image)) {}
@@ -155,56 +164,49 @@ struct StateFile::Shared {
   const std::filesystem::path path;
 
   // The loop's side.
-  std::string pending;  // records not yet handed to the thread
-  std::vector<PersistedValue> pending_values;
   std::uint64_t recorded = 0;
   std::uint64_t durable = 0;
-  bool in_flight = false;
-  bool flush_posted = false;
   bool failing = false;
   std::deque<std::pair<std::uint64_t, Done>> waiters;  // in order of their sequence
   Counters counters;
 
-  // Handed over under the mutex.
+  // Under the mutex.
   std::mutex mutex;
-  std::condition_variable changed;
-  std::string batch;
-  std::vector<PersistedValue> batch_values;
-  std::uint64_t batch_sequence = 0;
-  bool has_batch = false;
+  std::condition_variable wake;
+  std::vector<PersistedValue> queued;  // recorded, not yet taken by the thread
+  std::uint64_t queued_up_to = 0;      // the sequence of the last of them
+  bool sleeping = false;               // the thread waits for `wake`: a record must notify it
   bool stopping = false;
 
   // The thread's side.
   Descriptor fd;
   std::size_t size;
-  StateImage image;    // what the file holds, for a rewrite
+  StateImage image;      // what the file holds, for a rewrite
   bool rewrite = false;  // after a failed append, whose bytes may be on the disk in part
   std::thread thread;
 
-  void flush(const std::shared_ptr<Shared>& self);
-  void synced(const std::shared_ptr<Shared>& self, std::uint64_t sequence, const std::string& error);
-  void run(std::weak_ptr<Shared> self);
+  void queue(const PersistedValue& value);
+  void synced(std::uint64_t sequence, const std::string& error);
+  void run(const std::weak_ptr<Shared>& self);
   std::string write_batch(const std::string& records);
 };
 
-void StateFile::Shared::flush(const std::shared_ptr<Shared>&) {
-  flush_posted = false;
-  if (in_flight || pending.empty()) return;
+void StateFile::Shared::queue(const PersistedValue& value) {
+  bool notify = false;
   {
     const std::lock_guard lock(mutex);
-    batch = std::move(pending);
-    batch_values = std::move(pending_values);
-    batch_sequence = recorded;
-    has_batch = true;
+    queued.push_back(value);
+    queued_up_to = ++recorded;
+    notify = std::exchange(sleeping, false);
   }
-  pending.clear();
-  pending_values.clear();
-  in_flight = true;
-  changed.notify_all();
+  ++counters.records;
+  if (notify) wake.notify_one();
 }
 
-void StateFile::Shared::synced(const std::shared_ptr<Shared>& self, std::uint64_t sequence, const std::string& error) {
-  in_flight = false;
+// Batches complete in the order they were written, one post each: a failed batch fails
+// its own waiters only, never acknowledges them, and the next batch (a rewrite, see
+// write_batch) still acknowledges its own.
+void StateFile::Shared::synced(std::uint64_t sequence, const std::string& error) {
   const bool ok = error.empty();
   if (ok) {
     durable = sequence;
@@ -217,13 +219,13 @@ void StateFile::Shared::synced(const std::shared_ptr<Shared>& self, std::uint64_
       spdlog::error("state: cannot write {}: {}; writes are not acknowledged until it can", path.string(), error);
     failing = true;
   }
+  // A callback may record more, or ask when_durable: the ready ones leave the queue first.
   std::vector<Done> ready;
   while (!waiters.empty() && waiters.front().first <= sequence) {
     ready.push_back(std::move(waiters.front().second));
     waiters.pop_front();
   }
   for (auto& done : ready) done(ok);
-  if (!pending.empty()) flush(self);  // what came during the sync: the next group
 }
 
 std::string StateFile::Shared::write_batch(const std::string& records) {
@@ -246,21 +248,33 @@ std::string StateFile::Shared::write_batch(const std::string& records) {
   }
 }
 
-void StateFile::Shared::run(std::weak_ptr<Shared> self) {
+// Stops once stopping and nothing is queued: what was recorded before the destructor is
+// written and synced first.
+void StateFile::Shared::run(const std::weak_ptr<Shared>& self) {
+  std::vector<PersistedValue> batch;  // swapped with `queued`: both keep their capacity
+  std::string records;
   while (true) {
-    std::unique_lock lock(mutex);
-    changed.wait(lock, [&] { return has_batch || stopping; });
-    if (!has_batch) return;
-    const std::string records = std::move(batch);
-    const auto values = std::move(batch_values);
-    const auto sequence = batch_sequence;
-    has_batch = false;
-    lock.unlock();
-    changed.notify_all();
-    for (const auto& value : values) image.apply(value);
+    std::uint64_t sequence = 0;
+    {
+      std::unique_lock lock(mutex);
+      while (queued.empty() && !stopping) {
+        sleeping = true;
+        wake.wait(lock);
+      }
+      sleeping = false;
+      if (queued.empty()) return;
+      batch.swap(queued);
+      sequence = queued_up_to;
+    }
+    records.clear();
+    for (const auto& value : batch) {
+      image.apply(value);
+      records += state::encode_record(value);
+    }
+    batch.clear();
     auto error = write_batch(records);
     asio::post(io, [self, sequence, error = std::move(error)] {
-      if (const auto shared = self.lock()) shared->synced(shared, sequence, error);
+      if (const auto shared = self.lock()) shared->synced(sequence, error);
     });
   }
 }
@@ -280,34 +294,14 @@ StateFile::StateFile(asio::io_context& io, std::filesystem::path path) : path_(s
 
 StateFile::~StateFile() {
   {
-    std::unique_lock lock(shared_->mutex);
-    shared_->changed.wait(lock, [&] { return !shared_->has_batch; });
-    if (!shared_->pending.empty()) {
-      shared_->batch = std::move(shared_->pending);
-      shared_->batch_values = std::move(shared_->pending_values);
-      shared_->batch_sequence = shared_->recorded;
-      shared_->has_batch = true;
-    }
+    const std::lock_guard lock(shared_->mutex);
     shared_->stopping = true;
   }
-  shared_->changed.notify_all();
+  shared_->wake.notify_one();
   shared_->thread.join();
 }
 
-void StateFile::record(const PersistedValue& value) {
-  auto& s = *shared_;
-  s.pending += state::encode_record(value);
-  s.pending_values.push_back(value);
-  ++s.recorded;
-  ++s.counters.records;
-  if (s.in_flight || s.flush_posted) return;
-  s.flush_posted = true;
-  // Posted, not run now: the records of every request served in this turn of the loop
-  // join the same batch and share its fdatasync.
-  asio::post(s.io, [weak = std::weak_ptr<Shared>(shared_)] {
-    if (const auto shared = weak.lock()) shared->flush(shared);
-  });
-}
+void StateFile::record(const PersistedValue& value) { shared_->queue(value); }
 
 std::uint64_t StateFile::keep(banks::BankId bank, std::uint16_t offset, std::uint16_t value) {
   using Kind = PersistedValue::Kind;

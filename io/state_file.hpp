@@ -1,12 +1,13 @@
 #pragma once
 // The state file on the disk (SPEC §10): what masters wrote into W, X and the write
 // blocks' outputs, appended as journal records (state/state_journal) and fdatasync'ed
-// before those writes are acknowledged. Records that arrive in one turn of the loop share
-// one fdatasync (group commit): the ports answer a write only once `when_durable` says so.
+// before those writes are acknowledged: the ports answer a write only once `when_durable`
+// says so. The records that come while one fdatasync runs share the next (group commit),
+// which starts as soon as that one returns.
 //
 // fdatasync blocks for milliseconds, longer on a busy or failing disk, and the loop must
-// never wait for it: the writes and syncs run on one thread of this class, handed a batch
-// at a time; everything else, including every callback, happens on the loop.
+// never wait for it: the writes and syncs run on one thread of this class (why and how:
+// io/state_file.cpp); everything else, including every callback, happens on the loop.
 
 #include <cstdint>
 #include <deque>
@@ -49,8 +50,8 @@ class StateFile final : public banks::WriteJournal {
   const state::StateImage& restored() const { return restored_; }
   const std::filesystem::path& path() const { return path_; }
 
-  /// Appends a written value (W, X, or C at a user output's offset); on the disk after
-  /// this turn of the loop's group commit. Returns its record's number.
+  /// Appends a written value (W, X, or C at a user output's offset); on the disk after the
+  /// next fdatasync that begins. Returns its record's number.
   std::uint64_t keep(banks::BankId bank, std::uint16_t offset, std::uint16_t value) override;
   /// Calls `done` once record number `sequence` is durable, or failed; at once when it is.
   void when_durable(std::uint64_t sequence, Done done);

@@ -1,0 +1,127 @@
+// io::StateFile on a real file (SPEC §10): the order in which writes are acknowledged, the
+// writes kept from an acknowledgement (one master writing in a loop), a full journal
+// compacted, what the destructor still writes, and a batch the disk refuses.
+
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/resource.h>
+
+#include <chrono>
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <vector>
+
+#include "io/state_file.hpp"
+#include "tests/support/temp_files.hpp"
+
+namespace unima::io {
+namespace {
+
+using banks::BankId;
+
+// Only a guard against a lost wake-up hanging the test, never a measure: each test stops
+// the loop itself as soon as what it waits for has happened.
+constexpr auto hang_guard = std::chrono::seconds(60);
+
+class StateFileTest : public ::testing::Test {
+ protected:
+  std::filesystem::path file() const { return dir.path() / "bridge.state"; }
+  // Runs the loop until `done` says so; the sync thread posts to it meanwhile.
+  void run_until(const std::function<bool()>& done) {
+    io.restart();  // the last run ended as its work guard went: that stopped the loop
+    auto guard = asio::make_work_guard(io);
+    while (!done() && io.run_one_for(hang_guard) > 0) {
+    }
+    ASSERT_TRUE(done()) << "the loop ran out of work first";
+  }
+  test_support::TempDir dir;
+  asio::io_context io;
+};
+
+TEST_F(StateFileTest, WritesKeptInOneTurnAreAcknowledgedInTheirOrderAndTheFileIsCompacted) {
+  // 4,000 records of about 18 bytes run past the 64 KiB at which the journal is rewritten.
+  constexpr std::size_t writes = 4000;
+  std::vector<std::uint64_t> acknowledged;
+  {
+    StateFile state(io, file());
+    for (std::size_t i = 0; i < writes; ++i) {
+      const auto sequence = state.keep(BankId::W, static_cast<std::uint16_t>(i % 16), static_cast<std::uint16_t>(i));
+      state.when_durable(sequence, [&acknowledged, sequence](bool durable) {
+        EXPECT_TRUE(durable);
+        acknowledged.push_back(sequence);
+      });
+    }
+    run_until([&] { return acknowledged.size() == writes; });
+    const auto counters = state.counters();
+    EXPECT_EQ(counters.records, writes);
+    EXPECT_GE(counters.syncs, 1u);
+    EXPECT_EQ(counters.failures, 0u);
+  }
+  for (std::size_t i = 0; i < acknowledged.size(); ++i) ASSERT_EQ(acknowledged[i], i + 1);
+  EXPECT_LT(std::filesystem::file_size(file()), 64u * 1024);
+  StateFile reopened(io, file());
+  for (std::size_t r = 0; r < 16; ++r)
+    EXPECT_EQ(reopened.restored().w(static_cast<std::uint16_t>(r)), static_cast<std::uint16_t>(writes - 16 + r));
+}
+
+// The pattern of one master writing in a loop: each write is kept from the answer to the
+// one before, when the sync thread has nothing else to do and sleeps.
+TEST_F(StateFileTest, AWriteKeptFromTheAcknowledgementOfThePreviousOneIsAcknowledgedToo) {
+  constexpr int writes = 200;
+  int acknowledged = 0;
+  StateFile state(io, file());
+  std::function<void()> write_next = [&] {
+    const auto sequence = state.keep(BankId::X, 0, static_cast<std::uint16_t>(acknowledged));
+    state.when_durable(sequence, [&](bool durable) {
+      EXPECT_TRUE(durable);
+      if (++acknowledged < writes) write_next();
+    });
+  };
+  write_next();
+  run_until([&] { return acknowledged == writes; });
+  EXPECT_EQ(state.counters().syncs, static_cast<std::uint64_t>(writes));  // none was there to share one
+}
+
+TEST_F(StateFileTest, TheDestructorWritesAndSyncsWhatWasKeptBeforeIt) {
+  {
+    StateFile state(io, file());
+    for (std::uint16_t i = 0; i < 16; ++i) state.keep(BankId::W, i, static_cast<std::uint16_t>(100 + i));
+    state.keep(BankId::W, 3, 7);
+  }  // the loop never ran: nothing was acknowledged, and nothing may be lost
+  StateFile reopened(io, file());
+  EXPECT_EQ(reopened.restored().w(0), 100);
+  EXPECT_EQ(reopened.restored().w(3), 7);
+  EXPECT_EQ(reopened.restored().w(15), 115);
+}
+
+// A disk that refuses the append (here the process's file size limit, EFBIG): every write of
+// that batch is refused, never acknowledged; once the disk takes writes again, the next
+// batch rewrites the file and is acknowledged.
+TEST_F(StateFileTest, AWriteTheDiskRefusesIsNeverAcknowledgedAndTheNextOneRepairsTheFile) {
+  StateFile state(io, file());
+  rlimit before{};
+  ASSERT_EQ(::getrlimit(RLIMIT_FSIZE, &before), 0);
+  const auto previous_handler = ::signal(SIGXFSZ, SIG_IGN);
+  rlimit full = before;
+  full.rlim_cur = std::filesystem::file_size(file());
+  ASSERT_EQ(::setrlimit(RLIMIT_FSIZE, &full), 0);
+
+  std::vector<bool> answers;
+  for (std::uint16_t i = 0; i < 5; ++i)
+    state.when_durable(state.keep(BankId::W, i, 1), [&](bool durable) { answers.push_back(durable); });
+  run_until([&] { return answers.size() == 5; });
+  ASSERT_EQ(::setrlimit(RLIMIT_FSIZE, &before), 0);
+  ::signal(SIGXFSZ, previous_handler);
+  EXPECT_EQ(answers, std::vector<bool>(5, false));
+  EXPECT_GE(state.counters().failures, 1u);
+
+  bool repaired = false;
+  state.when_durable(state.keep(BankId::W, 9, 99), [&](bool durable) { repaired = durable; });
+  run_until([&] { return repaired; });
+  StateFile reopened(io, file());
+  EXPECT_EQ(reopened.restored().w(9), 99);
+}
+
+}  // namespace
+}  // namespace unima::io
