@@ -4,7 +4,7 @@
 
 #include <spdlog/spdlog.h>
 
-#include "io/modbus/master_service.hpp"
+#include "io/master/master_service.hpp"
 #include "io/modbus/rtu_slave_service.hpp"
 #include "io/modbus/tcp_slave_service.hpp"
 #include "io/monitor_service.hpp"

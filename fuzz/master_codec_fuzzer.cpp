@@ -1,5 +1,5 @@
 // Fuzz target: what a foreign slave answers the bridge's master (docs/master.md), down
-// io/modbus/master_port's path: the RTU link ends the frame where master::expected_response_length
+// io/master/master_port's path: the RTU link ends the frame where master::expected_response_length
 // says, master::check_rtu_response or check_tcp_response judges it against the request,
 // and a good read's values go to its poll blocks (response_values, poll_output); an
 // exception 02 to a merged read splits it (split_after).

@@ -9,7 +9,7 @@
 #include <string>
 
 #include "config/config.hpp"
-#include "io/modbus/master_service.hpp"
+#include "io/master/master_service.hpp"
 #include "io/modbus/tcp_slave_service.hpp"
 #include "io/monitor_service.hpp"
 #include "io/north/http_service.hpp"

@@ -1,4 +1,4 @@
-#include "io/modbus/master_tcp_link.hpp"
+#include "io/master/master_tcp_link.hpp"
 
 #include <spdlog/spdlog.h>
 

@@ -1,4 +1,4 @@
-#include "io/modbus/master_service.hpp"
+#include "io/master/master_service.hpp"
 
 #include <spdlog/spdlog.h>
 

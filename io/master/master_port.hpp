@@ -21,7 +21,7 @@
 #include "config/master_setup.hpp"
 #include "platform/asio.hpp"
 #include "io/lazy_deadline.hpp"
-#include "io/modbus/master_link.hpp"
+#include "io/master/master_link.hpp"
 #include "master/staleness.hpp"
 #include "master/master_scheduler.hpp"
 #include "modbus/transaction.hpp"

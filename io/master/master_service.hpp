@@ -6,7 +6,7 @@
 
 #include <memory>
 
-#include "io/modbus/master_port.hpp"
+#include "io/master/master_port.hpp"
 #include "io/service.hpp"
 
 namespace unima::io {

@@ -10,7 +10,7 @@
 
 #include "config/config.hpp"
 #include "platform/asio.hpp"
-#include "io/modbus/master_link.hpp"
+#include "io/master/master_link.hpp"
 #include "master/master_plan.hpp"
 
 namespace unima::io {

@@ -1,4 +1,4 @@
-#include "io/modbus/master_rtu_link.hpp"
+#include "io/master/master_rtu_link.hpp"
 
 #include <termios.h>
 

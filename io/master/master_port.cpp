@@ -1,10 +1,10 @@
-#include "io/modbus/master_port.hpp"
+#include "io/master/master_port.hpp"
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
-#include "io/modbus/master_rtu_link.hpp"
-#include "io/modbus/master_tcp_link.hpp"
+#include "io/master/master_rtu_link.hpp"
+#include "io/master/master_tcp_link.hpp"
 #include "master/master_codec.hpp"
 
 namespace unima::io {

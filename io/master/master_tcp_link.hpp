@@ -9,7 +9,7 @@
 
 #include "config/endpoint.hpp"
 #include "platform/asio.hpp"
-#include "io/modbus/master_link.hpp"
+#include "io/master/master_link.hpp"
 
 namespace unima::io {
 
