@@ -1,0 +1,155 @@
+// A client of a Modbus/TCP Security port (SPEC §11): the socket is read and written
+// exactly as for plain Modbus/TCP, and the records go through a tls::MemorySession between
+// the socket and the Modbus connection, which sees requests and answers only. The client
+// must complete its handshake within frame_timeout like any started request (a client
+// stuck in the handshake holds no slot), and its certificate's role says what it may write.
+
+#include <spdlog/spdlog.h>
+
+#include "io/modbus/tcp_connection.hpp"
+#include "platform/peer_warnings.hpp"
+#include "tls/memory_session.hpp"
+#include "tls/server_credentials.hpp"
+
+namespace unima::io {
+
+namespace {
+
+using asio::ip::tcp;
+
+class TlsConnection final : public TcpSlaveServer::Connection {
+ public:
+  TlsConnection(TcpSlaveServer& server, tcp::socket socket)
+      : Connection(server, std::move(socket)),
+        context_(server.options().tls->context),  // a renewal may replace the server's
+        tls_(context_->native_handle()) {
+    cipher_in_.resize(record_room);
+  }
+
+  void start() override {
+    last_activity_ = Clock::now();
+    adu_started_ = Clock::now();
+    idle_.watch();
+    read_records();
+  }
+
+ private:
+  void read() override { read_records(); }
+  bool seal() override {
+    if (!tls_.write(std::span(out_.data(), out_used_))) {
+      finish("TLS: " + tls_.error());
+      return false;
+    }
+    tls_.take_output(cipher_out_);  // the answers' records, sent like plain answers
+    return true;
+  }
+  std::span<const std::uint8_t> outgoing() const override { return cipher_out_; }
+  void sent_all() override {
+    out_used_ = 0;
+    cipher_out_.clear();
+  }
+  bool handshake_pending() const override { return !handshaken_; }
+
+  // Over TLS the socket is read like a plain one, into cipher_in_, and the records go
+  // through the session in memory (tls/memory_session): the same system calls as plain
+  // Modbus/TCP, and no asynchronous operation of an SSL stream around each.
+  void read_records() {
+    if (plaintext_waits_) return take_plaintext();  // in_ was full before the session was read to its end
+    socket_.async_read_some(asio::buffer(cipher_in_), [this, self = shared_from_this()](const boost::system::error_code& ec, std::size_t n) {
+      if (ec) return finish(ec == asio::error::eof ? "closed by the client" : ec.message());
+      tls_.feed(std::span(cipher_in_.data(), n));
+      if (!tls_.handshaken()) return handshake_step();
+      take_plaintext();
+    });
+  }
+
+  void take_plaintext() {
+    plaintext_waits_ = true;
+    while (in_used_ < in_.size()) {
+      std::size_t n = 0;
+      const auto status = tls_.read(std::span(in_.data() + in_used_, in_.size() - in_used_), n);
+      if (status == tls::MemorySession::Status::closed) return finish("closed by the client");
+      if (status == tls::MemorySession::Status::failed) {
+        // A record that does not authenticate is an attack or a broken path: the operator hears of it.
+        send_alert();
+        platform::warn_from_peer("modbus tls: broken sessions", peer_, "modbus tls: {} broke the session: {}; closing its connection",
+                                 peer_, tls_.error());
+        return finish("TLS: " + tls_.error());
+      }
+      if (status == tls::MemorySession::Status::want_input) {
+        plaintext_waits_ = false;
+        break;
+      }
+      in_used_ += n;
+    }
+    serve();
+  }
+
+  // Sends what the session wrote besides answers (its handshake flight), then reads on.
+  void flush_records_then_read() {
+    tls_.take_output(cipher_out_);
+    if (cipher_out_.empty()) return read();
+    boost::system::error_code ec;
+    const std::size_t sent = socket_.write_some(asio::buffer(cipher_out_), ec);
+    if (!ec && sent == cipher_out_.size()) {
+      cipher_out_.clear();
+      return read();
+    }
+    if (ec && ec != asio::error::would_block && ec != asio::error::try_again) return finish(ec.message());
+    asio::async_write(socket_, asio::buffer(cipher_out_.data() + (ec ? 0 : sent), cipher_out_.size() - (ec ? 0 : sent)),
+                      [this, self = shared_from_this()](const boost::system::error_code& e, std::size_t) {
+                        if (e) return finish(e.message());
+                        cipher_out_.clear();
+                        read();
+                      });
+  }
+
+  // The alert that tells the client why goes out before the connection closes, if the
+  // socket takes it at once.
+  void send_alert() {
+    tls_.take_output(cipher_out_);
+    boost::system::error_code ignored;
+    if (!cipher_out_.empty()) socket_.write_some(asio::buffer(cipher_out_), ignored);
+  }
+
+  void handshake_step() {
+    const auto status = tls_.handshake();
+    if (status == tls::MemorySession::Status::failed || status == tls::MemorySession::Status::closed) {
+      send_alert();
+      const auto why = status == tls::MemorySession::Status::closed ? std::string("closed") : tls_.error();
+      platform::warn_from_peer("modbus tls: failed handshakes", peer_, "modbus tls: {} failed the TLS handshake: {}", peer_, why);
+      return finish("failed the TLS handshake");
+    }
+    if (status == tls::MemorySession::Status::want_input) return flush_records_then_read();
+    const auto identity = tls::client_identity(tls_.native_handle());
+    role_ = identity.role;
+    spdlog::debug("modbus tls: {} connected as {} (role {}), {} on {}", peer_, identity.subject, role_ ? *role_ : "none",
+                  SSL_get_version(tls_.native_handle()), tls_.records_own() ? "the port's record layer" : "OpenSSL's records");
+    // The monitor's port field names the client: its role, or its certificate's subject.
+    peer_ = (role_ ? *role_ : identity.subject) + "@" + peer_;
+    handshaken_ = true;
+    adu_started_.reset();
+    last_activity_ = Clock::now();
+    plaintext_waits_ = true;  // a request may have come with the client's Finished
+    flush_records_then_read();
+  }
+
+
+  std::shared_ptr<asio::ssl::context> context_;  // outlives tls_
+  tls::MemorySession tls_;
+  // A TLS record holds at most 16 KiB of plaintext and some bytes of its own; the socket
+  // is read in such pieces.
+  static constexpr std::size_t record_room = 16 * 1024 + 512;
+  std::vector<std::uint8_t> cipher_in_;
+  std::vector<std::uint8_t> cipher_out_;  // records waiting for the socket
+  bool plaintext_waits_ = false;          // the session may hold more than in_ took
+  bool handshaken_ = false;
+};
+
+}  // namespace
+
+std::shared_ptr<TcpSlaveServer::Connection> make_tls_connection(TcpSlaveServer& server, tcp::socket socket) {
+  return std::make_shared<TlsConnection>(server, std::move(socket));
+}
+
+}  // namespace unima::io
