@@ -254,6 +254,7 @@ struct HostPath {
   enum class Use {
     unix_socket,  // the daemon listens there: nothing, or a socket it may replace (config/socket_path)
     log_file,     // the daemon appends there: never through a symbolic link (monitor/log_path)
+    state_file,   // the daemon reads and rewrites there: a regular file, or nothing yet
   };
   Use use = Use::log_file;
   std::string key;     // "status.socket", named in the message

@@ -2,6 +2,7 @@
 // given to the parse (Host), and what is on disk where the config points, looked at once
 // after the parse (check_on_host) by `unima-bridge check`, the daemon's start and a reload.
 
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -41,12 +42,26 @@ std::shared_ptr<const unimabus::Recording> read_recording(const ReplayConfig& re
   }
 }
 
+// The state file is read at start and rewritten beside itself: a FIFO would hang the
+// start, a device or a directory cannot be renamed over (SPEC §10).
+std::optional<std::string> refused_state_path(const std::string& path) {
+  struct stat st{};
+  if (::lstat(path.c_str(), &st) != 0 || S_ISREG(st.st_mode)) return std::nullopt;
+  const char* what = S_ISLNK(st.st_mode)    ? "a symbolic link"
+                     : S_ISFIFO(st.st_mode) ? "a FIFO"
+                     : S_ISDIR(st.st_mode)  ? "a directory"
+                     : S_ISSOCK(st.st_mode) ? "a socket"
+                                            : "a device";
+  return fmt::format("{} is {}, not a regular file; the state is kept in a file of its own", path, what);
+}
+
 // Why the daemon will not use `path` as `use` says, or nullopt. A socket path is checked
 // again right before the daemon removes anything (config/socket_path).
 std::optional<std::string> refusal(const HostPath& path) {
   switch (path.use) {
     case HostPath::Use::unix_socket: return socket_path_conflict(path.path);
     case HostPath::Use::log_file: return monitor::refused_log_path(path.path);
+    case HostPath::Use::state_file: return refused_state_path(path.path);
   }
   return std::nullopt;
 }

@@ -37,7 +37,7 @@ Config parse_document(const YAML::Node& root, const std::string& origin, const H
   if (root["log"]) parse_log(state, root["log"]);
   if (root["monitor"]) parse_monitor(state, root["monitor"]);
   parse_status(state, root["status"], root);
-  parse_state(state, root["state"]);
+  parse_state(state, root["state"], root);
   if (root["http"]) parse_http(state, root["http"]);
   if (root["mqtt"]) parse_mqtt(state, root["mqtt"]);
   validate_layout(state, root);

@@ -37,7 +37,7 @@ void parse_monitor(ParseState& state, const YAML::Node& node);
 /// Also without the section (a null `node`): the default socket is where the daemon listens.
 void parse_status(ParseState& state, const YAML::Node& node, const YAML::Node& root);
 /// Also without the section: the default state file comes from the host's environment.
-void parse_state(ParseState& state, const YAML::Node& node);
+void parse_state(ParseState& state, const YAML::Node& node, const YAML::Node& root);
 
 // modbus_section.cpp: modbus, its RTU line and the master's settings.
 void parse_modbus(ParseState& state, const YAML::Node& node);

@@ -180,16 +180,16 @@ void parse_status(ParseState& state, const YAML::Node& node, const YAML::Node& r
   note_host_path(state, HostPath::Use::unix_socket, node["socket"], "status.socket", socket);
 }
 
-void parse_state(ParseState& state, const YAML::Node& node) {
+void parse_state(ParseState& state, const YAML::Node& node, const YAML::Node& root) {
   const auto& yaml = state.yaml;
   auto& file = state.config.state.file;
   file = default_state_file(state.config.file, state.host);
-  if (!node) return;
-  yaml.expect_keys(node, "state", {"file"});
-  if (!node["file"]) return;
+  if (node) yaml.expect_keys(node, "state", {"file"});
+  if (!node || !node["file"]) return note_host_path(state, HostPath::Use::state_file, node ? node : root, "state.file", file);
   const auto written = yaml.text(node["file"]);
   if (written.empty()) yaml.fail(node["file"], "state.file must be a path, or none to keep no state");
   file = written == "none" ? std::string() : written;
+  if (!file.empty()) note_host_path(state, HostPath::Use::state_file, node["file"], "state.file", file);
 }
 
 }  // namespace unima::config::sections

@@ -1,6 +1,7 @@
 #include "io/state_file.hpp"
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -53,12 +54,16 @@ class Descriptor {
 };
 
 std::optional<std::string> read_if_present(const std::filesystem::path& path) {
-  const Descriptor fd(::open(path.c_str(), O_RDONLY | O_NOFOLLOW | O_CLOEXEC));
+  // Non-blocking, so that a FIFO put there (the config check refuses one) is not waited on.
+  const Descriptor fd(::open(path.c_str(), O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC));
   if (fd.get() < 0) {
     if (errno == ENOENT) return std::nullopt;
     if (errno == ELOOP) throw std::runtime_error("is a symbolic link; give the file itself");
     throw_errno("cannot read it");
   }
+  struct stat st{};
+  if (::fstat(fd.get(), &st) != 0) throw_errno("cannot read it");
+  if (!S_ISREG(st.st_mode)) throw std::runtime_error("is not a regular file");
   std::string bytes;
   char buffer[16384];
   while (true) {

@@ -220,6 +220,25 @@ TEST_F(Paths, CheckRefusesASocketPathNamingAFileAsTheDaemonDoes) {
   expect_untouched(file);
 }
 
+// SPEC §10: the state is read at start and rewritten beside itself. A FIFO there used to
+// hang the start with no port and no log line; a FIFO, a directory or a device is refused
+// at once, by `check` as by the daemon, naming the key and its position.
+TEST_F(Paths, AStateFilePathThatIsNotARegularFileIsRefusedAtStartNamingTheKey) {
+  const auto fifo = dir.path() / "bridge.state";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  config.extra = "state: { file: " + fifo.string() + " }\n";
+  const auto checked = check(config.yaml());
+  EXPECT_EQ(checked.status, 1) << checked.output;
+  EXPECT_NE(checked.output.find("state.file: " + fifo.string() + " is a FIFO, not a regular file"), std::string::npos)
+      << checked.output;
+  expect_refused_start("state.file: " + fifo.string() + " is a FIFO, not a regular file");
+
+  const auto directory = dir.path() / "state-dir";
+  fs::create_directory(directory);
+  config.extra = "state: { file: " + directory.string() + " }\n";
+  expect_refused_start("state.file: " + directory.string() + " is a directory, not a regular file");
+}
+
 // A feed port another program holds: the error names the key, not a bare "bind: ...".
 TEST_F(Paths, AFeedPortThatIsTakenIsAnErrorNamingTheKey) {
   asio::io_context io;

@@ -68,7 +68,7 @@ TEST(ConfigParse, NotesThePathsTheHostCheckLooksAtWithTheirPositions) {
       "monitor:\n"
       "  file: /var/log/x/monitor.log\n",
       "bridge.yaml", host_called("plc-7"));
-  ASSERT_EQ(config.host_paths.size(), 4u);
+  ASSERT_EQ(config.host_paths.size(), 5u);
   const auto expect = [&](std::size_t n, HostPath::Use use, const char* key, const char* path, const char* origin) {
     EXPECT_EQ(config.host_paths[n].use, use) << n;
     EXPECT_EQ(config.host_paths[n].key, key) << n;
@@ -81,6 +81,8 @@ TEST(ConfigParse, NotesThePathsTheHostCheckLooksAtWithTheirPositions) {
   // status.socket's default is where the daemon listens when the file does not say: the
   // message points at the file's first section.
   expect(3, HostPath::Use::unix_socket, "status.socket", "/run/unima-bridge/control.sock", "bridge.yaml:1:1");
+  // So is the state file's default, beside the config.
+  expect(4, HostPath::Use::state_file, "state.file", "bridge.state", "bridge.yaml:1:1");
 }
 
 TEST(ConfigHostCheck, ARegularFileWhereASocketGoesParsesAndIsRefusedOnTheHost) {
