@@ -48,6 +48,11 @@ ContextPtr load_server_credentials(const TlsFiles& files, std::string_view secti
   if (!context) throw std::runtime_error(fmt::format("{}: OpenSSL cannot make a context: {}", section, openssl_reason()));
   // MB/TCP Security requires TLS 1.2 or later.
   SSL_CTX_set_min_proto_version(context.get(), TLS1_2_VERSION);
+  // TLS 1.2 with forward secrecy and an AEAD only (TLS 1.3's suites are all AEAD): no CBC
+  // with its MAC-then-encrypt, no SHA-1 MAC, no RSA key exchange (SPEC §11).
+  if (SSL_CTX_set_cipher_list(context.get(), "ECDHE+AESGCM:ECDHE+CHACHA20") != 1)
+    throw std::runtime_error(fmt::format("{}: this OpenSSL offers no ECDHE suite with AES-GCM or ChaCha20: {}", section,
+                                         openssl_reason()));
   // No renegotiation: a TLS 1.2 client cannot start a second handshake in the middle of its requests.
   SSL_CTX_set_options(context.get(), SSL_OP_NO_COMPRESSION | SSL_OP_CIPHER_SERVER_PREFERENCE | SSL_OP_NO_RENEGOTIATION);
   // Modbus masters keep their connection for hours: resumption would save little, while

@@ -168,6 +168,22 @@ TEST_F(Tls, ClientsOfTls12AndTls13AreServedAlike) {
   EXPECT_TRUE(daemon->wait_for_log("TLSv1.3 on the port's record layer")) << daemon->log();
 }
 
+// SPEC §11, issue 29 row 9: TLS 1.2 offers only ECDHE with an AEAD (AES-GCM,
+// ChaCha20-Poly1305); a client that offers nothing but CBC suites with SHA-1 MACs, or RSA
+// key exchange, is refused in the handshake.
+TEST_F(Tls, Tls12TakesOnlyEcdheWithAnAeadSuite) {
+  start_tls();
+  for (const char* suite : {"ECDHE-ECDSA-AES128-SHA", "ECDHE-ECDSA-AES256-SHA384", "AES128-SHA", "AES128-GCM-SHA256"}) {
+    const auto lines = client("operator", {"0401000001"}, std::string("--tls1.2 --ciphers ") + suite);
+    EXPECT_TRUE(refused(lines)) << suite << ": " << ::testing::PrintToString(lines);
+  }
+  for (const char* suite : {"ECDHE-ECDSA-AES128-GCM-SHA256", "ECDHE-ECDSA-CHACHA20-POLY1305"}) {
+    const auto lines = client("operator", {"0401000001"}, std::string("--tls1.2 --ciphers ") + suite);
+    ASSERT_FALSE(lines.empty()) << suite;
+    EXPECT_EQ(lines.back(), "version: TLSv1.2") << suite << ": " << ::testing::PrintToString(lines);
+  }
+}
+
 // RFC 8446 §4.6.3 against the real daemon: a client renews its key and asks the server to
 // renew its own; requests before and after are answered.
 TEST_F(Tls, AClientThatUpdatesItsKeysMidConnectionIsAnsweredOnBothSides) {

@@ -2,13 +2,13 @@
 """A Modbus/TCP Security client for the tests (SPEC §11), on Python's ssl module: TLS 1.2+
 with a client certificate, then Modbus requests over the TLS stream.
 
-  modbus_tls_client.py [--tls1.2] PORT CA [CERT KEY] -- REQUEST...
+  modbus_tls_client.py [--tls1.2 [--ciphers SUITES]] PORT CA [CERT KEY] -- REQUEST...
 
 Each REQUEST is a PDU in hex ("0600000007", "0400110001"); for each one line is printed:
 the response PDU in hex, or "error: <why>" (and the client stops) when the handshake or the
 connection fails; first "server: <CN>" of the certificate the server presented, last
-"version: TLSv1.x". --tls1.2 caps the client at TLS 1.2. Exit status 0 when every request
-was answered.
+"version: TLSv1.x". --tls1.2 caps the client at TLS 1.2; --ciphers offers only those TLS 1.2
+suites (OpenSSL's names). Exit status 0 when every request was answered.
 """
 
 import socket
@@ -22,6 +22,9 @@ def main() -> int:
     tls12_only = args[0] == "--tls1.2"
     if tls12_only:
         args = args[1:]
+    ciphers = None
+    if args[0] == "--ciphers":
+        ciphers, args = args[1], args[2:]
     split = args.index("--")
     port, ca, *identity = args[:split]
     requests = args[split + 1:]
@@ -29,6 +32,8 @@ def main() -> int:
     context.minimum_version = ssl.TLSVersion.TLSv1_2
     if tls12_only:
         context.maximum_version = ssl.TLSVersion.TLSv1_2
+    if ciphers:
+        context.set_ciphers(ciphers)
     context.load_verify_locations(ca)
     if identity:
         context.load_cert_chain(identity[0], identity[1])
