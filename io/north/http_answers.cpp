@@ -104,17 +104,17 @@ nlohmann::json live_value(const values::ValueDef& def, const values::Value& valu
 }  // namespace
 
 web::LiveSnapshot HttpAnswers::live_snapshot() const {
-  const auto& banks = *runtime_.banks;
+  const auto& running = *runtime_.banks;
   web::LiveSnapshot snapshot;
   snapshot.panel = panel_of(runtime_.status());
-  for (const auto& row : banks.register_rows) {
+  for (const auto& row : running.register_rows) {
     std::uint16_t value = 0;
     snapshot.addresses.push_back(row.address);
-    snapshot.values.push_back(banks.space->read(row.address, std::span(&value, 1)) ? std::optional(value) : std::nullopt);
+    snapshot.values.push_back(running.space->read(row.address, std::span(&value, 1)) ? std::optional(value) : std::nullopt);
   }
-  const auto registers = values::snapshot_of(*banks.store);
-  for (const auto& layout : banks.value_model.banks()) {
-    const auto values = banks.value_model.evaluate(layout.bank, registers);
+  const auto registers = values::snapshot_of(*running.store);
+  for (const auto& layout : running.value_model.banks()) {
+    const auto values = running.value_model.evaluate(layout.bank, registers);
     const auto bank = std::string(banks::bank_name(layout.bank)) + "/";
     for (std::size_t i = 0; i < values.size(); ++i)
       snapshot.named_values.emplace_back(bank + layout.values[i].name, live_value(layout.values[i], values[i]));
@@ -123,14 +123,14 @@ web::LiveSnapshot HttpAnswers::live_snapshot() const {
 }
 
 HttpResponse HttpAnswers::registers() const {
-  const auto& banks = *runtime_.banks;
-  const auto values_now = all_values(banks.value_model, values::snapshot_of(*banks.store));
+  const auto& running = *runtime_.banks;
+  const auto values_now = all_values(running.value_model, values::snapshot_of(*running.store));
   auto registers = nlohmann::json::array();
-  for (const auto& row : banks.register_rows) {
+  for (const auto& row : running.register_rows) {
     auto j = config::map_row_json(row);
     std::uint16_t value = 0;
-    j["value"] = banks.space->read(row.address, std::span(&value, 1)) ? nlohmann::json(value) : nlohmann::json(nullptr);
-    j["values"] = row_values(row, banks.config, banks.value_model, values_now);
+    j["value"] = running.space->read(row.address, std::span(&value, 1)) ? nlohmann::json(value) : nlohmann::json(nullptr);
+    j["values"] = row_values(row, running.config, running.value_model, values_now);
     registers.push_back(std::move(j));
   }
   return {200, json_type, registers.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) + "\n", {}, {}};

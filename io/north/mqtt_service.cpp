@@ -58,21 +58,21 @@ std::unique_ptr<MqttClient> MqttService::make_client(const config::Config& confi
 }
 
 void MqttService::lay_out() {
-  const auto& banks = *runtime_.banks;
-  if (!banks.config.mqtt) {
+  const auto& running = *runtime_.banks;
+  if (!running.config.mqtt) {
     banks_.clear();
     schedule_.reset();
     return;
   }
-  banks_ = mqtt::published_banks(banks.value_model);
-  schedule_.emplace(banks_.size(), banks.config.mqtt->period, banks.config.mqtt->on_change);
+  banks_ = mqtt::published_banks(running.value_model);
+  schedule_.emplace(banks_.size(), running.config.mqtt->period, running.config.mqtt->on_change);
 }
 
 // A command is a Modbus write by other means: it takes the one write path (rights, the
 // register space, the state file, UnimaBUS) and is answered once what it kept is durable.
 void MqttService::take_command(std::string_view topic, std::string_view payload) {
-  const auto& banks = *runtime_.banks;
-  const auto& prefix = banks.config.mqtt->topic;
+  const auto& running = *runtime_.banks;
+  const auto& prefix = running.config.mqtt->topic;
   const auto set = prefix + "/set/";
   if (!topic.starts_with(set) || topic == prefix + "/set/result") return;  // our own results come back too
   const auto result_topic = prefix + "/set/result";
@@ -82,8 +82,8 @@ void MqttService::take_command(std::string_view topic, std::string_view payload)
   const auto parsed = mqtt::parse_command(topic.substr(set.size()), payload);
   if (const auto* error = std::get_if<std::string>(&parsed)) return answer(*error);
   const auto& command = std::get<mqtt::Command>(parsed);
-  const auto base = banks.config.bank_bases[banks::index_of(command.bank)];
-  auto& writes = *banks.writes;
+  const auto base = running.config.bank_bases[banks::index_of(command.bank)];
+  auto& writes = *running.writes;
   const auto result = command.bank == banks::BankId::X
                           ? writes.write_bit(base, command.offset, command.value != 0, nullptr)
                           : writes.write_registers(static_cast<std::uint16_t>(base + command.offset),
@@ -108,23 +108,23 @@ void MqttService::tick() {
 void MqttService::publish() {
   // A broker that does not keep up gets the latest state once it does, not a queue of states.
   if (!client_ || !client_->connected() || client_->backlogged() || !schedule_) return;
-  const auto& banks = *runtime_.banks;
-  const auto snapshot = values::snapshot_of(*banks.store);
+  const auto& running = *runtime_.banks;
+  const auto snapshot = values::snapshot_of(*running.store);
   // Each bank's state as the text of its values and on-line flag: compared whole.
   std::vector<std::vector<values::Value>> bank_values;
   std::vector<std::string> states;
   for (const auto bank : banks_) {
-    bank_values.push_back(banks.value_model.evaluate(bank, snapshot));
+    bank_values.push_back(running.value_model.evaluate(bank, snapshot));
     const auto state =
-        mqtt::bank_values(*banks.value_model.bank(bank), bank_values.back(), snapshot[banks::index_of(bank)].online);
+        mqtt::bank_values(*running.value_model.bank(bank), bank_values.back(), snapshot[banks::index_of(bank)].online);
     states.push_back(state.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace));
   }
   const auto now = std::chrono::system_clock::now();
-  const auto& prefix = banks.config.mqtt->topic;
+  const auto& prefix = running.config.mqtt->topic;
   for (const auto index : schedule_->due(states, mqtt::PublishSchedule::Clock::now())) {
     const auto bank = banks_[index];
     const auto document =
-        mqtt::bank_document(*banks.value_model.bank(bank), bank_values[index], snapshot[banks::index_of(bank)].online, now);
+        mqtt::bank_document(*running.value_model.bank(bank), bank_values[index], snapshot[banks::index_of(bank)].online, now);
     client_->publish(prefix + "/" + std::string(banks::bank_name(bank)),
                      document.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace), true);
   }
