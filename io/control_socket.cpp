@@ -38,12 +38,13 @@ ControlSocket::ControlSocket(asio::io_context& io, std::string path, DocumentFn 
   boost::system::error_code ec;
   acceptor_.open(stream_protocol(), ec);
   if (!ec) acceptor_.bind(stream_protocol::endpoint(path_), ec);
-  if (!ec) acceptor_.listen(asio::socket_base::max_listen_connections, ec);
-  if (ec) throw std::runtime_error("status: cannot listen on " + path_ + ": " + ec.message());
   // Asking needs write permission on the socket: the daemon's user and group may ask (as
   // for the monitor log, 0640), whatever the umask. Never through a symbolic link that
-  // took the socket's place since the bind (SPEC §10).
-  ::fchmodat(AT_FDCWD, path_.c_str(), 0660, AT_SYMLINK_NOFOLLOW);
+  // took the socket's place since the bind (SPEC §10). Before the listen, so that nobody
+  // is answered while the socket still has the umask's mode.
+  if (!ec) ::fchmodat(AT_FDCWD, path_.c_str(), 0660, AT_SYMLINK_NOFOLLOW);
+  if (!ec) acceptor_.listen(asio::socket_base::max_listen_connections, ec);
+  if (ec) throw std::runtime_error("status: cannot listen on " + path_ + ": " + ec.message());
 }
 
 ControlSocket::~ControlSocket() { stop(); }
