@@ -66,7 +66,10 @@ def main():
         latencies = []
         for line in output.splitlines():
             stamp, _, payload = line.partition(" ")
-            speed = json.loads(payload).get("engine_speed")
+            try:
+                speed = json.loads(payload).get("engine_speed")
+            except (ValueError, AttributeError):
+                continue  # an empty retained clear, or the last line cut by terminate()
             if speed in sent_at:
                 latencies.append((float(stamp) - sent_at[speed]) * 1000)
         result["documents"] = len(latencies)
