@@ -3,6 +3,7 @@
 #include <signal.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -19,7 +20,10 @@ Daemon::Daemon(const TempDir& dir, const std::string& config_yaml, const std::ve
   rewrite_config(config_yaml);
   auto options = test_support::writing_to(log_path_);
   options.environment = environment;
-  std::vector<std::string> argv{UNIMA_BRIDGED, "--config", config_path_.string()};
+  // UNIMA_TEST_BRIDGED runs the tests against another build of the daemon (an older
+  // commit's, to see a new test fail where the defect it guards against still is).
+  const char* other = std::getenv("UNIMA_TEST_BRIDGED");
+  std::vector<std::string> argv{other && *other ? other : UNIMA_BRIDGED, "--config", config_path_.string()};
   for (const auto& v : environment) {  // the harness's own variables
     if (v.starts_with("UNIMA_TEST_MAX_FILES=")) options.max_files = std::stoul(v.substr(21));
     if (v.starts_with("UNIMA_TEST_STRACE=")) {  // the daemon's fdatasync and sendto calls, in order
