@@ -18,6 +18,8 @@ packages=(
   systemd man-db groff-base dpkg-dev shellcheck
   # benchmarks: the runner, exact system-call and instruction counts
   python3 strace valgrind
+  # the TLS benchmark's reference: stunnel in front of the libmodbus server (bench/tls.sh)
+  stunnel4
   # fuzzing (fuzz/, docs/fuzzing.md): clang 14 and its libFuzzer, ASan and UBSan runtimes
   clang libclang-rt-dev
 )
