@@ -5,10 +5,11 @@
 # ECDSA P-256 handshakes per second; and plain TCP of a daemon with TLS configured but
 # idle against one without TLS (unima-bench-load, 64 connections). Beside requests/s, the
 # daemon's own CPU time in each round (utime + stime from /proc): requests per CPU-second
-# of the daemon, which the client sharing the machine's cores does not change. TLS is
-# measured with two clients: on OpenSSL's records (an independent peer; on 2 shared cores
-# it costs more per request than the daemon and bounds the figure) and on the port's own
-# record layer (cheaper than the daemon, so the daemon is what is measured).
+# of the daemon, which the client sharing the machine's cores does not change. TLS 1.3 and
+# TLS 1.2 are measured alike, every record OpenSSL's on both sides; the client's own CPU
+# time per request is printed too (on 2 shared cores it bounds the figure). The clients
+# come from many addresses of 127/8 (--hosts), as the daemon limits handshakes per host
+# (docs/security.md); a flood from one host is bench/tls_flood.sh's.
 # Usage: bench/tls.sh [BUILD_DIR] [ROUNDS] [SECONDS]   (default build-release 5 3)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -44,10 +45,10 @@ start_daemon both "$plain" "$tls"
 both_pid=${pids[0]}
 start_daemon bare "$bare" 0
 
-plain_run() { "$tls_load" --port "$plain" --connections "$1" --duration "$seconds"; }
-tls_run() {  # connections, records (openssl: the client's TLS is OpenSSL's; port: tls::RecordLayer's)
-  "$tls_load" --port "$tls" --tls "$certs/ca.pem" "$certs/operator.pem" "$certs/operator.key" --records "$2" \
-    --connections "$1" --duration "$seconds"
+plain_run() { "$tls_load" --port "$plain" --hosts "$1" --connections "$1" --duration "$seconds"; }
+tls_run() {  # connections, version (1.3 or 1.2)
+  "$tls_load" --port "$tls" --tls "$certs/ca.pem" "$certs/operator.pem" "$certs/operator.key" --tls-version "$2" \
+    --hosts "$1" --connections "$1" --duration "$seconds"
 }
 load_rps() { "$load" --port "$1" --connections 64 --function 4 --address 4352 --quantity 64 --duration "$seconds" --warmup 0.5 --json | field rps; }
 
@@ -61,14 +62,14 @@ with_daemon_cpu() {
   echo "$rps $(python3 -c "print(round($rps * $seconds / max($after - $before, 0.01)))") $(echo "$json" | field client_cpu_us)"
 }
 
-# Each round measures plain TCP and TLS with both clients, in an order that alternates.
-# Keys: <measure>,<connections>,<client> with client plain, openssl or port.
+# Each round measures plain TCP, TLS 1.3 and TLS 1.2, in an order that alternates.
+# Keys: <measure>,<connections>,<client> with client plain, 1.3 or 1.2.
 declare -A results
 for connections in 8 64; do
   declare -A series=()
   for round in $(seq "$rounds"); do
-    clients=(plain openssl port)
-    [ $((round % 2)) = 0 ] && clients=(port openssl plain)
+    clients=(plain 1.3 1.2)
+    [ $((round % 2)) = 0 ] && clients=(1.2 1.3 plain)
     declare -A rps=() cpu=()
     for client in "${clients[@]}"; do
       if [ "$client" = plain ]; then read -r r c k < <(with_daemon_cpu plain_run "$connections")
@@ -76,7 +77,7 @@ for connections in 8 64; do
       rps[$client]=$r; cpu[$client]=$c
       series[rps,$client]+=" $r"; series[cpu,$client]+=" $c"; series[client,$client]+=" $k"
     done
-    for client in openssl port; do
+    for client in 1.3 1.2; do
       series[ratio,$client]+=" $(python3 -c "print(${rps[$client]} / ${rps[plain]})")"
       series[cpu_ratio,$client]+=" $(python3 -c "print(${cpu[$client]} / ${cpu[plain]})")"
     done
@@ -88,7 +89,7 @@ for connections in 8 64; do
 done
 handshakes_per_s() {
   "$tls_load" --port "$tls" --tls "$certs/ca.pem" "$certs/operator.pem" "$certs/operator.key" \
-    --mode handshakes --connections 8 --duration "$seconds" | field handshakes_per_s
+    --mode handshakes --hosts 4096 --connections 8 --duration "$seconds" | field handshakes_per_s
 }
 # Handshakes per second, and per CPU-second of the daemon.
 handshakes_with_daemon_cpu() {
@@ -116,15 +117,15 @@ row() {  # label, measure, connections, client (the ratio's measure is ratio or 
   echo "| $1 | ${results[$2,plain,$3]} | ${results[$2,$4,$3]} | ${results[$ratio,$4,$3]} |"
 }
 for connections in 8 64; do
-  row "FC4 × 64, $connections connections, requests/s, client on OpenSSL's records" rps "$connections" openssl
-  row "FC4 × 64, $connections connections, requests/s, client on the port's record layer" rps "$connections" port
+  row "FC4 × 64, $connections connections, requests/s, TLS 1.3" rps "$connections" 1.3
+  row "FC4 × 64, $connections connections, requests/s, TLS 1.2" rps "$connections" 1.2
 done
 for connections in 8 64; do
-  row "FC4 × 64, $connections connections, requests per CPU-second of the daemon, client on OpenSSL's records" cpu "$connections" openssl
-  row "FC4 × 64, $connections connections, requests per CPU-second of the daemon, client on the port's record layer" cpu "$connections" port
+  row "FC4 × 64, $connections connections, requests per CPU-second of the daemon, TLS 1.3" cpu "$connections" 1.3
+  row "FC4 × 64, $connections connections, requests per CPU-second of the daemon, TLS 1.2" cpu "$connections" 1.2
 done
 for connections in 8 64; do
-  echo "| FC4 × 64, $connections connections, the client's CPU µs per request: plain \| OpenSSL's records \| the port's | ${results[client,plain,$connections]} | ${results[client,openssl,$connections]} | ${results[client,port,$connections]} |"
+  echo "| FC4 × 64, $connections connections, the client's CPU µs per request: plain \| TLS 1.3 \| TLS 1.2 | ${results[client,plain,$connections]} | ${results[client,1.3,$connections]} | ${results[client,1.2,$connections]} |"
 done
 echo "| full handshakes/s (ECDSA P-256, TLS 1.3, 8 at once) | | $(median "${h[@]}") | |"
 echo "| full handshakes per CPU-second of the daemon | | $(median "${ch[@]}") | |"

@@ -2,15 +2,26 @@
 // TCP or TLS, so that the daemon's TLS figures are a ratio of its plain ones measured by
 // one client. One thread, Asio; every loop bounded by --duration.
 //
-//   unima-bench-tls-load --port N [--tls CA CERT KEY] [--records openssl|port]
-//                        [--mode requests|handshakes] [--connections 8] [--duration 3]
-//                        [--address 4352] [--quantity 64]
+//   unima-bench-tls-load --port N [--tls CA CERT KEY] [--tls-version 1.2|1.3]
+//                        [--mode requests|handshakes|flood] [--connections 8] [--duration 3]
+//                        [--address 4352] [--quantity 64] [--hosts 1] [--source 127.0.0.2]
+//                        [--attempts 0] [--rate 0]
 //
 // requests:   each connection sends FC4 × quantity, one request in flight, and checks the
 //             answer; prints {"rps":…,"p50_us":…,"p99_us":…,"client_cpu_us":…} (the
 //             client's own CPU time per request).
 // handshakes: each connection loops connect → full handshake (no session resumption) →
 //             one FC4 → close; prints {"handshakes_per_s":…,"p50_ms":…,"p99_ms":…}.
+// flood:      issue 29 row 3's attacker: each connection loops connect from --source →
+//             the same ClientHello, replayed → the server's first bytes or its close →
+//             close, until --duration or --attempts connections in all, at most --rate
+//             connections a second in all (0: as fast as they go); prints
+//             {"attempts":…,"answered":…,"refused":…,"per_s":…}.
+//
+// --hosts N: the connections come from N source addresses, 127.1.0.0 on (Linux routes all
+// of 127/8 on lo), each new connection from the next: the daemon limits handshakes per
+// host (tls/handshake_limiter), which a benchmark of 64 connections or of handshakes per
+// second from one address would measure instead of the port.
 
 #include <algorithm>
 #include <array>
@@ -29,8 +40,6 @@
 #include <sys/resource.h>
 
 #include "platform/asio.hpp"
-#include "tls/key_log.hpp"
-#include "tls/record_layer.hpp"
 
 namespace {
 
@@ -41,12 +50,16 @@ using Clock = std::chrono::steady_clock;
 struct Options {
   std::uint16_t port = 0;
   std::optional<std::array<std::string, 3>> tls;  // CA, certificate, key
-  bool handshakes = false;
+  enum class Mode { requests, handshakes, flood } mode = Mode::requests;
   int connections = 8;
   double duration = 3;
   std::uint16_t address = 4352;
   std::uint16_t quantity = 64;
-  bool port_records = false;  // --records port
+  int tls_version = 0;   // --tls-version: the highest the client offers; 0: OpenSSL's default (1.3)
+  int hosts = 1;         // source addresses; 1: 127.0.0.1, the kernel's choice
+  std::string source;    // flood: the one source address
+  std::uint64_t attempts = 0;  // flood: at most this many connections (0: no limit but the time)
+  double rate = 0;             // flood: at most this many connections a second (0: no limit)
 };
 
 Options parse(int argc, char** argv) {
@@ -59,12 +72,19 @@ Options parse(int argc, char** argv) {
     };
     if (a == "--port") o.port = static_cast<std::uint16_t>(std::stoi(next()));
     else if (a == "--tls") o.tls = std::array{next(), next(), next()};
-    else if (a == "--mode") o.handshakes = next() == "handshakes";
+    else if (a == "--mode") {
+      const auto mode = next();
+      o.mode = mode == "handshakes" ? Options::Mode::handshakes : mode == "flood" ? Options::Mode::flood : Options::Mode::requests;
+    }
     else if (a == "--connections") o.connections = std::stoi(next());
     else if (a == "--duration") o.duration = std::stod(next());
     else if (a == "--address") o.address = static_cast<std::uint16_t>(std::stoi(next()));
     else if (a == "--quantity") o.quantity = static_cast<std::uint16_t>(std::stoi(next()));
-    else if (a == "--records") o.port_records = next() == "port";
+    else if (a == "--tls-version") o.tls_version = next() == "1.2" ? TLS1_2_VERSION : TLS1_3_VERSION;
+    else if (a == "--hosts") o.hosts = std::max(1, std::stoi(next()));
+    else if (a == "--source") o.source = next();
+    else if (a == "--attempts") o.attempts = std::stoull(next());
+    else if (a == "--rate") o.rate = std::stod(next());
     else throw std::runtime_error("unknown option " + a);
   }
   if (o.port == 0) throw std::runtime_error("--port is required");
@@ -72,25 +92,20 @@ Options parse(int argc, char** argv) {
 }
 
 // A client's TLS session on OpenSSL over memory: the socket is written and read as in plain
-// TCP and OpenSSL's own record layer works on the bytes (an independent peer for the
-// daemon's tls/record_layer). Asio's SSL stream, which this client used before, cost it
-// more CPU per request than the daemon; on a machine whose cores both share, that held
-// the daemon's TLS figures down (docs/performance.md).
-//
-// With --records port the records after a TLS 1.3 handshake go through the port's own
-// tls::RecordLayer instead, mirrored (it receives under the server's secret): a client
-// that costs less per request than the daemon, so that the daemon, not the client, is what
-// the end-to-end figure measures on a machine where both share the cores.
+// TCP and OpenSSL's own record layer works on the bytes, as the daemon's does (an
+// independent peer nonetheless: the daemon's code around OpenSSL is not the client's).
+// Asio's SSL stream, which this client used before, cost it more CPU per request than the
+// daemon; on a machine whose cores both share, that held the daemon's TLS figures down
+// (docs/performance.md).
 class ClientSession {
  public:
-  ClientSession(SSL_CTX* context, bool port_records) : ssl_(SSL_new(context)), port_records_(port_records) {
+  explicit ClientSession(SSL_CTX* context) : ssl_(SSL_new(context)) {
     if (ssl_ == nullptr) throw std::runtime_error("OpenSSL cannot make a session");
     in_ = BIO_new(BIO_s_mem());
     out_ = BIO_new(BIO_s_mem());
     BIO_set_mem_eof_return(in_, -1);
     SSL_set_bio(ssl_, in_, out_);
     SSL_set_connect_state(ssl_);
-    SSL_set_ex_data(ssl_, secrets_index(), &secrets_);
   }
   ~ClientSession() { SSL_free(ssl_); }
   ClientSession(const ClientSession&) = delete;
@@ -98,64 +113,22 @@ class ClientSession {
 
   enum class Step : std::uint8_t { done, want_input, failed };
 
-  // Keeps a handshake's two application traffic secrets (NSS key-log lines) for --records port.
-  static void keep_secrets(const SSL* ssl, const char* line) {
-    auto* secrets = static_cast<std::array<std::vector<std::uint8_t>, 2>*>(SSL_get_ex_data(ssl, secrets_index()));
-    if (secrets == nullptr) return;
-    if (!tls::read_key_log_secret(line, "CLIENT_TRAFFIC_SECRET_0", (*secrets)[0]))
-      tls::read_key_log_secret(line, "SERVER_TRAFFIC_SECRET_0", (*secrets)[1]);
-  }
-
-  void feed(const std::uint8_t* data, std::size_t size) {
-    if (records_) return records_->feed(std::span(data, size));
-    BIO_write(in_, data, static_cast<int>(size));
-  }
-  Step handshake() {
-    const auto result = step(SSL_do_handshake(ssl_));
-    if (result == Step::done && port_records_) {
-      if (SSL_version(ssl_) != TLS1_3_VERSION || secrets_[0].empty() || secrets_[1].empty()) return Step::failed;
-      take_bio_output(finished_);
-      records_.emplace(SSL_CIPHER_get_protocol_id(SSL_get_current_cipher(ssl_)), secrets_[1], secrets_[0]);
-      std::vector<std::uint8_t> rest(static_cast<std::size_t>(BIO_ctrl_pending(in_)));
-      if (!rest.empty()) BIO_read(in_, rest.data(), static_cast<int>(rest.size()));
-      records_->feed(rest);
-    }
-    return result;
-  }
+  void feed(const std::uint8_t* data, std::size_t size) { BIO_write(in_, data, static_cast<int>(size)); }
+  Step handshake() { return step(SSL_do_handshake(ssl_)); }
   bool write(std::span<const std::uint8_t> plaintext) {
-    if (records_) {
-      records_->write(plaintext);
-      return true;
-    }
     return SSL_write(ssl_, plaintext.data(), static_cast<int>(plaintext.size())) == static_cast<int>(plaintext.size());
   }
   Step read(std::span<std::uint8_t> out, std::size_t& n) {
-    if (records_) {
-      const auto status = records_->read(out, n);
-      return status == tls::RecordLayer::Status::done         ? Step::done
-             : status == tls::RecordLayer::Status::want_input ? Step::want_input
-                                                               : Step::failed;
-    }
     const int result = SSL_read(ssl_, out.data(), static_cast<int>(out.size()));
     n = result > 0 ? static_cast<std::size_t>(result) : 0;
     return result > 0 ? Step::done : step(result);
   }
   void take_output(std::vector<std::uint8_t>& out) {
-    out.clear();
-    if (!records_) return take_bio_output(out);
-    out.swap(finished_);
-    records_->take_output(out);
-  }
-
- private:
-  static int secrets_index() {
-    static const int index = SSL_get_ex_new_index(0, nullptr, nullptr, nullptr, nullptr);
-    return index;
-  }
-  void take_bio_output(std::vector<std::uint8_t>& out) {
     out.resize(static_cast<std::size_t>(BIO_ctrl_pending(out_)));
     if (!out.empty()) BIO_read(out_, out.data(), static_cast<int>(out.size()));
   }
+
+ private:
   Step step(int result) {
     if (result == 1) return Step::done;
     const int error = SSL_get_error(ssl_, result);
@@ -164,11 +137,15 @@ class ClientSession {
   SSL* ssl_;
   BIO* in_;
   BIO* out_;
-  bool port_records_;
-  std::array<std::vector<std::uint8_t>, 2> secrets_;  // the client's, the server's
-  std::optional<tls::RecordLayer> records_;
-  std::vector<std::uint8_t> finished_;  // the client's Finished, out with the first request
 };
+
+// The source address of a new connection: the next of --hosts, or none (the kernel's).
+std::optional<asio::ip::address_v4> next_source(const Options& o, std::uint64_t& counter) {
+  if (!o.source.empty()) return asio::ip::make_address_v4(o.source);
+  if (o.hosts <= 1) return std::nullopt;
+  const auto index = static_cast<std::uint32_t>(counter++ % static_cast<std::uint64_t>(o.hosts));
+  return asio::ip::address_v4((127U << 24) | (1U << 16) | index);
+}
 
 // One client connection, plain or TLS.
 class Client : public std::enable_shared_from_this<Client> {
@@ -176,13 +153,19 @@ class Client : public std::enable_shared_from_this<Client> {
   struct Shared {
     const Options& options;
     SSL_CTX* tls;
+    Clock::time_point start;
     Clock::time_point until;
     std::vector<double> latencies;  // µs per request, or ms per handshake
     std::uint64_t done = 0;
     std::string error;
+    std::uint64_t sources = 0;   // connections given a source address so far
+    std::uint64_t scheduled = 0;  // flood: connections given their time
+    std::uint64_t attempts = 0;  // flood
+    std::uint64_t answered = 0;  // flood: the server's first flight came
+    std::vector<std::uint8_t> client_hello;  // flood: the one replayed
   };
 
-  Client(asio::io_context& io, Shared& shared) : io_(io), shared_(shared) {
+  Client(asio::io_context& io, Shared& shared) : io_(io), shared_(shared), pacing_(io) {
     const auto& o = shared.options;
     request_ = {0, 0, 0, 0, 0, 6, 1, 4, static_cast<std::uint8_t>(o.address >> 8), static_cast<std::uint8_t>(o.address),
                 static_cast<std::uint8_t>(o.quantity >> 8), static_cast<std::uint8_t>(o.quantity)};
@@ -194,17 +177,59 @@ class Client : public std::enable_shared_from_this<Client> {
 
  private:
   void connect() {
+    const auto& o = shared_.options;
+    if (Clock::now() >= shared_.until) return;
+    if (o.mode == Options::Mode::flood) {
+      if (o.attempts != 0 && shared_.scheduled >= o.attempts) return;
+      // Paced: the n-th connection not before start + n / rate.
+      const auto due = shared_.start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(
+                                           o.rate > 0 ? static_cast<double>(shared_.scheduled) / o.rate : 0.0));
+      ++shared_.scheduled;
+      if (Clock::now() < due) {
+        pacing_.expires_at(due);
+        return pacing_.async_wait([this, self = shared_from_this()](const boost::system::error_code&) { connect_now(); });
+      }
+    }
+    connect_now();
+  }
+
+  void connect_now() {
+    const auto& o = shared_.options;
     if (Clock::now() >= shared_.until) return;
     socket_.emplace(io_);
-    if (shared_.tls) session_.emplace(shared_.tls, shared_.options.port_records);
+    if (const auto source = next_source(o, shared_.sources)) {
+      socket_->open(tcp::v4());
+      socket_->bind(tcp::endpoint(*source, 0));
+    }
+    if (shared_.tls && o.mode != Options::Mode::flood) session_.emplace(shared_.tls);
     connected_at_ = Clock::now();
-    socket_->async_connect(tcp::endpoint(asio::ip::address_v4::loopback(), shared_.options.port),
+    socket_->async_connect(tcp::endpoint(asio::ip::address_v4::loopback(), o.port),
                            [this, self = shared_from_this()](const boost::system::error_code& ec) {
                              if (ec) return fail("connect: " + ec.message());
                              socket_->set_option(tcp::no_delay(true));
+                             if (shared_.options.mode == Options::Mode::flood) return replay_client_hello();
                              if (!session_) return send();
                              handshake();
                            });
+  }
+
+  // The attacker's loop: what the server does with the replayed ClientHello is all it
+  // wants; refused at accept, the connection just ends.
+  void replay_client_hello() {
+    ++shared_.attempts;
+    asio::async_write(*socket_, asio::buffer(shared_.client_hello), [this, self = shared_from_this()](
+                                                                        const boost::system::error_code& ec, std::size_t) {
+      if (ec) return next_attempt(false);
+      socket_->async_read_some(asio::buffer(cipher_in_), [this, self](const boost::system::error_code& e, std::size_t n) {
+        next_attempt(!e && n > 0);
+      });
+    });
+  }
+  void next_attempt(bool answered) {
+    if (answered) ++shared_.answered;
+    boost::system::error_code ignored;
+    socket_->close(ignored);
+    connect();
   }
 
   // The client's Finished goes out with the first request.
@@ -273,7 +298,7 @@ class Client : public std::enable_shared_from_this<Client> {
     if (answer_[0] != request_[0] || answer_[1] != request_[1] || answer_[7] != 4 || answer_[8] != 2 * o.quantity)
       return fail("a wrong answer");
     const auto now = Clock::now();
-    if (o.handshakes) {
+    if (o.mode == Options::Mode::handshakes) {
       shared_.latencies.push_back(std::chrono::duration<double, std::milli>(now - connected_at_).count());
       ++shared_.done;
       boost::system::error_code ignored;
@@ -293,6 +318,7 @@ class Client : public std::enable_shared_from_this<Client> {
 
   asio::io_context& io_;
   Shared& shared_;
+  asio::steady_timer pacing_;
   std::optional<tcp::socket> socket_;
   std::optional<ClientSession> session_;
   std::vector<std::uint8_t> request_;
@@ -329,12 +355,21 @@ int main(int argc, char** argv) {
       // Every handshake a full one.
       SSL_CTX_set_session_cache_mode(tls.get(), SSL_SESS_CACHE_OFF);
       SSL_CTX_set_options(tls.get(), SSL_OP_NO_TICKET);
-      if (options.port_records) SSL_CTX_set_keylog_callback(tls.get(), ClientSession::keep_secrets);
+      if (options.tls_version != 0) SSL_CTX_set_max_proto_version(tls.get(), options.tls_version);
     }
     const auto start = Clock::now();
-    Client::Shared shared{options, tls.get(),
+    Client::Shared shared{options, tls.get(), start,
                           start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(options.duration)),
-                          {}, 0, {}};
+                          {}, 0, {}, 0, 0, 0, 0, {}};
+    if (options.mode == Options::Mode::flood) {
+      // One ClientHello, made once and sent on every connection: what costs the attacker
+      // nothing and the server a key pair and a signature each time.
+      std::unique_ptr<SSL_CTX, decltype(&SSL_CTX_free)> hello_context(SSL_CTX_new(TLS_client_method()), SSL_CTX_free);
+      ClientSession hello(hello_context.get());
+      hello.handshake();
+      hello.take_output(shared.client_hello);
+      if (shared.client_hello.empty()) throw std::runtime_error("OpenSSL wrote no ClientHello");
+    }
     for (int i = 0; i < options.connections; ++i) std::make_shared<Client>(io, shared)->start();
     io.run();
     if (!shared.error.empty()) {
@@ -351,7 +386,12 @@ int main(int argc, char** argv) {
     const double cpu_us = shared.done > 0 ? cpu_seconds * 1e6 / static_cast<double>(shared.done) : 0;
     const double rate = static_cast<double>(shared.done) / seconds;
     const double p50 = percentile(shared.latencies, 0.5), p99 = percentile(shared.latencies, 0.99);
-    if (options.handshakes)
+    if (options.mode == Options::Mode::flood)
+      std::printf("{\"attempts\":%llu,\"answered\":%llu,\"refused\":%llu,\"per_s\":%.1f,\"connections\":%d}\n",
+                  static_cast<unsigned long long>(shared.attempts), static_cast<unsigned long long>(shared.answered),
+                  static_cast<unsigned long long>(shared.attempts - shared.answered),
+                  static_cast<double>(shared.attempts) / seconds, options.connections);
+    else if (options.mode == Options::Mode::handshakes)
       std::printf("{\"handshakes_per_s\":%.1f,\"p50_ms\":%.3f,\"p99_ms\":%.3f,\"connections\":%d,\"client_cpu_us\":%.2f}\n",
                   rate, p50, p99, options.connections, cpu_us);
     else

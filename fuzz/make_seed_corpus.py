@@ -264,30 +264,43 @@ def state_journal() -> None:
     write("state_journal", "crlf", header.replace(b"\n", b"\r\n") + records)
 
 
-def tls_records() -> None:
-    # The script of fuzz/tls_records_fuzzer.cpp: [op, n, content] for ops 0-4, [op, n] for 5-7.
-    def seal(op: int, content: bytes = b"") -> bytes:
-        return bytes([op, len(content)]) + content
+def client_hello(maximum=None, ciphers=None) -> bytes:
+    """A real ClientHello, from OpenSSL's client (Python's ssl module over memory)."""
+    import ssl
+    context = ssl.SSLContext(ssl.PROTOCOL_TLS_CLIENT)
+    context.check_hostname = False
+    context.verify_mode = ssl.CERT_NONE
+    if maximum:
+        context.maximum_version = maximum
+    if ciphers:
+        context.set_ciphers(ciphers)
+    outgoing = ssl.MemoryBIO()
+    client = context.wrap_bio(ssl.MemoryBIO(), outgoing)
+    try:
+        client.do_handshake()
+    except ssl.SSLWantReadError:
+        pass
+    return outgoing.read()
 
-    def act(op: int, n: int = 0) -> bytes:
-        return bytes([op, n])
 
-    request = SEED_TCP["seed004-tcp-read-query"]
-    key_update = bytes([24, 0, 0, 1])
-    write("tls_records", "one-request", seal(0, request))
-    write("tls_records", "requests-in-pieces",
-          seal(0, request) + act(6) + seal(0, request[:5]) + act(6) + seal(0, request[5:]) + act(7, 11))
-    write("tls_records", "key-update-requested", seal(0, request) + seal(1, key_update + b"\x01") + seal(0, request) + act(7, 11))
-    write("tls_records", "key-update-not-requested", seal(1, key_update + b"\x00") + seal(0, request))
-    write("tls_records", "key-update-split", seal(1, key_update[:2]) + seal(1, key_update[2:] + b"\x00") + seal(0, request))
-    write("tls_records", "padded", seal(4 + 8 * 20, request) + seal(0, request))
-    write("tls_records", "empty-records", act(5, 23) + seal(0, request) + act(5, 0))
-    write("tls_records", "close-notify", seal(0, request) + seal(2, bytes([1, 0])) + seal(0, request))
-    write("tls_records", "user-canceled", seal(2, bytes([1, 90])) + seal(0, request) + seal(2, bytes([1, 0])))
-    write("tls_records", "fatal-alert", seal(0, request) + seal(2, bytes([2, 40])))
-    write("tls_records", "new-session-ticket", seal(1, bytes([4, 0, 0, 1, 0])))
-    write("tls_records", "change-cipher-spec", seal(3, bytes([20, 3, 3, 0, 1, 1])))
-    write("tls_records", "answers-across-key-limit", act(7, 32) * 12 + seal(0, request))
+def tls_session() -> None:
+    # fuzz/tls_session_fuzzer.cpp: byte 0 the size of the pieces (0: all at once), then
+    # what the client sends. The ClientHellos differ each time this runs (their random and
+    # key share are fresh); the parser they reach does not.
+    import ssl
+    hello13 = client_hello()
+    hello12 = client_hello(ssl.TLSVersion.TLSv1_2, "ECDHE-ECDSA-AES128-GCM-SHA256")
+    alert = bytes([21, 3, 3, 0, 2, 2, 40])  # a fatal handshake_failure, in the clear
+    change_cipher_spec = bytes([20, 3, 3, 0, 1, 1])
+    write("tls_session", "client-hello-tls13", b"\x00" + hello13)
+    write("tls_session", "client-hello-tls12", b"\x00" + hello12)
+    write("tls_session", "client-hello-in-pieces", b"\x07" + hello13)
+    write("tls_session", "client-hello-byte-by-byte", b"\x01" + hello12)
+    write("tls_session", "client-hello-then-alert", b"\x00" + hello13 + alert)
+    write("tls_session", "client-hello-then-change-cipher-spec", b"\x00" + hello13 + change_cipher_spec + bytes([23, 3, 3, 0, 17]) + bytes(17))
+    write("tls_session", "client-hello-twice", b"\x00" + hello12 + hello12)
+    write("tls_session", "not-tls", b"\x00GET / HTTP/1.1\r\nHost: bridge\r\n\r\n")
+    write("tls_session", "modbus-in-the-clear", b"\x00" + SEED_TCP["seed004-tcp-read-query"])
 
 
 def table_ids(folder: str) -> list[str]:
@@ -325,5 +338,5 @@ def dictionaries() -> None:
 
 
 for make in (mbap_request, rtu_framer, feed_line, command_filter, source_ref, config_loader, master_codec,
-             replay_reader, state_journal, tls_records, dictionaries):
+             replay_reader, state_journal, tls_session, dictionaries):
     make()

@@ -81,6 +81,26 @@ std::string prometheus_text(const nlohmann::json& status) {
   for (const auto& port : ports.is_array() ? ports : nlohmann::json::array())
     out.sample(field(port, "clients"), {{"port", text(field(port, "port"))}});
 
+  // Modbus/TCP Security's handshakes (SPEC §11; tls/handshake_limiter): only a TLS port has them.
+  out.family("tls_handshakes_total", "counter", "TLS handshakes completed, by port.");
+  for (const auto& port : ports.is_array() ? ports : nlohmann::json::array())
+    out.sample(field(field(port, "handshakes"), "completed"), {{"port", text(field(port, "port"))}});
+  out.family("tls_handshakes_failed_total", "counter",
+             "TLS handshakes started and not completed (an error, the deadline, the client left), by port.");
+  for (const auto& port : ports.is_array() ? ports : nlohmann::json::array())
+    out.sample(field(field(port, "handshakes"), "failed"), {{"port", text(field(port, "port"))}});
+  out.family("tls_handshakes_refused_total", "counter",
+             "TLS connections closed at accept because their host or the port had as many handshakes as allowed, by port and limit.");
+  for (const auto& port : ports.is_array() ? ports : nlohmann::json::array()) {
+    const auto& refused = field(field(port, "handshakes"), "refused");
+    if (!refused.is_object()) continue;
+    for (const auto& [limit, value] : refused.items())
+      out.sample(value, {{"port", text(field(port, "port"))}, {"limit", limit}});
+  }
+  out.family("tls_handshakes_in_progress", "gauge", "TLS handshakes in progress, by port.");
+  for (const auto& port : ports.is_array() ? ports : nlohmann::json::array())
+    out.sample(field(field(port, "handshakes"), "in_progress"), {{"port", text(field(port, "port"))}});
+
   const auto& devices = field(status, "devices");
   out.family("device_online", "gauge", "1 while a configured device D_N is on-line on UnimaBUS.");
   for (const auto& d : devices.is_array() ? devices : nlohmann::json::array())

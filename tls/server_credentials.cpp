@@ -42,23 +42,30 @@ std::string one_line(X509_NAME* name) {
 
 }  // namespace
 
+void apply_server_policy(SSL_CTX* context, std::string_view section) {
+  // MB/TCP Security requires TLS 1.2 or later.
+  SSL_CTX_set_min_proto_version(context, TLS1_2_VERSION);
+  // TLS 1.2 with forward secrecy and an AEAD only (TLS 1.3's suites are all AEAD): no CBC
+  // with its MAC-then-encrypt, no SHA-1 MAC, no RSA key exchange (SPEC §11).
+  if (SSL_CTX_set_cipher_list(context, "ECDHE+AESGCM:ECDHE+CHACHA20") != 1)
+    throw std::runtime_error(fmt::format("{}: this OpenSSL offers no ECDHE suite with AES-GCM or ChaCha20: {}", section,
+                                         openssl_reason()));
+  // No renegotiation: a TLS 1.2 client cannot start a second handshake in the middle of its requests.
+  // No session tickets, in either version (SSL_OP_NO_TICKET: TLS 1.2's; num_tickets: TLS
+  // 1.3's): Modbus masters keep their connection for hours, so resumption would save
+  // little, while tickets cost every full handshake two encryptions and a write and put a
+  // ticket key in the process that decrypts every ticket it ever issued.
+  SSL_CTX_set_options(context, SSL_OP_NO_COMPRESSION | SSL_OP_CIPHER_SERVER_PREFERENCE | SSL_OP_NO_RENEGOTIATION |
+                                   SSL_OP_NO_TICKET);
+  SSL_CTX_set_num_tickets(context, 0);
+  SSL_CTX_set_session_cache_mode(context, SSL_SESS_CACHE_OFF);
+}
+
 ContextPtr load_server_credentials(const TlsFiles& files, std::string_view section) {
   ERR_clear_error();
   ContextPtr context(SSL_CTX_new(TLS_server_method()));
   if (!context) throw std::runtime_error(fmt::format("{}: OpenSSL cannot make a context: {}", section, openssl_reason()));
-  // MB/TCP Security requires TLS 1.2 or later.
-  SSL_CTX_set_min_proto_version(context.get(), TLS1_2_VERSION);
-  // TLS 1.2 with forward secrecy and an AEAD only (TLS 1.3's suites are all AEAD): no CBC
-  // with its MAC-then-encrypt, no SHA-1 MAC, no RSA key exchange (SPEC §11).
-  if (SSL_CTX_set_cipher_list(context.get(), "ECDHE+AESGCM:ECDHE+CHACHA20") != 1)
-    throw std::runtime_error(fmt::format("{}: this OpenSSL offers no ECDHE suite with AES-GCM or ChaCha20: {}", section,
-                                         openssl_reason()));
-  // No renegotiation: a TLS 1.2 client cannot start a second handshake in the middle of its requests.
-  SSL_CTX_set_options(context.get(), SSL_OP_NO_COMPRESSION | SSL_OP_CIPHER_SERVER_PREFERENCE | SSL_OP_NO_RENEGOTIATION);
-  // Modbus masters keep their connection for hours: resumption would save little, while
-  // the TLS 1.3 tickets it needs cost every full handshake two encryptions and a write.
-  SSL_CTX_set_num_tickets(context.get(), 0);
-  SSL_CTX_set_session_cache_mode(context.get(), SSL_SESS_CACHE_OFF);
+  apply_server_policy(context.get(), section);
   expect(SSL_CTX_use_certificate_chain_file(context.get(), files.certificate.c_str()) == 1, section, "certificate",
          files.certificate);
   expect(SSL_CTX_use_PrivateKey_file(context.get(), files.key.c_str(), SSL_FILETYPE_PEM) == 1, section, "key", files.key);

@@ -34,6 +34,7 @@ void TcpSlaveServer::Connection::start() {
 }
 
 void TcpSlaveServer::Connection::close() {
+  say_goodbye();
   boost::system::error_code ec;
   socket_.shutdown(tcp::socket::shutdown_both, ec);
   socket_.close(ec);

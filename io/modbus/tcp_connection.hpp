@@ -52,6 +52,8 @@ class TcpSlaveServer::Connection : public std::enable_shared_from_this<Connectio
   virtual void sent_all() { out_used_ = 0; }
   /// True while a TLS client has not finished its handshake (its deadline says so).
   virtual bool handshake_pending() const { return false; }
+  /// What a protocol says before its connection closes (TLS: close_notify); nothing for plain TCP.
+  virtual void say_goodbye() {}
   modbus::PortKind port_kind() const { return server_.options_.tls ? modbus::PortKind::tls : modbus::PortKind::tcp; }
 
   /// Answers what in_ holds: at once, or once the state file holds what it wrote.
@@ -89,6 +91,8 @@ class TcpSlaveServer::Connection : public std::enable_shared_from_this<Connectio
 };
 
 /// A client of a Modbus/TCP Security port (tls_connection.cpp).
-std::shared_ptr<TcpSlaveServer::Connection> make_tls_connection(TcpSlaveServer& server, asio::ip::tcp::socket socket);
+/// `handshake`: the place its handshake was given (TcpSlaveServer::admit_handshake).
+std::shared_ptr<TcpSlaveServer::Connection> make_tls_connection(TcpSlaveServer& server, asio::ip::tcp::socket socket,
+                                                                tls::HandshakeSlot handshake);
 
 }  // namespace unima::io

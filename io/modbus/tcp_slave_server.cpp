@@ -83,6 +83,27 @@ bool TcpSlaveServer::allowed(const asio::ip::address& address, const std::string
   return false;
 }
 
+std::optional<tls::HandshakeSlot> TcpSlaveServer::admit_handshake(const asio::ip::address& address,
+                                                                  const std::string& peer) {
+  using Verdict = tls::HandshakeLimiter::Verdict;
+  auto& limiter = options_.tls->handshakes;
+  const auto host = address.to_string();
+  const auto verdict = limiter->admit(host, Clock::now());
+  if (verdict == Verdict::admitted) return tls::HandshakeSlot(limiter, host);
+  const auto& limits = limiter->limits();
+  const auto what = warning("TLS handshakes refused");
+  if (verdict == Verdict::host_in_progress)
+    platform::warn_from_peer(what, peer, "{}: {} has {} TLS handshakes in progress, the most a host may; closing its new connections",
+                             name(), host, limits.per_host_in_progress);
+  else if (verdict == Verdict::host_rate)
+    platform::warn_from_peer(what, peer, "{}: {} starts TLS handshakes faster than {} a second (at most {} at once); closing its new connections",
+                             name(), host, limits.per_host_rate, limits.per_host_burst);
+  else
+    platform::warn_from_peer(what, peer, "{}: {} TLS handshakes in progress, the most the port takes; closing a new connection from {}",
+                             name(), limiter->in_progress(), host);
+  return std::nullopt;
+}
+
 void TcpSlaveServer::set_access(const config::PeerAllowList& allow, bool read_only) {
   options_.allow = allow;
   options_.read_only = read_only;
@@ -102,9 +123,18 @@ void TcpSlaveServer::adopt(tcp::socket socket) {
     socket.close(ec);
     return;
   }
+  // Before any eviction: a refused handshake must not cost another client its slot.
+  std::optional<tls::HandshakeSlot> handshake;
+  if (options_.tls) {
+    handshake = admit_handshake(remote.address(), remote.address().to_string() + ":" + std::to_string(remote.port()));
+    if (!handshake) {
+      socket.close(ec);
+      return;
+    }
+  }
   if (connections_.size() >= options_.max_clients)
     evict_longest_idle(fmt::format("{} connections is the limit", options_.max_clients));
-  auto connection = options_.tls ? make_tls_connection(*this, std::move(socket))
+  auto connection = options_.tls ? make_tls_connection(*this, std::move(socket), std::move(*handshake))
                                  : std::make_shared<Connection>(*this, std::move(socket));
   spdlog::debug("{}: {} connected", name(), connection->peer());
   connections_.add(connection);

@@ -7,7 +7,9 @@
 //
 // The same server speaks Modbus/TCP Security (SPEC §11) when given a TLS context: each
 // client's handshake must complete within frame_timeout, its certificate's role says what
-// it may write, and everything else — limits, eviction, the allow list — is the same.
+// it may write, and everything else — limits, eviction, the allow list — is the same. A
+// client whose host starts more handshakes than tls::HandshakeLimiter allows is closed at
+// accept, before it costs any cryptography or another client's slot.
 
 #include <chrono>
 #include <cstdint>
@@ -21,6 +23,7 @@
 #include "config/peer_allow_list.hpp"
 #include "modbus/write_rights.hpp"
 #include "platform/asio_ssl.hpp"
+#include "tls/handshake_limiter.hpp"
 #include "io/connection_set.hpp"
 #include "io/retrying_acceptor.hpp"
 #include "io/modbus/slave_context.hpp"
@@ -31,6 +34,7 @@ namespace unima::io {
 struct TlsSlaveSetup {
   std::shared_ptr<asio::ssl::context> context;
   std::map<std::string, modbus::WriteRights> roles;  // a role not listed may write nothing
+  std::shared_ptr<tls::HandshakeLimiter> handshakes;  // the port's, across reloads
 };
 
 struct TcpSlaveOptions {
@@ -86,6 +90,9 @@ class TcpSlaveServer {
   bool make_room();
   /// False (and logged, rate-limited) when modbus.tcp.allow does not list the peer.
   bool allowed(const asio::ip::address& address, const std::string& peer) const;
+  /// A TLS port's handshake for a new client from `address`, or nothing (logged, rate-limited)
+  /// when its host or the port has as many as tls::HandshakeLimiter allows.
+  std::optional<tls::HandshakeSlot> admit_handshake(const asio::ip::address& address, const std::string& peer);
   /// What a client of this port may write: nothing when read only; on a TLS port what its
   /// role may (nothing without one); nullptr: everything.
   const modbus::WriteRights* write_rights(const std::optional<std::string>& role) const;

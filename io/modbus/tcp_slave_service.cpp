@@ -10,6 +10,17 @@ namespace unima::io {
 
 namespace {
 
+// The TLS port's handshakes in the status document (and so in /metrics): an object, not
+// numbers beside the transaction states.
+nlohmann::json handshake_counters(const tls::HandshakeLimiter& limiter) {
+  using Verdict = tls::HandshakeLimiter::Verdict;
+  const auto& c = limiter.counters();
+  nlohmann::json refused;
+  for (const auto verdict : {Verdict::host_in_progress, Verdict::host_rate, Verdict::all_in_progress})
+    refused[tls::HandshakeLimiter::name(verdict)] = c.refused_of(verdict);
+  return {{"completed", c.completed}, {"failed", c.failed}, {"in_progress", limiter.in_progress()}, {"refused", refused}};
+}
+
 TcpSlaveOptions slave_options(const config::TcpSlaveConfig& c) {
   TcpSlaveOptions options;
   options.listen = c.listen;
@@ -46,7 +57,7 @@ std::unique_ptr<TcpSlaveServer> TcpSlaveService::make_server(const config::Confi
   if (security_ == Security::tls) {
     const auto& tls = *config.modbus.tls;
     try {
-      options.tls = TlsSlaveSetup{make_server_tls_context(tls_files(tls)), tls.roles};
+      options.tls = TlsSlaveSetup{make_server_tls_context(tls_files(tls)), tls.roles, handshakes_};
     } catch (const std::exception& e) {
       throw std::runtime_error(fmt::format("{}: {}", tls.origin, e.what()));
     }
@@ -91,7 +102,7 @@ void TcpSlaveService::commit(const Banks&) {
   server_->set_access(c.allow, c.read_only);
   if (security_ == Security::tls) {
     auto context = next_context_ ? std::move(next_context_) : server_->options().tls->context;
-    server_->set_tls(TlsSlaveSetup{std::move(context), runtime_.config().modbus.tls->roles});
+    server_->set_tls(TlsSlaveSetup{std::move(context), runtime_.config().modbus.tls->roles, handshakes_});
   }
   next_context_.reset();
   server_->set_context(slave_context(runtime_));
@@ -107,6 +118,7 @@ void TcpSlaveService::describe(nlohmann::json& status) const {
     j["listen"] = server_->options().listen + ":" + std::to_string(server_->port());
     j["clients"] = server_->client_count();
   }
+  if (security_ == Security::tls) j["handshakes"] = handshake_counters(*handshakes_);
   status["ports"].push_back(j);
 }
 

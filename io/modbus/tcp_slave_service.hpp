@@ -35,6 +35,9 @@ class TcpSlaveService final : public Service {
 
   Runtime& runtime_;
   Security security_;
+  // Made before the first server and given to each: a reload that moves the port keeps
+  // what its hosts spent and the counts.
+  std::shared_ptr<tls::HandshakeLimiter> handshakes_ = std::make_shared<tls::HandshakeLimiter>();
   MovableListener<TcpSlaveServer> server_;
   std::shared_ptr<asio::ssl::context> next_context_;  // staged, same endpoint: the TLS files read again
 };

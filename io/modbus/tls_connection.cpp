@@ -3,6 +3,8 @@
 // the socket and the Modbus connection, which sees requests and answers only. The client
 // must complete its handshake within frame_timeout like any started request (a client
 // stuck in the handshake holds no slot), and its certificate's role says what it may write.
+// Every record is OpenSSL's; a clean close (idle, evicted, the port stopped, the client's own
+// close_notify) sends this side's close_notify first.
 
 #include <spdlog/spdlog.h>
 
@@ -19,10 +21,11 @@ using asio::ip::tcp;
 
 class TlsConnection final : public TcpSlaveServer::Connection {
  public:
-  TlsConnection(TcpSlaveServer& server, tcp::socket socket)
+  TlsConnection(TcpSlaveServer& server, tcp::socket socket, tls::HandshakeSlot handshake)
       : Connection(server, std::move(socket)),
         context_(server.options().tls->context),  // a renewal may replace the server's
-        tls_(context_->native_handle()) {
+        tls_(context_->native_handle()),
+        handshake_slot_(std::move(handshake)) {
     cipher_in_.resize(record_room);
   }
 
@@ -50,13 +53,27 @@ class TlsConnection final : public TcpSlaveServer::Connection {
   }
   bool handshake_pending() const override { return !handshaken_; }
 
+  // RFC 8446 §6.1: a clean close is announced, so the client can tell it from a cut
+  // connection. Best effort and never blocking: the alert goes only if the socket takes
+  // it at once, and not while answers are still on their way (it would land inside them).
+  void say_goodbye() override {
+    if (peer_gone_ || !socket_.is_open() || !cipher_out_.empty() || !tls_.close_notify()) return;
+    tls_.take_output(cipher_out_);
+    boost::system::error_code ignored;
+    socket_.write_some(asio::buffer(cipher_out_), ignored);
+    cipher_out_.clear();
+  }
+
   // Over TLS the socket is read like a plain one, into cipher_in_, and the records go
   // through the session in memory (tls/memory_session): the same system calls as plain
   // Modbus/TCP, and no asynchronous operation of an SSL stream around each.
   void read_records() {
     if (plaintext_waits_) return take_plaintext();  // in_ was full before the session was read to its end
     socket_.async_read_some(asio::buffer(cipher_in_), [this, self = shared_from_this()](const boost::system::error_code& ec, std::size_t n) {
-      if (ec) return finish(ec == asio::error::eof ? "closed by the client" : ec.message());
+      if (ec) {
+        peer_gone_ = true;  // nobody left to read a close_notify
+        return finish(ec == asio::error::eof ? "closed by the client" : ec.message());
+      }
       tls_.feed(std::span(cipher_in_.data(), n));
       if (!tls_.handshaken()) return handshake_step();
       take_plaintext();
@@ -68,7 +85,7 @@ class TlsConnection final : public TcpSlaveServer::Connection {
     while (in_used_ < in_.size()) {
       std::size_t n = 0;
       const auto status = tls_.read(std::span(in_.data() + in_used_, in_.size() - in_used_), n);
-      if (status == tls::MemorySession::Status::closed) return finish("closed by the client");
+      if (status == tls::MemorySession::Status::closed) return finish("closed by the client (close_notify)");
       if (status == tls::MemorySession::Status::failed) {
         // A record that does not authenticate is an attack or a broken path: the operator hears of it.
         send_alert();
@@ -121,10 +138,11 @@ class TlsConnection final : public TcpSlaveServer::Connection {
       return finish("failed the TLS handshake");
     }
     if (status == tls::MemorySession::Status::want_input) return flush_records_then_read();
+    handshake_slot_.completed();
     const auto identity = tls::client_identity(tls_.native_handle());
     role_ = identity.role;
-    spdlog::debug("modbus tls: {} connected as {} (role {}), {} on {}", peer_, identity.subject, role_ ? *role_ : "none",
-                  SSL_get_version(tls_.native_handle()), tls_.records_own() ? "the port's record layer" : "OpenSSL's records");
+    spdlog::debug("modbus tls: {} connected as {} (role {}), {}", peer_, identity.subject, role_ ? *role_ : "none",
+                  SSL_get_version(tls_.native_handle()));
     // The monitor's port field names the client: its role, or its certificate's subject.
     peer_ = (role_ ? *role_ : identity.subject) + "@" + peer_;
     handshaken_ = true;
@@ -144,12 +162,15 @@ class TlsConnection final : public TcpSlaveServer::Connection {
   std::vector<std::uint8_t> cipher_out_;  // records waiting for the socket
   bool plaintext_waits_ = false;          // the session may hold more than in_ took
   bool handshaken_ = false;
+  bool peer_gone_ = false;  // its socket failed or reached its end
+  tls::HandshakeSlot handshake_slot_;  // until the handshake completes; else its end counts it failed
 };
 
 }  // namespace
 
-std::shared_ptr<TcpSlaveServer::Connection> make_tls_connection(TcpSlaveServer& server, tcp::socket socket) {
-  return std::make_shared<TlsConnection>(server, std::move(socket));
+std::shared_ptr<TcpSlaveServer::Connection> make_tls_connection(TcpSlaveServer& server, tcp::socket socket,
+                                                                tls::HandshakeSlot handshake) {
+  return std::make_shared<TlsConnection>(server, std::move(socket), std::move(handshake));
 }
 
 }  // namespace unima::io

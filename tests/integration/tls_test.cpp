@@ -2,16 +2,20 @@
 // module, tests/integration/tls/modbus_tls_client.py), certificates made by the openssl
 // command line in each test (tests/integration/tls/make_certificates.sh): mutual
 // authentication in the handshake, write rights from the client certificate's role,
-// renewal on SIGHUP, a client stuck in the handshake cut like any slow client.
+// renewal on SIGHUP, a client stuck in the handshake cut like any slow client, close_notify
+// on a clean close, and handshakes limited per peer host (issue 29 row 3).
 
 #include <openssl/ssl.h>
 
 #include <csignal>
 #include <filesystem>
+#include <optional>
 #include <sstream>
 #include <span>
 
 #include "tests/integration/certificate_fixture.hpp"
+#include "tests/support/peers/http_exchange.hpp"
+#include "tests/support/peers/memory_tls_client.hpp"
 #include "tests/support/peers/segmented_tls_client.hpp"
 
 namespace unima::test {
@@ -151,8 +155,8 @@ TEST_F(Tls, ARequestThatComesWithTheClientsFinishedIsAnswered) {
   EXPECT_EQ(answer[7], 0x04);
 }
 
-// After a TLS 1.3 handshake the port protects the records itself (tls/record_layer), after
-// TLS 1.2 OpenSSL does: clients of both versions read and write alike.
+// Every record is OpenSSL's, after either version's handshake: clients of both read and
+// write alike.
 TEST_F(Tls, ClientsOfTls12AndTls13AreServedAlike) {
   config.log_level = "debug";
   start_tls();
@@ -164,8 +168,8 @@ TEST_F(Tls, ClientsOfTls12AndTls13AreServedAlike) {
     EXPECT_EQ(lines[3].substr(0, 4), "0402");
     EXPECT_EQ(lines[4], options.empty() ? "version: TLSv1.3" : "version: TLSv1.2");
   }
-  EXPECT_TRUE(daemon->wait_for_log("TLSv1.2 on OpenSSL's records")) << daemon->log();
-  EXPECT_TRUE(daemon->wait_for_log("TLSv1.3 on the port's record layer")) << daemon->log();
+  EXPECT_TRUE(daemon->wait_for_log("(role operator), TLSv1.2")) << daemon->log();
+  EXPECT_TRUE(daemon->wait_for_log("(role operator), TLSv1.3")) << daemon->log();
 }
 
 // SPEC §11, issue 29 row 9: TLS 1.2 offers only ECDHE with an AEAD (AES-GCM,
@@ -221,7 +225,7 @@ TEST_F(Tls, AForgedRecordIsRefusedWithAnAlertAndTheNextClientIsServed) {
     EXPECT_TRUE(forger.answer().empty());
     EXPECT_NE(SegmentedTlsClient::last_error().find("bad record mac"), std::string::npos);
   }
-  EXPECT_TRUE(daemon->wait_for_log("broke the session: a record that is not authentic")) << daemon->log();
+  EXPECT_TRUE(daemon->wait_for_log("broke the session: ")) << daemon->log();
   const auto lines = client("operator", {"0401000001"});
   ASSERT_EQ(lines.size(), 3u) << ::testing::PrintToString(lines);
   EXPECT_EQ(plain.read_input(0x0100, 1), w_before);  // the forged write was not served
@@ -236,6 +240,111 @@ TEST_F(Tls, AClientStuckInTheHandshakeIsCutByTheFrameDeadline) {
   EXPECT_TRUE(stuck.closed_by_peer(3000ms));
   EXPECT_TRUE(daemon->wait_for_log("did not complete the TLS handshake within 300 ms")) << daemon->log();
   EXPECT_EQ(client("operator", {"0400110001"}).size(), 3u);
+}
+
+// RFC 8446 §6.1: the daemon answers a client's close_notify with its own, and closes an
+// idle client cleanly with one, so that a client can tell either from a cut connection.
+TEST_F(Tls, TheClientsCloseNotifyIsAnsweredWithTheServers) {
+  start_tls();
+  SegmentedTlsClient client(tls_port, pem("operator.pem"), pem("operator.key"));
+  ASSERT_TRUE(client.handshake()) << daemon->log();
+  const std::uint8_t request[] = {0x00, 0x07, 0x00, 0x00, 0x00, 0x06, 0x01, 0x04, 0x00, 0x11, 0x00, 0x01};
+  client.write(request);
+  client.flush();
+  ASSERT_EQ(client.answer().size(), 11u) << daemon->log();
+  client.close_notify();
+  EXPECT_TRUE(client.closed_with_close_notify(3000ms)) << SegmentedTlsClient::last_error() << daemon->log();
+}
+
+TEST_F(Tls, AnIdleClientIsClosedWithCloseNotify) {
+  start_tls(", idle_timeout: 300ms");
+  SegmentedTlsClient client(tls_port, pem("operator.pem"), pem("operator.key"));
+  ASSERT_TRUE(client.handshake()) << daemon->log();
+  const std::uint8_t request[] = {0x00, 0x08, 0x00, 0x00, 0x00, 0x06, 0x01, 0x04, 0x00, 0x11, 0x00, 0x01};
+  client.write(request);
+  client.flush();
+  ASSERT_EQ(client.answer().size(), 11u) << daemon->log();
+  EXPECT_TRUE(client.closed_with_close_notify(3000ms)) << SegmentedTlsClient::last_error() << daemon->log();
+  EXPECT_TRUE(daemon->wait_for_log("idle for 300 ms, closing")) << daemon->log();
+}
+
+// Issue 29 row 3: one ClientHello replayed on new connections cost the loop ~0.7 ms of
+// cryptography each, nothing logged. Now a host gets a few handshakes at once and a few a
+// second; the rest of its connections are closed at accept, counted in /metrics and
+// warned about once — and a client from another host is served all along.
+TEST_F(Tls, AHostReplayingClientHellosIsRefusedCountedAndWarnedOnceWhileOthersAreServed) {
+  const auto http_port = free_port();
+  config.extra += "http: { listen: 127.0.0.1, port: " + std::to_string(http_port) + " }\n";
+  start_tls();
+  ASSERT_TRUE(wait_for_port(http_port)) << daemon->log();
+
+  SSL_CTX* context = SSL_CTX_new(TLS_client_method());
+  std::vector<std::uint8_t> client_hello;
+  {
+    test_support::MemoryTlsClient hello(context);
+    ASSERT_NE(SSL_do_handshake(hello.ssl()), 1);
+    client_hello = hello.take_output();
+  }
+  SSL_CTX_free(context);
+  ASSERT_GT(client_hello.size(), 100u);
+
+  // Rounds of 8 connections from 127.0.0.2 at once, each sending the same ClientHello;
+  // halfway, with its latest ones still open, a client of 127.0.0.1 reads a register.
+  std::vector<std::string> served;
+  int answered = 0, closed = 0;
+  for (int round = 0; round < 12; ++round) {
+    std::vector<Socket> flood;
+    for (int i = 0; i < 8; ++i) {
+      flood.push_back(Socket::tcp_from("127.0.0.2", tls_port));
+      ASSERT_TRUE(flood.back().valid());
+      flood.back().send(client_hello);
+    }
+    for (auto& socket : flood) {
+      // The server's first flight, or the end of a refused connection.
+      const auto reply = socket.receive(5, 2000ms);
+      if (reply.size() == 5 && reply[0] == 0x16) ++answered;
+      else ++closed;
+    }
+    if (round == 6) served = client("operator", {"0400110001"});
+  }
+  ASSERT_EQ(served.size(), 3u) << ::testing::PrintToString(served) << daemon->log();
+  EXPECT_EQ(served[0], "server: server");
+  EXPECT_EQ(served[1].substr(0, 4), "0402");
+  EXPECT_GE(closed, 48) << answered << " answered";
+
+  const auto metrics = [&] { return test_support::http_get(http_port, "/metrics").body; };
+  const auto value = [&](const std::string& series) -> std::optional<double> {
+    std::istringstream lines(metrics());
+    for (std::string line; std::getline(lines, line);)
+      if (line.starts_with(series + " ")) return std::stod(line.substr(series.size() + 1));
+    return std::nullopt;
+  };
+  const auto refused = [&](const char* limit) {
+    return value(std::string(R"(unima_bridge_tls_handshakes_refused_total{port="tls",limit=")") + limit + "\"}")
+        .value_or(0);
+  };
+  EXPECT_GT(refused("per_host_in_progress"), 0) << metrics();
+  EXPECT_EQ(refused("per_host_in_progress") + refused("per_host_rate") + refused("in_progress"), closed) << metrics();
+  EXPECT_TRUE(eventually([&] {
+    return value(R"(unima_bridge_tls_handshakes_failed_total{port="tls"})").value_or(0) >= answered;
+  })) << metrics();
+  EXPECT_GE(value(R"(unima_bridge_tls_handshakes_total{port="tls"})").value_or(0), 1) << metrics();
+  const auto file = dir.path() / "metrics.txt";
+  test_support::write_file(file, metrics());
+  const auto checked = run("promtool check metrics < " + file.string());
+  EXPECT_EQ(checked.status, 0) << checked.output;
+
+  // One warning about the host, not one per connection; none about the served client.
+  std::istringstream log(daemon->log());
+  int warnings = 0, about_others = 0;
+  for (std::string line; std::getline(log, line);) {
+    if (line.find("TLS handshakes") == std::string::npos) continue;
+    if (line.find("127.0.0.2") != std::string::npos) ++warnings;
+    else ++about_others;
+  }
+  EXPECT_EQ(warnings, 1) << daemon->log();
+  EXPECT_EQ(about_others, 0) << daemon->log();
+  EXPECT_TRUE(daemon->running());
 }
 
 TEST_F(Tls, ABadCertificateFileIsAStartUpErrorNamingTheKeyAndFile) {

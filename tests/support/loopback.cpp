@@ -94,6 +94,19 @@ Socket Socket::tcp(std::uint16_t port) {
   return Socket(fd);
 }
 
+Socket Socket::tcp_from(const std::string& source, std::uint16_t port) {
+  const int fd = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
+  auto from = loopback(0);
+  auto addr = loopback(port);
+  if (::inet_pton(AF_INET, source.c_str(), &from.sin_addr) != 1 ||
+      ::bind(fd, reinterpret_cast<sockaddr*>(&from), sizeof from) != 0 ||
+      ::connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0) {
+    ::close(fd);
+    return Socket(-1);
+  }
+  return Socket(fd);
+}
+
 Socket Socket::unix_socket(const std::string& path) {
   const int fd = ::socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
   sockaddr_un addr{};

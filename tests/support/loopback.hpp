@@ -30,6 +30,9 @@ bool wait_for_port(std::uint16_t port, std::chrono::milliseconds timeout = std::
 class Socket {
  public:
   static Socket tcp(std::uint16_t port);  // 127.0.0.1
+  /// From `source` (any address of 127/8: Linux routes all of it on lo), a host other than
+  /// 127.0.0.1 as far as the daemon can tell.
+  static Socket tcp_from(const std::string& source, std::uint16_t port);
   static Socket unix_socket(const std::string& path);
   Socket(Socket&& other) noexcept;
   Socket& operator=(Socket&&) = delete;

@@ -2,9 +2,8 @@
 // client over memory (tests/support/peers/memory_tls_client) — a handshake, records split
 // anywhere, a request that comes with the client's Finished, KeyUpdates both ways, padded
 // records, answers longer than a record, close_notify, forged records and bytes that are
-// not TLS. Each with the records after the handshake in tls/record_layer (the port's
-// context: no tickets) and in OpenSSL (a context that sends tickets, and TLS 1.2). A
-// self-signed ECDSA P-256 certificate made here.
+// not TLS, the server's own close_notify. Every record is OpenSSL's (SPEC §11), for TLS 1.3
+// and 1.2. A self-signed ECDSA P-256 certificate made here.
 
 #include <gtest/gtest.h>
 
@@ -16,16 +15,14 @@
 
 #include "tests/support/peers/memory_tls_client.hpp"
 #include "tls/memory_session.hpp"
+#include "tls/server_credentials.hpp"
 
 namespace unima::tls {
 namespace {
 
 using Status = MemorySession::Status;
 
-enum class Records { own, openssls };
-void PrintTo(Records records, std::ostream* out) { *out << (records == Records::own ? "own" : "OpenSSL's"); }
-
-class MemorySessionTest : public ::testing::TestWithParam<Records> {
+class MemorySessionTest : public ::testing::Test {
  protected:
   void SetUp() override {
     key_ = EVP_EC_gen("P-256");
@@ -41,9 +38,7 @@ class MemorySessionTest : public ::testing::TestWithParam<Records> {
     server_context_ = SSL_CTX_new(TLS_server_method());
     SSL_CTX_use_certificate(server_context_, cert_);
     SSL_CTX_use_PrivateKey(server_context_, key_);
-    // The port's contexts send no tickets (tls/server_credentials); OpenSSL keeps the
-    // records of a session that sent some.
-    SSL_CTX_set_num_tickets(server_context_, GetParam() == Records::own ? 0 : 2);
+    apply_server_policy(server_context_);  // as the port's contexts: no tickets, no renegotiation
     client_context_ = SSL_CTX_new(TLS_client_method());
     tls_client_ = std::make_unique<test_support::MemoryTlsClient>(client_context_);
     client_ = tls_client_->ssl();
@@ -76,7 +71,6 @@ class MemorySessionTest : public ::testing::TestWithParam<Records> {
     handshake_but_the_last_flight();
     server_->feed(from_client());
     ASSERT_EQ(server_->handshake(), Status::done);
-    EXPECT_EQ(server_->records_own(), GetParam() == Records::own);
     to_client();
   }
   void send_from_client(const std::string& text) {
@@ -111,14 +105,13 @@ class MemorySessionTest : public ::testing::TestWithParam<Records> {
   std::unique_ptr<MemorySession> server_;
 };
 
-TEST_P(MemorySessionTest, ARequestThatComesWithTheFinishedIsReadOnceTheHandshakeIsDone) {
+TEST_F(MemorySessionTest, ARequestThatComesWithTheFinishedIsReadOnceTheHandshakeIsDone) {
   handshake_but_the_last_flight();
   ASSERT_EQ(SSL_write(client_, "request", 7), 7);
   server_->feed(from_client());  // Finished and the request in one piece
   EXPECT_FALSE(server_->handshaken());
   EXPECT_EQ(server_->handshake(), Status::done);
   EXPECT_TRUE(server_->handshaken());
-  EXPECT_EQ(server_->records_own(), GetParam() == Records::own);
   EXPECT_EQ(read_all(), "request");
 
   ASSERT_TRUE(server_->write(std::span(reinterpret_cast<const std::uint8_t*>("answer"), 6)));
@@ -130,7 +123,7 @@ TEST_P(MemorySessionTest, ARequestThatComesWithTheFinishedIsReadOnceTheHandshake
   EXPECT_EQ(std::string(answer, 6), "answer");
 }
 
-TEST_P(MemorySessionTest, ARecordFedByteByByteIsReadWhenItIsWhole) {
+TEST_F(MemorySessionTest, ARecordFedByteByByteIsReadWhenItIsWhole) {
   handshake_but_the_last_flight();
   server_->feed(from_client());
   ASSERT_EQ(server_->handshake(), Status::done);
@@ -147,7 +140,7 @@ TEST_P(MemorySessionTest, ARecordFedByteByByteIsReadWhenItIsWhole) {
   EXPECT_EQ(std::string(reinterpret_cast<char*>(buffer), n), "0123456789");
 }
 
-TEST_P(MemorySessionTest, CloseNotifyIsClosedAndGarbageIsAFailureWithAReason) {
+TEST_F(MemorySessionTest, CloseNotifyIsClosedAndGarbageIsAFailureWithAReason) {
   handshake_but_the_last_flight();
   server_->feed(from_client());
   ASSERT_EQ(server_->handshake(), Status::done);
@@ -165,7 +158,7 @@ TEST_P(MemorySessionTest, CloseNotifyIsClosedAndGarbageIsAFailureWithAReason) {
 }
 
 // RFC 8446 §4.6.3: a client may renew its key, and ask the server to renew its own.
-TEST_P(MemorySessionTest, AClientsKeyUpdateIsFollowedAndAnsweredWhenItAsks) {
+TEST_F(MemorySessionTest, AClientsKeyUpdateIsFollowedAndAnsweredWhenItAsks) {
   handshake();
   ASSERT_EQ(SSL_key_update(client_, SSL_KEY_UPDATE_REQUESTED), 1);
   send_from_client("after the update");
@@ -179,14 +172,14 @@ TEST_P(MemorySessionTest, AClientsKeyUpdateIsFollowedAndAnsweredWhenItAsks) {
   EXPECT_EQ(read_at_client(), "and again");
 }
 
-TEST_P(MemorySessionTest, PaddedRecordsAreReadWithoutTheirPadding) {
+TEST_F(MemorySessionTest, PaddedRecordsAreReadWithoutTheirPadding) {
   handshake();
   ASSERT_EQ(SSL_set_block_padding(client_, 512), 1);
   send_from_client("request");
   EXPECT_EQ(read_all(), "request");
 }
 
-TEST_P(MemorySessionTest, AnAnswerLongerThanARecordArrivesWhole) {
+TEST_F(MemorySessionTest, AnAnswerLongerThanARecordArrivesWhole) {
   handshake();
   std::string long_answer(40000, '\0');
   for (std::size_t i = 0; i < long_answer.size(); ++i) long_answer[i] = static_cast<char>('a' + i % 26);
@@ -194,7 +187,7 @@ TEST_P(MemorySessionTest, AnAnswerLongerThanARecordArrivesWhole) {
   EXPECT_EQ(read_at_client(), long_answer);
 }
 
-TEST_P(MemorySessionTest, AForgedRecordEndsTheSessionWithAReasonAndTheClientIsTold) {
+TEST_F(MemorySessionTest, AForgedRecordEndsTheSessionWithAReasonAndTheClientIsTold) {
   handshake();
   ASSERT_EQ(SSL_write(client_, "write W", 7), 7);
   auto record = from_client();
@@ -211,10 +204,49 @@ TEST_P(MemorySessionTest, AForgedRecordEndsTheSessionWithAReasonAndTheClientIsTo
   EXPECT_EQ(SSL_get_error(client_, -1), SSL_ERROR_SSL);  // the server's alert, not "want more"
 }
 
-INSTANTIATE_TEST_SUITE_P(Records, MemorySessionTest, ::testing::Values(Records::own, Records::openssls),
-                         [](const auto& info) { return info.param == Records::own ? "OwnRecordLayer" : "OpenSSLs"; });
+// RFC 8446 §6.1: the server closes cleanly with its own close_notify, which the client
+// reads as the end of the stream; after the client's close_notify the server's answers it.
+TEST_F(MemorySessionTest, TheServersCloseNotifyEndsTheClientsStreamCleanly) {
+  handshake();
+  send_from_client("request");
+  EXPECT_EQ(read_all(), "request");
+  ASSERT_TRUE(server_->close_notify());
+  EXPECT_FALSE(server_->close_notify()) << "said once";
+  to_client();
+  char buffer[8];
+  EXPECT_EQ(SSL_read(client_, buffer, sizeof buffer), 0);
+  EXPECT_EQ(SSL_get_error(client_, 0), SSL_ERROR_ZERO_RETURN);
+}
 
-TEST(MemorySessionTls12, OpenSSLKeepsTheRecordsOfATls12Session) {
+TEST_F(MemorySessionTest, AfterTheClientsCloseNotifyTheServerAnswersWithItsOwn) {
+  handshake();
+  ASSERT_EQ(SSL_shutdown(client_), 0);  // sent, the server's not yet received
+  server_->feed(from_client());
+  std::uint8_t buffer[8];
+  std::size_t n = 0;
+  ASSERT_EQ(server_->read(buffer, n), Status::closed);
+  ASSERT_TRUE(server_->close_notify());
+  to_client();
+  EXPECT_EQ(SSL_shutdown(client_), 1);  // both sides closed
+}
+
+TEST_F(MemorySessionTest, NoCloseNotifyBeforeTheHandshakeOrAfterAFailure) {
+  EXPECT_FALSE(server_->close_notify()) << "nothing to close before a handshake";
+  handshake();
+  ASSERT_EQ(SSL_write(client_, "write W", 7), 7);
+  auto record = from_client();
+  record.back() ^= 0x01;
+  server_->feed(record);
+  std::uint8_t buffer[16];
+  std::size_t n = 0;
+  ASSERT_EQ(server_->read(buffer, n), Status::failed);
+  std::vector<std::uint8_t> alert;
+  server_->take_output(alert);
+  EXPECT_FALSE(server_->close_notify()) << "OpenSSL says nothing more after a fatal alert";
+  EXPECT_FALSE(server_->has_output());
+}
+
+TEST(MemorySessionTls12, ATls12SessionReadsAndWritesLikeATls13One) {
   EVP_PKEY* key = EVP_EC_gen("P-256");
   X509* cert = X509_new();
   X509_gmtime_adj(X509_getm_notBefore(cert), 0);
@@ -224,7 +256,7 @@ TEST(MemorySessionTls12, OpenSSLKeepsTheRecordsOfATls12Session) {
   SSL_CTX* server_context = SSL_CTX_new(TLS_server_method());
   SSL_CTX_use_certificate(server_context, cert);
   SSL_CTX_use_PrivateKey(server_context, key);
-  SSL_CTX_set_num_tickets(server_context, 0);
+  apply_server_policy(server_context);
   SSL_CTX* client_context = SSL_CTX_new(TLS_client_method());
   SSL_CTX_set_max_proto_version(client_context, TLS1_2_VERSION);
   {
@@ -247,13 +279,19 @@ TEST(MemorySessionTls12, OpenSSLKeepsTheRecordsOfATls12Session) {
     ASSERT_TRUE(server.handshaken());
     ASSERT_EQ(SSL_do_handshake(client), 1);
     EXPECT_EQ(SSL_version(server.native_handle()), TLS1_2_VERSION);
-    EXPECT_FALSE(server.records_own());
     ASSERT_EQ(SSL_write(client, "twelve", 6), 6);
     server.feed(tls_client.take_output());
     std::uint8_t buffer[16];
     std::size_t n = 0;
     ASSERT_EQ(server.read(buffer, n), Status::done);
     EXPECT_EQ(std::string(reinterpret_cast<char*>(buffer), n), "twelve");
+    ASSERT_TRUE(server.write(std::span(reinterpret_cast<const std::uint8_t*>("answer"), 6)));
+    std::vector<std::uint8_t> bytes;
+    server.take_output(bytes);
+    tls_client.give_input(bytes);
+    char answer[16];
+    ASSERT_EQ(SSL_read(client, answer, sizeof answer), 6);
+    EXPECT_EQ(std::string(answer, 6), "answer");
   }
   SSL_CTX_free(client_context);
   SSL_CTX_free(server_context);

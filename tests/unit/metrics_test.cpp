@@ -18,7 +18,10 @@ bool has_line(const std::string& text, const std::string& line) {
 const auto status = nlohmann::json::parse(R"({
   "uptime_s": 42, "rss_bytes": 9437184, "error": true,
   "ports": [ {"port": "tcp", "transactions": 7, "Done": 5, "Err02": 2, "clients": 3},
-             {"port": "rtu", "transactions": 1, "Done": 1} ],
+             {"port": "rtu", "transactions": 1, "Done": 1},
+             {"port": "tls", "transactions": 2, "Done": 2, "clients": 1,
+              "handshakes": {"completed": 3, "failed": 1, "in_progress": 1,
+                             "refused": {"per_host_in_progress": 4, "per_host_rate": 5, "in_progress": 0}}} ],
   "devices": [ {"bank": "D1", "type": "unigen-chp", "address": 5, "online": true, "telegrams": 12},
                {"bank": "D2", "type": null, "online": false} ],
   "modules": [ {"bank": "S1", "slot": 1, "online": false, "telegrams": 0} ],
@@ -46,6 +49,14 @@ TEST(Prometheus, EveryFamilyHasHelpAndTypeAndTheStatusValues) {
   EXPECT_TRUE(has_line(text, R"(unima_bridge_modbus_transactions_total{port="rtu",state="Done"} 1)")) << text;
   EXPECT_TRUE(has_line(text, R"(unima_bridge_modbus_clients{port="tcp"} 3)")) << text;
   EXPECT_EQ(text.find(R"(unima_bridge_modbus_clients{port="rtu"})"), std::string::npos) << text;  // no such figure
+  EXPECT_TRUE(has_line(text, "# TYPE unima_bridge_tls_handshakes_total counter")) << text;
+  EXPECT_TRUE(has_line(text, R"(unima_bridge_tls_handshakes_total{port="tls"} 3)")) << text;
+  EXPECT_TRUE(has_line(text, R"(unima_bridge_tls_handshakes_failed_total{port="tls"} 1)")) << text;
+  EXPECT_TRUE(has_line(text, R"(unima_bridge_tls_handshakes_refused_total{port="tls",limit="per_host_rate"} 5)")) << text;
+  EXPECT_TRUE(has_line(text, R"(unima_bridge_tls_handshakes_refused_total{port="tls",limit="in_progress"} 0)")) << text;
+  EXPECT_TRUE(has_line(text, R"(unima_bridge_tls_handshakes_in_progress{port="tls"} 1)")) << text;
+  EXPECT_EQ(text.find(R"(unima_bridge_tls_handshakes_total{port="tcp"})"), std::string::npos) << text;
+  EXPECT_EQ(text.find(R"(state="handshakes")"), std::string::npos) << text;  // not a transaction state
   EXPECT_TRUE(has_line(text, R"(unima_bridge_device_online{bank="D1",type="unigen-chp"} 1)")) << text;
   EXPECT_TRUE(has_line(text, R"(unima_bridge_device_telegrams_total{bank="D1",type="unigen-chp"} 12)")) << text;
   EXPECT_EQ(text.find(R"(bank="D2")"), std::string::npos) << text;  // not configured: not a device

@@ -57,6 +57,27 @@ std::vector<std::uint8_t> SegmentedTlsClient::answer() {
   return answer;
 }
 
+void SegmentedTlsClient::close_notify() {
+  SSL_shutdown(client_.ssl());
+  flush();
+}
+
+bool SegmentedTlsClient::closed_with_close_notify(std::chrono::milliseconds timeout) {
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  std::uint8_t plaintext[260];
+  while (true) {
+    const int got = SSL_read(client_.ssl(), plaintext, sizeof plaintext);
+    if (got > 0) continue;  // an answer still on its way
+    const int error = SSL_get_error(client_.ssl(), got);
+    if (error == SSL_ERROR_ZERO_RETURN) return true;
+    if (error != SSL_ERROR_WANT_READ) return false;
+    std::uint8_t buffer[16384];
+    const auto n = read_before(socket_.fd(), deadline, buffer);
+    if (n <= 0) return false;  // the end of the stream without a close_notify, or the deadline
+    client_.give_input(std::span(buffer, static_cast<std::size_t>(n)));
+  }
+}
+
 bool SegmentedTlsClient::receive() {
   std::uint8_t buffer[16384];
   const auto n = read_before(socket_.fd(), std::chrono::steady_clock::now() + std::chrono::seconds(2), buffer);

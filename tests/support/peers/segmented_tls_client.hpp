@@ -6,6 +6,7 @@
 
 #include <openssl/ssl.h>
 
+#include <chrono>
 #include <cstdint>
 #include <span>
 #include <string>
@@ -34,6 +35,11 @@ class SegmentedTlsClient {
   static std::string last_error();
   /// The plaintext of the answer, waiting up to 2 s for each piece; empty if none came.
   std::vector<std::uint8_t> answer();
+  /// Sends the client's close_notify.
+  void close_notify();
+  /// True when the server's close_notify comes within `timeout` (SSL_read gives 0 with
+  /// SSL_ERROR_ZERO_RETURN); false when the connection ends without one, or nothing comes.
+  bool closed_with_close_notify(std::chrono::milliseconds timeout);
   SSL* ssl() const { return client_.ssl(); }
 
  private:
