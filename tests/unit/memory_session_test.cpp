@@ -2,8 +2,8 @@
 // client over memory (tests/support/peers/memory_tls_client) — a handshake, records split
 // anywhere, a request that comes with the client's Finished, KeyUpdates both ways, padded
 // records, answers longer than a record, close_notify, forged records and bytes that are
-// not TLS, the server's own close_notify. Every record is OpenSSL's (SPEC §11), for TLS 1.3
-// and 1.2. A self-signed ECDSA P-256 certificate made here.
+// not TLS, the server's own close_notify, no tickets and no renegotiation. Every record is
+// OpenSSL's (SPEC §11), for TLS 1.3 and 1.2. A self-signed ECDSA P-256 certificate made here.
 
 #include <gtest/gtest.h>
 
@@ -204,6 +204,17 @@ TEST_F(MemorySessionTest, AForgedRecordEndsTheSessionWithAReasonAndTheClientIsTo
   EXPECT_EQ(SSL_get_error(client_, -1), SSL_ERROR_SSL);  // the server's alert, not "want more"
 }
 
+// SPEC §11: the port's policy issues no session ticket (a TLS 1.3 client reads none after
+// the handshake and an answer).
+TEST_F(MemorySessionTest, NoSessionTicketIsIssued) {
+  handshake();
+  send_from_client("request");
+  EXPECT_EQ(read_all(), "request");
+  answer("answer");
+  EXPECT_EQ(read_at_client(), "answer");
+  EXPECT_EQ(SSL_SESSION_has_ticket(SSL_get_session(client_)), 0);
+}
+
 // RFC 8446 §6.1: the server closes cleanly with its own close_notify, which the client
 // reads as the end of the stream; after the client's close_notify the server's answers it.
 TEST_F(MemorySessionTest, TheServersCloseNotifyEndsTheClientsStreamCleanly) {
@@ -246,7 +257,7 @@ TEST_F(MemorySessionTest, NoCloseNotifyBeforeTheHandshakeOrAfterAFailure) {
   EXPECT_FALSE(server_->has_output());
 }
 
-TEST(MemorySessionTls12, ATls12SessionReadsAndWritesLikeATls13One) {
+TEST(MemorySessionTls12, ATls12SessionReadsAndWritesWithNoTicketAndNoRenegotiation) {
   EVP_PKEY* key = EVP_EC_gen("P-256");
   X509* cert = X509_new();
   X509_gmtime_adj(X509_getm_notBefore(cert), 0);
@@ -292,6 +303,19 @@ TEST(MemorySessionTls12, ATls12SessionReadsAndWritesLikeATls13One) {
     char answer[16];
     ASSERT_EQ(SSL_read(client, answer, sizeof answer), 6);
     EXPECT_EQ(std::string(answer, 6), "answer");
+    EXPECT_EQ(SSL_SESSION_has_ticket(SSL_get_session(client)), 0);
+
+    // SPEC §11: a renegotiation the client asks for is refused, and no second handshake runs.
+    ASSERT_EQ(SSL_renegotiate(client), 1);
+    EXPECT_NE(SSL_do_handshake(client), 1);
+    server.feed(tls_client.take_output());
+    EXPECT_NE(server.read(buffer, n), Status::done);
+    bytes.clear();
+    server.take_output(bytes);
+    EXPECT_FALSE(bytes.empty()) << "the server's no_renegotiation alert";
+    tls_client.give_input(bytes);
+    const int renegotiated = SSL_do_handshake(client);
+    EXPECT_EQ(SSL_get_error(client, renegotiated), SSL_ERROR_SSL) << "refused, not waiting for the server's flight";
   }
   SSL_CTX_free(client_context);
   SSL_CTX_free(server_context);
