@@ -228,6 +228,9 @@ class Client : public std::enable_shared_from_this<Client> {
   void next_attempt(bool answered) {
     if (answered) ++shared_.answered;
     boost::system::error_code ignored;
+    // Reset, not closed: no TIME_WAIT left behind, whose thousands of ports would slow this
+    // host's next connects (an attacker would not wait for them either).
+    socket_->set_option(asio::socket_base::linger(true, 0), ignored);
     socket_->close(ignored);
     connect();
   }

@@ -7,7 +7,10 @@
 # default 2000 — more than the daemon could answer without a limit — for the round's
 # seconds and at most FLOOD_RATE × seconds connections). Reports p99 idle and under the
 # flood and their ratio (median of the rounds; the target is within 2×), and what the
-# flood got: connections, the ones the daemon answered with its first flight.
+# flood got: connections, the ones the daemon answered with its first flight. Then the
+# flood alone, and the daemon's CPU time meanwhile (utime + stime from /proc, as a share
+# of one core): the loop's cost of the flood, which other work on the machine does not
+# change the way it changes a p99.
 # FLOOD_BRIDGED=path measures another build of the daemon (the filed one, say) with this
 # build's clients.
 # Usage: bench/tls_flood.sh [BUILD_DIR] [ROUNDS] [SECONDS]   (default build-release 5 3)
@@ -35,6 +38,7 @@ plain=$(free_port); tls=$(free_port)
 } > "$work/bridge.yaml"
 "$bridged" --config "$work/bridge.yaml" > "$work/bridge.log" 2>&1 &
 pids+=($!)
+daemon_pid=$!
 started=
 for _ in $(seq 100); do (exec 3<>/dev/tcp/127.0.0.1/"$plain") 2>/dev/null && { started=1; break; }; sleep 0.05; done
 [ -n "$started" ] || { echo "the daemon did not start:"; cat "$work/bridge.log"; exit 1; }
@@ -51,7 +55,9 @@ flood() {  # runs for the round (and its warm-up), writes its JSON to $work/floo
     --attempts "$attempts" --duration "$span" > "$work/flood.json"
 }
 
-idle=(); flooded=(); ratio=(); per_s=(); answered=()
+cpu_seconds() { awk -v hz="$(getconf CLK_TCK)" '{ print ($14 + $15) / hz }' "/proc/$daemon_pid/stat"; }
+
+idle=(); flooded=(); ratio=(); per_s=(); answered=(); busy=()
 for round in $(seq "$rounds"); do
   order=(idle flood)
   [ $((round % 2)) = 0 ] && order=(flood idle)
@@ -69,6 +75,12 @@ for round in $(seq "$rounds"); do
   done
   idle+=("$i"); flooded+=("$f"); ratio+=("$(python3 -c "print($f / $i)")")
 done
+for _ in $(seq "$rounds"); do
+  before=$(cpu_seconds); start=$(date +%s.%N)
+  flood
+  after=$(cpu_seconds); end=$(date +%s.%N)
+  busy+=("$(python3 -c "print(($after - $before) / ($end - $start))")")
+done
 
 echo "| measure (median of $rounds paired rounds) | value |"
 echo "|---|---|"
@@ -77,3 +89,4 @@ echo "| the same while 127.0.0.2 floods the TLS port with one replayed ClientHel
 echo "| ratio flood / idle (target ≤ 2) | $(median "${ratio[@]}") |"
 echo "| the flood's connections a second | $(median "${per_s[@]}") |"
 echo "| share of them the daemon answered with its first flight (a handshake's cryptography) | $(median "${answered[@]}") |"
+echo "| the daemon's CPU during the flood alone, share of one core | $(median "${busy[@]}") |"
