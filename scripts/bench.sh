@@ -2,7 +2,8 @@
 # Installs what is missing, builds a Release tree in build-release/ (or $BUILD_DIR) and
 # runs the benchmark of docs/performance.md: unima-bridged beside the libmodbus reference.
 # Extra arguments go to bench/run_bench.py (e.g. --rounds 9, --bridge-config FILE, --json F).
-# Then Modbus/TCP Security against plain TCP (bench/tls.sh), plain Modbus latency under a
+# Then Modbus/TCP Security against plain TCP (bench/tls.sh) and against stunnel4 in front of
+# the libmodbus server (bench/tls_reference.sh), plain Modbus latency under a
 # handshake flood (bench/tls_flood.sh), the cost of the HTTP server with its page open
 # (bench/http.sh), and MQTT's (bench/mqtt.sh).
 set -euo pipefail
@@ -11,6 +12,7 @@ scripts/install-deps.sh
 BUILD_DIR=${BUILD_DIR:-build-release} BUILD_TYPE=Release scripts/build.sh
 python3 bench/run_bench.py --build-dir "${BUILD_DIR:-build-release}" "$@"
 bench/tls.sh "${BUILD_DIR:-build-release}"
+bench/tls_reference.sh "${BUILD_DIR:-build-release}"
 bench/tls_flood.sh "${BUILD_DIR:-build-release}"
 bench/http.sh "${BUILD_DIR:-build-release}"
 bench/mqtt.sh "${BUILD_DIR:-build-release}"
