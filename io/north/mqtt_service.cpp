@@ -89,6 +89,8 @@ void MqttService::take_command(std::string_view topic, std::string_view payload)
                           ? writes.write_bit(base, command.offset, command.value != 0, nullptr)
                           : writes.write_registers(static_cast<std::uint16_t>(base + command.offset),
                                                    std::span(&command.value, 1), nullptr);
+  if (result.status == modbus::WriteResult::Status::read_only)
+    return answer("read only: modbus.tcp.read_only is on, no command is taken");
   if (result.status != modbus::WriteResult::Status::written)
     return answer(fmt::format("{} is not writable in this config", banks::bank_name(command.bank)));
   spdlog::info("mqtt: {} = {} ({})", platform::log_safe(topic), platform::log_safe(payload.substr(0, 20)),
