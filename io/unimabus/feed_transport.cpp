@@ -61,8 +61,9 @@ class SocketSession final : public FeedTransport::Session {
     // Logged like its connect: the first of a peer in a period, then a count; the count of
     // malformed lines as a kind of its own, so that a plain disconnect does not hide it.
     if (malformed_lines_ > 1)
-      platform::note_from_peer("feed: disconnections after malformed lines", peer_, "feed: {} disconnected ({} malformed lines, {})", peer_,
-                               malformed_lines_, first_malformed_logged_ ? "the first one logged" : "counted with its host's");
+      platform::note_from_peer("feed: disconnections after malformed lines", peer_,
+                               "feed: {} disconnected ({} malformed lines, {})", peer_, malformed_lines_,
+                               first_malformed_logged_ ? "the first one logged" : "counted with its host's");
     else
       platform::note_from_peer("feed: disconnections", peer_, "feed: {} disconnected", peer_);
     on_closed_(this);

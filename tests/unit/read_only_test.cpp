@@ -46,7 +46,9 @@ TEST(ReadOnly, AFrozenWritePathRefusesEveryWriteAndChangesNothingUntilThawed) {
   EXPECT_EQ(store.read(banks::BankId::W, 3), 66);
 }
 
-config::Config config_of(const std::string& yaml) { return config::parse_text(yaml, "bridge.yaml", config::Host{"box"}); }
+config::Config config_of(const std::string& yaml) {
+  return config::parse_text(yaml, "bridge.yaml", config::Host{"box"});
+}
 
 TEST(ReadOnly, ThePlainPortsReadOnlyFreezesTheBridgeAndTheTlsPortsIsItsOwn) {
   EXPECT_FALSE(config::writes_frozen(config_of("modbus:\n  tcp: {}\n")));
