@@ -67,7 +67,8 @@ class LineWriter {
   // A field of a text line is one word, and a port name is the peer's text (a TLS
   // client's certificate names its role): a control character or a space in it is escaped
   // as in the log (platform/log_text), so a peer can neither forge a line nor shift the
-  // fields after its name. The bound allows max_escape bytes for each of its characters.
+  // fields after its name. monitor_line_bound's room for the port (6 bytes a character,
+  // for JSON's \u00XX) holds these escapes (4 at most) too.
   void word(std::string_view text) {
     char* p = p_;
     for (const char c : text) {

@@ -5,6 +5,7 @@
 // else is left as it is. log_safe is that for a log call's argument; the monitor's line
 // writer and the log's formatter use the same escape byte by byte (escape_byte).
 
+#include <cstddef>
 #include <string>
 #include <string_view>
 
