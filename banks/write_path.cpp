@@ -5,6 +5,7 @@ namespace unima::banks {
 modbus::WriteResult WritePath::write_registers(std::uint16_t first, std::span<const std::uint16_t> values,
                                                const modbus::WriteRights* rights) {
   using Status = modbus::WriteResult::Status;
+  if (frozen_) return {Status::read_only};
   // SPEC §11: the rights come before the address is looked at, so a client without the
   // right learns nothing of the map.
   if (rights && !rights->allows(first, static_cast<std::uint16_t>(values.size()))) return {Status::not_allowed};

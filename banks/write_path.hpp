@@ -2,6 +2,8 @@
 // The one way a value from outside gets into W, X or a write block's output: Modbus
 // TCP, TLS and RTU (through the request handler), MQTT commands, and whatever comes next.
 // A write, in this order:
+//   0. frozen: while the config makes the bridge read-only (config::writes_frozen), every
+//      write is refused, whichever way it came (Status::read_only, exception 01);
 //   1. rights: the client's modbus::WriteRights cover every register (else exception 01);
 //   2. the register space takes it all or nothing (else exception 02), into the store;
 //   3. the journal keeps each value for a restart, and the write returns the number the
@@ -42,10 +44,13 @@ class WritePath final : public modbus::RegisterModel {
   modbus::WriteResult write_bit(std::uint16_t address, unsigned bit, bool on, const modbus::WriteRights* rights);
 
   void set_journal(WriteJournal* journal) { journal_ = journal; }
+  /// While frozen, every write is refused with Status::read_only and changes nothing.
+  void freeze(bool frozen) { frozen_ = frozen; }
 
  private:
   RegisterSpace& space_;
   WriteJournal* journal_;
+  bool frozen_ = false;
 };
 
 }  // namespace unima::banks

@@ -35,6 +35,8 @@ std::vector<const Block*> Config::active_blocks() const {
   return active;
 }
 
+bool writes_frozen(const Config& config) { return config.modbus.tcp && config.modbus.tcp->read_only; }
+
 std::vector<std::string> warnings(const Config& config) {
   std::vector<std::string> found;
   const bool slave = config.modbus.mode == ModbusMode::slave;
@@ -58,6 +60,9 @@ std::vector<std::string> warnings(const Config& config) {
       found.push_back(fmt::format("{}: http listens on {} without http.tls: passwords cross the network in clear",
                                   http->origin, http->listen));
   }
+  if (config.mqtt && config.mqtt->commands && writes_frozen(config))
+    found.push_back(fmt::format("{}: mqtt.commands is true, but modbus.tcp.read_only is on: every MQTT command is "
+                                "refused (ok: false on set/result) while it is", config.mqtt->origin));
   if (!slave) {
     const auto more = foreign_slave_warnings(config);
     found.insert(found.end(), more.begin(), more.end());

@@ -322,6 +322,15 @@ banks::BankShapes bank_shapes(const Config& config);
 /// Validated by the parse: no two windows overlap.
 banks::AddressMap address_map(const Config& config);
 
+/// Whether the bridge takes no write at all (SPEC §11): `modbus.tcp.read_only` is the
+/// site's freeze switch for commissioning and maintenance, so it holds for every way a
+/// write comes in — the plain, TLS and RTU ports, MQTT commands, and whatever comes next
+/// (Sparkplug, the gateway) — not for the plain port alone. A reload that turns it on
+/// stops them all without editing their sections. Every way in asks this one question
+/// (banks::WritePath is frozen by it); `modbus.tls.read_only` is the TLS port's own, in
+/// addition.
+bool writes_frozen(const Config& config);
+
 /// Things that are allowed but probably not meant, for the log at start-up and for
 /// `unima-bridge check`: blocks ignored in this mode, capture blocks without an RTU port.
 std::vector<std::string> warnings(const Config& config);

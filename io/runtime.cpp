@@ -29,6 +29,7 @@ std::unique_ptr<Banks> build_banks(config::Config config, banks::WriteJournal* j
   b->space = std::make_unique<banks::RegisterSpace>(config::address_map(config), *b->store,
                                                     banks::AccessRules{config.modbus.readable_write_banks});
   b->writes = std::make_unique<banks::WritePath>(*b->space, journal);
+  b->writes->freeze(config::writes_frozen(config));
   b->intake = std::make_unique<unimabus::TelegramIntake>(
       unimabus::standard_routes(config.unimabus.address, *b->store, device_addresses(config)), *b->store,
       config.unimabus.offline_after);

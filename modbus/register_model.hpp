@@ -14,6 +14,7 @@ struct WriteResult {
     written,       // every value was taken
     not_allowed,   // the client's rights do not cover every register: exception 01
     not_writable,  // a register of the range is not writable: exception 02
+    read_only,     // the bridge takes no writes at all (modbus.tcp.read_only): exception 01
   };
   Status status = Status::written;
   /// The number under which the values were kept for a restart: the write may be

@@ -33,6 +33,7 @@ std::optional<ExceptionCode> refusal_of(const WriteResult& result) {
   switch (result.status) {
     case WriteResult::Status::written: return std::nullopt;
     case WriteResult::Status::not_allowed: return ExceptionCode::illegal_function;
+    case WriteResult::Status::read_only: return ExceptionCode::illegal_function;
     case WriteResult::Status::not_writable: return ExceptionCode::illegal_data_address;
   }
   return ExceptionCode::illegal_data_address;

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "monitor/hex_text.hpp"
+#include "platform/log_text.hpp"
 
 namespace unima::monitor {
 
@@ -63,15 +64,29 @@ class LineWriter {
     }
     p_ = p + width;
   }
-  // Port names and hex strings never hold characters JSON must escape, but a port name
-  // is the peer's text, so escaping keeps a line valid whatever it holds.
+  // A field of a text line is one word, and a port name is the peer's text (a TLS
+  // client's certificate names its role): a control character or a space in it is escaped
+  // as in the log (platform/log_text), so a peer can neither forge a line nor shift the
+  // fields after its name. monitor_line_bound's room for the port (6 bytes a character,
+  // for JSON's \u00XX) holds these escapes (4 at most) too.
+  void word(std::string_view text) {
+    char* p = p_;
+    for (const char c : text) {
+      const auto byte = static_cast<unsigned char>(c);
+      if (byte == ' ' || platform::is_control(byte)) p = platform::escape_byte(p, byte);
+      else *p++ = c;
+    }
+    p_ = p;
+  }
+  // Hex strings never hold characters JSON must escape, but a port name is the peer's
+  // text, so escaping keeps a line valid and on one line whatever it holds.
   void json_string(std::string_view text) {
     put('"');
     for (const char c : text) {
       if (c == '"' || c == '\\') {
         put('\\');
         put(c);
-      } else if (static_cast<unsigned char>(c) < 0x20) {
+      } else if (platform::is_control(static_cast<unsigned char>(c))) {
         put("\\u00");
         hex_byte(static_cast<std::uint8_t>(c));
       } else {
@@ -127,7 +142,7 @@ void append_bounded(std::string& out, std::size_t bound, Write&& write) {
 void write_text(LineWriter& w, const MonitorFields& f) {
   w.utc_time(f.time);
   w.put(' ');
-  w.put(f.port);
+  w.word(f.port);
   w.put(" Ix=");
   w.decimal(f.ix);
   w.put(" Rc=");

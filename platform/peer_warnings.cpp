@@ -6,11 +6,13 @@
 
 namespace unima::platform {
 
-bool PeerWarnings::warn(std::string_view what, std::string_view peer, std::string_view message, Clock::time_point now) {
+bool PeerWarnings::log(Level level, std::string_view what, std::string_view peer, std::string_view message,
+                       Clock::time_point now) {
   report(now);  // a period that ended without the timer (none installed, or late) first
+  if (level == Level::info && !info_kinds_.contains(what)) info_kinds_.emplace(what);
   const bool opens = !limiter_.period_end();
   const bool logged = limiter_.admit(what, peer_host(peer), now);
-  if (logged) spdlog::warn("{}", log_safe(message));
+  if (logged) spdlog::log(level == Level::info ? spdlog::level::info : spdlog::level::warn, "{}", log_safe(message));
   if (opens && period_opened_) period_opened_();
   return logged;
 }
@@ -18,11 +20,12 @@ bool PeerWarnings::warn(std::string_view what, std::string_view peer, std::strin
 void PeerWarnings::report(Clock::time_point now) {
   const auto period = std::chrono::duration<double>(limiter_.options().period).count();
   for (const auto& held : limiter_.end_period(now)) {
+    const auto level = info_kinds_.contains(held.group) ? spdlog::level::info : spdlog::level::warn;
     if (held.key.empty())
-      spdlog::warn("{}: {} more from other peers in the last {:g} s (too many peers to tell apart)", held.group,
-                   held.count, period);
+      spdlog::log(level, "{}: {} more from other peers in the last {:g} s (too many peers to tell apart)", held.group,
+                  held.count, period);
     else
-      spdlog::warn("{} from {}: {} more in the last {:g} s", held.group, log_safe(held.key), held.count, period);
+      spdlog::log(level, "{} from {}: {} more in the last {:g} s", held.group, log_safe(held.key), held.count, period);
   }
 }
 

@@ -197,7 +197,8 @@ void TcpSlaveServer::Connection::close_idle() {
                              "{}: {} did not complete its request within {} ms, closing", server_.name(), peer_,
                              server_.options_.frame_timeout.count());
   else
-    spdlog::info("{}: {} idle for {} ms, closing", server_.name(), peer_, server_.options_.idle_timeout.count());
+    platform::note_from_peer(server_.warning("idle clients closed"), peer_, "{}: {} idle for {} ms, closing",
+                             server_.name(), peer_, server_.options_.idle_timeout.count());
   close();
 }
 

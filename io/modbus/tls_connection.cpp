@@ -9,6 +9,7 @@
 #include <spdlog/spdlog.h>
 
 #include "io/modbus/tcp_connection.hpp"
+#include "platform/log_text.hpp"
 #include "platform/peer_warnings.hpp"
 #include "tls/memory_session.hpp"
 #include "tls/server_credentials.hpp"
@@ -141,10 +142,11 @@ class TlsConnection final : public TcpSlaveServer::Connection {
     handshake_slot_.completed();
     const auto identity = tls::client_identity(tls_.native_handle());
     role_ = identity.role;
-    spdlog::debug("modbus tls: {} connected as {} (role {}), {}", peer_, identity.subject, role_ ? *role_ : "none",
-                  SSL_get_version(tls_.native_handle()));
-    // The monitor's port field names the client: its role, or its certificate's subject.
-    peer_ = (role_ ? *role_ : identity.subject) + "@" + peer_;
+    spdlog::debug("modbus tls: {} connected as {} (role {}), {}", peer_, platform::log_safe(identity.subject),
+                  role_ ? platform::log_safe(*role_) : "none", SSL_get_version(tls_.native_handle()));
+    // The monitor's port field and the log name the client: its role, or its certificate's
+    // subject — the client's text, escaped.
+    peer_ = platform::log_safe(role_ ? *role_ : identity.subject) + "@" + peer_;
     handshaken_ = true;
     adu_started_.reset();
     last_activity_ = Clock::now();

@@ -6,6 +6,7 @@
 
 #include "monitor/monitor_line.hpp"
 #include "mqtt/command.hpp"
+#include "platform/log_text.hpp"
 #include "values/store_snapshot.hpp"
 
 namespace unima::io {
@@ -88,9 +89,12 @@ void MqttService::take_command(std::string_view topic, std::string_view payload)
                           ? writes.write_bit(base, command.offset, command.value != 0, nullptr)
                           : writes.write_registers(static_cast<std::uint16_t>(base + command.offset),
                                                    std::span(&command.value, 1), nullptr);
+  if (result.status == modbus::WriteResult::Status::read_only)
+    return answer("read only: modbus.tcp.read_only is on, no command is taken");
   if (result.status != modbus::WriteResult::Status::written)
     return answer(fmt::format("{} is not writable in this config", banks::bank_name(command.bank)));
-  spdlog::info("mqtt: {} = {} ({})", topic, payload.substr(0, 20), banks::bank_name(command.bank));
+  spdlog::info("mqtt: {} = {} ({})", platform::log_safe(topic), platform::log_safe(payload.substr(0, 20)),
+               banks::bank_name(command.bank));
   answer_once_durable(runtime_.state.get(), result.kept_as, [answer](bool durable) {
     answer(durable ? std::string() : std::string("the state file could not be written: the value is not kept"));
   });

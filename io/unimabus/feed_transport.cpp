@@ -1,5 +1,7 @@
 #include "io/unimabus/feed_transport.hpp"
 
+#include <sys/socket.h>
+
 #include <array>
 #include <deque>
 
@@ -56,11 +58,14 @@ class SocketSession final : public FeedTransport::Session {
     closed_ = true;
     boost::system::error_code ec;
     socket_.close(ec);
+    // Logged like its connect: the first of a peer in a period, then a count; the count of
+    // malformed lines as a kind of its own, so that a plain disconnect does not hide it.
     if (malformed_lines_ > 1)
-      spdlog::info("feed: {} disconnected ({} malformed lines, {})", peer_, malformed_lines_,
-                   first_malformed_logged_ ? "the first one logged" : "counted with its host's");
+      platform::note_from_peer("feed: disconnections after malformed lines", peer_,
+                               "feed: {} disconnected ({} malformed lines, {})", peer_, malformed_lines_,
+                               first_malformed_logged_ ? "the first one logged" : "counted with its host's");
     else
-      spdlog::info("feed: {} disconnected", peer_);
+      platform::note_from_peer("feed: disconnections", peer_, "feed: {} disconnected", peer_);
     on_closed_(this);
   }
 
@@ -200,7 +205,17 @@ std::string describe_peer(const asio::ip::tcp::socket& socket, const std::string
   const auto remote = socket.remote_endpoint(ec);
   return ec ? std::string("?") : remote.address().to_string() + ":" + std::to_string(remote.port());
 }
-std::string describe_peer(const asio::local::stream_protocol::socket&, const std::string& listen) { return listen; }
+// A unix-socket client has no address: it is told apart by its user (SO_PEERCRED), so the
+// per-peer limits of the log (platform/peer_warnings) count per user. Not per process: a
+// driver that restarts, or a script that connects once per value, is a new process each
+// time and would be a new peer each time, limited never; the user is what the socket's
+// mode (0660, its group) let in, as an address is what a TCP listener lets in.
+std::string describe_peer(asio::local::stream_protocol::socket& socket, const std::string& listen) {
+  ucred credentials{};
+  socklen_t size = sizeof credentials;
+  if (::getsockopt(socket.native_handle(), SOL_SOCKET, SO_PEERCRED, &credentials, &size) != 0) return listen;
+  return fmt::format("{} uid {}", listen, credentials.uid);
+}
 
 // Changes go out one small line at a time (a captured value, a W write) and a driver waits
 // for each: Nagle's algorithm would hold a line until the previous one is acknowledged.
@@ -228,7 +243,9 @@ void FeedTransport::accepted(Socket socket) {
     return;
   }
   send_at_once(socket);
-  spdlog::info("feed: {} connected", peer);
+  // A client that reconnects in a loop must not flood the log: the first connect of a
+  // host (or unix user) in a period is logged, then how many more.
+  platform::note_from_peer("feed: connections", peer, "feed: {} connected", peer);
   adopt(std::make_shared<SocketSession<Socket>>(std::move(socket), std::move(peer), on_telegram_,
                                                 [this](Session* s) { forget(s); }));
 }

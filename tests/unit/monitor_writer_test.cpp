@@ -235,6 +235,41 @@ TEST(MonitorWriter, TransactionsOfEveryLengthComeOutWholeAndInOrder) {
   }
 }
 
+// A TLS client's port field carries its certificate's role, text the client chose: a role
+// holding a newline, a carriage return, an escape sequence or spaces comes out as one
+// line, its field escaped as log text is, so it neither forges a line nor shifts the
+// fields after it (row 5 of issue 29); the JSON line keeps the role itself, as JSON.
+TEST(MonitorWriter, APeerNameIsEscapedSoItCannotForgeALineOrAField) {
+  const std::string role = "op\n2026-11-22T00:00:00Z tcp:x Ix=0\r\x1b[2J x";  // the peer fits 64 bytes
+  const std::string peer = role + "@127.0.0.1:5000";
+  for (const auto format : {monitor::MonitorFormat::text, monitor::MonitorFormat::json}) {
+    auto text = std::make_shared<std::string>();
+    std::vector<std::unique_ptr<MonitorSink>> sinks;
+    sinks.push_back(std::make_unique<RecordingSink>(text));
+    MonitorWriter::Options options;
+    options.batch_window = 0ms;
+    options.format = format;
+    MonitorWriter writer(std::move(sinks), options);
+    ASSERT_TRUE(writer.push({modbus::PortKind::tls, peer, std::chrono::system_clock::time_point{},
+                             modbus::TransactionState::done, query, response},
+                            3));
+    writer.stop();
+
+    ASSERT_EQ(lines_of(*text).size(), 1u) << *text;
+    EXPECT_EQ(text->find('\r'), std::string::npos) << *text;
+    EXPECT_EQ(text->find('\x1b'), std::string::npos) << *text;
+    const auto parsed = monitor::parse_monitor_line(*text);
+    ASSERT_TRUE(parsed) << *text;
+    EXPECT_EQ(parsed->ix, 3);
+    EXPECT_EQ(parsed->response, response);
+    if (format == monitor::MonitorFormat::text)
+      EXPECT_EQ(parsed->port,
+                "tls:op\\n2026-11-22T00:00:00Z\\x20tcp:x\\x20Ix=0\\r\\x1B[2J\\x20x@127.0.0.1:5000");
+    else
+      EXPECT_EQ(parsed->port, "tls:" + peer);
+  }
+}
+
 using test_support::read_file;
 using test_support::TempDir;
 

@@ -2,7 +2,8 @@
 # The certificates of the Modbus/TCP Security tests (SPEC §11), made with the openssl
 # command line only, as docs/security.md tells an integrator to: a CA, the server's
 # certificate for 127.0.0.1, clients with the role extension 1.3.6.1.4.1.50316.802.1, a
-# client without a role, and a client signed by another CA. ECDSA P-256 throughout.
+# client without a role, a client whose role holds a newline (a forger of log and monitor
+# lines), and a client signed by another CA. ECDSA P-256 throughout.
 #   make_certificates.sh DIR
 set -euo pipefail
 dir=$1
@@ -28,6 +29,13 @@ basicConstraints = critical, CA:FALSE
 keyUsage = critical, digitalSignature
 extendedKeyUsage = clientAuth
 1.3.6.1.4.1.50316.802.1 = ASN1:UTF8String:viewer
+[forger]
+basicConstraints = critical, CA:FALSE
+keyUsage = critical, digitalSignature
+extendedKeyUsage = clientAuth
+# The DER of the UTF8String "viewer\nFORGED line from a certificate": the config syntax
+# cannot write a newline, the DER can.
+1.3.6.1.4.1.50316.802.1 = DER:0C:25:76:69:65:77:65:72:0A:46:4F:52:47:45:44:20:6C:69:6E:65:20:66:72:6F:6D:20:61:20:63:65:72:74:69:66:69:63:61:74:65
 CNF
 key() { openssl genpkey -algorithm EC -pkeyopt ec_paramgen_curve:P-256 -out "$1.key" 2>/dev/null; }
 ca() {  # name
@@ -49,4 +57,5 @@ signed server-renewed ca server
 signed operator ca operator
 signed viewer ca viewer
 signed norole ca client
+signed forger ca forger
 signed stranger other-ca operator
