@@ -92,7 +92,7 @@ void MqttService::take_command(std::string_view topic, std::string_view payload)
     return answer(fmt::format("{} is not writable in this config", banks::bank_name(command.bank)));
   spdlog::info("mqtt: {} = {} ({})", topic, payload.substr(0, 20), banks::bank_name(command.bank));
   answer_once_durable(runtime_.state.get(), result.kept_as, [answer](bool durable) {
-    answer(durable ? std::string() : std::string("the state file could not be written: the value is not kept"));
+    answer(durable ? std::string() : std::string("the state file refused the write: nothing changed"));
   });
 }
 
