@@ -6,10 +6,6 @@
 
 #include <modbus/modbus.h>
 #include <signal.h>
-#include <sys/resource.h>
-
-#include <cerrno>
-#include <cstring>
 
 #include <atomic>
 #include <random>
@@ -17,6 +13,7 @@
 #include <thread>
 
 #include "tests/integration/bridge_fixture.hpp"
+#include "tests/integration/state_outage.hpp"
 
 namespace unima::test {
 namespace {
@@ -237,44 +234,22 @@ TEST_F(State, AStateFileThatCannotBeWrittenIsAStartUpErrorNamingIt) {
       << daemon->log();
 }
 
-// A disk that refuses the state file's writes (issue 29, row 2), simulated without root as
-// tests/integration/log_outage_test.cpp does: the daemon's file size limit (RLIMIT_FSIZE,
-// set from here with prlimit(2)) is lowered below the state file's size, so that its
-// appends, and the rewrite that follows a failed one, fail with EFBIG as they would with
-// ENOSPC. The state file was just compacted at start (the daemon restarted), so no rewrite
-// fits either. The daemon's log, which the limit holds too, is kept small (warnings only)
-// and the state file large (every W and the 16 write blocks' outputs set), so that the log
-// can still say why.
+// A disk that refuses the state file's writes (issue 29, row 2): tests/integration/state_outage.hpp.
 class StateOutage : public State {
  protected:
   void SetUp() override {
     State::SetUp();
     config.log_level = "warn";
-    for (int n = 1; n <= 16; ++n)
-      config.blocks += "  - { type: write, register: " + std::to_string(0x0200 + n - 1) + ", output: " + std::to_string(n) + " }\n";
+    config.blocks = state_outage::write_blocks();
     start();
-    {
-      ModbusClient client(config.modbus_port);
-      std::vector<std::uint16_t> values(16);
-      for (std::uint16_t r = 0; r < 16; ++r) values[r] = static_cast<std::uint16_t>(10000 + r);
-      ASSERT_TRUE(client.write_many(w_base, values)) << daemon->log();
-      ASSERT_TRUE(client.write_many(0x0200, values)) << daemon->log();
-    }
+    last_round = state_outage::fill(config.modbus_port, w_base);
     kill_and_restart();
-    last_round = read_w();
-    ASSERT_EQ(last_round[15], 10015);
+    ASSERT_EQ(read_w(), last_round);
     ASSERT_GT(std::filesystem::file_size(state_file()), std::filesystem::file_size(dir.path() / "daemon.log") + 400)
         << daemon->log();
   }
-  /// The daemon may write no file past `bytes` (RLIM_INFINITY: any size).
-  void limit_file_size(rlim_t bytes) const {
-    const rlimit limit{bytes, RLIM_INFINITY};  // the soft limit only: it can be raised again
-    ASSERT_EQ(::prlimit(daemon->pid(), RLIMIT_FSIZE, &limit, nullptr), 0) << std::strerror(errno);
-  }
-  /// Neither an append nor a rewrite fits: the refused values are as long as those they
-  /// would replace, so the file could only grow.
-  void refuse_writes() const { limit_file_size(std::filesystem::file_size(state_file()) - 1); }
-  void take_writes() const { limit_file_size(RLIM_INFINITY); }
+  void refuse_writes() const { state_outage::refuse_writes(*daemon, state_file()); }
+  void take_writes() const { state_outage::take_writes(*daemon); }
   bool error_bit_set() {
     ModbusClient client(config.modbus_port);
     const auto c13 = client.read_input(0x1033, 1);  // C+0x13 at the default base
