@@ -138,7 +138,7 @@ StateImage load(const std::filesystem::path& path) {
   switch (loaded.status) {
     case LoadedJournal::Status::ok: break;
     case LoadedJournal::Status::torn_tail:
-      spdlog::info("state: {} {}: the record a crash cut short was never acknowledged; dropped", path.string(),
+      spdlog::info("state: {} {}: the write a crash cut short was never acknowledged; dropped", path.string(),
                    loaded.problem);
       break;
     case LoadedJournal::Status::damaged:

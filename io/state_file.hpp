@@ -73,8 +73,9 @@ class StateFile final : public banks::WriteJournal {
   /// disk after the next fdatasync that begins. Returns the write's number.
   std::uint64_t keep(std::span<const banks::WrittenValue> write) override;
   std::optional<std::uint16_t> pending(banks::BankId bank, std::uint16_t offset) const override;
-  /// Calls `done` once write number `sequence` is durable (and committed), or refused; at
-  /// once when it is durable already.
+  /// Calls `done` once write number `sequence` is durable (and committed), or refused.
+  /// Asked in the loop's turn that kept the write (every entry point does), before its
+  /// batch can have completed: a refused write asked later would look durable.
   void when_durable(std::uint64_t sequence, Done done);
   Counters counters() const;
 

@@ -1,7 +1,8 @@
 #pragma once
 // One client of the Modbus TCP slave (TcpSlaveServer): requests cut from the bytes it
 // sent, answered in order, the answers to one read sent in one write, a write answered
-// once durable, the idle and frame deadlines. Its bytes are the socket's own on a plain
+// once durable (or refused, exception 04) with the requests behind it waiting for it, the
+// idle and frame deadlines. Its bytes are the socket's own on a plain
 // port; on a Modbus/TCP Security port TlsConnection (tls_connection.cpp) puts the records
 // between the socket and this, and this never looks into a record.
 

@@ -147,6 +147,19 @@ TEST_F(State, TheAnswerToAWriteLeavesOnlyAfterItsFdatasync) {
   for (std::size_t k = 0; k < 3; ++k) EXPECT_GE(syncs_before_answer[k], before + k + 1) << read_file(trace);
 }
 
+// A write takes effect only once the state file holds it; a read pipelined behind it on
+// the same connection, in the same segment, still sees what it wrote, and the answers
+// keep their order.
+TEST_F(State, AReadPipelinedBehindAWriteSeesWhatItWrote) {
+  start();
+  auto socket = Socket::tcp(config.modbus_port);
+  const Bytes write_then_read = {0x00, 0x01, 0x00, 0x00, 0x00, 0x06, 0x01, 0x06, 0x01, 0x00, 0x12, 0x34,   // W+0 = 0x1234
+                                 0x00, 0x02, 0x00, 0x00, 0x00, 0x06, 0x01, 0x04, 0x01, 0x00, 0x00, 0x01};  // read W+0
+  socket.send(write_then_read);
+  EXPECT_EQ(socket.receive(12 + 11), (Bytes{0x00, 0x01, 0x00, 0x00, 0x00, 0x06, 0x01, 0x06, 0x01, 0x00, 0x12, 0x34,
+                                            0x00, 0x02, 0x00, 0x00, 0x00, 0x05, 0x01, 0x04, 0x02, 0x12, 0x34}));
+}
+
 TEST_F(State, ACorruptFileIsKeptAsideAndTheDaemonStartsWithNothingSet) {
   test_support::write_file(state_file(), "this is not a state file\n");
   start();
