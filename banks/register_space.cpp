@@ -54,20 +54,18 @@ bool RegisterSpace::read(std::uint16_t first, std::span<std::uint16_t> out) cons
   return true;
 }
 
-bool RegisterSpace::write(std::uint16_t first, std::span<const std::uint16_t> values, const Landed& landed) {
+bool RegisterSpace::resolve(std::uint16_t first, std::span<const std::uint16_t> values, const Landed& landed) const {
   const bool all_writable = for_each_window(
       first, values.size(), [&](const Window& w, std::uint16_t, std::size_t, std::size_t) { return writable(w); });
   if (!all_writable) return false;
   for_each_window(first, values.size(), [&](const Window& w, std::uint16_t address, std::size_t done, std::size_t n) {
     if (w.kind == Window::Kind::write_block) {
-      store_.set_user_output(w.output, values[done]);
-      landed(BankId::C, static_cast<std::uint16_t>(c_bank::user_analog_outputs + w.output - 1), values[done]);
+      landed({BankId::C, static_cast<std::uint16_t>(c_bank::user_analog_outputs + w.output - 1), values[done]});
       return true;
     }
     for (std::size_t i = 0; i < n; ++i) {
       const auto offset = static_cast<std::uint16_t>(address - w.first + i);
-      store_.write(w.bank, offset, values[done + i]);
-      landed(w.bank, offset, values[done + i]);
+      landed({w.bank, offset, values[done + i]});
     }
     return true;
   });

@@ -11,6 +11,16 @@
 
 namespace unima::banks {
 
+/// A value of a write as the store takes it: W+offset, X, or, for a write block
+/// (MBS_RegW), bank C at its user output's offset. What the state file keeps.
+struct WrittenValue {
+  BankId bank = BankId::W;
+  std::uint16_t offset = 0;
+  std::uint16_t value = 0;
+
+  friend bool operator==(const WrittenValue&, const WrittenValue&) = default;
+};
+
 struct AccessRules {
   /// W and X are write-only in the seed; reading them back is an extension (SPEC §1).
   bool readable_write_banks = true;
@@ -18,9 +28,7 @@ struct AccessRules {
 
 class RegisterSpace {
  public:
-  /// A value of a write as it landed in the store: W+offset, X, or, for a write block
-  /// (MBS_RegW), bank C at its user output's offset. What the state file keeps.
-  using Landed = std::function<void(BankId bank, std::uint16_t offset, std::uint16_t value)>;
+  using Landed = std::function<void(const WrittenValue&)>;
 
   RegisterSpace(AddressMap map, RegisterStore& store, AccessRules rules)
       : map_(std::move(map)), store_(store), rules_(rules) {}
@@ -28,9 +36,10 @@ class RegisterSpace {
   /// Fills `out` from `first` on. False, and `out` unspecified, when any register of the
   /// range is not readable (the caller answers exception 02).
   bool read(std::uint16_t first, std::span<std::uint16_t> out) const;
-  /// All or nothing: false, and nothing written, when any register is not writable;
-  /// `landed` hears every value written. Only banks::WritePath writes (write_path.hpp).
-  bool write(std::uint16_t first, std::span<const std::uint16_t> values, const Landed& landed);
+  /// Where a write of `values` from `first` lands, all or nothing: false, and `landed`
+  /// never called, when any register is not writable; else `landed` hears each value.
+  /// Writes nothing: banks::WritePath applies the values (write_path.hpp).
+  bool resolve(std::uint16_t first, std::span<const std::uint16_t> values, const Landed& landed) const;
 
   const AddressMap& map() const { return map_; }
   RegisterStore& store() { return store_; }

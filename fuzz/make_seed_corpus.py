@@ -247,8 +247,8 @@ def replay_reader() -> None:
 def state_journal() -> None:
     header = b"unima-bridge state 1\n"
 
-    def record(kind: str, index: int, value: int) -> bytes:
-        body = f"{kind} {index} {value}"
+    def record(kind: str, index: int, value: int, continued: bool = False) -> bytes:
+        body = f"{kind} {index} {value}" + (" +" if continued else "")
         return f"{body} {zlib.crc32(body.encode()):08x}\n".encode()
 
     records = record("W", 0, 1234) + record("W", 15, 65535) + record("X", 0, 5) + record("O", 1, 77) + record("O", 16, 0)
@@ -262,6 +262,9 @@ def state_journal() -> None:
     write("state_journal", "bad-index", header + record("W", 16, 1) + record("O", 0, 1))
     write("state_journal", "other-version", b"unima-bridge state 2\n" + records)
     write("state_journal", "crlf", header.replace(b"\n", b"\r\n") + records)
+    one_write = record("W", 10, 7, True) + record("W", 11, 8, True) + record("X", 0, 3)
+    write("state_journal", "one-write-of-three", header + records + one_write)
+    write("state_journal", "torn-write", header + records + one_write[: len(one_write) // 2])
 
 
 def client_hello(maximum=None, ciphers=None) -> bytes:
@@ -334,7 +337,7 @@ def dictionaries() -> None:
     feed_words = [f'\\"{key}\\":' for key in feed] + table_ids("banks/tables") + ["[", "]", "{", "}"]
     write_dictionary("feed_line", feed_words)
     write_dictionary("replay_reader", feed_words)
-    write_dictionary("state_journal", ["unima-bridge state 1\\x0A", "W ", "X ", "O ", "\\x0A", " 0", " 65535", " 00000000"])
+    write_dictionary("state_journal", ["unima-bridge state 1\\x0A", "W ", "X ", "O ", "\\x0A", " 0", " 65535", " +", " 00000000"])
 
 
 for make in (mbap_request, rtu_framer, feed_line, command_filter, source_ref, config_loader, master_codec,

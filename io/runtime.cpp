@@ -49,6 +49,10 @@ Runtime::Runtime(asio::io_context& io_context, std::unique_ptr<Banks> first)
   if (!banks->config.state.file.empty()) {
     state = std::make_unique<StateFile>(io, banks->config.state.file);
     banks->writes->set_journal(state.get());
+    // A durable write goes into the banks running when it is durable, which a reload may
+    // have swapped since it was kept; a refused one is a fault (SPEC §1, C+0x13 bit 15).
+    state->set_outcome({[this](std::span<const banks::WrittenValue> write) { banks->writes->commit(write); },
+                        [this] { error_hold.fault(); }});
   }
 }
 

@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <chrono>
 #include <condition_variable>
 #include <ctime>
 #include <mutex>
@@ -16,6 +17,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include "monitor/write_outage.hpp"
 #include "state/state_journal.hpp"
 
 namespace unima::io {
@@ -98,15 +100,21 @@ void sync_directory(const std::filesystem::path& file) {
 
 // Atomic replace: the new content is on the disk under a temporary name before it takes
 // the file's name, so a crash leaves the old file or the new one, never a part of either.
-// Returns the new file, open for appending.
+// Returns the new file, open for appending. A temporary that could not be written is
+// removed: on a full disk it would only hold the room the next try needs.
 Descriptor replace_file(const std::filesystem::path& path, std::string_view content) {
   auto temporary = path;
   temporary += ".tmp";
   Descriptor fd(::open(temporary.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_APPEND | O_NOFOLLOW | O_CLOEXEC, 0640));
   if (fd.get() < 0) throw_errno("create " + temporary.string());
-  write_all(fd.get(), content);
-  sync_data(fd.get());
-  if (::rename(temporary.c_str(), path.c_str()) != 0) throw_errno("rename " + temporary.string());
+  try {
+    write_all(fd.get(), content);
+    sync_data(fd.get());
+    if (::rename(temporary.c_str(), path.c_str()) != 0) throw_errno("rename " + temporary.string());
+  } catch (const std::system_error&) {
+    ::unlink(temporary.c_str());
+    throw;
+  }
   sync_directory(path);
   return fd;
 }
@@ -130,33 +138,47 @@ StateImage load(const std::filesystem::path& path) {
   switch (loaded.status) {
     case LoadedJournal::Status::ok: break;
     case LoadedJournal::Status::torn_tail:
-      spdlog::info("state: {} {}: the record a crash cut short was never acknowledged; dropped", path.string(),
+      spdlog::info("state: {} {}: the write a crash cut short was never acknowledged; dropped", path.string(),
                    loaded.problem);
       break;
     case LoadedJournal::Status::damaged:
     case LoadedJournal::Status::foreign: {
+      // SPEC §10: nothing of it is trusted. What comes before a damaged record may be an
+      // older value than the one last acknowledged, which drivers must never get again.
       auto aside = path;
       aside += ".corrupt-" + utc_stamp();
       if (::rename(path.c_str(), aside.c_str()) != 0) throw_errno("cannot keep it aside as " + aside.string());
-      if (loaded.status == LoadedJournal::Status::foreign)
-        spdlog::error("state: {} {}: kept aside as {}; starting with no value set", path.string(), loaded.problem,
-                      aside.string());
-      else
-        spdlog::error("state: {} {}: kept aside as {}; the {} values recorded before it are restored", path.string(),
-                      loaded.problem, aside.string(), loaded.image.values().size());
-      break;
+      spdlog::error("state: {} {}: kept aside as {}; starting with no value set", path.string(), loaded.problem,
+                    aside.string());
+      return {};
     }
   }
   return loaded.image;
 }
 
+state::PersistedValue persisted(const banks::WrittenValue& written) {
+  using Kind = PersistedValue::Kind;
+  if (written.bank == banks::BankId::W) return {Kind::w, written.offset, written.value};
+  if (written.bank == banks::BankId::X) return {Kind::x, written.offset, written.value};
+  return {Kind::output, static_cast<std::uint16_t>(written.offset - banks::c_bank::user_analog_outputs + 1),
+          written.value};
+}
+
+// A record as the loop queues it: `continued` while more of its write follow.
+struct QueuedRecord {
+  PersistedValue value;
+  bool continued = false;
+};
+
 }  // namespace
 
-// Two threads share the work of a write. The loop queues the value and, when the thread
-// sleeps, wakes it at once: a lone write does not wait for the end of the loop's turn. The
-// thread takes everything queued, appends it, fdatasyncs, and posts one completion to the
-// loop; then it takes what was queued during that sync, so the disk is never idle while
-// writes wait (pipelining), and all the writes of one sync share it (group commit).
+// Two threads share the work of a write. The loop queues the write's records under one lock
+// (so they are always taken into one batch together) and, when the thread sleeps, wakes it
+// at once: a lone write does not wait for the end of the loop's turn. The thread takes
+// everything queued, appends it, fdatasyncs, and posts one completion to the loop; then it
+// takes what was queued during that sync, so the disk is never idle while writes wait
+// (pipelining), and all the writes of one sync share it (group commit). The loop keeps the
+// writes' values until their completion: committed when durable, dropped when refused.
 //
 // The thread exists because fdatasync blocks for as long as the disk takes, and the loop
 // must never wait for it; the loop's side never waits for the thread either: the mutex
@@ -169,62 +191,83 @@ struct StateFile::Shared {
   const std::filesystem::path path;
 
   // The loop's side.
-  std::uint64_t recorded = 0;
+  struct KeptWrite {
+    std::uint64_t sequence;
+    std::vector<banks::WrittenValue> values;
+  };
+  std::uint64_t kept = 0;  // the number of the last write kept
   std::uint64_t durable = 0;
-  bool failing = false;
+  std::deque<KeptWrite> uncommitted;                   // kept, neither durable nor refused yet, in order
   std::deque<std::pair<std::uint64_t, Done>> waiters;  // in order of their sequence
+  Outcome outcome;
+  monitor::WriteOutage outage;
   Counters counters;
 
   // Under the mutex.
   std::mutex mutex;
   std::condition_variable wake;
-  std::vector<PersistedValue> queued;  // recorded, not yet taken by the thread
-  std::uint64_t queued_up_to = 0;      // the sequence of the last of them
+  std::vector<QueuedRecord> queued;  // kept, not yet taken by the thread
+  std::uint64_t queued_up_to = 0;    // the number of the last write among them
   bool sleeping = false;               // the thread waits for `wake`: a record must notify it
   bool stopping = false;
 
   // The thread's side.
   Descriptor fd;
   std::size_t size;
-  StateImage image;      // what the file holds, for a rewrite
+  StateImage image;      // what the file holds, for a rewrite: never a refused write's values
   bool rewrite = false;  // after a failed append, whose bytes may be on the disk in part
   std::thread thread;
 
-  void queue(const PersistedValue& value);
+  std::uint64_t queue(std::span<const banks::WrittenValue> write);
   void synced(std::uint64_t sequence, const std::string& error);
   void run(const std::weak_ptr<Shared>& self);
-  std::string write_batch(const std::string& records);
+  std::string write_batch(const std::string& records, const StateImage& next);
 };
 
-void StateFile::Shared::queue(const PersistedValue& value) {
+std::uint64_t StateFile::Shared::queue(std::span<const banks::WrittenValue> write) {
   bool notify = false;
   {
     const std::lock_guard lock(mutex);
-    queued.push_back(value);
-    queued_up_to = ++recorded;
+    for (std::size_t i = 0; i < write.size(); ++i) queued.push_back({persisted(write[i]), i + 1 < write.size()});
+    queued_up_to = ++kept;
     notify = std::exchange(sleeping, false);
   }
-  ++counters.records;
+  uncommitted.push_back({kept, std::vector(write.begin(), write.end())});
+  counters.records += write.size();
   if (notify) wake.notify_one();
+  return kept;
 }
 
-// Batches complete in the order they were written, one post each: a failed batch fails
-// its own waiters only, never acknowledges them, and the next batch (a rewrite, see
-// write_batch) still acknowledges its own.
+// Batches complete in the order they were written, one post each: a failed batch refuses
+// its own writes only, commits and acknowledges none of them, and the next batch (a
+// rewrite, see write_batch) still commits and acknowledges its own. The outage is logged
+// as the monitor's files are (monitor/write_outage.hpp): once, and once it is over.
 void StateFile::Shared::synced(std::uint64_t sequence, const std::string& error) {
   const bool ok = error.empty();
+  const auto now = monitor::WriteOutage::Clock::now();
   if (ok) {
     durable = sequence;
     ++counters.syncs;
-    if (failing) spdlog::info("state: writing {} again", path.string());
-    failing = false;
+    if (outage.failing())
+      if (const auto recovery = outage.succeeded(now))
+        spdlog::info("state: {} takes writes again; {} writes refused over {:.1f} s", path.string(),
+                     recovery->failed_writes, std::chrono::duration<double>(recovery->lasted).count());
   } else {
     ++counters.failures;
-    if (!failing)
-      spdlog::error("state: cannot write {}: {}; writes are not acknowledged until it can", path.string(), error);
-    failing = true;
   }
-  // A callback may record more, or ask when_durable: the ready ones leave the queue first.
+  // Committed in the order kept, all before any answer: an answer may be followed at once
+  // by a read that must see its write.
+  while (!uncommitted.empty() && uncommitted.front().sequence <= sequence) {
+    if (ok && outcome.commit) outcome.commit(uncommitted.front().values);
+    if (!ok && outage.failed(now))
+      spdlog::error("state: cannot write {}: {}; writes are refused (exception 04) and change nothing until it "
+                    "can (logged once, and when it has taken writes again for {} s)",
+                    path.string(), error,
+                    std::chrono::duration_cast<std::chrono::seconds>(monitor::WriteOutage::default_settle).count());
+    uncommitted.pop_front();
+  }
+  if (!ok && outcome.refused) outcome.refused();
+  // A callback may keep more, or ask when_durable: the ready ones leave the queue first.
   std::vector<Done> ready;
   while (!waiters.empty() && waiters.front().first <= sequence) {
     ready.push_back(std::move(waiters.front().second));
@@ -233,10 +276,11 @@ void StateFile::Shared::synced(std::uint64_t sequence, const std::string& error)
   for (auto& done : ready) done(ok);
 }
 
-std::string StateFile::Shared::write_batch(const std::string& records) {
+// `next`: what the file holds once `records` are on it.
+std::string StateFile::Shared::write_batch(const std::string& records, const StateImage& next) {
   try {
     if (rewrite || size + records.size() > compact_at) {
-      const auto content = state::encode_image(image);
+      const auto content = state::encode_image(next);
       fd = replace_file(path, content);
       size = content.size();
       rewrite = false;
@@ -256,7 +300,7 @@ std::string StateFile::Shared::write_batch(const std::string& records) {
 // Stops once stopping and nothing is queued: what was recorded before the destructor is
 // written and synced first.
 void StateFile::Shared::run(const std::weak_ptr<Shared>& self) {
-  std::vector<PersistedValue> batch;  // swapped with `queued`: both keep their capacity
+  std::vector<QueuedRecord> batch;  // swapped with `queued`: both keep their capacity
   std::string records;
   while (true) {
     std::uint64_t sequence = 0;
@@ -272,12 +316,14 @@ void StateFile::Shared::run(const std::weak_ptr<Shared>& self) {
       sequence = queued_up_to;
     }
     records.clear();
-    for (const auto& value : batch) {
-      image.apply(value);
-      records += state::encode_record(value);
+    auto next = image;
+    for (const auto& record : batch) {
+      next.apply(record.value);
+      records += state::encode_record(record.value, record.continued);
     }
     batch.clear();
-    auto error = write_batch(records);
+    auto error = write_batch(records, next);
+    if (error.empty()) image = next;
     asio::post(io, [self, sequence, error = std::move(error)] {
       if (const auto shared = self.lock()) shared->synced(sequence, error);
     });
@@ -306,14 +352,16 @@ StateFile::~StateFile() {
   shared_->thread.join();
 }
 
-void StateFile::record(const PersistedValue& value) { shared_->queue(value); }
+void StateFile::set_outcome(Outcome outcome) { shared_->outcome = std::move(outcome); }
 
-std::uint64_t StateFile::keep(banks::BankId bank, std::uint16_t offset, std::uint16_t value) {
-  using Kind = PersistedValue::Kind;
-  if (bank == banks::BankId::W) record({Kind::w, offset, value});
-  else if (bank == banks::BankId::X) record({Kind::x, offset, value});
-  else record({Kind::output, static_cast<std::uint16_t>(offset - banks::c_bank::user_analog_outputs + 1), value});
-  return shared_->recorded;
+std::uint64_t StateFile::keep(std::span<const banks::WrittenValue> write) { return shared_->queue(write); }
+
+std::optional<std::uint16_t> StateFile::pending(banks::BankId bank, std::uint16_t offset) const {
+  const auto& uncommitted = shared_->uncommitted;
+  for (auto write = uncommitted.rbegin(); write != uncommitted.rend(); ++write)
+    for (auto value = write->values.rbegin(); value != write->values.rend(); ++value)
+      if (value->bank == bank && value->offset == offset) return value->value;
+  return std::nullopt;
 }
 
 void StateFile::when_durable(std::uint64_t sequence, Done done) {

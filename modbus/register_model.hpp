@@ -15,6 +15,9 @@ struct WriteResult {
     not_allowed,   // the client's rights do not cover every register: exception 01
     not_writable,  // a register of the range is not writable: exception 02
     read_only,     // the bridge takes no writes at all (modbus.tcp.read_only): exception 01
+    not_kept,      // taken, but the state file could not keep it, so nothing changed
+                   // (SPEC §10): exception 04. Known only after the answer was built, so
+                   // the port answers it with modbus::answer_refused_write.
   };
   Status status = Status::written;
   /// The number under which the values were kept for a restart: the write may be

@@ -35,6 +35,7 @@ std::optional<ExceptionCode> refusal_of(const WriteResult& result) {
     case WriteResult::Status::not_allowed: return ExceptionCode::illegal_function;
     case WriteResult::Status::read_only: return ExceptionCode::illegal_function;
     case WriteResult::Status::not_writable: return ExceptionCode::illegal_data_address;
+    case WriteResult::Status::not_kept: return ExceptionCode::server_device_failure;
   }
   return ExceptionCode::illegal_data_address;
 }
@@ -121,6 +122,11 @@ std::size_t write_exception(std::uint8_t function, ExceptionCode code, std::span
   response[0] = static_cast<std::uint8_t>(function | function::exception_flag);
   response[1] = static_cast<std::uint8_t>(code);
   return 2;
+}
+
+std::size_t answer_refused_write(std::uint8_t function, WriteResult::Status why, std::span<std::uint8_t> response) {
+  const auto refusal = refusal_of({why});
+  return write_exception(function, refusal.value_or(ExceptionCode::server_device_failure), response);
 }
 
 ExceptionCode exception_of(std::span<const std::uint8_t> response) {

@@ -49,6 +49,11 @@ Handled handle_request(std::span<const std::uint8_t> request, std::span<std::uin
 /// An exception response PDU: function | 0x80, code. Returns 2.
 std::size_t write_exception(std::uint8_t function, ExceptionCode code, std::span<std::uint8_t> response);
 
+/// The answer to a write of function `function` that was taken and then refused (`why`:
+/// WriteResult::Status::not_kept, the state file could not keep it), in place of the
+/// answer handle_request wrote: the exception that status means. Returns its length.
+std::size_t answer_refused_write(std::uint8_t function, WriteResult::Status why, std::span<std::uint8_t> response);
+
 /// The exception code of a response PDU, or ExceptionCode::none for a normal response.
 ExceptionCode exception_of(std::span<const std::uint8_t> response);
 

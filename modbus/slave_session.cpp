@@ -38,4 +38,15 @@ Served serve_request(Link link, Recipient recipient, std::span<const std::uint8_
   return served;
 }
 
+Served refuse_unkept_write(Recipient recipient, std::uint8_t function, std::span<std::uint8_t> out) {
+  Served served;
+  const auto length = answer_refused_write(function, WriteResult::Status::not_kept, out);
+  served.state = state_of_response(out.first(length));
+  if (recipient == Recipient::this_slave) {
+    served.length = length;
+    served.fault = true;
+  }
+  return served;
+}
+
 }  // namespace unima::modbus

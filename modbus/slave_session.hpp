@@ -30,7 +30,8 @@ struct Served {
   TransactionState state = TransactionState::done;
   bool fault = false;      // C+0x13 bit 15
   /// What a write in it kept for a restart: the answer waits until that is durable
-  /// (io::answer_once_durable); 0, answer at once.
+  /// (io::answer_once_durable), and is refuse_unkept_write's when that fails; 0, answer
+  /// at once.
   std::uint64_t kept_as = 0;
 };
 
@@ -41,5 +42,11 @@ struct Served {
 /// `rights`: what this client may write (nullptr: every register), see handle_request.
 Served serve_request(Link link, Recipient recipient, std::span<const std::uint8_t> pdu, std::span<std::uint8_t> out,
                      RegisterModel& registers, const HandlerOptions& options, const WriteRights* rights = nullptr);
+
+/// What a request served as a write (Served::kept_as) is served as instead when the state
+/// file could not keep it and nothing changed (SPEC §10): exception 04 into `out`, Err04
+/// and a fault; a broadcast stays unanswered and is no fault, as serve_request says.
+/// `function`: the request's function code.
+Served refuse_unkept_write(Recipient recipient, std::uint8_t function, std::span<std::uint8_t> out);
 
 }  // namespace unima::modbus

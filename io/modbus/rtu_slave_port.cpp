@@ -175,23 +175,40 @@ modbus::Served RtuSlavePort::serve(const RtuFrame& query, modbus::Recipient reci
 void RtuSlavePort::answer(const RtuFrame& query) {
   std::array<std::uint8_t, modbus::max_pdu_size> response{};
   const auto served = serve(query, modbus::Recipient::this_slave, response);
-  std::vector<std::uint8_t> adu(served.length + 3);
-  modbus::write_rtu_adu(query.bytes[0], std::span<const std::uint8_t>(response.data(), served.length), adu);
-  if (served.fault && context_.on_fault) context_.on_fault();
-  report(served.state, query.bytes, adu);
   const auto not_before = query.end + timing_.reply_delay;
-  // A write the state file could not take is not answered at all, and the master's
-  // time-out tells it so.
-  answer_once_durable(context_.state, served.kept_as, [this, g = guard(), adu = std::move(adu), not_before](bool durable) mutable {
-    if (!HandlerGuard::alive(g) || !guard_.current(g) || !durable) return;
-    send(std::move(adu), not_before);
-  });
+  if (served.kept_as == 0) return reply(query.bytes, served, response, not_before);
+  // A write takes effect and is answered once the state file holds it; one the file could
+  // not take changed nothing and is answered exception 04 (SPEC §10).
+  answer_once_durable(context_.state, served.kept_as,
+                      [this, g = guard(), query = query.bytes, served, response, not_before](bool durable) mutable {
+                        if (!HandlerGuard::alive(g) || !guard_.current(g)) return;
+                        const auto sent =
+                            durable ? served : modbus::refuse_unkept_write(modbus::Recipient::this_slave, query[1], response);
+                        reply(query, sent, response, not_before);
+                      });
 }
 
-// Writes apply, nothing is answered (SPEC §3); the capture blocks hear it too.
+void RtuSlavePort::reply(std::span<const std::uint8_t> query, const modbus::Served& served,
+                         std::span<const std::uint8_t> response, RtuClock::time_point not_before) {
+  std::vector<std::uint8_t> adu(served.length + 3);
+  modbus::write_rtu_adu(query[0], response.first(served.length), adu);
+  if (served.fault && context_.on_fault) context_.on_fault();
+  report(served.state, query, adu);
+  send(std::move(adu), not_before);
+}
+
+// Writes apply once the state file holds them, nothing is answered (SPEC §3); the capture
+// blocks hear it at once, as the other slaves on the line did.
 void RtuSlavePort::apply_broadcast(const RtuFrame& query) {
   std::array<std::uint8_t, modbus::max_pdu_size> response{};
-  report(serve(query, modbus::Recipient::broadcast, response).state, query.bytes, {});
+  const auto served = serve(query, modbus::Recipient::broadcast, response);
+  answer_once_durable(context_.state, served.kept_as, [this, g = guard(), query = query.bytes, served](bool durable) {
+    if (!HandlerGuard::alive(g)) return;
+    std::array<std::uint8_t, modbus::max_pdu_size> refusal{};
+    const auto state =
+        durable ? served.state : modbus::refuse_unkept_write(modbus::Recipient::broadcast, query[1], refusal).state;
+    report(state, query, {});
+  });
   if (foreign_) foreign_(query.bytes, {});
 }
 

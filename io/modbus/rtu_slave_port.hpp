@@ -73,6 +73,9 @@ class RtuSlavePort {
   void handle(const std::vector<modbus::RtuFrame>& frames);
   modbus::Served serve(const modbus::RtuFrame& query, modbus::Recipient recipient, std::span<std::uint8_t> response) const;
   void answer(const modbus::RtuFrame& query);
+  /// Sends `served`'s answer in `response` to `query` (an RTU ADU) and reports it.
+  void reply(std::span<const std::uint8_t> query, const modbus::Served& served, std::span<const std::uint8_t> response,
+             modbus::RtuClock::time_point not_before);
   void apply_broadcast(const modbus::RtuFrame& query);
   void heard_foreign_query(const modbus::RtuFrame& query);
   void heard_foreign_response(const modbus::RtuFrame& response);

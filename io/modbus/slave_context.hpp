@@ -18,8 +18,9 @@ struct SlaveContext {
   modbus::RegisterModel* registers = nullptr;
   modbus::HandlerOptions options;
   std::uint8_t unit_id = 1;
-  /// When set, a request that wrote is answered only once the state file holds what it
-  /// wrote (SPEC §10), and not at all when that failed.
+  /// When set, a request that wrote takes effect and is answered only once the state file
+  /// holds what it wrote (SPEC §10); when that failed, nothing changed and it is answered
+  /// exception 04 (modbus::refuse_unkept_write).
   StateFile* state = nullptr;
   /// Called on every fault a port sees (exception sent, bad frame): C+0x13 bit 15.
   std::function<void()> on_fault;

@@ -57,12 +57,12 @@ void TcpSlaveServer::Connection::read() {
 void TcpSlaveServer::Connection::serve() {
   if (!process()) return finish_broken_stream();
   if (out_used_ == 0) return read();
-  if (kept_as_ != 0) return send_once_durable();
+  if (waiting_) return send_once_durable();
   send();
 }
 
-// Answers every complete request in the buffer, in order, into out_. False when the
-// stream is broken beyond re-synchronisation.
+// Answers every complete request in the buffer, in order, into out_, up to a write that
+// waits for the state file. False when the stream is broken beyond re-synchronisation.
 bool TcpSlaveServer::Connection::process() {
   std::size_t at = 0;
   const auto& context = server_.context_;
@@ -86,9 +86,20 @@ bool TcpSlaveServer::Connection::process() {
     const auto served =
         modbus::serve_request(modbus::Link::tcp, modbus::recipient_of(modbus::Link::tcp, unit, context.unit_id),
                               adu.pdu, pdu_out, *context.registers, context.options, server_.write_rights(role_));
-    if (served.fault && context.on_fault) context.on_fault();
-    kept_as_ = std::max(kept_as_, served.kept_as);
     const auto size = modbus::write_mbap_header(adu.header.transaction_id, unit, served.length, adu_out) + served.length;
+    if (served.kept_as != 0) {
+      auto& write = waiting_.emplace();
+      write.kept_as = served.kept_as;
+      write.answer_at = out_used_;
+      write.header = adu.header;
+      write.served = served;
+      write.request_size = adu.size;
+      std::copy_n(in_.data() + at, adu.size, write.request.begin());
+      out_used_ += size;
+      at += adu.size;
+      break;
+    }
+    if (served.fault && context.on_fault) context.on_fault();
     if (context.on_transaction) {
       context.on_transaction(modbus::Transaction{port_kind(), peer_, std::chrono::system_clock::now(),
                                                  served.state, std::span<const std::uint8_t>(in_.data() + at, adu.size),
@@ -123,15 +134,42 @@ void TcpSlaveServer::Connection::note_progress(bool served) {
 }
 
 
-// A write is acknowledged only once the state file holds it (SPEC §10); the answers
-// behind it in this batch wait with it, so they keep their order. A write the file could
-// not take is never acknowledged: the connection closes, and the master tries again.
+// A write takes effect and is acknowledged only once the state file holds it (SPEC §10);
+// the answers before it in this batch wait with it, so they keep their order. A write the
+// file could not take changed nothing and is answered exception 04.
 void TcpSlaveServer::Connection::send_once_durable() {
-  answer_once_durable(server_.context_.state, std::exchange(kept_as_, 0), [this, self = shared_from_this()](bool durable) {
+  answer_once_durable(server_.context_.state, waiting_->kept_as, [this, self = shared_from_this()](bool durable) {
     if (finished_) return;
-    if (!durable) return finish("its write could not be kept in the state file");
+    answer_waiting_write(durable);
     send();
   });
+}
+
+void TcpSlaveServer::Connection::answer_waiting_write(bool durable) {
+  const auto write = *std::exchange(waiting_, std::nullopt);
+  const auto adu_out = std::span(out_.data() + write.answer_at, modbus::max_tcp_adu_size);
+  auto served = write.served;
+  if (!durable) {
+    // The answer ends out_: the exception takes its place.
+    served = modbus::refuse_unkept_write(modbus::Recipient::this_slave, write.request[modbus::mbap_header_size],
+                                         adu_out.subspan(modbus::mbap_header_size, modbus::max_pdu_size));
+    out_used_ = write.answer_at +
+                modbus::write_mbap_header(write.header.transaction_id, write.header.unit_id, served.length, adu_out) +
+                served.length;
+  }
+  const auto& context = server_.context_;
+  if (served.fault && context.on_fault) context.on_fault();
+  if (context.on_transaction)
+    context.on_transaction(modbus::Transaction{port_kind(), peer_, std::chrono::system_clock::now(), served.state,
+                                               std::span<const std::uint8_t>(write.request.data(), write.request_size),
+                                               adu_out.first(out_used_ - write.answer_at)});
+}
+
+// Requests that waited behind a write are in in_ already: they are served before more is
+// read.
+void TcpSlaveServer::Connection::read_more() {
+  if (in_used_ > 0) return serve();
+  read();
 }
 
 
@@ -154,9 +192,9 @@ void TcpSlaveServer::Connection::send() {
   // be a wasted system call; after the others were served it often finds the request
   // (64 clients: 2.1 instead of 3.0 system calls a request). A lone client gains
   // nothing by it and would pay an extra epoll_wait.
-  if (server_.connections_.size() == 1) return read();
+  if (server_.connections_.size() == 1) return read_more();
   asio::post(socket_.get_executor(), [this, self = shared_from_this()] {
-    if (!finished_) read();
+    if (!finished_) read_more();
   });
 }
 
@@ -168,7 +206,7 @@ void TcpSlaveServer::Connection::send_rest(std::size_t done) {
                     [this, self = shared_from_this()](const boost::system::error_code& ec, std::size_t) {
                       if (ec) return finish(ec.message());
                       sent_all();
-                      read();
+                      read_more();
                     });
 }
 

@@ -1,7 +1,8 @@
 #pragma once
 // One client of the Modbus TCP slave (TcpSlaveServer): requests cut from the bytes it
 // sent, answered in order, the answers to one read sent in one write, a write answered
-// once durable, the idle and frame deadlines. Its bytes are the socket's own on a plain
+// once durable (or refused, exception 04) with the requests behind it waiting for it, the
+// idle and frame deadlines. Its bytes are the socket's own on a plain
 // port; on a Modbus/TCP Security port TlsConnection (tls_connection.cpp) puts the records
 // between the socket and this, and this never looks into a record.
 
@@ -16,6 +17,8 @@
 
 #include "io/lazy_deadline.hpp"
 #include "io/modbus/tcp_slave_server.hpp"
+#include "modbus/mbap.hpp"
+#include "modbus/slave_session.hpp"
 #include "modbus/transaction.hpp"
 
 namespace unima::io {
@@ -80,14 +83,27 @@ class TcpSlaveServer::Connection : public std::enable_shared_from_this<Connectio
   bool process();
   void note_progress(bool served);
   void send_once_durable();
+  void answer_waiting_write(bool durable);
   void send();
+  void read_more();
   void send_rest(std::size_t done);
   std::optional<Clock::time_point> idle_deadline() const;
   void close_idle();
   void finish_broken_stream();
 
   asio::ip::address address_;
-  std::uint64_t kept_as_ = 0;  // what the writes among out_'s answers kept: they wait for it
+  // The write whose answer ends out_ and waits for the state file (SPEC §10). The requests
+  // behind it wait in in_, unserved, so that they see what it wrote; its answer becomes
+  // exception 04 when the file refuses it, and the monitor sees the answer that is sent.
+  struct WaitingWrite {
+    std::uint64_t kept_as = 0;
+    std::size_t answer_at = 0;  // where its answer's ADU begins in out_
+    modbus::MbapHeader header;
+    modbus::Served served;
+    std::array<std::uint8_t, modbus::max_tcp_adu_size> request;
+    std::size_t request_size = 0;
+  };
+  std::optional<WaitingWrite> waiting_;
 };
 
 /// A client of a Modbus/TCP Security port (tls_connection.cpp).

@@ -96,7 +96,7 @@ void MqttService::take_command(std::string_view topic, std::string_view payload)
   spdlog::info("mqtt: {} = {} ({})", platform::log_safe(topic), platform::log_safe(payload.substr(0, 20)),
                banks::bank_name(command.bank));
   answer_once_durable(runtime_.state.get(), result.kept_as, [answer](bool durable) {
-    answer(durable ? std::string() : std::string("the state file could not be written: the value is not kept"));
+    answer(durable ? std::string() : std::string("the state file refused the write: nothing changed"));
   });
 }
 

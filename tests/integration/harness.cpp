@@ -1,6 +1,11 @@
 #include "tests/integration/harness.hpp"
 
 #include <signal.h>
+#include <sys/resource.h>
+
+#include <cerrno>
+#include <cstring>
+#include <system_error>
 
 #include <algorithm>
 #include <cstdlib>
@@ -51,6 +56,12 @@ void Daemon::rewrite_config(const std::string& config_yaml) const {
 }
 
 void Daemon::signal(int signo) const { process_->signal(signo); }
+
+void Daemon::limit_file_size(std::uint64_t bytes) const {
+  const rlimit limit{static_cast<rlim_t>(bytes), RLIM_INFINITY};
+  if (::prlimit(pid(), RLIMIT_FSIZE, &limit, nullptr) != 0)
+    throw std::system_error(errno, std::generic_category(), "prlimit RLIMIT_FSIZE");
+}
 
 bool Daemon::running() { return process_->running(); }
 

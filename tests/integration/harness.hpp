@@ -54,6 +54,10 @@ class Daemon {
 
   void rewrite_config(const std::string& config_yaml) const;
   void signal(int signo) const;
+  /// The daemon may write no file past `bytes` (RLIM_INFINITY: any size): its soft
+  /// RLIMIT_FSIZE, set with prlimit(2), so it can be raised again. Writes past it fail with
+  /// EFBIG, as they would with ENOSPC on a full disk; its own log is held to it too.
+  void limit_file_size(std::uint64_t bytes) const;
   /// Sends SIGTERM; returns how long the daemon took to exit, or nullopt if it did not
   /// within `timeout` (it is then killed).
   std::optional<std::chrono::milliseconds> terminate(std::chrono::milliseconds timeout = 5000ms);

@@ -8,8 +8,6 @@
 
 #include <sys/resource.h>
 
-#include <cerrno>
-#include <cstring>
 #include <filesystem>
 #include <thread>
 
@@ -20,11 +18,7 @@ namespace {
 
 class LogOutage : public BridgeTest {
  protected:
-  /// The daemon may write no file past `bytes` (RLIM_INFINITY: any size).
-  void limit_file_size(rlim_t bytes) const {
-    const rlimit limit{bytes, RLIM_INFINITY};  // the soft limit only: it can be raised again
-    ASSERT_EQ(::prlimit(daemon->pid(), RLIMIT_FSIZE, &limit, nullptr), 0) << std::strerror(errno);
-  }
+  void limit_file_size(rlim_t bytes) const { daemon->limit_file_size(bytes); }
   /// Reads for `how_long`, each a line in the monitor log.
   void poll(ModbusClient& client, std::chrono::milliseconds how_long) const {
     const auto until = std::chrono::steady_clock::now() + how_long;

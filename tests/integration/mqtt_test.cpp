@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "tests/integration/bridge_fixture.hpp"
+#include "tests/integration/state_outage.hpp"
 #include "tests/support/peers/mqtt_broker.hpp"
 #include "tests/support/peers/mqtt_subscription.hpp"
 
@@ -308,6 +309,41 @@ TEST_F(Mqtt, CommandsWriteWAndXLikeModbusAndAnswerOnTheResultTopic) {
   start();
   ModbusClient after(config.modbus_port);
   EXPECT_EQ(after.read_holding(0x0103, 1), std::vector<std::uint16_t>{1234});
+}
+
+// A command the state file's disk refuses (issue 29, row 2) changes nothing — not the
+// bank, not UnimaBUS — and its result says why; once the disk takes writes again, so does
+// the command. The outage as tests/integration/state_outage.hpp makes it.
+TEST_F(Mqtt, ACommandTheStateFileRefusesChangesNothingAndItsResultSaysWhy) {
+  config.extra = replaced(config.extra, "publish:", "commands: true, publish:");
+  const auto state_file = dir.path() / "state";
+  config.extra += "state: { file: " + state_file.string() + " }\n";
+  config.log_level = "warn";
+  config.blocks = state_outage::write_blocks();
+  start();
+  const auto w = state_outage::fill(config.modbus_port, 0x0100);
+  daemon->signal(SIGKILL);
+  ASSERT_TRUE(eventually([&] { return !daemon->running(); }));
+  daemon.reset();
+  start();  // the file compacted
+  ASSERT_TRUE(eventually([&] { return broker->subscribe("fleet/site-17/status", 1, 1) == "fleet/site-17/status online\n"; }));
+  auto feed = feed_client();
+  Subscription results(*broker, dir.path() / "results", "fleet/site-17/set/result");
+  state_outage::refuse_writes(*daemon, state_file);
+  publish(*broker, "fleet/site-17/set/W/3", "54321");
+  ASSERT_TRUE(eventually([&] { return payloads(results.lines(), "fleet/site-17/set/result").size() == 1; })) << results.lines();
+  EXPECT_EQ(payloads(results.lines(), "fleet/site-17/set/result")[0],
+            R"({"topic":"fleet/site-17/set/W/3","ok":false,"error":"the state file refused the write: nothing changed"})");
+  {
+    ModbusClient client(config.modbus_port);
+    EXPECT_EQ(client.read_holding(0x0103, 1), std::vector<std::uint16_t>{w[3]});
+  }
+  state_outage::take_writes(*daemon);
+  publish(*broker, "fleet/site-17/set/W/3", "54322");
+  ASSERT_TRUE(eventually([&] { return payloads(results.lines(), "fleet/site-17/set/result").size() == 2; })) << results.lines();
+  EXPECT_EQ(payloads(results.lines(), "fleet/site-17/set/result")[1], R"({"topic":"fleet/site-17/set/W/3","ok":true,"error":null})");
+  // UnimaBUS: the next line after the refusal is the command that was taken.
+  EXPECT_EQ(feed.read_line(), R"({"bank":"W","offset":3,"value":54322})");
 }
 
 // commands off (the default): nothing is subscribed, nothing changes.

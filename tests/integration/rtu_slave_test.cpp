@@ -7,6 +7,7 @@
 #include <thread>
 
 #include "tests/integration/rtu_fixture.hpp"
+#include "tests/integration/state_outage.hpp"
 #include "tests/support/seed_frames.hpp"
 
 namespace unima::test {
@@ -91,6 +92,48 @@ TEST_F(RtuSeed, ABroadcastWriteAppliesAndIsNotAnswered) {
   line->write(rtu_adu(0, {0x06, 0x01, 0x01, 0x00, 0x07}));
   EXPECT_TRUE(feed->wait_for_line(R"({"bank":"W","offset":1,"value":7})"));
   EXPECT_EQ(exchange(rtu_adu(1, {0x04, 0x01, 0x01, 0x00, 0x01}), 7), rtu_adu(1, {0x04, 0x02, 0x00, 0x07}));
+}
+
+// A write the state file's disk refuses (issue 29, row 2) changes nothing and is answered
+// exception 04 on the line; once the disk takes writes again, so does the line. The outage
+// as tests/integration/state_outage.hpp makes it.
+TEST_F(RtuTest, AWriteTheStateFileRefusesIsExceptionFourOnTheLine) {
+  config.log_level = "warn";
+  config.blocks = state_outage::write_blocks();
+  config.modbus_extra = rtu_yaml("");
+  // start_rtu waits for an info line, which a log of warnings never has: the port serves
+  // once the daemon holds the line open.
+  const auto line_device = std::filesystem::canonical(line->link());
+  const auto start_quietly = [&] {
+    daemon = std::make_unique<Daemon>(dir, config.yaml());
+    ASSERT_TRUE(wait_for_port(config.modbus_port)) << daemon->log();
+    ASSERT_TRUE(wait_for_port(config.feed_port)) << daemon->log();
+    ASSERT_TRUE(eventually([&] {
+      std::error_code ec;
+      for (const auto& fd : std::filesystem::directory_iterator("/proc/" + std::to_string(daemon->pid()) + "/fd", ec))
+        if (std::filesystem::read_symlink(fd.path(), ec) == line_device) return true;
+      return false;
+    })) << daemon->log();
+  };
+  start_quietly();
+  const auto w = state_outage::fill(config.modbus_port, 0x0100);
+  daemon->signal(SIGKILL);
+  ASSERT_TRUE(eventually([&] { return !daemon->running(); }));
+  daemon.reset();
+  start_quietly();  // the file compacted
+  auto feed = feed_client();
+  state_outage::refuse_writes(*daemon, dir.path() / "bridge.state");
+  const Bytes write_54321 = rtu_adu(1, {0x06, 0x01, 0x03, 0xD4, 0x31});  // W+3 = 54321
+  EXPECT_EQ(exchange(write_54321, 5), rtu_adu(1, {0x86, 0x04})) << daemon->log();
+  EXPECT_EQ(exchange(rtu_adu(1, {0x10, 0x01, 0x04, 0x00, 0x02, 0x04, 0xD4, 0x31, 0xD4, 0x32}), 5), rtu_adu(1, {0x90, 0x04}));
+  {
+    ModbusClient tcp(config.modbus_port);
+    EXPECT_EQ(tcp.read_input(0x0103, 2), (std::vector<std::uint16_t>{w[3], w[4]}));
+  }
+  EXPECT_TRUE(error_bit_set());
+  state_outage::take_writes(*daemon);
+  EXPECT_EQ(exchange(write_54321, 8), write_54321);
+  EXPECT_EQ(feed.read_line(), R"({"bank":"W","offset":3,"value":54321})");
 }
 
 TEST_F(RtuSeed, ExceptionsOnTheWire) {

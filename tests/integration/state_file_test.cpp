@@ -1,11 +1,13 @@
-// io::StateFile on a real file (SPEC §10): the order in which writes are acknowledged, the
-// writes kept from an acknowledgement (one master writing in a loop), a full journal
-// compacted, what the destructor still writes, and a batch the disk refuses.
+// io::StateFile on a real file (SPEC §10): the order in which writes are committed and
+// acknowledged, the writes kept from an acknowledgement (one master writing in a loop), a
+// full journal compacted, what the destructor still writes, a write of several values kept
+// whole, and a batch the disk refuses: never committed, never in the file.
 
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/resource.h>
 
+#include <array>
 #include <chrono>
 #include <cstdint>
 #include <filesystem>
@@ -19,6 +21,12 @@ namespace unima::io {
 namespace {
 
 using banks::BankId;
+using banks::WrittenValue;
+
+std::uint64_t keep(StateFile& state, BankId bank, std::uint16_t offset, std::uint16_t value) {
+  const std::array<WrittenValue, 1> write = {WrittenValue{bank, offset, value}};
+  return state.keep(write);
+}
 
 // Only a guard against a lost wake-up hanging the test, never a measure: each test stops
 // the loop itself as soon as what it waits for has happened.
@@ -46,7 +54,7 @@ TEST_F(StateFileTest, WritesKeptInOneTurnAreAcknowledgedInTheirOrderAndTheFileIs
   {
     StateFile state(io, file());
     for (std::size_t i = 0; i < writes; ++i) {
-      const auto sequence = state.keep(BankId::W, static_cast<std::uint16_t>(i % 16), static_cast<std::uint16_t>(i));
+      const auto sequence = keep(state, BankId::W, static_cast<std::uint16_t>(i % 16), static_cast<std::uint16_t>(i));
       state.when_durable(sequence, [&acknowledged, sequence](bool durable) {
         EXPECT_TRUE(durable);
         acknowledged.push_back(sequence);
@@ -72,7 +80,7 @@ TEST_F(StateFileTest, AWriteKeptFromTheAcknowledgementOfThePreviousOneIsAcknowle
   int acknowledged = 0;
   StateFile state(io, file());
   std::function<void()> write_next = [&] {
-    const auto sequence = state.keep(BankId::X, 0, static_cast<std::uint16_t>(acknowledged));
+    const auto sequence = keep(state, BankId::X, 0, static_cast<std::uint16_t>(acknowledged));
     state.when_durable(sequence, [&](bool durable) {
       EXPECT_TRUE(durable);
       if (++acknowledged < writes) write_next();
@@ -86,8 +94,8 @@ TEST_F(StateFileTest, AWriteKeptFromTheAcknowledgementOfThePreviousOneIsAcknowle
 TEST_F(StateFileTest, TheDestructorWritesAndSyncsWhatWasKeptBeforeIt) {
   {
     StateFile state(io, file());
-    for (std::uint16_t i = 0; i < 16; ++i) state.keep(BankId::W, i, static_cast<std::uint16_t>(100 + i));
-    state.keep(BankId::W, 3, 7);
+    for (std::uint16_t i = 0; i < 16; ++i) keep(state, BankId::W, i, static_cast<std::uint16_t>(100 + i));
+    keep(state, BankId::W, 3, 7);
   }  // the loop never ran: nothing was acknowledged, and nothing may be lost
   StateFile reopened(io, file());
   EXPECT_EQ(reopened.restored().w(0), 100);
@@ -107,20 +115,70 @@ TEST_F(StateFileTest, AWriteTheDiskRefusesIsNeverAcknowledgedAndTheNextOneRepair
   full.rlim_cur = std::filesystem::file_size(file());
   ASSERT_EQ(::setrlimit(RLIMIT_FSIZE, &full), 0);
 
+  std::vector<WrittenValue> committed;
+  int refusals = 0;
+  state.set_outcome({[&](std::span<const WrittenValue> write) { committed.insert(committed.end(), write.begin(), write.end()); },
+                     [&] { ++refusals; }});
   std::vector<bool> answers;
   for (std::uint16_t i = 0; i < 5; ++i)
-    state.when_durable(state.keep(BankId::W, i, 1), [&](bool durable) { answers.push_back(durable); });
+    state.when_durable(keep(state, BankId::W, i, 1), [&](bool durable) { answers.push_back(durable); });
+  EXPECT_EQ(state.pending(BankId::W, 4), 1);
   run_until([&] { return answers.size() == 5; });
   ASSERT_EQ(::setrlimit(RLIMIT_FSIZE, &before), 0);
   ::signal(SIGXFSZ, previous_handler);
   EXPECT_EQ(answers, std::vector<bool>(5, false));
   EXPECT_GE(state.counters().failures, 1u);
+  EXPECT_GE(refusals, 1);
+  EXPECT_TRUE(committed.empty());
+  EXPECT_EQ(state.pending(BankId::W, 4), std::nullopt);  // refused: nothing pending any more
 
   bool repaired = false;
-  state.when_durable(state.keep(BankId::W, 9, 99), [&](bool durable) { repaired = durable; });
+  state.when_durable(keep(state, BankId::W, 9, 99), [&](bool durable) {
+    // Committed before it is acknowledged.
+    EXPECT_EQ(committed, (std::vector<WrittenValue>{{BankId::W, 9, 99}}));
+    repaired = durable;
+  });
   run_until([&] { return repaired; });
   StateFile reopened(io, file());
   EXPECT_EQ(reopened.restored().w(9), 99);
+  for (std::uint16_t i = 0; i < 5; ++i) EXPECT_EQ(reopened.restored().w(i), std::nullopt) << i;  // never taken
+}
+
+// The values of one write share its number and its batch: they are committed together,
+// in the order of the writes, and the file holds them as one write.
+TEST_F(StateFileTest, AWriteOfSeveralValuesIsKeptCommittedAndAcknowledgedAsOne) {
+  std::vector<std::vector<WrittenValue>> committed;
+  std::vector<std::uint64_t> acknowledged;
+  {
+    StateFile state(io, file());
+    state.set_outcome({[&](std::span<const WrittenValue> write) { committed.emplace_back(write.begin(), write.end()); },
+                       {}});
+    const std::vector<WrittenValue> first = {{BankId::W, 10, 7}, {BankId::W, 11, 8}, {BankId::X, 0, 3}};
+    const std::vector<WrittenValue> second = {{BankId::W, 10, 1}};
+    const auto a = state.keep(first);
+    const auto b = state.keep(second);
+    EXPECT_EQ(a, 1u);
+    EXPECT_EQ(b, 2u);
+    EXPECT_EQ(state.pending(BankId::W, 10), 1);  // the latest of the two
+    EXPECT_EQ(state.pending(BankId::W, 11), 8);
+    EXPECT_EQ(state.pending(BankId::W, 12), std::nullopt);
+    for (const auto sequence : {a, b})
+      state.when_durable(sequence, [&, sequence](bool durable) {
+        EXPECT_TRUE(durable);
+        acknowledged.push_back(sequence);
+      });
+    run_until([&] { return acknowledged.size() == 2; });
+    EXPECT_EQ(committed, (std::vector<std::vector<WrittenValue>>{first, second}));
+    EXPECT_EQ(state.counters().records, 4u);
+  }
+  const auto text = test_support::read_file(file());
+  EXPECT_NE(text.find("W 10 7 + "), std::string::npos) << text;
+  EXPECT_NE(text.find("W 11 8 + "), std::string::npos) << text;
+  EXPECT_NE(text.find("\nX 0 3 "), std::string::npos) << text;
+  StateFile reopened(io, file());
+  EXPECT_EQ(reopened.restored().w(10), 1);
+  EXPECT_EQ(reopened.restored().w(11), 8);
+  EXPECT_EQ(reopened.restored().x(), 3);
 }
 
 }  // namespace

@@ -1,7 +1,10 @@
 // The state file of the real daemon (SPEC §10): what a master wrote and had acknowledged
 // is back after kill -9, at any instant; unset registers stay out of the feed snapshot; a
-// corrupt file is kept aside and never stops the start.
+// corrupt file — foreign, or damaged anywhere — is kept aside, nothing of it is restored,
+// and it never stops the start; a write the file's disk refuses changes nothing (not the
+// registers, not UnimaBUS) and is answered exception 04 (issue 29, rows 2 and 4).
 
+#include <modbus/modbus.h>
 #include <signal.h>
 
 #include <atomic>
@@ -10,6 +13,7 @@
 #include <thread>
 
 #include "tests/integration/bridge_fixture.hpp"
+#include "tests/integration/state_outage.hpp"
 
 namespace unima::test {
 namespace {
@@ -143,6 +147,19 @@ TEST_F(State, TheAnswerToAWriteLeavesOnlyAfterItsFdatasync) {
   for (std::size_t k = 0; k < 3; ++k) EXPECT_GE(syncs_before_answer[k], before + k + 1) << read_file(trace);
 }
 
+// A write takes effect only once the state file holds it; a read pipelined behind it on
+// the same connection, in the same segment, still sees what it wrote, and the answers
+// keep their order.
+TEST_F(State, AReadPipelinedBehindAWriteSeesWhatItWrote) {
+  start();
+  auto socket = Socket::tcp(config.modbus_port);
+  const Bytes write_then_read = {0x00, 0x01, 0x00, 0x00, 0x00, 0x06, 0x01, 0x06, 0x01, 0x00, 0x12, 0x34,   // W+0 = 0x1234
+                                 0x00, 0x02, 0x00, 0x00, 0x00, 0x06, 0x01, 0x04, 0x01, 0x00, 0x00, 0x01};  // read W+0
+  socket.send(write_then_read);
+  EXPECT_EQ(socket.receive(12 + 11), (Bytes{0x00, 0x01, 0x00, 0x00, 0x00, 0x06, 0x01, 0x06, 0x01, 0x00, 0x12, 0x34,
+                                            0x00, 0x02, 0x00, 0x00, 0x00, 0x05, 0x01, 0x04, 0x02, 0x12, 0x34}));
+}
+
 TEST_F(State, ACorruptFileIsKeptAsideAndTheDaemonStartsWithNothingSet) {
   test_support::write_file(state_file(), "this is not a state file\n");
   start();
@@ -157,6 +174,56 @@ TEST_F(State, ACorruptFileIsKeptAsideAndTheDaemonStartsWithNothingSet) {
   ASSERT_TRUE(client.write(w_base, 42));
   kill_and_restart();
   EXPECT_EQ(read_w()[0], 42);
+}
+
+// Issue 29, row 4: W+0 was set to 200, then to 300 (acknowledged), and a record between
+// them — or after them, with more after it — is damaged. Restoring what came before the
+// damage would bring back 200 and publish it; SPEC §10 says: set the file aside, start
+// with nothing set.
+TEST_F(State, AFileDamagedInTheMiddleIsKeptAsideAndNothingOfItIsRestored) {
+  for (const bool damage_between : {true, false}) {
+    SCOPED_TRACE(damage_between ? "damage between 200 and 300" : "damage after 300, a record after it");
+    // The records as the daemon writes them: a value's record from a write of W+0 alone.
+    start();
+    {
+      ModbusClient client(config.modbus_port);
+      ASSERT_TRUE(client.write(w_base, 200));
+      ASSERT_TRUE(client.write(w_base, 300));
+      ASSERT_TRUE(client.write(w_base + 1, 7));
+    }
+    daemon->signal(SIGKILL);
+    ASSERT_TRUE(eventually([&] { return !daemon->running(); }));
+    daemon.reset();
+    auto text = read_file(state_file());
+    const auto at_300 = text.find("W 0 300 ");
+    const auto at_w1 = text.find("W 1 7 ");
+    ASSERT_NE(at_300, std::string::npos) << text;
+    ASSERT_NE(at_w1, std::string::npos) << text;
+    text.insert(damage_between ? at_300 : at_w1, "W 0 250 00000000\n");
+    test_support::write_file(state_file(), text);
+    for (const auto& entry : std::filesystem::directory_iterator(dir.path()))
+      if (entry.path().filename().string().starts_with("bridge.state.corrupt-")) std::filesystem::remove(entry.path());
+
+    start();
+    EXPECT_TRUE(daemon->wait_for_log("checksum mismatch: kept aside as")) << daemon->log();
+    EXPECT_TRUE(daemon->wait_for_log("starting with no value set")) << daemon->log();
+    bool aside = false;
+    for (const auto& entry : std::filesystem::directory_iterator(dir.path()))
+      aside |= entry.path().filename().string().starts_with("bridge.state.corrupt-") && read_file(entry.path()) == text;
+    EXPECT_TRUE(aside);
+    const auto w = read_w();
+    EXPECT_EQ(w[0], 0x7FFF) << "W+0 restored from a damaged file";
+    EXPECT_EQ(w[1], 0x7FFF);
+    // Nothing of it is published: the snapshot has no W at all.
+    auto feed = Socket::tcp(config.feed_port);
+    const auto first = feed.read_line();
+    ASSERT_TRUE(first);
+    EXPECT_EQ(first->find(R"("bank":"W")"), std::string::npos) << *first;
+    daemon->signal(SIGKILL);
+    ASSERT_TRUE(eventually([&] { return !daemon->running(); }));
+    daemon.reset();
+    std::filesystem::remove(state_file());
+  }
 }
 
 TEST_F(State, FileNoneKeepsNothing) {
@@ -178,6 +245,85 @@ TEST_F(State, AStateFileThatCannotBeWrittenIsAStartUpErrorNamingIt) {
   EXPECT_NE(daemon->exit_code(), 0);
   EXPECT_NE(daemon->log().find("state file " + (dir.path() / "no-such-dir" / "state").string()), std::string::npos)
       << daemon->log();
+}
+
+// A disk that refuses the state file's writes (issue 29, row 2): tests/integration/state_outage.hpp.
+class StateOutage : public State {
+ protected:
+  void SetUp() override {
+    State::SetUp();
+    config.log_level = "warn";
+    config.blocks = state_outage::write_blocks();
+    start();
+    last_round = state_outage::fill(config.modbus_port, w_base);
+    kill_and_restart();
+    ASSERT_EQ(read_w(), last_round);
+    ASSERT_GT(std::filesystem::file_size(state_file()), std::filesystem::file_size(dir.path() / "daemon.log") + 400)
+        << daemon->log();
+  }
+  void refuse_writes() const { state_outage::refuse_writes(*daemon, state_file()); }
+  void take_writes() const { state_outage::take_writes(*daemon); }
+  bool error_bit_set() {
+    ModbusClient client(config.modbus_port);
+    const auto c13 = client.read_input(0x1033, 1);  // C+0x13 at the default base
+    return c13 && ((*c13)[0] & 0x8000) != 0;
+  }
+  std::vector<std::uint16_t> last_round;  // W+0..15 as SetUp left them, all set
+};
+
+// Row 2: the master gets exception 04, the register keeps its value, UnimaBUS gets nothing,
+// the log and the Error bit say why; once the disk takes writes again the next write is
+// taken, and it is the one a restart brings back.
+TEST_F(StateOutage, AWriteTheDiskRefusesIsExceptionFourAndChangesNothing) {
+  auto feed = feed_client();
+  refuse_writes();
+  {
+    ModbusClient client(config.modbus_port);
+    EXPECT_FALSE(client.write(w_base + 3, 54242));
+    EXPECT_EQ(client.last_error(), EMBXSFAIL) << modbus_strerror(client.last_error()) << "\n" << daemon->log();
+    // The same connection serves on.
+    EXPECT_FALSE(client.write(w_base + 4, 54343));
+    EXPECT_EQ(client.last_error(), EMBXSFAIL) << modbus_strerror(client.last_error());
+    EXPECT_EQ(client.read_input(w_base, 16), last_round);
+  }
+  EXPECT_TRUE(daemon->wait_for_log("state: cannot write " + state_file().string())) << daemon->log();
+  EXPECT_EQ(daemon->log_count("state: cannot write"), 1u) << daemon->log();  // once, not per write
+  EXPECT_NE(daemon->log().find("writes are refused (exception 04)"), std::string::npos) << daemon->log();
+  EXPECT_TRUE(error_bit_set());
+
+  take_writes();
+  {
+    ModbusClient client(config.modbus_port);
+    ASSERT_TRUE(client.write(w_base + 3, 5151)) << modbus_strerror(client.last_error()) << "\n" << daemon->log();
+  }
+  // UnimaBUS: the next line after the refusals is the write that was taken.
+  EXPECT_EQ(feed.read_line(), R"({"bank":"W","offset":3,"value":5151})");
+  kill_and_restart();
+  auto expected = last_round;
+  expected[3] = 5151;
+  EXPECT_EQ(read_w(), expected);
+}
+
+// A write of several registers the disk refuses changes none of them.
+TEST_F(StateOutage, AMultiRegisterWriteTheDiskRefusesChangesNoneOfItsRegisters) {
+  auto feed = feed_client();
+  refuse_writes();
+  {
+    ModbusClient client(config.modbus_port);
+    EXPECT_FALSE(client.write_many(w_base + 2, {50001, 50002, 50003, 50004, 50005}));
+    EXPECT_EQ(client.last_error(), EMBXSFAIL) << modbus_strerror(client.last_error()) << "\n" << daemon->log();
+    EXPECT_EQ(client.read_input(w_base, 16), last_round);
+  }
+  take_writes();
+  {
+    ModbusClient client(config.modbus_port);
+    ASSERT_TRUE(client.write(w_base + 15, 9)) << daemon->log();
+  }
+  EXPECT_EQ(feed.read_line(), R"({"bank":"W","offset":15,"value":9})");
+  kill_and_restart();
+  auto expected = last_round;
+  expected[15] = 9;
+  EXPECT_EQ(read_w(), expected);
 }
 
 }  // namespace

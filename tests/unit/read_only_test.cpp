@@ -5,7 +5,10 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <optional>
+#include <span>
 #include <string>
+#include <vector>
 
 #include "banks/write_path.hpp"
 #include "config/config.hpp"
@@ -17,8 +20,13 @@ namespace {
 using Status = modbus::WriteResult::Status;
 
 struct Journal final : banks::WriteJournal {
-  std::uint64_t keep(banks::BankId, std::uint16_t, std::uint16_t) override { return ++kept; }
+  std::uint64_t keep(std::span<const banks::WrittenValue> write) override {
+    last.assign(write.begin(), write.end());
+    return ++kept;
+  }
+  std::optional<std::uint16_t> pending(banks::BankId, std::uint16_t) const override { return std::nullopt; }
   std::uint64_t kept = 0;
+  std::vector<banks::WrittenValue> last;
 };
 
 TEST(ReadOnly, AFrozenWritePathRefusesEveryWriteAndChangesNothingUntilThawed) {
@@ -43,6 +51,8 @@ TEST(ReadOnly, AFrozenWritePathRefusesEveryWriteAndChangesNothingUntilThawed) {
 
   writes.freeze(false);
   EXPECT_EQ(writes.write_registers(0x3003, value, nullptr).status, Status::written);
+  EXPECT_EQ(journal.kept, 1u);
+  writes.commit(journal.last);  // durable
   EXPECT_EQ(store.read(banks::BankId::W, 3), 66);
 }
 

@@ -74,5 +74,34 @@ TEST_F(SlaveSessionServing, ABroadcastWriteAppliesUnansweredAndNeverFaults) {
   EXPECT_FALSE(served.fault);
 }
 
+// SPEC §10: a write the state file could not keep changed nothing; the master learns it
+// from exception 04 (server device failure), the monitor from Err04, the front panel from
+// the Error bit. A broadcast is still not answered.
+TEST_F(SlaveSessionServing, AWriteTheStateFileRefusedIsExceptionFourAndAFault) {
+  for (const std::uint8_t function : {0x06, 0x10}) {
+    out.fill(0xEE);
+    auto refused = refuse_unkept_write(Recipient::this_slave, function, out);
+    EXPECT_EQ(refused.length, 2u);
+    EXPECT_EQ(out[0], function | 0x80);
+    EXPECT_EQ(out[1], 0x04);
+    EXPECT_EQ(refused.state, TransactionState::err04);
+    EXPECT_TRUE(refused.fault);
+    EXPECT_EQ(refused.kept_as, 0u);
+    refused = refuse_unkept_write(Recipient::broadcast, function, out);
+    EXPECT_EQ(refused.length, 0u);
+    EXPECT_EQ(refused.state, TransactionState::err04);
+    EXPECT_FALSE(refused.fault);
+  }
+}
+
+TEST(RequestHandler, ARefusedWriteIsAnsweredWithTheExceptionItsStatusMeans) {
+  std::array<std::uint8_t, max_pdu_size> out{};
+  EXPECT_EQ(answer_refused_write(0x06, WriteResult::Status::not_kept, out), 2u);
+  EXPECT_EQ(exception_of(std::span(out).first(2)), ExceptionCode::server_device_failure);
+  answer_refused_write(0x10, WriteResult::Status::not_allowed, out);
+  EXPECT_EQ(out[0], 0x90);
+  EXPECT_EQ(exception_of(std::span(out).first(2)), ExceptionCode::illegal_function);
+}
+
 }  // namespace
 }  // namespace unima::modbus

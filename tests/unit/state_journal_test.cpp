@@ -1,5 +1,6 @@
-// The state file's journal (SPEC §10): records with their checksums, what a crash can leave
-// at the end of the file, and what is never taken for a value.
+// The state file's journal (SPEC §10): records with their checksums, the records of one
+// write kept together, what a crash can leave at the end of the file (dropped whole), and
+// damage anywhere else (nothing restored).
 
 #include <cstdio>
 
@@ -71,16 +72,78 @@ TEST(StateJournal, ZerosACrashLeftAtTheEndAreATornTail) {
   EXPECT_EQ(loaded.image.w(0), 10);
 }
 
-TEST(StateJournal, ABadRecordWithMoreAfterItIsDamageAndTheRecordsBeforeItAreKept) {
+// Row 4 of issue 29: what comes before the damage may be older than what was acknowledged
+// last (200 here, then 300 after the damage); restoring it would publish an old setpoint.
+TEST(StateJournal, ABadRecordAnywhereButTheLastLineIsDamageAndNothingIsKept) {
   auto text = journal({{Kind::w, 0, 10}, {Kind::w, 1, 11}, {Kind::w, 2, 12}});
   const auto second = text.find("W 1 11");
   text[second + 4] = '7';  // W 1 71: the checksum no longer matches
   const auto loaded = parse_journal(text);
   EXPECT_EQ(loaded.status, LoadedJournal::Status::damaged);
   EXPECT_EQ(loaded.problem, "line 3: checksum mismatch");
-  EXPECT_EQ(loaded.image.w(0), 10);
-  EXPECT_EQ(loaded.image.w(1), std::nullopt);
-  EXPECT_EQ(loaded.image.w(2), std::nullopt);  // after the damage nothing is trusted
+  EXPECT_TRUE(loaded.image.empty());
+  EXPECT_EQ(loaded.records, 0u);
+  EXPECT_EQ(loaded.good_bytes, 0u);
+
+  const auto older_then_newer = [](const std::string& bad, bool bad_first) {
+    std::string text(journal_header);
+    text += encode_record({Kind::w, 0, 200});
+    if (bad_first) text += bad;
+    text += encode_record({Kind::w, 0, 300});
+    if (!bad_first) text += bad + encode_record({Kind::x, 0, 1});
+    return parse_journal(text);
+  };
+  for (const auto& bad : std::vector<std::string>{"garbage\n", "\n", "W 0 250 00000000\n", std::string("W 0 2\0\0 1\n", 10)})
+    for (const bool bad_first : {true, false}) {
+      const auto loaded = older_then_newer(bad, bad_first);
+      EXPECT_EQ(loaded.status, LoadedJournal::Status::damaged) << bad << bad_first;
+      EXPECT_TRUE(loaded.image.empty()) << bad << bad_first;
+    }
+}
+
+TEST(StateJournal, TheRecordsOfOneWriteAreMarkedAllButTheLast) {
+  EXPECT_EQ(encode_record({Kind::w, 10, 7}, true), "W 10 7 + " + fmt_crc("W 10 7 +") + "\n");
+  EXPECT_EQ(encode_record({Kind::w, 12, 9}, false), encode_record({Kind::w, 12, 9}));
+  const auto text = std::string(journal_header) + encode_record({Kind::w, 10, 7}, true) +
+                    encode_record({Kind::w, 11, 8}, true) + encode_record({Kind::w, 12, 9}) +
+                    encode_record({Kind::x, 0, 3});
+  const auto loaded = parse_journal(text);
+  EXPECT_EQ(loaded.status, LoadedJournal::Status::ok);
+  EXPECT_EQ(loaded.records, 4u);
+  EXPECT_EQ(loaded.good_bytes, text.size());
+  EXPECT_EQ(loaded.image.w(10), 7);
+  EXPECT_EQ(loaded.image.w(12), 9);
+  EXPECT_EQ(loaded.image.x(), 3);
+}
+
+// A crash while a write of three registers was appended: whatever part of it reached the
+// disk, the write is dropped whole and the writes before it stay.
+TEST(StateJournal, AWriteCutShortAnywhereAtTheEndIsATornTailDroppedWhole) {
+  const auto before = journal({{Kind::w, 0, 10}, {Kind::w, 10, 1}});
+  const auto write = encode_record({Kind::w, 10, 7}, true) + encode_record({Kind::w, 11, 8}, true) +
+                     encode_record({Kind::w, 12, 9});
+  for (std::size_t cut = 1; cut < write.size(); ++cut) {
+    const auto loaded = parse_journal(before + write.substr(0, cut));
+    EXPECT_EQ(loaded.status, LoadedJournal::Status::torn_tail) << cut;
+    EXPECT_EQ(loaded.good_bytes, before.size()) << cut;
+    EXPECT_EQ(loaded.records, 2u) << cut;
+    EXPECT_EQ(loaded.image.w(0), 10) << cut;
+    EXPECT_EQ(loaded.image.w(10), 1) << cut;  // not 7: the torn write never happened
+    EXPECT_EQ(loaded.image.w(11), std::nullopt) << cut;
+    EXPECT_FALSE(loaded.problem.empty()) << cut;
+  }
+  EXPECT_EQ(parse_journal(before + write).status, LoadedJournal::Status::ok);
+}
+
+// A write that is not the last one but lacks its last record cannot come from a crash.
+TEST(StateJournal, AWriteWhoseRecordsAreDamagedInTheMiddleIsDamage) {
+  auto write = encode_record({Kind::w, 10, 7}, true) + encode_record({Kind::w, 11, 8}, true) +
+               encode_record({Kind::w, 12, 9});
+  write[write.find("W 11 8") + 5] = '6';
+  const auto loaded = parse_journal(journal({{Kind::w, 0, 10}}) + write + encode_record({Kind::x, 0, 1}));
+  EXPECT_EQ(loaded.status, LoadedJournal::Status::damaged);
+  EXPECT_EQ(loaded.problem, "line 4: checksum mismatch");
+  EXPECT_TRUE(loaded.image.empty());
 }
 
 TEST(StateJournal, ARecordWithAGoodChecksumButNoSuchRegisterIsRefused) {

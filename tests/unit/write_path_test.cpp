@@ -1,10 +1,12 @@
 // banks::WritePath, the one way a value from outside gets into W, X or a write block's
-// output: rights before anything, all or nothing, every value kept in the journal and
-// the number the answer waits for, every value published (the store's change listener).
+// output: rights before anything, all or nothing, a write kept whole in the journal and
+// the number the answer waits for, and nothing in the store or published (the store's
+// change listener) before the journal holds it: a refused write changes nothing.
 
 #include <gtest/gtest.h>
 
 #include <array>
+#include <deque>
 #include <tuple>
 #include <vector>
 
@@ -28,18 +30,44 @@ Window write_block(std::uint16_t address, std::uint8_t output) {
   return w;
 }
 
-// Numbers its records from 1, as io::StateFile does.
+// Numbers its writes from 1, as io::StateFile does, and holds them until the test says
+// what the disk made of the oldest: durable (committed into `committer`) or refused.
 struct Journal final : WriteJournal {
-  std::uint64_t keep(BankId bank, std::uint16_t offset, std::uint16_t value) override {
-    kept.emplace_back(bank, offset, value);
-    return kept.size();
+  std::uint64_t keep(std::span<const WrittenValue> write) override {
+    writes.emplace_back();
+    for (const auto& v : write) {
+      kept.emplace_back(v.bank, v.offset, v.value);
+      writes.back().emplace_back(v);
+    }
+    waiting.emplace_back(writes.size(), writes.back());
+    return writes.size();
   }
-  std::vector<Value> kept;
+  std::optional<std::uint16_t> pending(BankId bank, std::uint16_t offset) const override {
+    for (auto write = waiting.rbegin(); write != waiting.rend(); ++write)
+      for (auto v = write->second.rbegin(); v != write->second.rend(); ++v)
+        if (v->bank == bank && v->offset == offset) return v->value;
+    return std::nullopt;
+  }
+  /// The oldest waiting write is durable (true) or refused; returns its number.
+  std::uint64_t settle(bool durable) {
+    const auto [number, write] = waiting.front();
+    waiting.pop_front();
+    if (durable) committer->commit(write);
+    return number;
+  }
+  void settle_all() {
+    while (!waiting.empty()) settle(true);
+  }
+  WritePath* committer = nullptr;
+  std::vector<Value> kept;                           // every value, in the order kept
+  std::vector<std::vector<WrittenValue>> writes;     // by write
+  std::deque<std::pair<std::uint64_t, std::vector<WrittenValue>>> waiting;
 };
 
 struct WritePathTest : ::testing::Test {
   WritePathTest() {
     store.set_change_listener([this](BankId b, std::uint16_t o, std::uint16_t v) { published.emplace_back(b, o, v); });
+    journal.committer = &writes;
   }
 
   RegisterStore store{shapes_with({&chp(), nullptr, nullptr, nullptr})};
@@ -52,21 +80,57 @@ struct WritePathTest : ::testing::Test {
   std::vector<Value> published;
 };
 
-TEST_F(WritePathTest, AWriteIntoWLandsIsKeptAndPublishedAndSaysWhatItKept) {
+TEST_F(WritePathTest, AWriteIntoWIsKeptAsOneAndLandsAndIsPublishedOnlyOnceDurable) {
   const std::array<std::uint16_t, 2> values = {7, 8};
   const auto result = writes.write_registers(0x3002, values, nullptr);
   EXPECT_EQ(result.status, Status::written);
-  EXPECT_EQ(result.kept_as, 2u);  // the last of its two records: the answer waits for both
-  EXPECT_EQ(store.read(BankId::W, 2), 7);
-  EXPECT_EQ(store.read(BankId::W, 3), 8);
+  EXPECT_EQ(result.kept_as, 1u);  // one write, its two values together: the answer waits for both
+  ASSERT_EQ(journal.writes.size(), 1u);
   const std::vector<Value> expected = {{BankId::W, 2, 7}, {BankId::W, 3, 8}};
   EXPECT_EQ(journal.kept, expected);
+  // Kept, not yet durable: nothing changed, nothing went to UnimaBUS.
+  EXPECT_EQ(store.read(BankId::W, 2), 0x7FFF);
+  EXPECT_FALSE(store.written(BankId::W, 2));
+  EXPECT_TRUE(published.empty());
+  journal.settle(true);
+  EXPECT_EQ(store.read(BankId::W, 2), 7);
+  EXPECT_EQ(store.read(BankId::W, 3), 8);
   EXPECT_EQ(published, expected);
+}
+
+TEST_F(WritePathTest, AWriteTheJournalRefusesChangesNothingAndPublishesNothing) {
+  const std::array<std::uint16_t, 3> values = {7, 8, 9};
+  EXPECT_EQ(writes.write_registers(0x3002, values, nullptr).status, Status::written);
+  const std::array<std::uint16_t, 1> bits = {0x0001};
+  EXPECT_EQ(writes.write_registers(0x3010, bits, nullptr).status, Status::written);
+  journal.settle(false);
+  journal.settle(false);
+  for (std::uint16_t i = 0; i < 16; ++i) EXPECT_EQ(store.read(BankId::W, i), 0x7FFF) << i;
+  EXPECT_EQ(store.read(BankId::X, 0), 0);
+  EXPECT_TRUE(published.empty());
+  // The next write, once durable, is taken as usual.
+  const std::array<std::uint16_t, 1> value = {5};
+  writes.write_registers(0x3002, value, nullptr);
+  journal.settle(true);
+  EXPECT_EQ(store.read(BankId::W, 2), 5);
+  EXPECT_EQ(store.read(BankId::W, 3), 0x7FFF);
+  EXPECT_EQ(published, (std::vector<Value>{{BankId::W, 2, 5}}));
+}
+
+TEST_F(WritePathTest, WritesThatWaitTogetherLandInTheOrderTheyWereKept) {
+  const std::array<std::uint16_t, 1> first = {1}, second = {2};
+  writes.write_registers(0x3005, first, nullptr);
+  writes.write_registers(0x3005, second, nullptr);
+  EXPECT_EQ(store.read(BankId::W, 5), 0x7FFF);  // neither is durable yet
+  journal.settle_all();
+  EXPECT_EQ(store.read(BankId::W, 5), 2);
+  EXPECT_EQ(published, (std::vector<Value>{{BankId::W, 5, 1}, {BankId::W, 5, 2}}));
 }
 
 TEST_F(WritePathTest, AWriteAcrossWIntoXTakesBoth) {
   const std::array<std::uint16_t, 2> across = {0x1111, 0x0003};
   EXPECT_EQ(writes.write_registers(0x300F, across, nullptr).status, Status::written);
+  journal.settle_all();
   EXPECT_EQ(store.read(BankId::W, 15), 0x1111);
   EXPECT_EQ(store.read(BankId::X, 0), 0x0003);
   const std::vector<Value> expected = {{BankId::W, 15, 0x1111}, {BankId::X, 0, 0x0003}};
@@ -76,6 +140,7 @@ TEST_F(WritePathTest, AWriteAcrossWIntoXTakesBoth) {
 TEST_F(WritePathTest, AWriteBlockKeepsItsUserOutputAtItsOffsetInC) {
   const std::array<std::uint16_t, 1> value = {555};
   EXPECT_EQ(writes.write_registers(0x4000, value, nullptr).status, Status::written);
+  journal.settle_all();
   EXPECT_EQ(store.read(BankId::C, c_bank::user_analog_outputs + 2), 555);
   const std::vector<Value> expected = {{BankId::C, c_bank::user_analog_outputs + 2, 555}};
   EXPECT_EQ(journal.kept, expected);
@@ -113,26 +178,59 @@ TEST_F(WritePathTest, RightsComeFirstAndRefuseEvenWhereThereIsNoRegister) {
   EXPECT_EQ(writes.write_bit(0x3010, 0, true, &nothing).status, Status::not_allowed);
   EXPECT_TRUE(journal.kept.empty());
   EXPECT_EQ(writes.write_registers(0x3000, two, &rights).status, Status::written);
+  journal.settle_all();
   EXPECT_EQ(store.read(BankId::W, 1), 2);
 }
 
 TEST_F(WritePathTest, ABitOfXIsSetAndClearedLeavingTheOthers) {
   const std::array<std::uint16_t, 1> bits = {0x0005};
   writes.write_registers(0x3010, bits, nullptr);
+  journal.settle_all();
   EXPECT_EQ(writes.write_bit(0x3010, 3, true, nullptr).status, Status::written);
+  journal.settle_all();
   EXPECT_EQ(store.read(BankId::X, 0), 0x000D);
   const auto result = writes.write_bit(0x3010, 0, false, nullptr);
+  journal.settle_all();
   EXPECT_EQ(store.read(BankId::X, 0), 0x000C);
   EXPECT_EQ(result.kept_as, 3u);
   EXPECT_EQ(journal.kept.back(), Value(BankId::X, 0, 0x000C));
 }
 
+// Two MQTT bit commands in one turn: the second builds on the first, which is not in the
+// store yet, so neither bit is lost.
+TEST_F(WritePathTest, ABitBuildsOnTheLatestPendingWriteNotOnTheStore) {
+  const std::array<std::uint16_t, 1> bits = {0x0005};
+  writes.write_registers(0x3010, bits, nullptr);
+  writes.write_bit(0x3010, 3, true, nullptr);
+  writes.write_bit(0x3010, 0, false, nullptr);
+  EXPECT_EQ(store.read(BankId::X, 0), 0);  // none durable yet
+  EXPECT_EQ(journal.kept.back(), Value(BankId::X, 0, 0x000C));
+  journal.settle_all();
+  EXPECT_EQ(store.read(BankId::X, 0), 0x000C);
+  // Once nothing is pending, the store is what a bit builds on again.
+  writes.write_bit(0x3010, 1, true, nullptr);
+  EXPECT_EQ(journal.kept.back(), Value(BankId::X, 0, 0x000E));
+}
+
+TEST_F(WritePathTest, ABitBuildsOnTheStoreAgainOnceThePendingWriteIsRefused) {
+  const std::array<std::uint16_t, 1> bits = {0x0005};
+  writes.write_registers(0x3010, bits, nullptr);
+  journal.settle_all();
+  writes.write_bit(0x3010, 3, true, nullptr);  // 0x000D, refused
+  journal.settle(false);
+  writes.write_bit(0x3010, 1, true, nullptr);
+  EXPECT_EQ(journal.kept.back(), Value(BankId::X, 0, 0x0007));
+}
+
 TEST_F(WritePathTest, ABitOfAWriteOnlyXIsStillReadModifyWrite) {
   RegisterSpace strict(space.map(), store, AccessRules{false});
   WritePath strict_writes(strict, &journal);
+  journal.committer = &strict_writes;
   const std::array<std::uint16_t, 1> bits = {0x0100};
   strict_writes.write_registers(0x3010, bits, nullptr);
+  journal.settle_all();
   strict_writes.write_bit(0x3010, 1, true, nullptr);
+  journal.settle_all();
   EXPECT_EQ(store.read(BankId::X, 0), 0x0102);
 }
 
@@ -143,6 +241,7 @@ TEST_F(WritePathTest, WithoutAJournalNothingIsKeptAndTheAnswerNeedNotWait) {
   EXPECT_EQ(result.status, Status::written);
   EXPECT_EQ(result.kept_as, 0u);
   EXPECT_EQ(store.read(BankId::W, 0), 9);
+  EXPECT_EQ(published, (std::vector<Value>{{BankId::W, 0, 9}}));
 }
 
 }  // namespace
