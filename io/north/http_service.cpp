@@ -73,6 +73,7 @@ void HttpService::gate(std::string_view authorization, const std::string& peer, 
       break;
   }
   if (const auto same = checks_.find(authorization); same != checks_.end()) {
+    web::forget_password(judgement.check->password);
     same->second.waiting.push_back({peer, std::move(done)});
     return;
   }
