@@ -4,9 +4,9 @@
 // over and goes on; the verdict comes back to the loop as a posted handler.
 //
 // One thread, not a pool: the box has two cores and the loop needs one of them; a second
-// hashing thread would only let guesses take the loop's core too. The queue in front of
-// it is bounded by web::LoginLimits (its `checks`), so a login waits at most that many
-// hashes.
+// hashing thread would only let guesses take the loop's core too. It runs at nice 19, so
+// that where the two compete for a core the loop wins. The queue in front of it is
+// bounded by web::LoginLimits (its `checks`), so a login waits at most that many hashes.
 //
 // `done` runs on the loop, never after the worker is gone: the destructor waits for the
 // hash being computed (a bcrypt of cost 12 takes ~0.25 s) and drops what is queued, and a
