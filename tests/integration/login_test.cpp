@@ -229,6 +229,10 @@ TEST_F(Logins, TheSameCredentialsAtOnceShareOneCheckAndAClientThatLeavesIsForgot
                                                     base64("technician:right") + "\r\nConnection: close\r\n\r\n");
   ASSERT_EQ(metrics.status, 200);
   EXPECT_NE(metrics.body.find("\nunima_bridge_http_password_checks_total 2\n"), std::string::npos) << metrics.body;
+  const auto file = dir.path() / "metrics.txt";
+  test_support::write_file(file, metrics.body);
+  const auto checked = run("promtool check metrics < " + file.string());
+  EXPECT_EQ(checked.status, 0) << checked.output << metrics.body;
 
   auto last = Socket::tcp_from(guesser, http_port);
   last.send(get_request("technician:wrong again"));
