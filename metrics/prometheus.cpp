@@ -150,6 +150,15 @@ std::string prometheus_text(const nlohmann::json& status) {
     out.family("mqtt_drops_total", "counter", "Connections to the MQTT broker that dropped.").sample(field(mqtt, "drops"));
     out.family("mqtt_published_total", "counter", "MQTT messages handed to the broker's connection.").sample(field(mqtt, "published"));
   }
+  if (const auto& logins = field(field(status, "http"), "logins"); logins.is_object()) {
+    out.family("http_password_checks_total", "counter", "Password hashes of http.users computed (on the worker, not the loop).")
+        .sample(field(logins, "checked"));
+    out.family("http_password_checks_in_flight", "gauge", "Password checks queued or being computed.")
+        .sample(field(logins, "in_flight"));
+    out.family("http_logins_refused_total", "counter",
+               "Requests with a name and password refused: wrong (401), too many from one host (429), too many at once (503).");
+    for (const auto* reason : {"wrong", "peer_limited", "busy"}) out.sample(field(logins, reason), {{"reason", reason}});
+  }
   return out.take();
 }
 

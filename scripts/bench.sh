@@ -5,7 +5,8 @@
 # Then Modbus/TCP Security against plain TCP (bench/tls.sh) and against stunnel4 in front of
 # the libmodbus server (bench/tls_reference.sh), plain Modbus latency under a
 # handshake flood (bench/tls_flood.sh), the cost of the HTTP server with its page open
-# (bench/http.sh), and MQTT's (bench/mqtt.sh).
+# (bench/http.sh), MQTT's (bench/mqtt.sh), and Modbus latency while a peer guesses HTTP
+# passwords (bench/auth_guess.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh
@@ -16,3 +17,4 @@ bench/tls_reference.sh "${BUILD_DIR:-build-release}"
 bench/tls_flood.sh "${BUILD_DIR:-build-release}"
 bench/http.sh "${BUILD_DIR:-build-release}"
 bench/mqtt.sh "${BUILD_DIR:-build-release}"
+bench/auth_guess.sh "${BUILD_DIR:-build-release}"

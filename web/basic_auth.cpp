@@ -39,16 +39,6 @@ bool same_bytes(const char* a, const char* b, std::size_t size) {
   return difference == 0;
 }
 
-// crypt_rn computes into a buffer of its own: no static state, nothing kept.
-bool password_matches(const std::string& password, const std::string& hash) {
-  auto data = std::make_unique<crypt_data>();
-  const char* computed = crypt_rn(password.c_str(), hash.c_str(), data.get(), sizeof(crypt_data));
-  const bool same = computed != nullptr && computed[0] != '*' && std::strlen(computed) == hash.size() &&
-                    same_bytes(computed, hash.data(), hash.size());
-  explicit_bzero(data.get(), sizeof(crypt_data));
-  return same;
-}
-
 }  // namespace
 
 std::optional<std::string> decode_base64(std::string_view text) {
@@ -75,6 +65,21 @@ std::optional<std::string> decode_base64(std::string_view text) {
     out.push_back(static_cast<char>(bits >> 2));
   }
   return out;
+}
+
+// crypt_rn computes into a buffer of its own: no static state, nothing kept.
+bool hash_matches(const std::string& password, const std::string& hash) {
+  auto data = std::make_unique<crypt_data>();
+  const char* computed = crypt_rn(password.c_str(), hash.c_str(), data.get(), sizeof(crypt_data));
+  const bool same = computed != nullptr && computed[0] != '*' && std::strlen(computed) == hash.size() &&
+                    same_bytes(computed, hash.data(), hash.size());
+  explicit_bzero(data.get(), sizeof(crypt_data));
+  return same;
+}
+
+void forget_password(std::string& password) {
+  explicit_bzero(password.data(), password.size());
+  password.clear();
 }
 
 BasicAuth BasicAuth::load(const std::string& path) {
@@ -110,47 +115,42 @@ BasicAuth BasicAuth::parse(std::string_view text, const std::string& origin) {
   return auth;
 }
 
-bool BasicAuth::take_token(Clock::time_point now) {
-  if (refilled_ != Clock::time_point{}) {
-    const std::chrono::duration<double> elapsed = now - refilled_;
-    tokens_ = std::min<double>(check_burst, tokens_ + elapsed.count() * checks_per_second);
-  }
-  refilled_ = now;
-  if (tokens_ < 1) return false;
-  tokens_ -= 1;
-  return true;
-}
-
-void BasicAuth::remember(const std::string& header, const std::string& user) {
+void BasicAuth::remember(const PasswordCheck& passed) {
+  if (passed_.contains(passed.authorization)) return;
   if (passed_.size() >= remembered) {
     passed_.erase(passed_order_.front());
     passed_order_.pop_front();
   }
-  passed_.emplace(header, user);
-  passed_order_.push_back(header);
+  passed_.emplace(passed.authorization, passed.user);
+  passed_order_.push_back(passed.authorization);
 }
 
-BasicAuth::Result BasicAuth::check(std::string_view authorization, Clock::time_point now) {
+BasicAuth::Judgement BasicAuth::judge(std::string_view authorization) const {
   const std::string header(authorization);
-  if (const auto known = passed_.find(header); known != passed_.end()) return {Verdict::allowed, known->second};
+  if (const auto known = passed_.find(header); known != passed_.end()) return {Verdict::allowed, known->second, {}};
   constexpr std::string_view scheme = "Basic ";
   if (authorization.size() <= scheme.size() || !std::equal(scheme.begin(), scheme.end(), authorization.begin(),
                                                            [](char a, char b) {
                                                              return std::tolower(static_cast<unsigned char>(a)) ==
                                                                     std::tolower(static_cast<unsigned char>(b));
                                                            }))
-    return {Verdict::refused, {}};
-  const auto credentials = decode_base64(authorization.substr(scheme.size()));
+    return {Verdict::refused, {}, {}};
+  auto credentials = decode_base64(authorization.substr(scheme.size()));
   const auto colon = credentials ? credentials->find(':') : std::string::npos;
-  if (colon == std::string::npos) return {Verdict::refused, {}};
-  const auto name = credentials->substr(0, colon);
-  const auto hash = hashes_.find(name);
-  if (!take_token(now)) return {Verdict::too_many, {}};
+  if (colon == std::string::npos) {
+    if (credentials) forget_password(*credentials);
+    return {Verdict::refused, {}, {}};
+  }
+  PasswordCheck check;
+  check.authorization = header;
+  check.user = credentials->substr(0, colon);
+  check.password = credentials->substr(colon + 1);
+  forget_password(*credentials);
+  const auto hash = hashes_.find(check.user);
   // An unknown name costs a hash too, so that the time of the answer does not tell which names exist.
-  const bool matches = password_matches(credentials->substr(colon + 1), hash != hashes_.end() ? hash->second : hashes_.begin()->second);
-  if (hash == hashes_.end() || !matches) return {Verdict::refused, {}};
-  remember(header, name);
-  return {Verdict::allowed, name};
+  check.known_user = hash != hashes_.end();
+  check.hash = check.known_user ? hash->second : hashes_.begin()->second;
+  return {Verdict::check, {}, std::move(check)};
 }
 
 }  // namespace unima::web

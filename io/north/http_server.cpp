@@ -124,9 +124,21 @@ class HttpServer::Connection : public HttpServer::ConnectionBase, public std::en
       response.set(http::field::allow, "GET, HEAD");
       return respond(std::move(response), "read only: GET or HEAD\n", keep_alive);
     }
+    if (!server_.gate_) return serve(request, std::nullopt);
+    // The request stays in parser_ while the gate decides: nothing is read until it has.
     const auto authorization = request[http::field::authorization];
-    std::optional<HttpResponse> result;
-    if (server_.gate_) result = server_.gate_(std::string_view(authorization.data(), authorization.size()), peer_);
+    server_.gate_(std::string_view(authorization.data(), authorization.size()), peer_,
+                  [this, self = this->shared_from_this()](std::optional<HttpResponse> refusal) {
+                    // Closed meanwhile (the client went, the server stopped): nothing to answer, and
+                    // server_ may be gone.
+                    if (closed_) return;
+                    serve(parser_->get(), std::move(refusal));
+                  });
+  }
+
+  void serve(const http::request<http::string_body>& request, std::optional<HttpResponse> result) {
+    http::response<http::string_body> response{http::status::ok, request.version()};
+    const bool keep_alive = request.keep_alive();
     if (!result) result = server_.handler_(std::string_view(request.target().data(), request.target().size()));
     if (result->stream && result->status == 200) return open_stream(std::move(result->stream), request.method() == http::verb::head);
     response.result(result->status);
@@ -148,6 +160,8 @@ class HttpServer::Connection : public HttpServer::ConnectionBase, public std::en
       response.prepare_payload();
     }
     response_ = std::make_shared<http::response<http::string_body>>(std::move(response));
+    // The deadline again: the request's may have run while the gate decided.
+    beast::get_lowest_layer(stream_).expires_after(server_.options_.request_timeout);
     http::async_write(stream_, *response_, [this, self = this->shared_from_this(), keep_alive](const boost::system::error_code& ec, std::size_t) {
       if (closed_) return;
       if (ec || !keep_alive) return finish();

@@ -47,9 +47,13 @@ struct HttpResponse {
 /// Answers a GET (or HEAD) of `target` (the path and query as sent).
 using HttpHandler = std::function<HttpResponse(std::string_view target)>;
 
+/// The gate's verdict on a request: nullopt lets it through, a response (401, 429, 503)
+/// goes instead.
+using HttpGateDone = std::function<void(std::optional<HttpResponse> refusal)>;
 /// Asked before every request is answered, with its Authorization header (empty when
-/// none) and the peer: nullopt lets it through, a response (401, 429) goes instead.
-using HttpGate = std::function<std::optional<HttpResponse>(std::string_view authorization, const std::string& peer)>;
+/// none) and the peer; calls `done` at once or later, from the loop (a password check is
+/// computed elsewhere). The connection waits for it, reading nothing more.
+using HttpGate = std::function<void(std::string_view authorization, const std::string& peer, HttpGateDone done)>;
 
 class HttpServer {
  public:

@@ -36,7 +36,9 @@ std::unique_ptr<HttpServer> HttpService::make_server(const config::Config& confi
 std::unique_ptr<HttpServer> HttpService::serve(const HttpOptions& options) {
   try {
     auto server = std::make_unique<HttpServer>(runtime_.io, options, [this](std::string_view target) { return answers_.answer(target); });
-    server->set_gate([this](std::string_view authorization, const std::string& peer) { return gate(authorization, peer); });
+    server->set_gate([this](std::string_view authorization, const std::string& peer, HttpGateDone done) {
+      gate(authorization, peer, std::move(done));
+    });
     return server;
   } catch (const boost::system::system_error& e) {
     throw std::runtime_error(fmt::format("http: cannot listen on {}:{}: {}", options.listen, options.port, e.code().message()));
@@ -57,21 +59,72 @@ std::optional<web::BasicAuth> HttpService::read_users(const config::Config& conf
   }
 }
 
-std::optional<HttpResponse> HttpService::gate(std::string_view authorization, const std::string& peer) {
-  if (!users_) return std::nullopt;
-  const auto result = users_->check(authorization, web::BasicAuth::Clock::now());
-  switch (result.verdict) {
+// Answered on the loop when no hash is needed; else the hash is computed by the worker and
+// the request answered when it is back (checked()). web::LoginLimits decides who may start one.
+void HttpService::gate(std::string_view authorization, const std::string& peer, HttpGateDone done) {
+  if (!users_) return done(std::nullopt);
+  auto judgement = users_->judge(authorization);
+  switch (judgement.verdict) {
     case web::BasicAuth::Verdict::allowed:
-      return std::nullopt;
-    case web::BasicAuth::Verdict::too_many:
-      platform::warn_from_peer("http: logins refused as too many", peer,
-                               "http: too many logins to check ({} a second): {} asked to wait", web::BasicAuth::checks_per_second, peer);
-      return HttpResponse{429, text_type, "too many logins at once: try again in a second\n", {{"Retry-After", "1"}}, {}};
+      return done(std::nullopt);
     case web::BasicAuth::Verdict::refused:
+      return done(unauthorized(peer, !authorization.empty()));
+    case web::BasicAuth::Verdict::check:
       break;
   }
-  if (!authorization.empty())
+  if (const auto same = checks_.find(authorization); same != checks_.end()) {
+    web::forget_password(judgement.check->password);
+    same->second.waiting.push_back({peer, std::move(done)});
+    return;
+  }
+  const std::string host(platform::peer_host(peer));
+  const auto retry_after = std::to_string(web::LoginLimits::retry_after.count());
+  switch (login_limits_.admit(host, web::LoginLimits::Clock::now())) {
+    case web::LoginLimits::Admission::admitted:
+      break;
+    case web::LoginLimits::Admission::peer_limited:
+      ++login_counters_.peer_limited;
+      web::forget_password(judgement.check->password);
+      platform::warn_from_peer("http: logins refused as too many from one host", peer,
+                               "http: {} asks for more password checks than {} at once and {} a second: told to wait", peer,
+                               login_limits_.options().checks_per_host, login_limits_.options().host_rate);
+      return done(HttpResponse{429, text_type, "too many logins from your address: try again in a second\n",
+                               {{"Retry-After", retry_after}}, {}});
+    case web::LoginLimits::Admission::busy:
+      ++login_counters_.busy;
+      web::forget_password(judgement.check->password);
+      platform::warn_from_peer("http: logins refused as too many at once", peer,
+                               "http: {} password checks are waiting already: {} told to come back", login_limits_.options().checks,
+                               peer);
+      return done(HttpResponse{503, text_type, "too many logins at once: try again in a second\n", {{"Retry-After", retry_after}}, {}});
+  }
+  ++login_counters_.checked;
+  auto& pending = checks_[std::string(authorization)];
+  pending.host = host;
+  pending.users_generation = users_generation_;
+  pending.waiting.push_back({peer, std::move(done)});
+  pending.check = std::move(*judgement.check);
+  passwords_.check(std::move(pending.check.password), pending.check.hash,
+                   [this, header = std::string(authorization)](bool hash_matched) { checked(header, hash_matched); });
+}
+
+void HttpService::checked(const std::string& authorization, bool hash_matched) {
+  auto node = checks_.extract(authorization);
+  if (node.empty()) return;
+  auto& pending = node.mapped();
+  login_limits_.release(pending.host);
+  const bool passed = pending.check.passed(hash_matched);
+  // A check begun before a reload answers its requests, but the users read since decide
+  // whether the header is remembered: it may name a user they no longer hold.
+  if (passed && users_ && pending.users_generation == users_generation_) users_->remember(pending.check);
+  for (auto& waiter : pending.waiting) waiter.done(passed ? std::nullopt : std::optional(unauthorized(waiter.peer, true)));
+}
+
+HttpResponse HttpService::unauthorized(const std::string& peer, bool gave_credentials) {
+  if (gave_credentials) {
+    ++login_counters_.wrong;
     platform::warn_from_peer("http: logins refused", peer, "http: {} gave a name and password that http.users does not hold", peer);
+  }
   return HttpResponse{401, text_type, "log in: a name and password of http.users\n",
                       {{"WWW-Authenticate", "Basic realm=\"unima-bridge\", charset=\"UTF-8\""}}, {}};
 }
@@ -119,10 +172,18 @@ void HttpService::abandon() {
 
 void HttpService::commit(const Banks&) {
   users_ = std::move(next_users_);
+  ++users_generation_;
   next_users_.reset();
   server_.commit();
   if (server_ && next_tls_) server_->set_tls_context(std::move(next_tls_));
   next_tls_.reset();
+}
+
+void HttpService::describe(nlohmann::json& status) const {
+  if (!users_) return;
+  const auto& c = login_counters_;
+  status["http"]["logins"] = {{"checked", c.checked}, {"wrong", c.wrong}, {"peer_limited", c.peer_limited},
+                              {"busy", c.busy},       {"in_flight", login_limits_.in_flight()}};
 }
 
 }  // namespace unima::io

@@ -1,19 +1,26 @@
 #pragma once
 // HTTP (`http`, SPEC §13) as a service: the server (plain or TLS), who may ask
-// (`http.users`), the loop's heartbeat that /healthz reports and that feeds the front
-// pages listening to /api/events. A reload keeps the listener when its address, port and
+// (`http.users`: the hashes computed by a PasswordWorker, within web::LoginLimits), the
+// loop's heartbeat that /healthz reports and that feeds the front pages listening to
+// /api/events. A reload keeps the listener when its address, port and
 // TLS did not change (renewed certificates and users apply at once); a users file that
 // can no longer be read keeps the users read before.
 
+#include <cstdint>
+#include <map>
 #include <memory>
 #include <optional>
+#include <string>
+#include <vector>
 
 #include "io/north/http_answers.hpp"
 #include "io/north/http_server.hpp"
+#include "io/north/password_worker.hpp"
 #include "io/movable_listener.hpp"
 #include "io/service.hpp"
 #include "web/basic_auth.hpp"
 #include "web/live_view.hpp"
+#include "web/login_limits.hpp"
 
 namespace unima::io {
 
@@ -26,6 +33,7 @@ class HttpService final : public Service {
   void stage(const Banks& next) override;
   void abandon() override;
   void commit(const Banks& previous) override;
+  void describe(nlohmann::json& status) const override;
 
  private:
   std::unique_ptr<HttpServer> make_server(const config::Config& config);
@@ -33,7 +41,9 @@ class HttpService final : public Service {
   /// `config`'s users; nullopt when it has none. Throws when they cannot be read, unless
   /// the running config named the same file: then the users read before stay, logged.
   std::optional<web::BasicAuth> read_users(const config::Config& config) const;
-  std::optional<HttpResponse> gate(std::string_view authorization, const std::string& peer);
+  void gate(std::string_view authorization, const std::string& peer, HttpGateDone done);
+  void checked(const std::string& authorization, bool hash_matched);
+  HttpResponse unauthorized(const std::string& peer, bool gave_credentials);
   void heartbeat();
 
   Runtime& runtime_;
@@ -41,12 +51,35 @@ class HttpService final : public Service {
   LoopHealth health_;
   HttpAnswers answers_{runtime_, live_, health_};
   std::optional<web::BasicAuth> users_;  // nullopt: the server asks no one
+  std::uint64_t users_generation_ = 0;    // counts reloads of users_
+  web::LoginLimits login_limits_;
+  // A check being computed, by Authorization header: a browser's parallel requests with
+  // the same new header wait for the one hash.
+  struct PendingCheck {
+    web::PasswordCheck check;
+    std::string host;
+    std::uint64_t users_generation = 0;
+    struct Waiter {
+      std::string peer;
+      HttpGateDone done;
+    };
+    std::vector<Waiter> waiting;
+  };
+  std::map<std::string, PendingCheck, std::less<>> checks_;
+  struct LoginCounters {
+    std::uint64_t checked = 0;        // hashes computed
+    std::uint64_t wrong = 0;          // credentials given and refused (401)
+    std::uint64_t peer_limited = 0;   // 429
+    std::uint64_t busy = 0;           // 503
+  } login_counters_;
   MovableListener<HttpServer> server_{nullptr};
   asio::steady_timer heartbeat_timer_;
   bool started_ = false;
   // Staged by a reload:
   std::shared_ptr<asio::ssl::context> next_tls_;  // same endpoint: http.tls read again
   std::optional<web::BasicAuth> next_users_;
+  // Last: gone first, so that no verdict comes back to what is destroyed.
+  PasswordWorker passwords_{runtime_.io};
 };
 
 }  // namespace unima::io

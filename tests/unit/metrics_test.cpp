@@ -29,7 +29,8 @@ const auto status = nlohmann::json::parse(R"({
   "master": [ {"device": 3, "requests": 10, "answered": 8, "timeouts": 2, "exceptions": 0, "bad_frames": 0} ],
   "monitor": {"written": 100, "dropped": 4},
   "state": {"file": "/var/lib/unima-bridge/state", "records": 6, "syncs": 2, "failures": 0},
-  "mqtt": {"broker": "mqtt://b", "connected": true, "connections": 3, "drops": 2, "published": 120}
+  "mqtt": {"broker": "mqtt://b", "connected": true, "connections": 3, "drops": 2, "published": 120},
+  "http": {"logins": {"checked": 9, "wrong": 7, "peer_limited": 30, "busy": 1, "in_flight": 2}}
 })");
 
 TEST(Prometheus, EveryFamilyHasHelpAndTypeAndTheStatusValues) {
@@ -65,6 +66,11 @@ TEST(Prometheus, EveryFamilyHasHelpAndTypeAndTheStatusValues) {
   EXPECT_TRUE(has_line(text, R"(unima_bridge_master_timeouts_total{device="3"} 2)")) << text;
   EXPECT_TRUE(has_line(text, "unima_bridge_monitor_lines_dropped_total 4")) << text;
   EXPECT_TRUE(has_line(text, "unima_bridge_state_syncs_total 2")) << text;
+  EXPECT_TRUE(has_line(text, "unima_bridge_http_password_checks_total 9")) << text;
+  EXPECT_TRUE(has_line(text, "unima_bridge_http_password_checks_in_flight 2")) << text;
+  EXPECT_TRUE(has_line(text, R"(unima_bridge_http_logins_refused_total{reason="wrong"} 7)")) << text;
+  EXPECT_TRUE(has_line(text, R"(unima_bridge_http_logins_refused_total{reason="peer_limited"} 30)")) << text;
+  EXPECT_TRUE(has_line(text, R"(unima_bridge_http_logins_refused_total{reason="busy"} 1)")) << text;
   EXPECT_EQ(text.back(), '\n');
 }
 

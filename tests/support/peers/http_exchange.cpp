@@ -6,9 +6,19 @@
 
 namespace unima::test_support {
 
-HttpReply http_exchange(std::uint16_t port, const std::string& request) {
+HttpReply parse_http_reply(const std::string& all) {
   HttpReply reply;
-  auto socket = Socket::tcp(port);
+  const auto end = all.find("\r\n\r\n");
+  if (end == std::string::npos || all.size() < 12) return reply;
+  reply.head = all.substr(0, end);
+  reply.body = all.substr(end + 4);
+  reply.status = std::stoi(all.substr(9, 3));
+  return reply;
+}
+
+HttpReply http_exchange(std::uint16_t port, const std::string& request, const std::string& source) {
+  HttpReply reply;
+  auto socket = source.empty() ? Socket::tcp(port) : Socket::tcp_from(source, port);
   if (!socket.valid()) return reply;
   timeval timeout{5, 0};
   ::setsockopt(socket.fd(), SOL_SOCKET, SO_RCVTIMEO, &timeout, sizeof timeout);
@@ -16,12 +26,7 @@ HttpReply http_exchange(std::uint16_t port, const std::string& request) {
   std::string all;
   char buffer[4096];
   for (ssize_t n; (n = ::recv(socket.fd(), buffer, sizeof buffer, 0)) > 0;) all.append(buffer, static_cast<std::size_t>(n));
-  const auto end = all.find("\r\n\r\n");
-  if (end == std::string::npos || all.size() < 12) return reply;
-  reply.head = all.substr(0, end);
-  reply.body = all.substr(end + 4);
-  reply.status = std::stoi(all.substr(9, 3));
-  return reply;
+  return parse_http_reply(all);
 }
 
 HttpReply http_get(std::uint16_t port, const std::string& path) {

@@ -14,8 +14,12 @@ struct HttpReply {
   std::string body;
 };
 
-/// Sends `request` as it is to 127.0.0.1:port and reads the reply to the end (Connection: close).
-HttpReply http_exchange(std::uint16_t port, const std::string& request);
+/// Sends `request` as it is to 127.0.0.1:port (from `source` when given, e.g. 127.0.0.2 to
+/// be another host) and reads the reply to the end (Connection: close).
+HttpReply http_exchange(std::uint16_t port, const std::string& request, const std::string& source = {});
+
+/// The reply in `all` (what a server sent until it closed); status 0 when it is no HTTP reply.
+HttpReply parse_http_reply(const std::string& all);
 
 /// GET `path`, the connection closed after the reply.
 HttpReply http_get(std::uint16_t port, const std::string& path);
