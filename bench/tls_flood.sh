@@ -47,23 +47,32 @@ measure() {  # prints the plain port's p99 in µs
   "$load" --port "$plain" --connections 8 --function 4 --address 4352 --quantity 64 --duration "$seconds" \
     --warmup 0.2 --json | field p99_us
 }
-flood() {  # runs for the round (and its warm-up), writes its JSON to $work/flood.json
-  local span attempts
+flood() {  # [port] runs for the round (and its warm-up), writes its JSON to $work/flood.json
+  local span attempts target=${1:-$tls}
   span=$(python3 -c "print($seconds + 0.4)")
   attempts=$(python3 -c "print(int($rate * $span))")
-  "$tls_load" --port "$tls" --mode flood --source 127.0.0.2 --connections 8 --rate "$rate" \
+  "$tls_load" --port "$target" --mode flood --source 127.0.0.2 --connections 8 --rate "$rate" \
     --attempts "$attempts" --duration "$span" > "$work/flood.json"
 }
 
 cpu_seconds() { awk -v hz="$(getconf CLK_TCK)" '{ print ($14 + $15) / hz }' "/proc/$daemon_pid/stat"; }
 
-idle=(); flooded=(); ratio=(); per_s=(); answered=(); busy=()
+# The control: the same flood at a port nothing listens on (each connection refused by the
+# kernel), which costs the daemon nothing: what the flooding process and the kernel take
+# from two shared cores alone.
+closed=$(free_port)
+idle=(); flooded=(); ratio=(); per_s=(); answered=(); busy=(); control=(); control_ratio=()
 for round in $(seq "$rounds"); do
-  order=(idle flood)
-  [ $((round % 2)) = 0 ] && order=(flood idle)
+  order=(idle flood control)
+  [ $((round % 2)) = 0 ] && order=(control flood idle)
   for what in "${order[@]}"; do
     if [ "$what" = idle ]; then
       i=$(measure)
+    elif [ "$what" = control ]; then
+      flood "$closed" & flooder=$!
+      sleep 0.1
+      c=$(measure)
+      wait "$flooder" || true
     else
       flood & flooder=$!
       sleep 0.1  # the flood is on before the first request is timed
@@ -74,6 +83,7 @@ for round in $(seq "$rounds"); do
     fi
   done
   idle+=("$i"); flooded+=("$f"); ratio+=("$(python3 -c "print($f / $i)")")
+  control+=("$c"); control_ratio+=("$(python3 -c "print($c / $i)")")
 done
 for _ in $(seq "$rounds"); do
   before=$(cpu_seconds); start=$(date +%s.%N)
@@ -87,6 +97,8 @@ echo "|---|---|"
 echo "| plain FC4 × 64, 8 connections, p99 µs, idle | $(median "${idle[@]}") |"
 echo "| the same while 127.0.0.2 floods the TLS port with one replayed ClientHello, p99 µs | $(median "${flooded[@]}") |"
 echo "| ratio flood / idle (target ≤ 2) | $(median "${ratio[@]}") |"
+echo "| control: the same flood at a closed port (the daemon does nothing), p99 µs | $(median "${control[@]}") |"
+echo "| ratio control / idle: what the flooding process alone costs the machine | $(median "${control_ratio[@]}") |"
 echo "| the flood's connections a second | $(median "${per_s[@]}") |"
 echo "| share of them the daemon answered with its first flight (a handshake's cryptography) | $(median "${answered[@]}") |"
 echo "| the daemon's CPU during the flood alone, share of one core | $(median "${busy[@]}") |"
