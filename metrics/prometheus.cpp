@@ -1,6 +1,7 @@
 #include "metrics/prometheus.hpp"
 
 #include <initializer_list>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -81,25 +82,27 @@ std::string prometheus_text(const nlohmann::json& status) {
   for (const auto& port : ports.is_array() ? ports : nlohmann::json::array())
     out.sample(field(port, "clients"), {{"port", text(field(port, "port"))}});
 
-  // Modbus/TCP Security's handshakes (SPEC §11; tls/handshake_limiter): only a TLS port has them.
+  // TLS handshakes (SPEC §11; tls/handshake_limiter), by port: the Modbus/TCP Security
+  // port's, and HTTPS' as port "https".
+  std::vector<std::pair<std::string, const nlohmann::json*>> handshakes;
+  if (ports.is_array())  // ports itself, not a copy: the pointers outlive the loop
+    for (const auto& port : ports)
+      if (field(port, "handshakes").is_object()) handshakes.emplace_back(text(field(port, "port")), &field(port, "handshakes"));
+  if (const auto& https = field(field(status, "http"), "handshakes"); https.is_object()) handshakes.emplace_back("https", &https);
   out.family("tls_handshakes_total", "counter", "TLS handshakes completed, by port.");
-  for (const auto& port : ports.is_array() ? ports : nlohmann::json::array())
-    out.sample(field(field(port, "handshakes"), "completed"), {{"port", text(field(port, "port"))}});
+  for (const auto& [port, h] : handshakes) out.sample(field(*h, "completed"), {{"port", port}});
   out.family("tls_handshakes_failed_total", "counter",
              "TLS handshakes started and not completed (an error, the deadline, the client left), by port.");
-  for (const auto& port : ports.is_array() ? ports : nlohmann::json::array())
-    out.sample(field(field(port, "handshakes"), "failed"), {{"port", text(field(port, "port"))}});
+  for (const auto& [port, h] : handshakes) out.sample(field(*h, "failed"), {{"port", port}});
   out.family("tls_handshakes_refused_total", "counter",
              "TLS connections closed at accept because their host or the port had as many handshakes as allowed, by port and limit.");
-  for (const auto& port : ports.is_array() ? ports : nlohmann::json::array()) {
-    const auto& refused = field(field(port, "handshakes"), "refused");
+  for (const auto& [port, h] : handshakes) {
+    const auto& refused = field(*h, "refused");
     if (!refused.is_object()) continue;
-    for (const auto& [limit, value] : refused.items())
-      out.sample(value, {{"port", text(field(port, "port"))}, {"limit", limit}});
+    for (const auto& [limit, value] : refused.items()) out.sample(value, {{"port", port}, {"limit", limit}});
   }
   out.family("tls_handshakes_in_progress", "gauge", "TLS handshakes in progress, by port.");
-  for (const auto& port : ports.is_array() ? ports : nlohmann::json::array())
-    out.sample(field(field(port, "handshakes"), "in_progress"), {{"port", text(field(port, "port"))}});
+  for (const auto& [port, h] : handshakes) out.sample(field(*h, "in_progress"), {{"port", port}});
 
   const auto& devices = field(status, "devices");
   out.family("device_online", "gauge", "1 while a configured device D_N is on-line on UnimaBUS.");

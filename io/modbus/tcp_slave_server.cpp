@@ -1,4 +1,6 @@
 #include "io/modbus/tcp_slave_server.hpp"
+
+#include "io/handshake_admission.hpp"
 #include "io/modbus/tcp_connection.hpp"
 
 #include <algorithm>
@@ -83,27 +85,6 @@ bool TcpSlaveServer::allowed(const asio::ip::address& address, const std::string
   return false;
 }
 
-std::optional<tls::HandshakeSlot> TcpSlaveServer::admit_handshake(const asio::ip::address& address,
-                                                                  const std::string& peer) {
-  using Verdict = tls::HandshakeLimiter::Verdict;
-  auto& limiter = options_.tls->handshakes;
-  const auto host = address.to_string();
-  const auto verdict = limiter->admit(host, Clock::now());
-  if (verdict == Verdict::admitted) return tls::HandshakeSlot(limiter, host);
-  const auto& limits = limiter->limits();
-  const auto what = warning("TLS handshakes refused");
-  if (verdict == Verdict::host_in_progress)
-    platform::warn_from_peer(what, peer, "{}: {} has {} TLS handshakes in progress, the most a host may; closing its new connections",
-                             name(), host, limits.per_host_in_progress);
-  else if (verdict == Verdict::host_rate)
-    platform::warn_from_peer(what, peer, "{}: {} starts TLS handshakes faster than {} a second (at most {} at once); closing its new connections",
-                             name(), host, limits.per_host_rate, limits.per_host_burst);
-  else
-    platform::warn_from_peer(what, peer, "{}: {} TLS handshakes in progress, the most the port takes; closing a new connection from {}",
-                             name(), limiter->in_progress(), host);
-  return std::nullopt;
-}
-
 void TcpSlaveServer::set_access(const config::PeerAllowList& allow, bool read_only) {
   options_.allow = allow;
   options_.read_only = read_only;
@@ -126,7 +107,8 @@ void TcpSlaveServer::adopt(tcp::socket socket) {
   // Before any eviction: a refused handshake must not cost another client its slot.
   std::optional<tls::HandshakeSlot> handshake;
   if (options_.tls) {
-    handshake = admit_handshake(remote.address(), remote.address().to_string() + ":" + std::to_string(remote.port()));
+    handshake = admit_handshake(options_.tls->handshakes, remote.address(),
+                                remote.address().to_string() + ":" + std::to_string(remote.port()), name());
     if (!handshake) {
       socket.close(ec);
       return;

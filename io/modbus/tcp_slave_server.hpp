@@ -90,9 +90,6 @@ class TcpSlaveServer {
   bool make_room();
   /// False (and logged, rate-limited) when modbus.tcp.allow does not list the peer.
   bool allowed(const asio::ip::address& address, const std::string& peer) const;
-  /// A TLS port's handshake for a new client from `address`, or nothing (logged, rate-limited)
-  /// when its host or the port has as many as tls::HandshakeLimiter allows.
-  std::optional<tls::HandshakeSlot> admit_handshake(const asio::ip::address& address, const std::string& peer);
   /// What a client of this port may write: nothing when read only; on a TLS port what its
   /// role may (nothing without one); nullptr: everything.
   const modbus::WriteRights* write_rights(const std::optional<std::string>& role) const;

@@ -3,23 +3,13 @@
 #include <spdlog/spdlog.h>
 
 #include "io/modbus/slave_context.hpp"
+#include "io/handshake_admission.hpp"
 #include "io/tls_context.hpp"
 #include "io/modbus/port_counters.hpp"
 
 namespace unima::io {
 
 namespace {
-
-// The TLS port's handshakes in the status document (and so in /metrics): an object, not
-// numbers beside the transaction states.
-nlohmann::json handshake_counters(const tls::HandshakeLimiter& limiter) {
-  using Verdict = tls::HandshakeLimiter::Verdict;
-  const auto& c = limiter.counters();
-  nlohmann::json refused;
-  for (const auto verdict : {Verdict::host_in_progress, Verdict::host_rate, Verdict::all_in_progress})
-    refused[tls::HandshakeLimiter::name(verdict)] = c.refused_of(verdict);
-  return {{"completed", c.completed}, {"failed", c.failed}, {"in_progress", limiter.in_progress()}, {"refused", refused}};
-}
 
 TcpSlaveOptions slave_options(const config::TcpSlaveConfig& c) {
   TcpSlaveOptions options;

@@ -6,6 +6,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include "io/handshake_admission.hpp"
 #include "platform/beast.hpp"
 #include "platform/peer_warnings.hpp"
 
@@ -31,9 +32,12 @@ class HttpServer::ConnectionBase : public web::EventSink {
   virtual void close() = 0;
   Clock::time_point last_activity() const { return last_activity_; }
   const std::string& peer() const { return peer_; }
+  /// An HTTPS connection's place among the handshakes its port allows (tls::HandshakeLimiter).
+  void hold(tls::HandshakeSlot handshake) { handshake_ = std::move(handshake); }
 
  protected:
   std::string peer_;
+  tls::HandshakeSlot handshake_;  // until the handshake completes; else its end counts it failed
   Clock::time_point last_activity_ = Clock::now();
 };
 
@@ -58,6 +62,8 @@ class HttpServer::Connection : public HttpServer::ConnectionBase, public std::en
           platform::warn_from_peer("http: TLS handshakes failed", peer_, "http: TLS handshake with {} failed: {}", peer_, ec.message());
           return finish();
         }
+        handshake_.completed();
+        handshaken_ = true;
         read();
       });
     } else {
@@ -164,7 +170,8 @@ class HttpServer::Connection : public HttpServer::ConnectionBase, public std::en
     beast::get_lowest_layer(stream_).expires_after(server_.options_.request_timeout);
     http::async_write(stream_, *response_, [this, self = this->shared_from_this(), keep_alive](const boost::system::error_code& ec, std::size_t) {
       if (closed_) return;
-      if (ec || !keep_alive) return finish();
+      if (ec) return finish();
+      if (!keep_alive) return say_goodbye();
       read();
     });
   }
@@ -219,12 +226,29 @@ class HttpServer::Connection : public HttpServer::ConnectionBase, public std::en
     server_.forget(this);
   }
 
+  // The server's own clean close (an answer that ends the connection): over TLS its
+  // close_notify first, so the client knows the answer was not cut short. OpenSSL's
+  // shutdown then waits for the client's close_notify, at most a second; whatever comes
+  // (its alert, its TCP close, the deadline), the connection closes.
+  void say_goodbye() {
+    if constexpr (std::is_same_v<Stream, TlsStream>) {
+      if (handshaken_) {
+        beast::get_lowest_layer(stream_).expires_after(std::chrono::seconds(1));
+        return stream_.async_shutdown([this, self = this->shared_from_this()](const boost::system::error_code&) {
+          if (!closed_) finish();
+        });
+      }
+    }
+    finish();
+  }
+
   HttpServer& server_;
   Stream stream_;
   beast::flat_buffer buffer_{max_header_bytes + 1024};
   std::optional<http::request_parser<http::string_body>> parser_;
   std::shared_ptr<http::response<http::string_body>> response_;
   bool closed_ = false;
+  bool handshaken_ = false;
   bool streaming_ = false;  // the event stream's header went out
   bool writing_ = false;
   std::string queued_;
@@ -265,6 +289,20 @@ void HttpServer::stop() {
 }
 
 void HttpServer::adopt(tcp::socket socket) {
+  // Before any eviction: a refused handshake must not cost another client its connection.
+  tls::HandshakeSlot handshake;
+  if (options_.tls && options_.handshakes) {
+    boost::system::error_code ec;
+    const auto remote = socket.remote_endpoint(ec);
+    if (ec) return;  // gone already
+    auto admitted = admit_handshake(options_.handshakes, remote.address(),
+                                    remote.address().to_string() + ":" + std::to_string(remote.port()), "https");
+    if (!admitted) {
+      socket.close(ec);
+      return;
+    }
+    handshake = std::move(*admitted);
+  }
   if (const auto idlest = connections_.size() >= options_.max_clients ? connections_.idlest() : nullptr) {
     platform::warn_from_peer("http: connections closed for a new client", idlest->peer(),
                              "http: {} connections is the limit: closing {}, the longest idle, for a new client",
@@ -277,6 +315,7 @@ void HttpServer::adopt(tcp::socket socket) {
     connection = std::make_shared<Connection<TlsStream>>(*this, std::move(socket), *options_.tls);
   else
     connection = std::make_shared<Connection<PlainStream>>(*this, std::move(socket));
+  connection->hold(std::move(handshake));
   connections_.add(connection);
   connection->start();
 }

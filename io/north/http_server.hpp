@@ -22,6 +22,7 @@
 #include "io/connection_set.hpp"
 #include "io/retrying_acceptor.hpp"
 #include "platform/asio_ssl.hpp"
+#include "tls/handshake_limiter.hpp"
 
 namespace unima::io {
 
@@ -31,6 +32,8 @@ struct HttpOptions {
   unsigned max_clients = 16;
   std::chrono::milliseconds request_timeout{10'000};  // from the end of one answer to the end of the next request
   std::shared_ptr<asio::ssl::context> tls;  // HTTPS; null: plain HTTP
+  // HTTPS: the handshakes a host may start (io/handshake_admission), the service's across reloads.
+  std::shared_ptr<tls::HandshakeLimiter> handshakes;
 };
 
 struct HttpResponse {

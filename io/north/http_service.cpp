@@ -2,6 +2,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include "io/handshake_admission.hpp"
 #include "io/tls_context.hpp"
 #include "platform/peer_warnings.hpp"
 
@@ -29,7 +30,10 @@ std::unique_ptr<HttpServer> HttpService::make_server(const config::Config& confi
   options.listen = config.http->listen;
   options.port = config.http->port;
   options.max_clients = config.http->max_clients;
-  if (const auto& tls = config.http->tls) options.tls = make_server_tls_context({tls->certificate, tls->key, {}}, "http.tls");
+  if (const auto& tls = config.http->tls) {
+    options.tls = make_server_tls_context({tls->certificate, tls->key, {}}, "http.tls");
+    options.handshakes = handshakes_;
+  }
   return serve(options);
 }
 
@@ -180,6 +184,7 @@ void HttpService::commit(const Banks&) {
 }
 
 void HttpService::describe(nlohmann::json& status) const {
+  if (server_ && server_->tls()) status["http"]["handshakes"] = handshake_counters(*handshakes_);
   if (!users_) return;
   const auto& c = login_counters_;
   status["http"]["logins"] = {{"checked", c.checked}, {"wrong", c.wrong}, {"peer_limited", c.peer_limited},

@@ -72,6 +72,8 @@ class HttpService final : public Service {
     std::uint64_t peer_limited = 0;   // 429
     std::uint64_t busy = 0;           // 503
   } login_counters_;
+  // HTTPS' handshakes a host may start, kept across reloads that move the port.
+  std::shared_ptr<tls::HandshakeLimiter> handshakes_ = std::make_shared<tls::HandshakeLimiter>();
   MovableListener<HttpServer> server_{nullptr};
   asio::steady_timer heartbeat_timer_;
   bool started_ = false;

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "tests/integration/certificate_fixture.hpp"
+#include "tests/integration/handshake_flood.hpp"
 
 namespace unima::test {
 namespace {
@@ -105,6 +106,47 @@ TEST_F(Https, PasswordGuessesBeyondAFewASecondAreToldToWait) {
   EXPECT_EQ(get("/healthz", "technician:tech pass").at("status"), "200");
   ModbusClient client(config.modbus_port);
   EXPECT_TRUE(client.read_input(0x0011, 1));
+}
+
+// RFC 8446 §6.1: an answer that ends its connection ("Connection: close") ends with the
+// server's close_notify, so the client can tell the whole answer from a cut one.
+TEST_F(Https, AnAnswerThatEndsTheConnectionEndsWithCloseNotify) {
+  start_https();
+  const auto reply = get("/healthz", "technician:tech pass", "--close");
+  EXPECT_EQ(reply.at("status"), "200");
+  EXPECT_EQ(reply.at("end"), "close_notify") << daemon->log();
+}
+
+// Issue 29: a handshake costs the loop that serves Modbus the same on HTTPS as on the
+// Modbus/TCP Security port, so HTTPS' door is the same: a host replaying one ClientHello
+// on new connections gets a few handshakes at once and a few a second, the rest closed at
+// accept, counted in /metrics (port "https") and warned about once — and a browser on
+// another host is served all along.
+TEST_F(Https, AHostReplayingClientHellosIsRefusedCountedAndWarnedOnceWhileOthersAreServed) {
+  start_https();
+  const auto client_hello = a_client_hello();
+  ASSERT_GT(client_hello.size(), 100u);
+  std::string served;
+  const auto [answered, closed, connected] = replay_client_hello(http_port, client_hello, 12, [&](int round) {
+    if (round == 6) served = get("/api/status", "technician:tech pass").at("status");
+  });
+  ASSERT_TRUE(connected);
+  EXPECT_EQ(served, "200") << daemon->log();
+  EXPECT_GE(closed, 48) << answered << " answered";
+
+  const auto metrics = get("/metrics", "technician:tech pass").at("body");
+  const auto refused = [&](const std::string& limit) {
+    const std::string series = R"(unima_bridge_tls_handshakes_refused_total{port="https",limit=")" + limit + "\"} ";
+    const auto at = metrics.find(series);
+    return at == std::string::npos ? 0.0 : std::stod(metrics.substr(at + series.size()));
+  };
+  EXPECT_EQ(refused("per_host_in_progress") + refused("per_host_rate") + refused("in_progress"), closed) << metrics;
+  EXPECT_NE(metrics.find(R"(unima_bridge_tls_handshakes_total{port="https"})"), std::string::npos) << metrics;
+  std::istringstream log(daemon->log());
+  int warnings = 0;
+  for (std::string line; std::getline(log, line);)
+    if (line.find("https: TLS handshakes") != std::string::npos || line.find("https: 127.0.0.2") != std::string::npos) ++warnings;
+  EXPECT_EQ(warnings, 1) << daemon->log();
 }
 
 TEST_F(Https, ARenewedCertificateAndANewUserServeAfterSighup) {

@@ -14,6 +14,7 @@
 #include <span>
 
 #include "tests/integration/certificate_fixture.hpp"
+#include "tests/integration/handshake_flood.hpp"
 #include "tests/support/peers/http_exchange.hpp"
 #include "tests/support/peers/memory_tls_client.hpp"
 #include "tests/support/peers/segmented_tls_client.hpp"
@@ -278,35 +279,16 @@ TEST_F(Tls, AHostReplayingClientHellosIsRefusedCountedAndWarnedOnceWhileOthersAr
   start_tls();
   ASSERT_TRUE(wait_for_port(http_port)) << daemon->log();
 
-  SSL_CTX* context = SSL_CTX_new(TLS_client_method());
-  std::vector<std::uint8_t> client_hello;
-  {
-    test_support::MemoryTlsClient hello(context);
-    ASSERT_NE(SSL_do_handshake(hello.ssl()), 1);
-    client_hello = hello.take_output();
-  }
-  SSL_CTX_free(context);
+  const auto client_hello = a_client_hello();
   ASSERT_GT(client_hello.size(), 100u);
 
   // Rounds of 8 connections from 127.0.0.2 at once, each sending the same ClientHello;
   // halfway, with its latest ones still open, a client of 127.0.0.1 reads a register.
   std::vector<std::string> served;
-  int answered = 0, closed = 0;
-  for (int round = 0; round < 12; ++round) {
-    std::vector<Socket> flood;
-    for (int i = 0; i < 8; ++i) {
-      flood.push_back(Socket::tcp_from("127.0.0.2", tls_port));
-      ASSERT_TRUE(flood.back().valid());
-      flood.back().send(client_hello);
-    }
-    for (auto& socket : flood) {
-      // The server's first flight, or the end of a refused connection.
-      const auto reply = socket.receive(5, 2000ms);
-      if (reply.size() == 5 && reply[0] == 0x16) ++answered;
-      else ++closed;
-    }
+  const auto [answered, closed, connected] = replay_client_hello(tls_port, client_hello, 12, [&](int round) {
     if (round == 6) served = client("operator", {"0400110001"});
-  }
+  });
+  ASSERT_TRUE(connected);
   ASSERT_EQ(served.size(), 3u) << ::testing::PrintToString(served) << daemon->log();
   EXPECT_EQ(served[0], "server: server");
   EXPECT_EQ(served[1].substr(0, 4), "0402");

@@ -2,21 +2,45 @@
 """One HTTPS GET to the daemon's HTTP server (SPEC §13 with http.tls and http.users),
 with Python's ssl and http.client: the server's certificate checked against CA.
 
-  https_get.py PORT PATH CA [NAME:PASSWORD] [--first BYTES] [--repeat N]
+  https_get.py PORT PATH CA [NAME:PASSWORD] [--first BYTES] [--repeat N] [--close]
 
 Prints "server: <CN>", "status: <code>", "www-authenticate: <value>" when there is one,
 then "body: <the body, or its first BYTES for an event stream>"; or "error: <reason>".
 --repeat N sends the request N times at once, each on a new connection, and prints
-"statuses: <code> <code> ..." only.
+"statuses: <code> <code> ..." only. --close sends "Connection: close" over a bare TLS
+socket, reads to the end and prints "end: close_notify" when the server ended with its
+close_notify alert, "end: cut" when the connection ended without one.
 """
 import base64
 import http.client
+import socket
 import ssl
 import sys
 
 
+def read_to_the_end(port, path, context, headers):
+    """The raw answer to one request with "Connection: close", and how the server ended it."""
+    with socket.create_connection(("127.0.0.1", port), timeout=5) as raw:
+        # suppress_ragged_eofs off: an end without close_notify is an error, not b"".
+        with context.wrap_socket(raw, server_hostname="127.0.0.1", suppress_ragged_eofs=False) as tls:
+            lines = [f"GET {path} HTTP/1.1", "Host: 127.0.0.1", "Connection: close"]
+            lines += [f"{name}: {value}" for name, value in headers.items()]
+            tls.sendall(("\r\n".join(lines) + "\r\n\r\n").encode())
+            answer = b""
+            try:
+                while chunk := tls.recv(65536):
+                    answer += chunk
+                end = "close_notify"
+            except (ssl.SSLEOFError, ConnectionResetError):
+                end = "cut"
+    return answer, end
+
+
 def main():
     args = sys.argv[1:]
+    close = "--close" in args
+    if close:
+        args.remove("--close")
     options = {}
     for name in ("--first", "--repeat"):
         if name in args:
@@ -30,6 +54,15 @@ def main():
     headers = {}
     if credentials:
         headers["Authorization"] = "Basic " + base64.b64encode(credentials.encode()).decode()
+    if close:
+        try:
+            answer, end = read_to_the_end(port, path, context, headers)
+        except (OSError, ssl.SSLError) as e:
+            print(f"error: {e}")
+            return 1
+        print("status: " + answer.split(b" ", 2)[1].decode() if answer.startswith(b"HTTP/1.1 ") else "status: none")
+        print(f"end: {end}")
+        return 0
     if "--repeat" in options:
         statuses = []
         for _ in range(options["--repeat"]):
