@@ -187,6 +187,21 @@ def command_filter() -> None:
         write("command_filter", f"expression-{n}", expression.encode() + b"\n" + queries[n % len(queries)])
 
 
+def basic_auth() -> None:
+    # A users file, a 0x00, an Authorization header (basic_auth_fuzzer.cpp); or a header alone.
+    import base64
+    users = ("technician:$6$rounds=5000$Vbkm1V2IU1p3LXN7$ykIgySEG0r0.bMfhqUlZNhXcmKAUwM9Wl4Zqk2N5l0Ch6vY4dm6G2dU7TGmHdm"
+             "SYXPj3e0DqS7u4Ey9AGF0Ge1\n# a comment\nviewer:$2b$12$abcdefghijklmnopqrstuuJ1Vd7zFv7cFDbEPSgk3gGDkzHmQ2bW6\n")
+    headers = ["Basic " + base64.b64encode(b"technician:tech pass").decode(), "basic " + base64.b64encode(b"viewer:").decode(),
+               "Basic " + base64.b64encode(b"nobody:x").decode().rstrip("="), "Basic " + base64.b64encode(b"no colon").decode(),
+               "Bearer abc", "Basic ", "Basic !!!!", "BASIC dGVjaG5pY2lhbjp0ZWNoIHBhc3M="]
+    for n, header in enumerate(headers):
+        write("basic_auth", f"header-{n}", header.encode())
+        write("basic_auth", f"users-and-header-{n}", users.encode() + b"\x00" + header.encode())
+    write("basic_auth", "users-bad-line", b"technician\n\x00" + headers[0].encode())
+    write("basic_auth", "users-twice", (users + users).encode() + b"\x00" + headers[0].encode())
+
+
 def source_ref() -> None:
     # Byte 0: 0x00 D1..D4 as in config/examples/four-devices.yaml; 0x80 a bit is wanted.
     analog = ["D1.oil_temperature", "D1+0x01", "D2+0x28", "S1+0x00", "W+0x00", "C+0x00", "D1.engine_speed"]
@@ -325,9 +340,11 @@ BANKS = ["A", "B", "C", "D1", "D2", "D3", "D4", "S1", "S2", "S3", "S4", "S5", "S
 
 
 def dictionaries() -> None:
-    # The config's keys and words (every lower-case string literal of the loader), bank
-    # names, device types and profiles, and the pieces of numbers, sources and durations.
-    loader = (ROOT / "config" / "loader.cpp").read_text() + (ROOT / "monitor" / "monitor_config.hpp").read_text()
+    # The config's keys and words (every lower-case string literal of the loader and its
+    # sections), bank names, device types and profiles, and the pieces of numbers, sources
+    # and durations.
+    loader = "".join(path.read_text() for path in sorted((ROOT / "config").glob("*.cpp")))
+    loader += (ROOT / "monitor" / "monitor_config.hpp").read_text()
     words = re.findall(r'"([a-z][a-z0-9_]*)"', loader)
     words += BANKS + [b + "+0x" for b in BANKS] + table_ids("banks/tables") + table_ids("master/profiles")
     words += ["0x", ".0", ".15", "xx", "true", "false", "ms", "s", "m", "MB", "KB", "unix:", ": ", "- ", "{ ", " }", "[ ",
@@ -341,5 +358,5 @@ def dictionaries() -> None:
 
 
 for make in (mbap_request, rtu_framer, feed_line, command_filter, source_ref, config_loader, master_codec,
-             replay_reader, state_journal, tls_session, dictionaries):
+             replay_reader, state_journal, tls_session, basic_auth, dictionaries):
     make()
