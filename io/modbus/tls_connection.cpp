@@ -148,7 +148,10 @@ class TlsConnection final : public TcpSlaveServer::Connection {
     step_out_ = worker && worker->submit([session = &tls_, status = &step_status_] { *status = session->handshake(); },
                                          [this, self = shared_from_this()] {
                                            step_out_ = false;
-                                           if (!finished_ && socket_.is_open()) handshake_stepped(step_status_);
+                                           if (finished_) return;
+                                           // Closed by its deadline meanwhile (close_idle closes, it does not finish).
+                                           if (!socket_.is_open()) return finish("closed while its handshake was computed");
+                                           handshake_stepped(step_status_);
                                          });
     // Only when the port is gone, or as many handshakes as the limiter lets be in progress
     // are queued already (a new limit the worker has not heard of): never in normal service.

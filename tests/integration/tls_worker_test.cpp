@@ -109,12 +109,12 @@ class TlsHandshakesOffTheLoop : public CertificateTest {
     ASSERT_GT(hello.size(), 100u);
   }
 
-  void start_tls() {
+  void start_tls(const std::string& frame_timeout = "30s") {
     config.modbus_extra = "  tls: { listen: 127.0.0.1, port: " + std::to_string(tls_port) +
                           ", certificate: " + pem("server.pem") + ", key: " + pem("server.key") + ", ca: " +
                           pem("ca.pem") + ", roles: { operator: { write: [W] } }" +
                           // Room for sixty handshakes queued behind each other on a busy machine.
-                          ", frame_timeout: 30s }\n";
+                          ", frame_timeout: " + frame_timeout + " }\n";
     config.extra += "http: { listen: 127.0.0.1, port: " + std::to_string(http_port) + " }\n";
     start();
     ASSERT_TRUE(wait_for_port(tls_port)) << daemon->log();
@@ -213,6 +213,23 @@ TEST_F(TlsHandshakesOffTheLoop, ClientsLeavingAReloadAndAStopDuringHandshakesEnd
   const auto took = daemon->terminate(5000ms);
   ASSERT_TRUE(took) << "did not exit\n" << daemon->log();
   EXPECT_EQ(daemon->exit_code(), 0) << daemon->log();
+}
+
+// Handshakes queued on the worker past the frame deadline: the loop closes their sockets
+// meanwhile, and each step that comes back to a closed connection gives its place back.
+TEST_F(TlsHandshakesOffTheLoop, HandshakesThatOutlastTheFrameDeadlineOnTheWorkerGiveTheirPlaceBack) {
+  start_tls("200ms");
+  const auto clients = hellos();
+  ASSERT_TRUE(all_read(tls_port, clients)) << daemon->log();
+  EXPECT_TRUE(daemon->wait_for_log("did not complete the TLS handshake within 200 ms")) << daemon->log();
+  const auto in_progress = [&] { return metric(R"(unima_bridge_tls_handshakes_in_progress{port="tls"})"); };
+  EXPECT_TRUE(eventually([&] { return in_progress() == 0.0; }, 10s)) << in_progress().value_or(-1) << daemon->log();
+  const auto failed = metric(R"(unima_bridge_tls_handshakes_failed_total{port="tls"})").value_or(0);
+  EXPECT_GT(failed, 0);
+  EXPECT_LE(failed, hosts * per_host + 2);  // and wait_for_port's probes, which said nothing
+  ModbusClient master(config.modbus_port);
+  EXPECT_TRUE(master.read_input(0x0011, 1));
+  EXPECT_TRUE(daemon->running());
 }
 
 }  // namespace
