@@ -12,8 +12,8 @@
 // read of the socket either — the handshake is request and answer), and a close meanwhile
 // (a deadline, an eviction, the port stopped) closes the socket and says no goodbye. The
 // step's completion holds the connection alive until it is back on the loop; one that
-// comes back to a closed connection is dropped, and the handshake's slot ends as failed
-// with the connection.
+// comes back to a closed connection ends it there (if nothing had yet), and the
+// handshake's slot ends as failed with the connection, once.
 
 #include <spdlog/spdlog.h>
 
@@ -153,8 +153,8 @@ class TlsConnection final : public TcpSlaveServer::Connection {
                                            if (!socket_.is_open()) return finish("closed while its handshake was computed");
                                            handshake_stepped(step_status_);
                                          });
-    // Only when the port is gone, or as many handshakes as the limiter lets be in progress
-    // are queued already (a new limit the worker has not heard of): never in normal service.
+    // Only when the port is gone: the worker takes as many steps as the limiter lets
+    // handshakes be in progress, and each has at most one step out.
     if (!step_out_) finish("TLS: no room to compute the handshake");
   }
 
