@@ -1,8 +1,9 @@
 #pragma once
-// How many TLS handshakes a peer may cost the event loop (SPEC §11, issue 29 row 3). A full
+// How many TLS handshakes a peer may cost the daemon (SPEC §11, issue 29 row 3). A full
 // handshake is the dearest thing a client can ask of the port — an ECDHE key pair and a
-// signature, about 0.7 ms of the loop that serves every Modbus client — and a ClientHello
-// costs its sender nothing to replay. So, per peer host: at most `per_host_in_progress`
+// signature, about 0.7–2.5 ms of CPU (computed on the port's worker thread, io/cpu_worker,
+// not the loop that serves every Modbus client, but on the same two cores) — and a
+// ClientHello costs its sender nothing to replay. So, per peer host: at most `per_host_in_progress`
 // handshakes at once and a token bucket (`per_host_rate` a second, `per_host_burst` at
 // once); and for all hosts together at most `in_progress` handshakes at once. A
 // connection over a limit is closed at accept, before OpenSSL has seen a byte of it.

@@ -25,6 +25,7 @@
 #include "platform/asio_ssl.hpp"
 #include "tls/handshake_limiter.hpp"
 #include "io/connection_set.hpp"
+#include "io/cpu_worker.hpp"
 #include "io/retrying_acceptor.hpp"
 #include "io/modbus/slave_context.hpp"
 
@@ -35,6 +36,7 @@ struct TlsSlaveSetup {
   std::shared_ptr<asio::ssl::context> context;
   std::map<std::string, modbus::WriteRights> roles;  // a role not listed may write nothing
   std::shared_ptr<tls::HandshakeLimiter> handshakes;  // the port's, across reloads
+  std::shared_ptr<CpuWorker> handshake_worker;        // where handshakes are computed (tls_connection.cpp)
 };
 
 struct TcpSlaveOptions {

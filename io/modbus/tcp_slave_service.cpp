@@ -47,7 +47,7 @@ std::unique_ptr<TcpSlaveServer> TcpSlaveService::make_server(const config::Confi
   if (security_ == Security::tls) {
     const auto& tls = *config.modbus.tls;
     try {
-      options.tls = TlsSlaveSetup{make_server_tls_context(tls_files(tls)), tls.roles, handshakes_};
+      options.tls = TlsSlaveSetup{make_server_tls_context(tls_files(tls)), tls.roles, handshakes_, handshake_worker_};
     } catch (const std::exception& e) {
       throw std::runtime_error(fmt::format("{}: {}", tls.origin, e.what()));
     }
@@ -92,7 +92,7 @@ void TcpSlaveService::commit(const Banks&) {
   server_->set_access(c.allow, c.read_only);
   if (security_ == Security::tls) {
     auto context = next_context_ ? std::move(next_context_) : server_->options().tls->context;
-    server_->set_tls(TlsSlaveSetup{std::move(context), runtime_.config().modbus.tls->roles, handshakes_});
+    server_->set_tls(TlsSlaveSetup{std::move(context), runtime_.config().modbus.tls->roles, handshakes_, handshake_worker_});
   }
   next_context_.reset();
   server_->set_context(slave_context(runtime_));

@@ -8,6 +8,7 @@
 #include <memory>
 #include <optional>
 
+#include "io/cpu_worker.hpp"
 #include "io/modbus/tcp_slave_server.hpp"
 #include "io/movable_listener.hpp"
 #include "io/service.hpp"
@@ -38,6 +39,12 @@ class TcpSlaveService final : public Service {
   // Made before the first server and given to each: a reload that moves the port keeps
   // what its hosts spent and the counts.
   std::shared_ptr<tls::HandshakeLimiter> handshakes_ = std::make_shared<tls::HandshakeLimiter>();
+  // Where the port's handshakes are computed, off the loop (io/cpu_worker), across reloads
+  // like the limiter; as many queued as the limiter lets be in progress. Made before the
+  // server and so destroyed after it: a stopped port's connections are closed before their
+  // steps still out are dropped.
+  std::shared_ptr<CpuWorker> handshake_worker_ =
+      security_ == Security::tls ? std::make_shared<CpuWorker>(runtime_.io, handshakes_->limits().in_progress) : nullptr;
   MovableListener<TcpSlaveServer> server_;
   std::shared_ptr<asio::ssl::context> next_context_;  // staged, same endpoint: the TLS files read again
 };

@@ -5,9 +5,19 @@
 // stuck in the handshake holds no slot), and its certificate's role says what it may write.
 // Every record is OpenSSL's; a clean close (idle, evicted, the port stopped, the client's own
 // close_notify) sends this side's close_notify first.
+//
+// A handshake step (an ECDHE key pair and a signature: ~1–2.5 ms of CPU) is computed on the
+// port's io::CpuWorker, not on the loop that serves every Modbus client (issue 29). While a
+// step is out the worker has the session to itself: the loop touches nothing of tls_ (no
+// read of the socket either — the handshake is request and answer), and a close meanwhile
+// (a deadline, an eviction, the port stopped) closes the socket and says no goodbye. The
+// step's completion holds the connection alive until it is back on the loop; one that
+// comes back to a closed connection ends it there (if nothing had yet), and the
+// handshake's slot ends as failed with the connection, once.
 
 #include <spdlog/spdlog.h>
 
+#include "io/cpu_worker.hpp"
 #include "io/modbus/tcp_connection.hpp"
 #include "platform/log_text.hpp"
 #include "platform/peer_warnings.hpp"
@@ -25,6 +35,7 @@ class TlsConnection final : public TcpSlaveServer::Connection {
   TlsConnection(TcpSlaveServer& server, tcp::socket socket, tls::HandshakeSlot handshake)
       : Connection(server, std::move(socket)),
         context_(server.options().tls->context),  // a renewal may replace the server's
+        worker_(server.options().tls->handshake_worker),
         tls_(context_->native_handle()),
         handshake_slot_(std::move(handshake)) {
     cipher_in_.resize(record_room);
@@ -58,7 +69,7 @@ class TlsConnection final : public TcpSlaveServer::Connection {
   // connection. Best effort and never blocking: the alert goes only if the socket takes
   // it at once, and not while answers are still on their way (it would land inside them).
   void say_goodbye() override {
-    if (peer_gone_ || !socket_.is_open() || !cipher_out_.empty() || !tls_.close_notify()) return;
+    if (step_out_ || peer_gone_ || !socket_.is_open() || !cipher_out_.empty() || !tls_.close_notify()) return;
     tls_.take_output(cipher_out_);
     boost::system::error_code ignored;
     socket_.write_some(asio::buffer(cipher_out_), ignored);
@@ -71,6 +82,7 @@ class TlsConnection final : public TcpSlaveServer::Connection {
   void read_records() {
     if (plaintext_waits_) return take_plaintext();  // in_ was full before the session was read to its end
     socket_.async_read_some(asio::buffer(cipher_in_), [this, self = shared_from_this()](const boost::system::error_code& ec, std::size_t n) {
+      if (finished_) return;  // abandoned by a stopped port, whose worker may be gone
       if (ec) {
         peer_gone_ = true;  // nobody left to read a close_notify
         return finish(ec == asio::error::eof ? "closed by the client" : ec.message());
@@ -130,8 +142,23 @@ class TlsConnection final : public TcpSlaveServer::Connection {
     if (!cipher_out_.empty()) socket_.write_some(asio::buffer(cipher_out_), ignored);
   }
 
+  // The step on the worker; the loop goes on with other clients meanwhile.
   void handshake_step() {
-    const auto status = tls_.handshake();
+    const auto worker = worker_.lock();
+    step_out_ = worker && worker->submit([session = &tls_, status = &step_status_] { *status = session->handshake(); },
+                                         [this, self = shared_from_this()] {
+                                           step_out_ = false;
+                                           if (finished_) return;
+                                           // Closed by its deadline meanwhile (close_idle closes, it does not finish).
+                                           if (!socket_.is_open()) return finish("closed while its handshake was computed");
+                                           handshake_stepped(step_status_);
+                                         });
+    // Only when the port is gone: the worker takes as many steps as the limiter lets
+    // handshakes be in progress, and each has at most one step out.
+    if (!step_out_) finish("TLS: no room to compute the handshake");
+  }
+
+  void handshake_stepped(tls::MemorySession::Status status) {
     if (status == tls::MemorySession::Status::failed || status == tls::MemorySession::Status::closed) {
       send_alert();
       const auto why = status == tls::MemorySession::Status::closed ? std::string("closed") : tls_.error();
@@ -156,7 +183,12 @@ class TlsConnection final : public TcpSlaveServer::Connection {
 
 
   std::shared_ptr<asio::ssl::context> context_;  // outlives tls_
+  // Not owned: a connection may outlive its port, and the worker's completions hold connections.
+  std::weak_ptr<CpuWorker> worker_;
   tls::MemorySession tls_;
+  // A handshake step is on the worker: tls_ is the worker's until its completion runs.
+  bool step_out_ = false;
+  tls::MemorySession::Status step_status_ = tls::MemorySession::Status::want_input;  // the worker's answer
   // A TLS record holds at most 16 KiB of plaintext and some bytes of its own; the socket
   // is read in such pieces.
   static constexpr std::size_t record_room = 16 * 1024 + 512;
