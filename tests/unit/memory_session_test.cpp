@@ -257,6 +257,22 @@ TEST_F(MemorySessionTest, NoCloseNotifyBeforeTheHandshakeOrAfterAFailure) {
   EXPECT_FALSE(server_->has_output());
 }
 
+// A finite-field key share (up to ffdhe8192, a tenth of a second of the server's CPU a
+// step) is refused in the handshake: the port takes X25519, P-256 and P-384 only.
+TEST_F(MemorySessionTest, AFiniteFieldKeyExchangeIsRefusedAndP384IsTaken) {
+  ASSERT_EQ(SSL_set1_groups_list(client_, "ffdhe3072:ffdhe8192"), 1);
+  ASSERT_NE(SSL_do_handshake(client_), 1);
+  server_->feed(from_client());
+  EXPECT_EQ(server_->handshake(), Status::failed);
+
+  test_support::MemoryTlsClient p384_client(client_context_);
+  ASSERT_EQ(SSL_set1_groups_list(p384_client.ssl(), "P-384"), 1);
+  MemorySession server(server_context_);
+  ASSERT_NE(SSL_do_handshake(p384_client.ssl()), 1);
+  server.feed(p384_client.take_output());
+  EXPECT_EQ(server.handshake(), Status::want_input) << server.error();
+}
+
 TEST(MemorySessionTls12, ATls12SessionReadsAndWritesWithNoTicketAndNoRenegotiation) {
   EVP_PKEY* key = EVP_EC_gen("P-256");
   X509* cert = X509_new();
