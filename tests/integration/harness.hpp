@@ -33,6 +33,8 @@ using test_support::free_port;
 using test_support::read_before;
 using test_support::run;
 using test_support::Socket;
+using test_support::server_read_all;
+using test_support::unread_by_server;
 using test_support::wait_for_port;
 
 /// The 1-based number of the line that text appended to `yaml` starts on.

@@ -5,18 +5,11 @@
 // The requests are written by hand (tests/support/peers/http_exchange) so that a test
 // picks each one's source address and sees its reply as it came.
 
-#include <arpa/inet.h>
-#include <netinet/in.h>
-#include <poll.h>
-#include <sys/socket.h>
 
 #include <array>
 #include <atomic>
-#include <iomanip>
 #include <map>
-#include <cstdio>
 #include <fstream>
-#include <sstream>
 #include <thread>
 
 #include "tests/integration/bridge_fixture.hpp"
@@ -48,41 +41,6 @@ std::string base64(const std::string& text) {
 std::string get_request(const std::string& credentials) {
   return "GET /healthz HTTP/1.1\r\nHost: 127.0.0.1\r\nAuthorization: Basic " + base64(credentials) +
          "\r\nConnection: close\r\n\r\n";
-}
-
-/// The bytes the daemon has not read yet from the connection 127.0.0.1:server_port <-
-/// 127.0.0.2:client_port (its receive queue in /proc/net/tcp); nullopt when there is none.
-std::optional<long> unread_by_server(std::uint16_t server_port, std::uint16_t client_port) {
-  std::ifstream table("/proc/net/tcp");
-  char local[16];
-  char remote[16];
-  const std::string want_local = (std::ostringstream() << "0100007F:" << std::uppercase << std::hex << std::setw(4)
-                                                       << std::setfill('0') << server_port).str();
-  const std::string want_remote = (std::ostringstream() << "0200007F:" << std::uppercase << std::hex << std::setw(4)
-                                                        << std::setfill('0') << client_port).str();
-  std::string line;
-  std::getline(table, line);  // the heading
-  while (std::getline(table, line)) {
-    unsigned long tx = 0;
-    unsigned long rx = 0;
-    unsigned state = 0;
-    if (std::sscanf(line.c_str(), " %*d: %15s %15s %x %lx:%lx", local, remote, &state, &tx, &rx) == 5 &&
-        want_local == local && want_remote == remote)
-      return static_cast<long>(rx);
-  }
-  return std::nullopt;
-}
-
-std::uint16_t local_port(const Socket& socket) {
-  sockaddr_in address{};
-  socklen_t size = sizeof address;
-  ::getsockname(socket.fd(), reinterpret_cast<sockaddr*>(&address), &size);
-  return ntohs(address.sin_port);
-}
-
-bool readable_now(const Socket& socket) {
-  pollfd p{socket.fd(), POLLIN, 0};
-  return ::poll(&p, 1, 0) == 1;
 }
 
 std::string read_to_end(const Socket& socket) {
@@ -176,9 +134,9 @@ TEST_F(Logins, AModbusRequestIsAnsweredWhileAPasswordIsChecked) {
   guess.send(get_request("technician:wrong"));
   // Once the daemon has read the request, its check has begun (the filed daemon's on the
   // loop, before it looks at any other socket again); only then does the master ask.
-  ASSERT_TRUE(eventually([&] { return unread_by_server(http_port, local_port(guess)) == 0; }, 10s));
+  ASSERT_TRUE(eventually([&] { return server_read_all(http_port, guess); }, 10s));
   const auto values = client.read_input(0x0011, 1);
-  const bool http_answered_first = readable_now(guess);
+  const bool http_answered_first = guess.readable_now();
   EXPECT_TRUE(values) << "Modbus: errno " << client.last_error();
   EXPECT_FALSE(http_answered_first) << "the HTTP answer came before Modbus'";
   EXPECT_EQ(test_support::parse_http_reply(read_to_end(guess)).status, 401);
@@ -217,7 +175,7 @@ TEST_F(Logins, TheSameCredentialsAtOnceShareOneCheckAndAClientThatLeavesIsForgot
   {
     auto leaving = Socket::tcp_from(guesser, http_port);
     leaving.send(get_request("technician:wrong"));
-    ASSERT_TRUE(eventually([&] { return unread_by_server(http_port, local_port(leaving)) == 0; }, 10s));
+    ASSERT_TRUE(eventually([&] { return server_read_all(http_port, leaving); }, 10s));
   }  // closed while its check runs
   std::vector<Socket> tabs;
   for (int t = 0; t < 4; ++t) {
@@ -236,7 +194,7 @@ TEST_F(Logins, TheSameCredentialsAtOnceShareOneCheckAndAClientThatLeavesIsForgot
 
   auto last = Socket::tcp_from(guesser, http_port);
   last.send(get_request("technician:wrong again"));
-  ASSERT_TRUE(eventually([&] { return unread_by_server(http_port, local_port(last)) == 0; }, 10s));
+  ASSERT_TRUE(eventually([&] { return server_read_all(http_port, last); }, 10s));
   // TearDown stops the daemon now, with that check under way.
 }
 

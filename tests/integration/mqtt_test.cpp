@@ -35,8 +35,7 @@ class Mqtt : public BridgeTest {
     BridgeTest::SetUp();
     broker = std::make_unique<Broker>(dir.path());
     ASSERT_TRUE(broker->start());
-    config.extra += "mqtt: { broker: 'mqtt://127.0.0.1:" + std::to_string(broker->port()) +
-                    "', client_id: site-17, topic: fleet/site-17, publish: { period: 60s } }\n";
+    config.extra += site_17_mqtt(*broker);
   }
   /// The next document of `bank` that `holds` (subscribed before `action`, which makes it come).
   std::optional<nlohmann::ordered_json> document_after(const std::string& bank, const std::function<void()>& action,

@@ -47,13 +47,10 @@ TEST_F(OutsideText, ACertificateRoleWithANewlineForgesNoMonitorOrLogLine) {
   config.monitor_section = "monitor:\n  file: " + monitor.string() + "\n";
   config.log_level = "debug";
   const auto tls_port = free_port();
-  config.modbus_extra = "  tls: { listen: 127.0.0.1, port: " + std::to_string(tls_port) + ", certificate: " +
-                        pem("server.pem") + ", key: " + pem("server.key") + ", ca: " + pem("ca.pem") +
-                        ", roles: { viewer: { write: [] } } }\n";
+  config.modbus_extra = tls_section(tls_port, "{ viewer: { write: [] } }");
   start();
   ASSERT_TRUE(wait_for_port(tls_port)) << daemon->log();
-  const auto read = run(tls_dir + "/modbus_tls_client.py " + std::to_string(tls_port) + " " + pem("ca.pem") + " " +
-                        pem("forger.pem") + " " + pem("forger.key") + " -- 0400110001");
+  const auto read = tls_client_run(tls_port, "forger", "0400110001");
   ASSERT_EQ(read.status, 0) << read.output << daemon->log();  // served: reads need no role
 
   // A field of a monitor line is one word: the spaces are escaped there too.
@@ -72,8 +69,7 @@ class OutsideMqttText : public BridgeTest {
     BridgeTest::SetUp();
     broker = std::make_unique<Broker>(dir.path());
     ASSERT_TRUE(broker->start());
-    config.extra += "mqtt: { broker: 'mqtt://127.0.0.1:" + std::to_string(broker->port()) +
-                    "', client_id: site-17, topic: fleet/site-17, commands: true, publish: { period: 60s } }\n";
+    config.extra += site_17_mqtt(*broker, true);
   }
   std::unique_ptr<Broker> broker;
 };

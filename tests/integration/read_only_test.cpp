@@ -28,8 +28,7 @@ class ReadOnly : public CertificateTest {
     CertificateTest::SetUp();
     broker = std::make_unique<Broker>(dir.path());
     ASSERT_TRUE(broker->start());
-    config.extra += "mqtt: { broker: 'mqtt://127.0.0.1:" + std::to_string(broker->port()) +
-                    "', client_id: site-17, topic: fleet/site-17, commands: true, publish: { period: 60s } }\n";
+    config.extra += site_17_mqtt(*broker, true);
     config.extra += "state: { file: " + (dir.path() / "state").string() + " }\n";
   }
   void start_online() {
@@ -91,13 +90,10 @@ TEST_F(ReadOnly, AReloadThatTurnsItOnStopsMqttCommandsAndOneThatTurnsItOffLetsTh
 TEST_F(ReadOnly, TheTlsPortRefusesEvenARoleThatMayWrite) {
   config.tcp_extra = ", read_only: true";
   const auto tls_port = free_port();
-  config.modbus_extra = "  tls: { listen: 127.0.0.1, port: " + std::to_string(tls_port) + ", certificate: " +
-                        pem("server.pem") + ", key: " + pem("server.key") + ", ca: " + pem("ca.pem") +
-                        ", roles: { operator: { write: [W, X] } } }\n";
+  config.modbus_extra = tls_section(tls_port, "{ operator: { write: [W, X] } }");
   start_online();
   ASSERT_TRUE(wait_for_port(tls_port)) << daemon->log();
-  const auto written = run(tls_dir + "/modbus_tls_client.py " + std::to_string(tls_port) + " " + pem("ca.pem") + " " +
-                           pem("operator.pem") + " " + pem("operator.key") + " -- 0601030007 0401030001");
+  const auto written = tls_client_run(tls_port, "operator", "0601030007 0401030001");
   EXPECT_NE(written.output.find("\n8601\n"), std::string::npos) << written.output << daemon->log();  // exception 01
   EXPECT_NE(written.output.find("\n0402" "7fff\n"), std::string::npos) << written.output;  // W+3 unchanged
   EXPECT_EQ(w(3), std::vector<std::uint16_t>{0x7FFF});

@@ -32,10 +32,7 @@ class Tls : public CertificateTest {
   }
 
   void start_tls(const std::string& extra = "") {
-    config.modbus_extra = "  tls: { listen: 127.0.0.1, port: " + std::to_string(tls_port) +
-                          ", certificate: " + pem("server.pem") + ", key: " + pem("server.key") + ", ca: " +
-                          pem("ca.pem") + ", roles: { operator: { write: [W, X] }, viewer: { write: [] } }" + extra +
-                          " }\n";
+    config.modbus_extra = tls_section(tls_port, "{ operator: { write: [W, X] }, viewer: { write: [] } }", extra);
     start();
     ASSERT_TRUE(wait_for_port(tls_port)) << daemon->log();
   }

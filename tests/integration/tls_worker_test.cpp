@@ -4,14 +4,9 @@
 // answers, not by their times — and a client, a reload or a stop that comes while handshakes
 // are out on the worker ends cleanly (the sanitizer build runs these too).
 
-#include <netinet/in.h>
 #include <openssl/ssl.h>
-#include <poll.h>
-#include <sys/socket.h>
 
 #include <csignal>
-#include <cstdio>
-#include <fstream>
 #include <map>
 #include <optional>
 #include <sstream>
@@ -30,36 +25,6 @@ constexpr int per_host = 2;
 
 std::string host(int h) { return "127.0.0." + std::to_string(10 + h); }
 
-std::uint16_t local_port(const Socket& socket) {
-  sockaddr_in address{};
-  socklen_t size = sizeof address;
-  ::getsockname(socket.fd(), reinterpret_cast<sockaddr*>(&address), &size);
-  return ntohs(address.sin_port);
-}
-
-bool readable_now(const Socket& socket) {
-  pollfd p{socket.fd(), POLLIN, 0};
-  return ::poll(&p, 1, 0) == 1;
-}
-
-/// For each connection to 127.0.0.1:server_port, by its client's port: the bytes the daemon
-/// has not read yet (its receive queue in /proc/net/tcp).
-std::map<std::uint16_t, unsigned long> unread_by_server(std::uint16_t server_port) {
-  std::map<std::uint16_t, unsigned long> unread;
-  std::ifstream table("/proc/net/tcp");
-  std::string line;
-  std::getline(table, line);  // the heading
-  while (std::getline(table, line)) {
-    unsigned local_address = 0, local = 0, remote_address = 0, remote = 0, state = 0;
-    unsigned long tx = 0, rx = 0;
-    if (std::sscanf(line.c_str(), " %*d: %x:%x %x:%x %x %lx:%lx", &local_address, &local, &remote_address, &remote,
-                    &state, &tx, &rx) == 7 &&
-        local_address == 0x0100007F && local == server_port)
-      unread[static_cast<std::uint16_t>(remote)] = rx;
-  }
-  return unread;
-}
-
 /// True once the daemon has read everything each of `clients` sent. Asked without a pause:
 /// the handshakes are being computed meanwhile.
 bool all_read(std::uint16_t server_port, const std::vector<Socket>& clients) {
@@ -68,7 +33,7 @@ bool all_read(std::uint16_t server_port, const std::vector<Socket>& clients) {
     const auto unread = unread_by_server(server_port);
     bool all = true;
     for (const auto& client : clients) {
-      const auto found = unread.find(local_port(client));
+      const auto found = unread.find(client.local_port());
       all = all && found != unread.end() && found->second == 0;
     }
     if (all) return true;
@@ -110,11 +75,8 @@ class TlsHandshakesOffTheLoop : public CertificateTest {
   }
 
   void start_tls(const std::string& frame_timeout = "30s") {
-    config.modbus_extra = "  tls: { listen: 127.0.0.1, port: " + std::to_string(tls_port) +
-                          ", certificate: " + pem("server.pem") + ", key: " + pem("server.key") + ", ca: " +
-                          pem("ca.pem") + ", roles: { operator: { write: [W] } }" +
-                          // Room for sixty handshakes queued behind each other on a busy machine.
-                          ", frame_timeout: " + frame_timeout + " }\n";
+    // Room for sixty handshakes queued behind each other on a busy machine.
+    config.modbus_extra = tls_section(tls_port, "{ operator: { write: [W] } }", ", frame_timeout: " + frame_timeout);
     config.extra += "http: { listen: 127.0.0.1, port: " + std::to_string(http_port) + " }\n";
     start();
     ASSERT_TRUE(wait_for_port(tls_port)) << daemon->log();
@@ -142,9 +104,7 @@ class TlsHandshakesOffTheLoop : public CertificateTest {
 
   /// A Modbus master with a certificate completes its handshake and reads a register.
   bool tls_master_served() const {
-    const auto lines = run(tls_dir + "/modbus_tls_client.py " + std::to_string(tls_port) + " " + pem("ca.pem") + " " +
-                           pem("operator.pem") + " " + pem("operator.key") + " -- 0400110001")
-                           .output;
+    const auto lines = tls_client_run(tls_port, "operator", "0400110001").output;
     return lines.find("\n0402") != std::string::npos;
   }
 
@@ -166,7 +126,7 @@ TEST_F(TlsHandshakesOffTheLoop, AModbusMasterIsAnsweredWhileManyHandshakesWaitFo
   ASSERT_TRUE(all_read(tls_port, clients)) << daemon->log();
   const auto values = master.read_input(0x0011, 1);
   int answered_before = 0;
-  for (const auto& client : clients) answered_before += readable_now(client) ? 1 : 0;
+  for (const auto& client : clients) answered_before += client.readable_now() ? 1 : 0;
   EXPECT_TRUE(values) << "Modbus: errno " << master.last_error();
   EXPECT_LT(answered_before, hosts * per_host) << "every handshake was answered before the Modbus master";
 

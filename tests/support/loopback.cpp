@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <stdexcept>
@@ -186,6 +187,40 @@ bool Socket::wait_for_line(const std::string& line, std::chrono::milliseconds ti
     if (!got) return false;
     if (*got == line) return true;
   }
+}
+
+std::uint16_t Socket::local_port() const {
+  sockaddr_in address{};
+  socklen_t size = sizeof address;
+  ::getsockname(fd_, reinterpret_cast<sockaddr*>(&address), &size);
+  return ntohs(address.sin_port);
+}
+
+bool Socket::readable_now() const {
+  pollfd p{fd_, POLLIN, 0};
+  return ::poll(&p, 1, 0) == 1;
+}
+
+std::map<std::uint16_t, unsigned long> unread_by_server(std::uint16_t server_port) {
+  std::map<std::uint16_t, unsigned long> unread;
+  std::ifstream table("/proc/net/tcp");
+  std::string line;
+  std::getline(table, line);  // the heading
+  while (std::getline(table, line)) {
+    unsigned local_address = 0, local = 0, remote_address = 0, remote = 0, state = 0;
+    unsigned long tx = 0, rx = 0;
+    if (std::sscanf(line.c_str(), " %*d: %x:%x %x:%x %x %lx:%lx", &local_address, &local, &remote_address, &remote,
+                    &state, &tx, &rx) == 7 &&
+        local_address == 0x0100007F && local == server_port)
+      unread[static_cast<std::uint16_t>(remote)] = rx;
+  }
+  return unread;
+}
+
+bool server_read_all(std::uint16_t server_port, const Socket& client) {
+  const auto unread = unread_by_server(server_port);
+  const auto found = unread.find(client.local_port());
+  return found != unread.end() && found->second == 0;
 }
 
 }  // namespace unima::test_support

@@ -6,6 +6,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <span>
 #include <string>
@@ -26,6 +27,14 @@ long read_before(int fd, std::chrono::steady_clock::time_point deadline, std::sp
 /// Waits until something accepts TCP connections on 127.0.0.1:port.
 bool wait_for_port(std::uint16_t port, std::chrono::milliseconds timeout = std::chrono::milliseconds(10000));
 
+/// For each connection to 127.0.0.1:server_port, by its client's port: the bytes the server
+/// has not read yet (its receive queue in /proc/net/tcp) — how a test knows the daemon has
+/// taken a request in without a time threshold.
+std::map<std::uint16_t, unsigned long> unread_by_server(std::uint16_t server_port);
+class Socket;
+/// True when the server on 127.0.0.1:server_port has read all that `client` sent.
+bool server_read_all(std::uint16_t server_port, const Socket& client);
+
 /// A blocking stream socket with receive deadlines.
 class Socket {
  public:
@@ -40,6 +49,10 @@ class Socket {
 
   bool valid() const { return fd_ >= 0; }
   int fd() const { return fd_; }
+  /// The port this end is bound to.
+  std::uint16_t local_port() const;
+  /// True when a read would not block now (bytes, or the peer's end).
+  bool readable_now() const;
   /// Closes it now (the destructor would later).
   void close();
   void send(const Bytes& bytes) const;

@@ -35,6 +35,13 @@ class Broker {
   std::uint16_t port_;
 };
 
+/// The bridge's `mqtt` section the tests use: this broker, client site-17 under
+/// fleet/site-17, documents every 60 s; `commands` for `commands: true`.
+inline std::string site_17_mqtt(const Broker& broker, bool commands = false) {
+  return "mqtt: { broker: 'mqtt://127.0.0.1:" + std::to_string(broker.port()) +
+         "', client_id: site-17, topic: fleet/site-17, " + (commands ? "commands: true, " : "") + "publish: { period: 60s } }\n";
+}
+
 /// mosquitto_pub: one message, QoS 1.
 void publish(const Broker& broker, const std::string& topic, const std::string& payload);
 
