@@ -13,6 +13,7 @@
 #include <thread>
 
 #include "tests/integration/bridge_fixture.hpp"
+#include "tests/support/base64.hpp"
 #include "tests/support/peers/http_exchange.hpp"
 
 namespace unima::test {
@@ -23,20 +24,7 @@ using test_support::HttpReply;
 
 constexpr auto guesser = "127.0.0.2";
 
-std::string base64(const std::string& text) {
-  static const char* alphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string out;
-  for (std::size_t i = 0; i < text.size(); i += 3) {
-    const std::uint32_t n = static_cast<std::uint8_t>(text[i]) << 16 |
-                            (i + 1 < text.size() ? static_cast<std::uint8_t>(text[i + 1]) << 8 : 0) |
-                            (i + 2 < text.size() ? static_cast<std::uint8_t>(text[i + 2]) : 0);
-    out += alphabet[n >> 18 & 63];
-    out += alphabet[n >> 12 & 63];
-    out += i + 1 < text.size() ? alphabet[n >> 6 & 63] : '=';
-    out += i + 2 < text.size() ? alphabet[n & 63] : '=';
-  }
-  return out;
-}
+using test_support::base64;
 
 std::string get_request(const std::string& credentials) {
   return "GET /healthz HTTP/1.1\r\nHost: 127.0.0.1\r\nAuthorization: Basic " + base64(credentials) +

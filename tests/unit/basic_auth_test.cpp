@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/support/base64.hpp"
 #include "web/basic_auth.hpp"
 
 namespace unima::web {
@@ -17,20 +18,7 @@ const std::string users_file =
     "\n"
     "tech:$5$pepper123$vgjWKLR/duoewu/bVpLI7OrXrMWgOifAUu7aCh/oDH3\r\n";
 
-std::string header(const std::string& credentials) {
-  static const char* alphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string out = "Basic ";
-  for (std::size_t i = 0; i < credentials.size(); i += 3) {
-    const std::uint32_t n = static_cast<std::uint8_t>(credentials[i]) << 16 |
-                            (i + 1 < credentials.size() ? static_cast<std::uint8_t>(credentials[i + 1]) << 8 : 0) |
-                            (i + 2 < credentials.size() ? static_cast<std::uint8_t>(credentials[i + 2]) : 0);
-    out += alphabet[n >> 18 & 63];
-    out += alphabet[n >> 12 & 63];
-    out += i + 1 < credentials.size() ? alphabet[n >> 6 & 63] : '=';
-    out += i + 2 < credentials.size() ? alphabet[n & 63] : '=';
-  }
-  return out;
-}
+std::string header(const std::string& credentials) { return "Basic " + test_support::base64(credentials); }
 
 TEST(Base64, DecodesWithAndWithoutPaddingAndRefusesWhatIsNotBase64) {
   EXPECT_EQ(decode_base64("dXNlcjpwYXNz"), "user:pass");
