@@ -61,7 +61,7 @@ void take_line(std::string_view line, std::size_t max_line, fuzz::BridgeBanks& b
   FUZZ_CHECK(int{!outcome.updated.empty()} + int{!outcome.error.empty()} + int{outcome.ignored} == 1);
   if (!outcome.error.empty()) check_error_answer(outcome.error);
   for (const auto bank : outcome.updated) {
-    FUZZ_CHECK(outcome.updated.size() == 1 && telegram.offset + telegram.values.size() <= banks.store.length(bank));
+    FUZZ_CHECK(outcome.updated.size() == 1 && telegram.offset + telegram.values.size() <= banks.store.filled_length(bank));
     banks.store.set_online(bank, true);  // as the bridge does when its device is heard (unimabus::Presence)
     for (std::size_t i = 0; i < telegram.values.size(); ++i) {
       const auto offset = static_cast<std::uint16_t>(telegram.offset + i);

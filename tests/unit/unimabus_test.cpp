@@ -379,6 +379,19 @@ TEST_F(RouterFixture, ValuesPastTheBankAreRefusedWhole) {
   EXPECT_EQ(store.read(BankId::D1, 63), 2);
 }
 
+// A UVR's D_N is 64 registers (seed §6.1) but its table 49: past the table nothing is
+// stored, so those registers keep reading 0x7FFF (SPEC §1).
+TEST_F(RouterFixture, ValuesPastTheTableAreRefusedWholeThoughTheBankGoesOn) {
+  const auto uvr_length = table("uvr").length();
+  ASSERT_LT(uvr_length, banks::device_bank_length);
+  const auto before = snapshot(store);
+  const auto outcome = router.apply(Telegram{6, 0, static_cast<std::uint16_t>(uvr_length - 1), {1, 2}});
+  EXPECT_TRUE(outcome.updated.empty());
+  EXPECT_TRUE(contains(outcome.error, "past the end of bank D2 (uvr: 49 registers)")) << outcome.error;
+  EXPECT_EQ(snapshot(store), before);
+  EXPECT_EQ(store.read(BankId::D2, uvr_length), banks::not_measured);
+}
+
 // A unit's CHP controller and its voltage regulator share the unit's address (seed §3.2.1).
 struct SharedAddressRouter : ::testing::Test {
   SharedAddressRouter() : store(shapes()), router(standard_routes(1, store, {{BankId::D1, 5}, {BankId::D2, 5}}), store) {
