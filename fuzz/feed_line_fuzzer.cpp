@@ -46,6 +46,7 @@ void take_line(std::string_view line, std::size_t max_line, fuzz::BridgeBanks& b
   auto parsed = unimabus::parse_feed_line(line);
   if (const auto* error = std::get_if<std::string>(&parsed)) return check_error_answer(*error);
   const auto& telegram = std::get<unimabus::Telegram>(parsed);
+  FUZZ_CHECK(line.find('\0') == std::string_view::npos);  // a NUL is never the end of a line's JSON
   FUZZ_CHECK(!telegram.values.empty() && telegram.slot <= 7);
   FUZZ_CHECK(telegram.offset + telegram.values.size() <= 0x10000);
   FUZZ_CHECK(telegram.device == nullptr || telegram.slot == 0);

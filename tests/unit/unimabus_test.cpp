@@ -127,6 +127,23 @@ TEST(FeedCodec, Errors) {
   EXPECT_FALSE(refused(R"({"addr":5,"slot":0,"offset":65535,"values":[1,2]})").empty());  // past 0xFFFF
 }
 
+// SPEC §6: anything after the JSON value but white space is an error, a NUL byte too —
+// which the JSON library alone would take for the end of the line.
+TEST(FeedCodec, NothingButWhiteSpaceMayFollowTheTelegram) {
+  using namespace std::string_literals;
+  const auto telegram = R"({"addr":5,"slot":0,"offset":1,"values":[1]})"s;
+  const auto recorded = R"({"t":0,"addr":5,"slot":0,"offset":1,"values":[1]})"s;
+  for (const auto& after : {"\0garbage"s, "\0"s, "  \t\0x"s, " garbage"s, "{}"s, telegram}) {
+    SCOPED_TRACE(nlohmann::json(after).dump(-1, ' ', true));
+    EXPECT_TRUE(contains(refused(telegram + after), "not JSON"));
+    EXPECT_TRUE(std::holds_alternative<std::string>(parse_recorded_line(recorded + after)));
+  }
+  EXPECT_TRUE(contains(refused('\0' + telegram), "not JSON"));
+  EXPECT_TRUE(contains(refused(telegram + "\0garbage"s), "a NUL byte at byte 44"));
+  EXPECT_EQ(parsed(telegram + " \t\r\n").values, std::vector<std::uint16_t>{1});
+  EXPECT_TRUE(std::holds_alternative<RecordedTelegram>(parse_recorded_line(recorded + " \t")));
+}
+
 TEST(FeedCodec, HugeIntegersAreRefusedNotWrapped) {
   // 2^64-1 must not slip through as -1.
   EXPECT_TRUE(contains(refused(R"({"addr":5,"slot":0,"offset":0,"values":[18446744073709551615]})"), "value"));
