@@ -94,6 +94,31 @@ TEST_F(BridgeTest, ATemplateOf64RegistersReadsAUscAndAUvrWhole) {
   EXPECT_EQ(client.read_input(0x1227, 2), (std::vector<std::uint16_t>{0x1227, 0x7FFF}));
 }
 
+// Issue 30 point 5: sources of W, C and S_N carry tenths already, and A saturates them like
+// any result (SPEC §1): 0x8000 (−32768) is outside −32767..32766 and reads 0x8001. A
+// master's 0x7FFF is its "not measured" and stays so.
+TEST_F(BridgeTest, BankASaturatesMinus32768FromWCAndS) {
+  config.devices =
+      "{ D1: { type: unigen-chp, address: 5 } }\n"
+      "mapping:\n"
+      "  A: [ W+0x00, C+0x00, S1+0x00, W+0x01 ]";
+  config.blocks = "  - { type: write, register: 0x0200, output: 1 }\n";
+  start();
+  ModbusClient client(config.modbus_port);
+  ASSERT_TRUE(client.write(0x0100, 0x8000));  // W+0x00 (W at 0x0100 in these tests)
+  ASSERT_TRUE(client.write(0x0200, 0x8000));  // the write block: user output 1 = C+0x00
+  ASSERT_TRUE(client.write(0x0101, 0x7FFF));  // W+0x01
+  auto feed = feed_client();
+  feed_and_wait(feed, R"({"addr":5,"slot":1,"offset":0,"values":[-32768]})", 0x2100, 0x8000);  // S1+0x00
+  EXPECT_EQ(client.read_input(0x1020, 1), std::vector<std::uint16_t>{0x8000});  // C itself as written
+  EXPECT_EQ(client.read_input(0x1000, 4), (std::vector<std::uint16_t>{0x8001, 0x8001, 0x8001, 0x7FFF}));
+  EXPECT_EQ(client.read_holding(0x1000, 4), (std::vector<std::uint16_t>{0x8001, 0x8001, 0x8001, 0x7FFF}));
+  // Inside the range a value is A's as it is.
+  ASSERT_TRUE(client.write(0x0100, 0x8001));
+  ASSERT_TRUE(client.write(0x0101, 0xFFFF));
+  EXPECT_EQ(client.read_input(0x1000, 4), (std::vector<std::uint16_t>{0x8001, 0x8001, 0x8001, 0xFFFF}));
+}
+
 // Seed §6.2.4.6: the UIS's cylinder masks are bit registers, 0 while the UIS is off-line.
 TEST_F(BridgeTest, AnOffLineUisReadsZeroInItsCylinderMasks) {
   config.banks = "{ D1: 0x1100 }";
