@@ -5,6 +5,7 @@
 
 #include <fmt/format.h>
 
+#include "banks/bank_id.hpp"
 #include "banks/table_catalog.hpp"
 
 namespace unima::banks {
@@ -49,6 +50,10 @@ void write_table(std::string& out, const DeviceTable& table) {
   out += "\n\n";
   out += fmt::format("Seed 004 §{}. {} registers (offsets 0x00..0x{:02X}).", table.seed_chapter, table.length(),
                      table.length() - 1);
+  if (find_device_type(table.id) == &table && table.length() < device_bank_length)
+    out += fmt::format(" A D_N bank of this type is still {} registers (seed §6.1): +0x{:02X}..+0x{:02X} read "
+                       "0x7FFF, like reserves.",
+                       device_bank_length, table.length(), device_bank_length - 1);
   if (!table.aliases.empty()) {
     out += " Also selected as";
     for (std::size_t i = 0; i < table.aliases.size(); ++i)
