@@ -95,9 +95,9 @@ std::string render_status_panel(const nlohmann::json& s) {
   out += fmt::format("unima-bridge  {} mode  Modbus address {}  UnimaBUS address {}  up {}\n",
                      s["mode"].get<std::string>(), s["modbus_address"].get<int>(), s["unimabus_address"].get<int>(),
                      uptime(s["uptime_s"].get<long>()));
-  out += fmt::format("  Modbus    {}  {}\n", led(s["modbus"]["active"].get<bool>()), ago(s["modbus"], "transaction"));
+  out += fmt::format("  Modbus    {}  {}\n", led(s["modbus"]["active"].get<bool>()), ago(s["modbus"], "frame sent"));
   out += fmt::format("  UnimaBUS  {}  {} ({} transport)\n", led(s["unimabus"]["active"].get<bool>()),
-                     ago(s["unimabus"], "telegram"), s["unimabus"]["transport"].get<std::string>());
+                     ago(s["unimabus"], "telegram received"), s["unimabus"]["transport"].get<std::string>());
   const bool error = s["error"].get<bool>();
   out += fmt::format("  Error     {}  {}\n", led(error),
                      error ? "Modbus fault (C+0x13 bit 15; clears 2 s after the last one)" : "no fault in the last 2 s");

@@ -14,7 +14,7 @@ void MonitorService::commit(const Banks&) { runtime_.monitor->reconfigure(runtim
 
 void MonitorService::describe(nlohmann::json& status) const {
   const auto& monitor = *runtime_.monitor;
-  status["modbus"] = activity(age<std::chrono::system_clock>(monitor.last_transaction()));
+  status["modbus"] = activity(age<std::chrono::system_clock>(monitor.last_frame_sent()), monitor.frames_sent(), modbus_led_lit);
 
   status["indicators"] = nlohmann::json::array();
   const auto& indicators = monitor.indicators();

@@ -28,6 +28,9 @@ struct Transaction {
   TransactionState state = TransactionState::done;
   std::span<const std::uint8_t> query;     // whole ADU: MBAP + PDU, or address + PDU + CRC
   std::span<const std::uint8_t> response;  // whole ADU as sent or heard; empty when none
+  /// The response is the bridge's own, sent on its port — not one heard from another
+  /// slave, nor none: what lights the Modbus LED in slave mode (SPEC §8).
+  bool answered_by_bridge = false;
 };
 
 /// The state a response PDU implies: done, or the Err code of its exception.

@@ -54,7 +54,7 @@ void Monitor::replace_writer(std::unique_ptr<MonitorWriter> writer) {
 
 void Monitor::observe(const modbus::Transaction& t) {
   counters_[static_cast<std::size_t>(t.port)].count(t.state);
-  last_transaction_ = t.time;  // the port read the clock already
+  if (t.answered_by_bridge) frame_sent(t.time);  // the port read the clock already
   if (!indicators_.empty())
     if (const auto captured = modbus::captured_registers(t)) indicators_.observe(*captured, t.time);
   const auto ix = next_ix_++;  // wraps 255 -> 0 (seed 004 §8)
@@ -65,6 +65,11 @@ void Monitor::observe(const modbus::Transaction& t) {
     if (!filter_.matches(query.address, query.pdu)) return;
   }
   writer_->push(t, ix);
+}
+
+void Monitor::frame_sent(std::chrono::system_clock::time_point time) {
+  last_frame_sent_ = time;
+  ++frames_sent_;
 }
 
 }  // namespace unima::monitor

@@ -36,6 +36,11 @@ class Monitor {
   void reconfigure(const MonitorConfig& config, std::unique_ptr<MonitorWriter> writer);
 
   void observe(const modbus::Transaction& transaction);
+  /// The bridge put a Modbus frame on a line: a slave port's own response (observe() takes
+  /// it from Transaction::answered_by_bridge) or a query of the master, which its port
+  /// reports when it sends it. The Modbus LED shows these and nothing the bridge only
+  /// hears (SPEC §8).
+  void frame_sent(std::chrono::system_clock::time_point time);
 
   const MonitorConfig& config() const { return config_; }
   const monitor::CommandFilter& filter() const { return filter_; }
@@ -43,8 +48,9 @@ class Monitor {
   const modbus::TransactionCounters& counters(modbus::PortKind port) const {
     return counters_[static_cast<std::size_t>(port)];
   }
-  /// The port's time stamp of the last transaction (wall clock: the one ports stamp with).
-  std::optional<std::chrono::system_clock::time_point> last_transaction() const { return last_transaction_; }
+  /// When the bridge last sent a frame (wall clock: the one ports stamp with), and how many.
+  std::optional<std::chrono::system_clock::time_point> last_frame_sent() const { return last_frame_sent_; }
+  std::uint64_t frames_sent() const { return frames_sent_; }
   /// The last transactions of every port, whatever the filter (the front page's monitor pane).
   const RecentTransactions& recent() const { return recent_; }
   bool logging() const { return writer_ != nullptr; }
@@ -58,7 +64,8 @@ class Monitor {
   monitor::CommandFilter filter_;
   monitor::CaptureIndicators indicators_;
   std::array<modbus::TransactionCounters, 4> counters_{};  // by PortKind
-  std::optional<std::chrono::system_clock::time_point> last_transaction_;
+  std::optional<std::chrono::system_clock::time_point> last_frame_sent_;
+  std::uint64_t frames_sent_ = 0;
   std::uint8_t next_ix_ = 0;
   RecentTransactions recent_;
   std::unique_ptr<MonitorWriter> writer_;

@@ -4,6 +4,7 @@ namespace unima::unimabus {
 
 TelegramIntake::Taken TelegramIntake::take(const Telegram& telegram, Clock::time_point now) {
   last_telegram_ = now;
+  ++counts_.received;
   if (recording_) recording_->record(telegram, now);
   auto outcome = router_.apply(telegram);
   Taken taken{std::move(outcome.error), {}};

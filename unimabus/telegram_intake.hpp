@@ -32,6 +32,7 @@ class TelegramIntake {
   using Clock = Presence::Clock;
 
   struct Counts {
+    std::uint64_t received = 0;  // every telegram, whatever became of it (the UnimaBUS LED)
     std::array<std::uint64_t, banks::bank_count> taken{};  // by the bank that took them
     std::uint64_t ignored = 0;  // for no configured D_N or S_N: another device's
     std::uint64_t refused = 0;  // answered with an error (ambiguous, past a bank's end)

@@ -15,6 +15,16 @@ std::string_view state_name(State state) {
   return "?";
 }
 
+std::string_view type_name(const ValueDef& def) {
+  if (def.decoding == Decoding::word) return "bits";
+  switch (def.type) {
+    case ValueType::number: return "number";
+    case ValueType::boolean: return "boolean";
+    case ValueType::text: return "text";
+  }
+  return "?";
+}
+
 nlohmann::json reading_json(const ValueDef& def, const Value& value) {
   if (const auto* number = std::get_if<double>(&value.reading)) {
     if (def.decimals == 0) return static_cast<std::int64_t>(std::llround(*number));

@@ -13,6 +13,10 @@ namespace unima::values {
 /// "ok", "not measured", "off-line", "not set", "not mapped": what the page shows.
 std::string_view state_name(State state);
 
+/// "number", "boolean", "text", or "bits" for a bit word as a whole (its named bits are
+/// booleans and numbers of their own): how a reading is meant to be read.
+std::string_view type_name(const ValueDef& def);
+
 /// The reading alone: what an MQTT bank document holds under the value's name.
 nlohmann::json reading_json(const ValueDef& def, const Value& value);
 

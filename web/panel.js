@@ -14,12 +14,17 @@ const element = (tag, attributes = {}, text) => {
   return e;
 };
 
+const hex = (number, digits = 4) => '0x' + number.toString(16).toUpperCase().padStart(digits, '0');
+
 // A value as the daemon decoded it (values/, SPEC §17): its reading in its unit, or why
-// it has none, in words ("not measured", "off-line", "not set", "not mapped").
-function shown(value, unit) {
+// it has none, in words ("not measured", "off-line", "not set", "not mapped"). A bit word
+// is bits, named by the seed or not: in hex, as a technician compares it with the unit's
+// manual; its named bits have rows of their own.
+function shown(value, unit, type) {
   if (value.state !== 'ok') return value.state;
   if (typeof value.value === 'boolean') return value.value ? 'on' : 'off';
   if (typeof value.value === 'string') return `"${value.value}"`;
+  if (type === 'bits') return hex(value.value);
   return String(value.value) + (unit ? ' ' + unit : '');
 }
 
@@ -31,10 +36,11 @@ function bankTable(bank, rows) {
   const head = element('tr');
   for (const [name, cls] of [['address', 'address'], ['name', ''], ['label', 'label'], ['value', '']]) head.append(element('th', cls ? { class: cls } : {}, name));
   table.append(head);
-  const addRow = (row, key, name, label, unit, value) => {
+  const addRow = (row, key, name, label, unit, value, type) => {
     const tr = element('tr');
     const cell = element('td', { class: 'value', 'data-address': row.address, 'data-key': key });
     cell.dataset.unit = unit || '';
+    cell.dataset.type = type || '';
     tr.append(element('td', { class: 'address' }, row.address), element('td', {}, name),
               element('td', { class: 'label', lang: 'cs' }, label), cell);
     table.append(tr);
@@ -57,7 +63,7 @@ function bankTable(bank, rows) {
       listed.add(key);
       // A read block shows its source's value under the block's name.
       const name = bank === 'read' ? `${row.id} = ${value.bank}.${value.name}` : value.name;
-      addRow(row, key, name, value.label, value.unit, value);
+      addRow(row, key, name, value.label, value.unit, value, value.type);
     }
   }
   return { table, count: listed.size };
@@ -88,7 +94,7 @@ function setValue(key, value, flash = true) {
 }
 
 function showValue(cell, value, flash) {
-  cell.textContent = shown(value, cell.dataset.unit);
+  cell.textContent = shown(value, cell.dataset.unit, cell.dataset.type);
   cell.dataset.state = value.state;
   if (value.set === false) cell.dataset.set = 'false';
   else delete cell.dataset.set;
@@ -112,22 +118,41 @@ function chip(bank, type, online, configured = true) {
                            title: type || 'not configured' }, type ? `${bank} ${type}` : bank);
 }
 
+// An LED that shows frames (SPEC §8): lit for its moment (lit_ms) after each. The panel
+// comes at most every 250 ms, longer than the moment: a count that moved since the last
+// panel blinks it once.
+const ledFrames = new Map();
+function showLed(id, led) {
+  const lamp = document.getElementById(id);
+  const before = ledFrames.get(id);
+  ledFrames.set(id, led.frames);
+  if (!led.on && (before === undefined || before === led.frames)) return;
+  lamp.dataset.on = 'true';
+  clearTimeout(lamp.offTimer);
+  lamp.offTimer = setTimeout(() => { lamp.dataset.on = 'false'; }, led.lit_ms);
+}
+
+// A capture indicator: its value green when a read carried it, red when a write did (seed
+// 004 §2), grey before either.
+function indicatorBox(indicator, i) {
+  const access = indicator.access || 'none';
+  const box = element('div', { class: `indicator access-${access}`, 'data-indicator': String(i + 1), 'data-access': access });
+  const value = element('div', { class: 'value' });
+  value.append(element('span', { class: 'lamp' }), indicator.value === null ? '—' : `${hex(indicator.value)} (${indicator.value})`);
+  box.append(element('div', { class: 'what' }, `${i + 1}: ad ${indicator.address}, register ${hex(indicator.register)}`),
+             value,
+             element('div', { class: 'what' }, indicator.access ? `${indicator.access} ${indicator.time}` : 'not seen'));
+  return box;
+}
+
 function showPanel(panel) {
   document.getElementById('mode').textContent = `${panel.mode} mode`;
-  document.getElementById('led-modbus').dataset.on = String(panel.modbus);
-  document.getElementById('led-unimabus').dataset.on = String(panel.unimabus);
+  showLed('led-modbus', panel.modbus);
+  showLed('led-unimabus', panel.unimabus);
   document.getElementById('led-error').dataset.on = String(panel.error);
   document.getElementById('devices').replaceChildren(...panel.devices.map(d => chip(d.bank, d.type, d.online, d.type !== null)));
   document.getElementById('modules').replaceChildren(...panel.modules.map(m => chip(m.bank, null, m.online)));
-  document.getElementById('indicators').replaceChildren(...panel.indicators.map((indicator, i) => {
-    const box = element('div', { class: 'indicator', 'data-indicator': String(i + 1) });
-    const value = indicator.value === null ? '—'
-      : `0x${indicator.value.toString(16).toUpperCase().padStart(4, '0')} (${indicator.value})`;
-    box.append(element('div', { class: 'what' }, `${i + 1}: ad ${indicator.address}, register 0x${indicator.register.toString(16).toUpperCase().padStart(4, '0')}`),
-               element('div', { class: 'value' }, value),
-               element('div', { class: 'what' }, indicator.access ? `${indicator.access} ${indicator.time}` : 'not seen'));
-    return box;
-  }));
+  document.getElementById('indicators').replaceChildren(...panel.indicators.map(indicatorBox));
 }
 
 function showLines(event) {

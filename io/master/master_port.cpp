@@ -150,6 +150,7 @@ void MasterPort::send(const MasterScheduler::Choice& choice) {
   scheduler_->begin(choice, now);
   in_flight_ = true;
   const auto sent = std::chrono::system_clock::now();
+  if (hooks_.on_query_sent) hooks_.on_query_sent(sent);
   // A frame to a device in doubt may wait less than its time-out: only as long as the line
   // has room before the next request of a live device.
   const auto wait = choice.timeout > MasterScheduler::Duration::zero() ? choice.timeout
@@ -172,7 +173,7 @@ void MasterPort::finished(const MasterScheduler::Choice& choice, const master::B
   const auto state = master::transaction_state(result);
   const auto peer = link_->peer();
   if (hooks_.on_transaction)
-    hooks_.on_transaction(modbus::Transaction{modbus::PortKind::master, peer, sent, state, query, response});
+    hooks_.on_transaction(modbus::Transaction{modbus::PortKind::master, peer, sent, state, query, response, false});
 
   auto& counters = counters_[request.device];
   switch (result.status) {

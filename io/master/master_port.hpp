@@ -50,8 +50,10 @@ class MasterPort : public std::enable_shared_from_this<MasterPort> {
     std::function<void(unsigned output, std::uint16_t value)> set_output;
     /// Any fault: C+0x13 bit 15.
     std::function<void()> on_fault;
-    /// Every transaction (the monitor). Must not block.
+    /// Every transaction (the monitor), once answered or timed out. Must not block.
     std::function<void(const modbus::Transaction&)> on_transaction;
+    /// A query goes on the line now, before its answer (the Modbus LED, SPEC §8).
+    std::function<void(std::chrono::system_clock::time_point)> on_query_sent;
   };
 
   /// Opens the line of `config` (in master mode); throws std::runtime_error when it cannot.

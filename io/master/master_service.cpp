@@ -22,6 +22,7 @@ std::shared_ptr<MasterPort> MasterService::make_master(const config::Config& con
     runtime_.monitor->observe(t);
     if (spdlog::should_log(spdlog::level::debug)) spdlog::debug("modbus master: {}", describe_master_transaction(t));
   };
+  hooks.on_query_sent = [this](std::chrono::system_clock::time_point time) { runtime_.monitor->frame_sent(time); };
   return MasterPort::create(runtime_.io, config, std::move(hooks));
 }
 

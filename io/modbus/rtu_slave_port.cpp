@@ -193,7 +193,7 @@ void RtuSlavePort::reply(std::span<const std::uint8_t> query, const modbus::Serv
   std::vector<std::uint8_t> adu(served.length + 3);
   modbus::write_rtu_adu(query[0], response.first(served.length), adu);
   if (served.fault && context_.on_fault) context_.on_fault();
-  report(served.state, query, adu);
+  report(served.state, query, adu, true);
   send(std::move(adu), not_before);
 }
 
@@ -245,10 +245,10 @@ void RtuSlavePort::flush_foreign_query() {
 }
 
 void RtuSlavePort::report(TransactionState state, std::span<const std::uint8_t> query,
-                          std::span<const std::uint8_t> response) const {
+                          std::span<const std::uint8_t> response, bool ours) const {
   if (!context_.on_transaction) return;
   context_.on_transaction(
-      modbus::Transaction{modbus::PortKind::rtu, {}, std::chrono::system_clock::now(), state, query, response});
+      modbus::Transaction{modbus::PortKind::rtu, {}, std::chrono::system_clock::now(), state, query, response, ours});
 }
 
 void RtuSlavePort::send(std::vector<std::uint8_t> adu, RtuClock::time_point not_before) {

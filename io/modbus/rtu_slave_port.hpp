@@ -81,8 +81,9 @@ class RtuSlavePort {
   void heard_foreign_response(const modbus::RtuFrame& response);
   void heard_faulty_response(const modbus::RtuFrame& response);
   void flush_foreign_query();
+  /// `ours`: the response is the one this port sends (else heard from another slave, or none).
   void report(modbus::TransactionState state, std::span<const std::uint8_t> query,
-              std::span<const std::uint8_t> response) const;
+              std::span<const std::uint8_t> response, bool ours = false) const;
   void send(std::vector<std::uint8_t> adu, modbus::RtuClock::time_point not_before);
   void write_next();
   void release_line_after_sending();

@@ -73,7 +73,8 @@ bool TcpSlaveServer::Connection::process() {
       if (context.on_transaction)
         context.on_transaction(modbus::Transaction{
             port_kind(), peer_, std::chrono::system_clock::now(), modbus::TransactionState::err03,
-            std::span<const std::uint8_t>(in_.data() + at, std::min(in_used_ - at, modbus::max_tcp_adu_size)), {}});
+            std::span<const std::uint8_t>(in_.data() + at, std::min(in_used_ - at, modbus::max_tcp_adu_size)), {},
+            false});
       return false;
     }
     if (adu.status == modbus::TcpAdu::Status::need_more) break;
@@ -103,7 +104,7 @@ bool TcpSlaveServer::Connection::process() {
     if (context.on_transaction) {
       context.on_transaction(modbus::Transaction{port_kind(), peer_, std::chrono::system_clock::now(),
                                                  served.state, std::span<const std::uint8_t>(in_.data() + at, adu.size),
-                                                 adu_out.first(size)});
+                                                 adu_out.first(size), served.length > 0});
     }
     out_used_ += size;
     at += adu.size;
@@ -162,7 +163,7 @@ void TcpSlaveServer::Connection::answer_waiting_write(bool durable) {
   if (context.on_transaction)
     context.on_transaction(modbus::Transaction{port_kind(), peer_, std::chrono::system_clock::now(), served.state,
                                                std::span<const std::uint8_t>(write.request.data(), write.request_size),
-                                               adu_out.first(out_used_ - write.answer_at)});
+                                               adu_out.first(out_used_ - write.answer_at), served.length > 0});
 }
 
 // Requests that waited behind a write are in in_ already: they are served before more is

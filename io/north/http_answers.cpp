@@ -38,13 +38,19 @@ monitor::CommandFilter page_filter(std::string_view target) {
   return monitor::parse_command_filter(expression);
 }
 
+// An LED as the page shows it (io/activity.hpp): lit now, and the count of frames that
+// blinks it — not how long ago, which would change the panel on every heartbeat.
+nlohmann::json led_of(const nlohmann::json& activity) {
+  return {{"on", activity["active"]}, {"frames", activity["frames"]}, {"lit_ms", activity["lit_ms"]}};
+}
+
 // The front panel of seed 004: its LEDs, the D_N and S_N on-line, the capture indicators.
 nlohmann::json panel_of(const nlohmann::json& status) {
   nlohmann::json panel;
   panel["mode"] = status["mode"];
   panel["error"] = status["error"];
-  panel["modbus"] = status["modbus"]["active"];
-  panel["unimabus"] = status["unimabus"]["active"];
+  panel["modbus"] = led_of(status["modbus"]);
+  panel["unimabus"] = led_of(status["unimabus"]);
   panel["devices"] = nlohmann::json::array();
   for (const auto& device : status["devices"])
     panel["devices"].push_back({{"bank", device["bank"]}, {"type", device["type"]}, {"online", device["online"]}});
@@ -86,6 +92,7 @@ nlohmann::json row_values(const config::MapRow& row, const config::Config& confi
       if (origin->bit && (def.type != values::ValueType::boolean || def.first_bit != *origin->bit)) continue;
       auto entry = values::value_json(def, all[b][i]);
       entry["label"] = def.label;
+      entry["type"] = values::type_name(def);
       entry["bank"] = banks::bank_name(layout.bank);
       list.push_back(std::move(entry));
     }

@@ -152,7 +152,7 @@ void UnimabusService::describe(nlohmann::json& status) const {
   const auto& config = runtime_.config();
   const auto& intake = *runtime_.banks->intake;
   const auto& store = *runtime_.banks->store;
-  auto& unimabus = status["unimabus"] = activity(age<Clock>(intake.last_telegram()));
+  auto& unimabus = status["unimabus"] = activity(age<Clock>(intake.last_telegram()), intake.counts().received, unimabus_led_lit);
   unimabus["transport"] = config::transport_name(config.unimabus.transport);
   unimabus["recording"] =
       config.unimabus.record.file.empty() ? nlohmann::json(nullptr) : nlohmann::json(config.unimabus.record.file);

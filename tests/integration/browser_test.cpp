@@ -4,6 +4,7 @@
 // none saying why, and a value fed while the page is open, which only the live feed
 // (/api/events) can bring.
 
+#include <algorithm>
 #include <chrono>
 #include <future>
 #include <thread>
@@ -67,6 +68,91 @@ TEST_F(PageTest, ThePageInChromiumShowsAFedValueD1OnLineAndLaterValuesLive) {
   // SPEC §17: why a value has none, in words.
   EXPECT_EQ(shown["values"]["0x0032"]["text"], "not measured") << result.output;
   EXPECT_EQ(shown["values"]["0x0100"]["text"], "not set") << result.output;
+}
+
+// What the page shows of the values (SPEC §17) and the capture indicators (SPEC §8), read
+// from its DOM: why a value has none in words, a byte pair as two values in their units, a
+// 32-bit pair as one, no reserves, an unsigned value above 32767, bit words in hex, and
+// the indicators green for a read and red for a write.
+class PageValuesTest : public PageTest {
+ protected:
+  void SetUp() override {
+    PageTest::SetUp();
+    // D2 is a UIS at address 6; D4 a UVR at address 9 that never speaks: off-line.
+    config.devices = "{ D1: { type: unigen-chp, address: 5 }, D2: { type: uis, address: 6 }, D4: { type: uvr, address: 9 } }";
+    config.extra += "mapping: { A: [ D1.engine_speed ] }\n";  // A+0x01.. not mapped
+    config.monitor_section = "monitor:\n  indicators: [ { address: 1, register: 0x0101 }, { address: 1, register: 0x0012 } ]\n";
+  }
+
+  /// What the page showed, with every value cell by its key, once `expectations` held.
+  nlohmann::json page_shows(const std::string& expectations) {
+    const auto command = std::string(UNIMA_SOURCE_DIR) + "/tests/integration/browser/page_in_chromium.py --url http://127.0.0.1:" +
+                         std::to_string(http_port) + "/ " + expectations + " --every-value --timeout 30 2>&1";
+    const auto result = run(command);
+    EXPECT_EQ(result.status, 0) << result.output;
+    const auto start = result.output.rfind("{\"ok\"");
+    if (start == std::string::npos) return nlohmann::json::object();
+    return nlohmann::json::parse(result.output.substr(start), nullptr, false);
+  }
+};
+
+TEST_F(PageValuesTest, ThePageShowsEachValueAsTheSeedMeansItAndWhyAValueHasNone) {
+  ASSERT_NO_FATAL_FAILURE(start_with_page());
+  auto feed = feed_client();
+  // D1: status 0x450E (named bits), engine_speed 41234, operating_hours 26 × 65536 + 100 s;
+  // status_word 0x250D (no named bits).
+  feed_and_wait(feed, R"({"addr":5,"slot":0,"offset":15,"values":[9485]})", 0x0011 + 0x0F, 9485);
+  feed_and_wait(feed, R"({"addr":5,"slot":0,"offset":0,"values":[17678,41234,100,26]})", 0x0012, 41234);
+  // D2 (0x1200): knock_rank_1 = cylinder 3, level 128 (100 %); knock_rank_2 = cylinder 4, level 255.
+  feed_and_wait(feed, R"({"addr":6,"slot":0,"offset":8,"values":[32771,65284]})", 0x1209, 65284);
+  ModbusClient client(config.modbus_port);
+  ASSERT_TRUE(client.write(0x0101, 0x1234));       // indicator 1: a write
+  ASSERT_TRUE(client.read_input(0x0012, 1));       // indicator 2: a read
+
+  const auto shown = page_shows("--online D1 --online D2 --expect 0x0012=41234 --expect 0x1208=32771 "
+                                "--indicator 1=write --indicator 2=read");
+  ASSERT_TRUE(shown.contains("keys")) << shown.dump(1);
+  const auto& keys = shown["keys"];
+  const auto text = [&](const std::string& key) {
+    return keys.contains(key) ? keys[key]["text"].get<std::string>() : "(no cell " + key + ")";
+  };
+  // The four reasons a value has none, in words.
+  EXPECT_EQ(text("D1/oil_temperature"), "not measured");  // D1 on-line, never fed
+  EXPECT_EQ(text("D4/generator_voltage"), "off-line");    // configured, silent
+  EXPECT_EQ(text("W/w_00"), "not set");                   // never written
+  EXPECT_EQ(text("A/a_01"), "not mapped");                // an A entry without a source
+  // A byte pair: two values, each in its unit; a byte of 255 is not measured.
+  EXPECT_EQ(text("D2/knock_rank_1.cylinder"), "3");
+  EXPECT_EQ(text("D2/knock_rank_1.level"), "100 %");
+  EXPECT_EQ(text("D2/knock_rank_2.cylinder"), "4");
+  EXPECT_EQ(text("D2/knock_rank_2.level"), "not measured");
+  // A 32-bit pair: one value, not two halves.
+  EXPECT_EQ(text("D1/operating_hours"), "1704036 s");
+  // Unsigned above 32767.
+  EXPECT_EQ(text("D1/engine_speed"), "41234 min-1");
+  // By register, the last cell of each: engine_speed, and the byte pair's level.
+  EXPECT_EQ(shown["values"]["0x0012"]["text"], "41234 min-1") << shown["values"];
+  EXPECT_EQ(shown["values"]["0x1208"]["text"], "100 %") << shown["values"];
+  // Bit words in hex, whether the seed names their bits (status) or not (status_word); a
+  // field of several bits is a number.
+  EXPECT_EQ(text("D1/status"), "0x450E");
+  EXPECT_EQ(text("D1/status_word"), "0x250D");
+  EXPECT_EQ(text("D1/status.state"), "14");
+  for (const auto& [key, cell] : keys.items()) {
+    EXPECT_FALSE(key.ends_with("_high") || key.ends_with("_low")) << key;  // no half of a pair
+    EXPECT_EQ(cell["text"].get<std::string>().find("32767"), std::string::npos) << key << ": " << cell;
+  }
+  // D2's reserves (+0x06, +0x0B, +0x0E) have no row.
+  const auto& addresses = shown["addresses"];
+  for (const auto* reserve : {"0x1206", "0x120B", "0x120E"})
+    EXPECT_TRUE(std::find(addresses.begin(), addresses.end(), reserve) == addresses.end()) << reserve << " is listed";
+
+  // The capture indicators: red for a write, green for a read (seed 004 §2).
+  ASSERT_EQ(shown["indicators"].size(), 2u) << shown["indicators"];
+  EXPECT_NE(shown["indicators"][0]["class"].get<std::string>().find("access-write"), std::string::npos) << shown["indicators"];
+  EXPECT_EQ(shown["indicators"][0]["colour"], "rgb(210, 47, 47)") << shown["indicators"];
+  EXPECT_NE(shown["indicators"][1]["class"].get<std::string>().find("access-read"), std::string::npos) << shown["indicators"];
+  EXPECT_EQ(shown["indicators"][1]["colour"], "rgb(31, 157, 69)") << shown["indicators"];
 }
 
 // The daemon restarts while the page is open: the page reconnects by itself and shows

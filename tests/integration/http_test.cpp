@@ -92,7 +92,8 @@ TEST_F(Http, HealthStatusAndRegistersWithTheValueFedAMomentBefore) {
       EXPECT_EQ(r["values"][0]["state"], "ok") << r.dump();
     } else if (r["address"] == "0x0014") {  // operating_hours_high: no telegram carried it
       EXPECT_EQ(r["values"][0], (nlohmann::json{{"name", "operating_hours"}, {"value", nullptr}, {"unit", "s"},
-                                                {"state", "not measured"}, {"label", "Motohodiny, nižší slovo"}, {"bank", "D1"}}))
+                                                {"state", "not measured"}, {"label", "Motohodiny, nižší slovo"}, {"bank", "D1"},
+                                                {"type", "number"}}))
           << r.dump();
     } else if (r["bank"] == "W" && r["offset"] == 0) {
       EXPECT_EQ(r["values"][0]["set"], false) << "never written: " << r.dump();
@@ -111,7 +112,8 @@ TEST_F(Http, ARegistersReadBlockHasItsSourcesValue) {
   ASSERT_NE(block, registers.end()) << registers.dump();
   EXPECT_EQ((*block)["value"], 1234) << block->dump();
   EXPECT_EQ((*block)["values"], (nlohmann::json::array({{{"name", "engine_speed"}, {"bank", "D1"}, {"value", 1234},
-                                                          {"unit", "min-1"}, {"state", "ok"}, {"label", "Otáčky"}}})))
+                                                          {"unit", "min-1"}, {"state", "ok"}, {"label", "Otáčky"},
+                                                          {"type", "number"}}})))
       << block->dump();
 }
 

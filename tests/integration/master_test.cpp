@@ -9,6 +9,8 @@
 #include <fstream>
 #include <set>
 
+#include <nlohmann/json.hpp>
+
 #include "tests/integration/master_fixture.hpp"
 
 namespace unima::test {
@@ -21,6 +23,28 @@ std::size_t count_frames(const std::vector<SimFrame>& frames, const std::string&
 }
 
 bool log_has(const Daemon& daemon, const std::string& text) { return daemon.log().find(text) != std::string::npos; }
+
+// SPEC §8: in master mode the Modbus LED shows each query the bridge sends, answered or
+// not — lit when it goes on the line, not when its answer or time-out comes.
+TEST_F(MasterTest, TheModbusLedShowsEveryQuerySentAnsweredOrNot) {
+  simulate({"1=sic184-v3,dead"});
+  config.master = "retries: 0, degrade_after: 100, response_timeout: 300ms";
+  config.blocks = "  - { type: poll, device: 1, profile: sic184-v3, point: STATUS, period: 100ms, output: 1 }\n";
+  start();
+  const auto status = [&] {
+    const auto r = run(std::string(UNIMA_BRIDGE_CLI) + " status --json --socket " + config.status_socket);
+    return nlohmann::json::parse(r.output, nullptr, false);
+  };
+  const auto queries = [&] {
+    std::size_t n = 0;
+    for (const auto& f : sim->frames()) n += f.rx;
+    return n;
+  };
+  ASSERT_TRUE(eventually([&] { return queries() >= 3; })) << diagnostics();
+  // Every query counts, none was answered; a status within 100 ms of one sees it lit.
+  EXPECT_GE(status()["modbus"].value("frames", std::size_t{0}), 3u) << status().dump();
+  EXPECT_TRUE(eventually([&] { return status()["modbus"]["active"] == true; })) << status().dump();
+}
 
 TEST_F(MasterTest, Sic184V3SeedFramesOnTheWire) {
   simulate({"1=sic184-v3"});

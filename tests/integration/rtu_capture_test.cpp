@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 
 #include "tests/integration/rtu_fixture.hpp"
 
@@ -147,6 +148,42 @@ TEST_F(RtuForeignErrors, AnAnswerOfAnotherFunctionIsErr04OnItsQuerysLine) {
 TEST_F(RtuForeignErrors, AnAnswerShorterThanFiveBytesIsErr04OnItsQuerysLineAndNoOtherLine) {
   expect_err04(rtu_adu(3, {0x04, 0x02, 0x02, 0x00, 0x02}), rtu_adu(3, {0x04}));  // 4 bytes
   EXPECT_EQ(read_file(log).find("State=Err03"), std::string::npos) << read_file(log);
+}
+
+}  // namespace
+}  // namespace unima::test
+
+namespace unima::test {
+namespace {
+
+// SPEC §8, as on the hardware: the Modbus LED shows what the bridge sends — in slave mode
+// its own responses, lit 100 ms after each — and not the foreign traffic it only hears.
+class RtuModbusLed : public RtuCapture {
+ protected:
+  nlohmann::json status() const {
+    const auto r = run(std::string(UNIMA_BRIDGE_CLI) + " status --json --socket " + config.status_socket);
+    EXPECT_EQ(r.status, 0) << r.output;
+    return nlohmann::json::parse(r.output, nullptr, false);
+  }
+};
+
+TEST_F(RtuModbusLed, StaysDarkForTrafficTheBridgeOnlyHearsAndLightsForItsOwnAnswers) {
+  for (std::uint8_t n = 1; n <= 3; ++n) {
+    const auto write = rtu_adu(3, {0x06, 0x02, 0x02, 0x00, n});
+    line->write(write);
+    line->write(write);  // slave 3 echoes it
+    // Captured and published: the bridge heard the exchange a moment ago.
+    ASSERT_TRUE(feed->wait_for_line(fmt::format(R"({{"bank":"C","offset":1,"value":{}}})", n)));
+    const auto heard = status();
+    EXPECT_FALSE(heard["modbus"]["active"].get<bool>()) << heard.dump();
+    EXPECT_EQ(heard["modbus"]["frames"], 0) << heard.dump();
+  }
+  // Its own answer lights the LED for 100 ms: asked again until a status lands in one.
+  EXPECT_TRUE(eventually([&] {
+    expect_next_reply_is_to_a_read_of_w(not_measured);
+    return status()["modbus"]["active"] == true;
+  })) << status().dump();
+  EXPECT_GE(status()["modbus"].value("frames", 0), 1);
 }
 
 }  // namespace

@@ -66,6 +66,7 @@ TEST(TelegramIntake, AnotherDevicesTelegramIsIgnoredAndOnePastTheEndRefused) {
   EXPECT_EQ(plant.intake.counts().ignored, 1u);
   EXPECT_EQ(plant.intake.counts().refused, 1u);
   EXPECT_EQ(plant.intake.counts().taken[banks::index_of(BankId::D1)], 0u);
+  EXPECT_EQ(plant.intake.counts().received, 2u);  // the UnimaBUS LED blinks for both (SPEC §8)
 }
 
 TEST(TelegramIntake, EveryTelegramIsRecordedTakenOrNot) {

@@ -107,6 +107,21 @@ TEST_F(ValuesTest, ABitWordIsTheWordAndItsNamedBitsAsBooleansAndBitRangesAsNumbe
   EXPECT_EQ(value(BankId::D1, "status.power_mode")["value"], true);
 }
 
+// A bit word is "bits" whether the seed names its bits (control_inputs) or not
+// (status_word): the page shows it in hex; its fields are booleans and numbers.
+TEST_F(ValuesTest, EveryBitWordIsOfTypeBitsAndItsFieldsOfTheirOwnType) {
+  const auto type = [&](BankId bank, std::string_view name) {
+    const auto& values = model.bank(bank)->values;
+    const auto found = std::find_if(values.begin(), values.end(), [&](const ValueDef& d) { return d.name == name; });
+    return found == values.end() ? std::string_view("no value") : type_name(*found);
+  };
+  EXPECT_EQ(type(BankId::D1, "control_inputs"), "bits");
+  EXPECT_EQ(type(BankId::D1, "status_word"), "bits");
+  EXPECT_EQ(type(BankId::D1, "control_inputs.remote_start"), "boolean");
+  EXPECT_EQ(type(BankId::D1, "status.state"), "number");
+  EXPECT_EQ(type(BankId::D1, "engine_speed"), "number");
+}
+
 TEST_F(ValuesTest, SignedWhereTheTableSaysSoAndUnsignedOtherwise) {
   feed(BankId::D2, 0x01, {41234});
   EXPECT_EQ(value(BankId::D2, "engine_speed")["value"], 41234) << "engine_speed is unsigned";

@@ -6,10 +6,15 @@ cell) and devices on line. Used by tests/integration/browser_test.cpp and for th
 screenshot in docs/.
 
   page_in_chromium.py --url http://127.0.0.1:8080/ [--expect 0x0012=1234 ...] [--online D1 ...]
-                      [--ready-file F --then 0x0012=4321 ...] [--screenshot out.png] [--timeout 20]
+                      [--indicator 1=write ...] [--ready-file F --then 0x0012=4321 ...]
+                      [--every-value] [--screenshot out.png [--window 1200,1500]] [--timeout 20]
+
+--indicator N=read|write: capture indicator N shows a value of that access.
 
 --ready-file: written once the first expectations hold; the --then expectations are
 awaited after it (the test feeds them a moment after the page showed the first ones).
+--every-value: the JSON line also holds every value cell by its key ("D1/engine_speed":
+its text, state and address) and the capture indicators (access, class, colour).
 Prints one JSON line with what the page showed; exits 1 when an expectation did not hold.
 """
 import argparse
@@ -27,7 +32,6 @@ import urllib.request
 CHROMIUM_FLAGS = [
     "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
     "--disable-background-networking", "--disable-component-update", "--disable-sync",
-    "--window-size=1200,1500",
 ]
 
 READ_PAGE = """
@@ -37,6 +41,14 @@ for (const cell of document.querySelectorAll('td.value[data-address]'))
 for (const chip of document.querySelectorAll('#devices .chip'))
   result.online[chip.dataset.bank] = chip.dataset.online === 'true';
 result.error_led = document.getElementById('led-error').dataset.on === 'true';
+result.keys = {};
+for (const cell of document.querySelectorAll('td.value[data-key]'))
+  result.keys[cell.dataset.key] = { text: cell.textContent, state: cell.dataset.state, address: cell.dataset.address };
+result.indicators = [...document.querySelectorAll('#indicators .indicator')].map(box => {
+  const value = box.querySelector('.value');
+  return { access: box.dataset.access || null, class: box.className, text: value ? value.textContent : null,
+           colour: value ? getComputedStyle(value).color : null };
+});
 return result;
 """
 
@@ -63,9 +75,15 @@ def parse_expectations(items):
     return expected
 
 
-def holds(page, values, online):
+def parse_indicators(items):
+    return {int(number): access for number, access in (item.split("=", 1) for item in items)}
+
+
+def holds(page, values, online, indicators={}):
+    shown = page.get("indicators", [])
     return (all(page["values"].get(a, {}).get("raw") == v for a, v in values.items())
-            and all(page["online"].get(bank) for bank in online))
+            and all(page["online"].get(bank) for bank in online)
+            and all(n <= len(shown) and shown[n - 1]["access"] == access for n, access in indicators.items()))
 
 
 def main():
@@ -75,7 +93,10 @@ def main():
     parser.add_argument("--online", action="append", default=[])
     parser.add_argument("--ready-file")
     parser.add_argument("--then", action="append", default=[])
+    parser.add_argument("--indicator", action="append", default=[])
+    parser.add_argument("--every-value", action="store_true")
     parser.add_argument("--screenshot")
+    parser.add_argument("--window", default="1200,1500", help="width,height of the window")
     parser.add_argument("--timeout", type=float, default=20)
     args = parser.parse_args()
 
@@ -96,34 +117,39 @@ def main():
                     raise
                 time.sleep(0.05)
         capabilities = {"capabilities": {"alwaysMatch": {"browserName": "chrome", "goog:chromeOptions": {
-            "binary": "/usr/bin/chromium", "args": CHROMIUM_FLAGS + [f"--user-data-dir={profile}"]}}}}
+            "binary": "/usr/bin/chromium", "args": CHROMIUM_FLAGS + [f"--window-size={args.window}", f"--user-data-dir={profile}"]}}}}
         session = call(base, "POST", "/session", capabilities)["sessionId"]
         call(base, "POST", f"/session/{session}/url", {"url": args.url})
 
-        def wait_for(values, online):
+        def wait_for(values, online, indicators={}):
             nonlocal page
             deadline = time.monotonic() + args.timeout
             while True:
                 page = call(base, "POST", f"/session/{session}/execute/sync", {"script": READ_PAGE, "args": []})
-                if holds(page, values, online):
+                if holds(page, values, online, indicators):
                     return True
                 if time.monotonic() > deadline:
                     return False
                 time.sleep(0.1)
 
-        ok = wait_for(parse_expectations(args.expect), args.online)
+        ok = wait_for(parse_expectations(args.expect), args.online, parse_indicators(args.indicator))
         if ok and args.ready_file:
             with open(args.ready_file, "w") as f:
                 f.write("ready\n")
             ok = wait_for(parse_expectations(args.then), args.online)
         if args.screenshot:
+            time.sleep(1)  # the cells' flash of a change fades
             png = base64.b64decode(call(base, "GET", f"/session/{session}/screenshot"))
             with open(args.screenshot, "wb") as f:
                 f.write(png)
         shown = {a: page["values"].get(a.upper().replace("0X", "0x"))
                  for a in [e.split("=")[0] for e in args.expect + args.then]}
-        print(json.dumps({"ok": ok, "feed": page.get("feed"), "online": page.get("online"), "values": shown,
-                          "cells": len(page.get("values", {}))}))
+        report = {"ok": ok, "feed": page.get("feed"), "online": page.get("online"), "values": shown,
+                  "cells": len(page.get("values", {}))}
+        if args.every_value:
+            report.update(keys=page.get("keys", {}), indicators=page.get("indicators", []),
+                          addresses=sorted(page.get("values", {})))
+        print(json.dumps(report))
         return 0 if ok else 1
     finally:
         if session:
