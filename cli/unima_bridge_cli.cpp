@@ -57,7 +57,7 @@ int check(const std::string& path) {
         throw std::runtime_error(fmt::format("{}: {}", http->origin, e.what()));
       }
     }
-    for (const auto& warning : unima::config::warnings(config)) fmt::print(stderr, "warning: {}\n", warning);
+    for (const auto& warning : unima::config::warnings(config)) fmt::print(stderr, "{}\n", warning);
     fmt::print("{}: OK\n", path);
     for (const auto& window : map.windows())
       fmt::print("  0x{:04X}..0x{:04X}  {}\n", window.first, window.end() - 1, window.name);
