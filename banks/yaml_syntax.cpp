@@ -1,5 +1,6 @@
 #include "banks/yaml_syntax.hpp"
 
+#include <algorithm>
 #include <optional>
 #include <vector>
 
@@ -173,10 +174,15 @@ std::optional<YamlSyntaxError> misindented_line(const std::vector<std::string_vi
 }
 
 std::optional<YamlSyntaxError> tab_indented_line(const std::vector<std::string_view>& lines, int last_line) {
+  int flow_depth = 0;  // inside a { … } or [ … ] spread over lines a tab is only a blank
   for (int i = 0; i < static_cast<int>(lines.size()) && i < last_line; ++i) {
     const auto line = lines[static_cast<std::size_t>(i)];
     if (!structural(line)) continue;
     const auto indentation = line.substr(0, line.find_first_not_of(" \t"));
+    const bool in_flow = flow_depth > 0;
+    const auto rest = line.substr(indentation.size());
+    flow_depth = std::max(0, flow_depth + read_entry(rest, i + 1).flow_depth);
+    if (in_flow) continue;
     if (const auto tab = indentation.find('\t'); tab != std::string_view::npos)
       return YamlSyntaxError{i + 1, static_cast<int>(tab) + 1,
                              "a tab indents this line; YAML indents with spaces: replace the tab by spaces, as many as "

@@ -59,6 +59,9 @@ TEST(YamlSyntax, WellIndentedFlowAndBlockTextIsNotBlamedAndOtherErrorsStayYamlCp
   EXPECT_EQ(explained.line, 6);
   EXPECT_EQ(explained.column, 9);
   EXPECT_EQ(explained.message, "end of sequence flow not found");
+  // Inside a { … } spread over lines a tab is only a blank, not indentation.
+  EXPECT_EQ(explain_yaml_syntax_error("a: { b: 1,\n\tc: 2 }\nd: [1, 2\n", 2, 8, "end of sequence flow not found").message,
+            "end of sequence flow not found");
 }
 
 }  // namespace
