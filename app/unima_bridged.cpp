@@ -20,7 +20,9 @@
 
 namespace {
 
-constexpr const char* usage = "usage: unima-bridged --config FILE\n";
+constexpr const char* usage =
+    "usage: unima-bridged --config FILE\n"
+    "       unima-bridged --version | -h|--help\n";
 
 // Loading a config parses YAML into many short-lived nodes; glibc keeps the pages they
 // freed, about half of the heap after start-up. The daemon then runs for months on a small

@@ -25,12 +25,17 @@ std::optional<BankId> parse_bank_name(std::string_view name);
 /// The seed's default base address (seed 004 §6.1).
 std::uint16_t default_base(BankId bank);
 
-/// Register count of the banks whose size is fixed; D_N take theirs from the device table.
+/// Register count of each bank (SPEC §1).
 inline constexpr std::uint16_t analog_bank_length = 16;  // A, W
 inline constexpr std::uint16_t bit_bank_length = 1;      // B, X
 inline constexpr std::uint16_t c_bank_length = 20;       // C+0x00..+0x13
 inline constexpr std::uint16_t s_bank_length = 20;       // S_N
-inline constexpr std::uint16_t max_table_length = 64;    // D_N
+/// A D_N is the seed's window 0x1100÷0x113F whatever its device type (seed 004 §6.1), so
+/// that a SCADA template written for the hardware reads it whole; past its table's end
+/// it reads 0x7FFF, like a reserve.
+inline constexpr std::uint16_t device_bank_length = 64;
+/// A device table fills at most its bank's window.
+inline constexpr std::uint16_t max_table_length = device_bank_length;
 
 constexpr bool is_device_bank(BankId bank) { return bank >= BankId::D1 && bank <= BankId::D4; }
 constexpr bool is_module_bank(BankId bank) { return bank >= BankId::S1 && bank <= BankId::S7; }

@@ -211,4 +211,10 @@ DeviceTable parse_device_table(std::string_view yaml_text, std::string_view orig
                                        [&](const YAML::Node& root) { return Parser(origin).table(root); });
 }
 
+std::string field_value_name(const RegisterDef& reg, const Field& field) {
+  const auto prefix = reg.id + "_";
+  const bool prefixed = field.id.starts_with(prefix) && field.id.size() > prefix.size();
+  return reg.id + "." + (prefixed ? field.id.substr(prefix.size()) : field.id);
+}
+
 }  // namespace unima::banks

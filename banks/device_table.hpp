@@ -51,6 +51,11 @@ struct RegisterDef {
   std::string inferred;   // why the offset was reconstructed, when it was
 };
 
+/// The name a field's value goes by outside Modbus (SPEC §17: the page, MQTT):
+/// "knock_rank_1_cylinder" of "knock_rank_1" -> "knock_rank_1.cylinder"; a field whose id
+/// does not start with its register's keeps it whole ("status.state").
+std::string field_value_name(const RegisterDef& reg, const Field& field);
+
 struct DeviceTable {
   std::string id;
   std::vector<std::string> aliases;

@@ -15,7 +15,7 @@ BankShapes standard_shapes(const std::array<const DeviceTable*, 4>& device_table
   for (unsigned n = 1; n <= 7; ++n) shapes[index_of(module_bank(n))] = {s_bank_length, io_module};
   for (unsigned n = 1; n <= 4; ++n) {
     const auto* table = device_tables[n - 1];
-    shapes[index_of(device_bank(n))] = {table ? table->length() : std::uint16_t{0}, table};
+    shapes[index_of(device_bank(n))] = {table ? device_bank_length : std::uint16_t{0}, table};
   }
   return shapes;
 }
@@ -25,6 +25,7 @@ RegisterStore::RegisterStore(const BankShapes& shapes) : shapes_(shapes) {
     const auto& shape = shapes[index_of(id)];
     auto& bank = bank_(id);
     bank.length = shape.length;
+    bank.filled_length = banks::filled_length(shape);
     bank.offline.assign(shape.length, not_measured);
     if (shape.table)
       for (const auto& reg : shape.table->registers)
@@ -111,7 +112,7 @@ std::uint16_t RegisterStore::read(BankId bank, std::uint16_t offset) const {
 
 bool RegisterStore::store_telegram(BankId id, std::uint16_t offset, std::span<const std::uint16_t> values) {
   auto& bank = bank_(id);
-  if (std::size_t{offset} + values.size() > bank.length) return false;
+  if (std::size_t{offset} + values.size() > bank.filled_length) return false;
   std::copy(values.begin(), values.end(), bank.raw.begin() + offset);
   std::fill_n(bank.carried.begin() + offset, values.size(), std::uint8_t{1});
   refresh_served(bank, offset, values.size());

@@ -3,6 +3,7 @@
 // (SPEC §1) and tells a listener about every value the bridge publishes to UnimaBUS.
 // Pure: no clock, no I/O. Presence time-outs are decided outside and set here.
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <functional>
@@ -17,13 +18,21 @@
 namespace unima::banks {
 
 /// Size and table of one bank in this config; length 0 means the bank does not exist.
+/// A D_N bank may be longer than its table (banks::device_bank_length).
 struct BankShape {
   std::uint16_t length = 0;
   const DeviceTable* table = nullptr;
 };
 using BankShapes = std::array<BankShape, bank_count>;
 
-/// The shapes of a config: fixed banks A, B, C, S_N, W, X; D_N from their device tables.
+/// How many registers of a bank, from offset 0, hold values — what telegrams may fill and
+/// sources may name: its table's, or all of them. A D_N past its table reads 0x7FFF.
+inline std::uint16_t filled_length(const BankShape& shape) {
+  return shape.table ? std::min(shape.table->length(), shape.length) : shape.length;
+}
+
+/// The shapes of a config: every bank its fixed length (SPEC §1); a D_N exists when a
+/// device is configured for it, and `device_tables` says which table.
 BankShapes standard_shapes(const std::array<const DeviceTable*, 4>& device_tables, const DeviceTable* io_module,
                            const DeviceTable* bridge_internal);
 
@@ -54,9 +63,12 @@ class RegisterStore {
   std::uint16_t read(BankId bank, std::uint16_t offset) const;
 
   /// Values a UnimaBUS telegram carried into a D_N or S_N bank. A telegram is taken
-  /// whole or not at all: false, and nothing stored, when it runs past the bank's end
-  /// (or the bank does not exist).
+  /// whole or not at all: false, and nothing stored, when it runs past the end of the
+  /// bank's table (or the bank does not exist) — the registers of a D_N past its table
+  /// read 0x7FFF whatever a telegram says.
   bool store_telegram(BankId bank, std::uint16_t offset, std::span<const std::uint16_t> values);
+  /// banks::filled_length of the bank's shape.
+  std::uint16_t filled_length(BankId bank) const { return bank_(bank).filled_length; }
   void set_online(BankId bank, bool online);
   bool online(BankId bank) const { return bank_(bank).online; }
 
@@ -91,6 +103,7 @@ class RegisterStore {
  private:
   struct Bank {
     std::uint16_t length = 0;
+    std::uint16_t filled_length = 0;
     std::vector<std::uint16_t> raw;
     std::vector<std::uint16_t> offline;  // what each register reads while not measured
     std::vector<std::uint8_t> carried;   // 1 once a telegram carried the register

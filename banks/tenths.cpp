@@ -21,7 +21,10 @@ std::int64_t divide_rounded(std::int64_t a, std::int64_t b) {
 
 TenthsConversion tenths_conversion(const RegisterDef* source, bool raw) {
   TenthsConversion conversion;
-  if (raw || !source || source->kind != RegisterKind::analog) return conversion;
+  if (raw) return conversion;
+  if (!source) return {.copy = false, .is_signed = true};  // W: tenths a master wrote, -32768..32767
+  if (source->kind != RegisterKind::analog) return conversion;
+  conversion.copy = false;
   const double factor = source->scale * 10.0;
   // The smallest power of ten that makes the factor whole (scales have at most 7 decimals).
   std::int64_t denominator = 1;
@@ -31,7 +34,6 @@ TenthsConversion tenths_conversion(const RegisterDef* source, bool raw) {
   const auto numerator = static_cast<std::int64_t>(std::llround(factor * static_cast<double>(denominator)));
   conversion.is_signed = source->is_signed;
   if (numerator == denominator) return conversion;  // already in tenths
-  conversion.copy = false;
   conversion.numerator = numerator;
   conversion.denominator = denominator;
   return conversion;

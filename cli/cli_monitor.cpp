@@ -21,12 +21,14 @@ namespace {
 
 constexpr const char* default_log = "/var/log/unima-bridge/monitor.log";
 constexpr const char* usage =
-    "usage: unima-bridge monitor [--follow] [--lines N] [--filter EXPR] [--json] [--config FILE] [LOG]\n"
+    "usage: unima-bridge monitor [-f|--follow] [-n|--lines N] [--filter EXPR] [--json] [--config FILE] [LOG]\n"
     "\n"
     "  LOG            the monitor log (default: the config's monitor.file, else\n"
     "                 /var/log/unima-bridge/monitor.log)\n"
     "  -f, --follow   keep reading as lines arrive, across rotations (like tail -F);\n"
     "                 starts with the last N lines (--lines, default 10)\n"
+    "  -n, --lines N  with --follow, how many of the last lines to show first\n"
+    "  --config FILE  the daemon's config, for its monitor.file\n"
     "  --filter EXPR  only queries matching 'ad=3 fn=6 from=0x0200 to=0x0210'\n"
     "                 (any key may be left out; xx = any)\n"
     "  --json         print JSON lines (default: text)\n";
@@ -117,12 +119,28 @@ int monitor_command(const std::vector<std::string>& args) {
       return 2;
     }
   }
+  // Why this path was read: an operator who gets "No such file" needs to know which key to set.
+  std::string log_origin = "the path given on the command line";
   if (options.log.empty()) {
     options.log = default_log;
+    log_origin = fmt::format("the default, as no --config was given; give --config FILE to read the daemon's "
+                             "monitor.file, or the log's path: unima-bridge monitor PATH");
     if (!options.config.empty()) {
       try {
         const auto config = config::load_file(options.config);
-        if (!config.monitor.file.empty()) options.log = config.monitor.file;
+        if (!config.monitor.file.empty()) {
+          options.log = config.monitor.file;
+          log_origin = fmt::format("monitor.file of {}; the daemon creates it when it starts or reloads with "
+                                   "that config",
+                                   options.config);
+        } else {
+          log_origin = fmt::format(
+              "the default, as {} sets no monitor.file{}; set monitor.file there (docs/configuration.md, "
+              "\"monitor\") and reload the daemon, or give the log's path: unima-bridge monitor PATH",
+              options.config,
+              config.monitor.to_stdout ? " (its monitor goes to the daemon's standard output: journalctl -u unima-bridge)"
+                                       : "");
+        }
       } catch (const std::exception& e) {
         std::fprintf(stderr, "unima-bridge monitor: %s\n", e.what());
         return 1;
@@ -134,10 +152,12 @@ int monitor_command(const std::vector<std::string>& args) {
   LogFollower follower(options.log);
   if (!follower.open()) {
     if (!options.follow) {
-      std::fprintf(stderr, "unima-bridge monitor: cannot open %s: %s\n", options.log.c_str(), std::strerror(errno));
+      std::fprintf(stderr, "unima-bridge monitor: cannot open %s: %s\n  it is %s\n", options.log.c_str(),
+                   std::strerror(errno), log_origin.c_str());
       return 1;
     }
-    std::fprintf(stderr, "unima-bridge monitor: waiting for %s to appear\n", options.log.c_str());
+    std::fprintf(stderr, "unima-bridge monitor: waiting for %s to appear\n  it is %s\n", options.log.c_str(),
+                 log_origin.c_str());
   }
 
   if (!options.follow) {

@@ -22,13 +22,14 @@ namespace unima::cli {
 namespace {
 
 constexpr const char* usage =
-    "usage: unima-bridge status [--watch] [--json] [--socket PATH | --config FILE]\n"
+    "usage: unima-bridge status [-w|--watch] [--json] [--socket PATH | --config FILE]\n"
     "\n"
     "  shows what the Bridge's front panel shows: mode, Modbus and UnimaBUS activity, Error,\n"
     "  D_N and S_N on-line, the capture indicators, and counters per port\n"
+    "  --config FILE  the daemon's config, for its status.socket\n"
     "  --socket PATH  the daemon's status socket (default: the config's status.socket, else\n"
     "                 /run/unima-bridge/control.sock)\n"
-    "  --watch        refresh every second until interrupted\n"
+    "  -w, --watch    refresh every second until interrupted\n"
     "  --json         the daemon's JSON document\n";
 
 constexpr auto answer_timeout = std::chrono::seconds(3);

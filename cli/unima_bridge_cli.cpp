@@ -23,9 +23,10 @@ constexpr const char* usage =
     "usage: unima-bridge check --config FILE\n"
     "       unima-bridge map --config FILE [--format table|csv|json]\n"
     "       unima-bridge tables\n"
-    "       unima-bridge status [--watch] [--json] [--socket PATH | --config FILE]\n"
-    "       unima-bridge monitor [--follow] [--filter EXPR] [--json] [--config FILE] [LOG]\n"
+    "       unima-bridge status [-w|--watch] [--json] [--socket PATH | --config FILE]\n"
+    "       unima-bridge monitor [-f|--follow] [-n|--lines N] [--filter EXPR] [--json] [--config FILE] [LOG]\n"
     "       unima-bridge profiles [ID]\n"
+    "       unima-bridge --version | -h|--help\n"
     "\n"
     "  check     validate a config; exit 0 when it is good, 1 with the errors when not;\n"
     "            in master mode also the merge plan and the estimated bus load\n"
@@ -36,7 +37,10 @@ constexpr const char* usage =
     "  status    the front panel of the running daemon: mode, activity, Error, D_N/S_N on-line,\n"
     "            capture indicators, counters\n"
     "  monitor   read, filter and follow the monitor log (one line per Modbus transaction)\n"
-    "  profiles  the device profiles of foreign slaves for master mode; with ID, its points\n";
+    "  profiles  the device profiles of foreign slaves for master mode; with ID, its points\n"
+    "\n"
+    "unima-bridge status --help and monitor --help describe their options; man unima-bridge(1)\n"
+    "describes them all.\n";
 
 int check(const std::string& path) {
   try {

@@ -68,6 +68,12 @@ std::vector<MapRow> register_map(const Config& config) {
         rows.push_back(std::move(row));
         continue;
       }
+      if (banks::is_device_bank(bank) && shapes[index_of(bank)].table) {
+        // Past the table, inside the D_N window (banks::device_bank_length): a reserve.
+        rows.push_back(MapRow{address, name, offset, fmt::format("reserve_{:02x}", offset), "Rezerva",
+                              std::string(banks::kind_name(banks::RegisterKind::reserve)), "", 1.0, "R", ""});
+        continue;
+      }
       switch (bank) {
         case BankId::A: {
           MapRow row{address, name, offset, fmt::format("a_{:02x}", offset), fmt::format("ModBUS[BankA+{:02X}]", offset),

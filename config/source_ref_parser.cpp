@@ -68,6 +68,10 @@ std::variant<banks::SourceRef, std::string> parse_source_ref(std::string_view te
     if (*number >= shape.length)
       return fmt::format("'{}': offset 0x{:02X} is past the end of bank {} ({} registers)", text, *number,
                          banks::bank_name(*bank), shape.length);
+    if (*number >= banks::filled_length(shape))
+      return fmt::format("'{}': offset 0x{:02X} is past the end of the {} table of bank {} ({} registers): it always "
+                         "reads 0x7FFF",
+                         text, *number, shape.table->id, banks::bank_name(*bank), banks::filled_length(shape));
     ref.offset = static_cast<std::uint16_t>(*number);
     if (dot != std::string_view::npos) bit_text = rest.substr(dot + 1);
   } else if (rest.starts_with(".")) {

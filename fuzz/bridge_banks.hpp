@@ -69,7 +69,7 @@ class BridgeBanks {
   void bring_plant_online() {
     for (const auto bank : banks::all_banks) {
       if (!(banks::is_device_bank(bank) || banks::is_module_bank(bank)) || !store.exists(bank)) continue;
-      std::vector<std::uint16_t> values(store.length(bank));
+      std::vector<std::uint16_t> values(store.filled_length(bank));  // past a table nothing is stored
       for (std::size_t i = 0; i < values.size(); ++i)  // small, negative, "not measured", large
         values[i] = static_cast<std::uint16_t>(i * 0x1111u + banks::index_of(bank) * 7u);
       store.store_telegram(bank, 0, values);

@@ -46,6 +46,7 @@ void take_line(std::string_view line, std::size_t max_line, fuzz::BridgeBanks& b
   auto parsed = unimabus::parse_feed_line(line);
   if (const auto* error = std::get_if<std::string>(&parsed)) return check_error_answer(*error);
   const auto& telegram = std::get<unimabus::Telegram>(parsed);
+  FUZZ_CHECK(line.find('\0') == std::string_view::npos);  // a NUL is never the end of a line's JSON
   FUZZ_CHECK(!telegram.values.empty() && telegram.slot <= 7);
   FUZZ_CHECK(telegram.offset + telegram.values.size() <= 0x10000);
   FUZZ_CHECK(telegram.device == nullptr || telegram.slot == 0);
@@ -61,7 +62,7 @@ void take_line(std::string_view line, std::size_t max_line, fuzz::BridgeBanks& b
   FUZZ_CHECK(int{!outcome.updated.empty()} + int{!outcome.error.empty()} + int{outcome.ignored} == 1);
   if (!outcome.error.empty()) check_error_answer(outcome.error);
   for (const auto bank : outcome.updated) {
-    FUZZ_CHECK(outcome.updated.size() == 1 && telegram.offset + telegram.values.size() <= banks.store.length(bank));
+    FUZZ_CHECK(outcome.updated.size() == 1 && telegram.offset + telegram.values.size() <= banks.store.filled_length(bank));
     banks.store.set_online(bank, true);  // as the bridge does when its device is heard (unimabus::Presence)
     for (std::size_t i = 0; i < telegram.values.size(); ++i) {
       const auto offset = static_cast<std::uint16_t>(telegram.offset + i);

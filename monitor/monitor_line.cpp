@@ -3,10 +3,12 @@
 #include <array>
 #include <charconv>
 #include <cstring>
+#include <variant>
 
 #include <nlohmann/json.hpp>
 
 #include "monitor/hex_text.hpp"
+#include "platform/json_text.hpp"
 #include "platform/log_text.hpp"
 
 namespace unima::monitor {
@@ -385,8 +387,10 @@ std::optional<MonitorLine> parse_text(std::string_view text) {
 }
 
 std::optional<MonitorLine> parse_json(std::string_view text) {
-  const auto object = nlohmann::json::parse(text, nullptr, false);
-  if (object.is_discarded() || !object.is_object()) return std::nullopt;
+  const auto parsed = platform::parse_json_text(text);
+  const auto* value = std::get_if<nlohmann::json>(&parsed);
+  if (!value || !value->is_object()) return std::nullopt;
+  const auto& object = *value;
   const auto string_at = [&](const char* key) -> std::optional<std::string> {
     const auto it = object.find(key);
     if (it == object.end() || !it->is_string()) return std::nullopt;

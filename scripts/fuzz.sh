@@ -11,7 +11,8 @@ if ! command -v clang++ >/dev/null; then
 fi
 build_dir=${FUZZ_BUILD_DIR:-build-fuzz}
 jobs=${FUZZ_JOBS:-$(nproc)}
-cmake -S . -B "$build_dir" -DCMAKE_CXX_COMPILER=clang++ -DUNIMA_FUZZ=ON \
+. scripts/phases.sh
+phase "fuzz configure" cmake -S . -B "$build_dir" -DCMAKE_CXX_COMPILER=clang++ -DUNIMA_FUZZ=ON \
   -DUNIMA_FUZZ_SECONDS="${FUZZ_SECONDS:-10}" >/dev/null
-cmake --build "$build_dir" -j "$jobs"
-ctest --test-dir "$build_dir" --output-on-failure -L fuzz -j "$jobs" "$@"
+phase "fuzz build" cmake --build "$build_dir" -j "$jobs"
+phase "fuzz run" ctest --test-dir "$build_dir" --output-on-failure -L fuzz -j "$jobs" "$@"

@@ -6,6 +6,7 @@
 #include <fmt/ranges.h>
 
 #include "banks/table_catalog.hpp"
+#include "platform/json_text.hpp"
 
 namespace unima::unimabus {
 
@@ -71,27 +72,16 @@ std::variant<Telegram, std::string> telegram_of(const nlohmann::json& object, bo
   return telegram;
 }
 
-// Every exception a parser can throw is an answer, never the daemon's end.
-std::variant<nlohmann::json, std::string> json_of(std::string_view line) {
-  try {
-    return nlohmann::json::parse(line);
-  } catch (const nlohmann::json::parse_error& e) {
-    return fmt::format("not JSON: {}", e.what());
-  } catch (const nlohmann::json::exception& e) {
-    return fmt::format("not a telegram: {}", e.what());
-  }
-}
-
 }  // namespace
 
 FeedLine parse_feed_line(std::string_view line) {
-  auto parsed = json_of(line);
+  auto parsed = platform::parse_json_text(line);
   if (auto* error = std::get_if<std::string>(&parsed)) return std::move(*error);
   return telegram_of(std::get<nlohmann::json>(parsed), true);
 }
 
 RecordedLine parse_recorded_line(std::string_view line) {
-  auto parsed = json_of(line);
+  auto parsed = platform::parse_json_text(line);
   if (auto* error = std::get_if<std::string>(&parsed)) return std::move(*error);
   const auto& object = std::get<nlohmann::json>(parsed);
   auto telegram = telegram_of(object, true);

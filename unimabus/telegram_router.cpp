@@ -37,9 +37,11 @@ TelegramRouter::Outcome TelegramRouter::apply(const Telegram& telegram) {
   }
   const Route& route = *matches.front();
   if (!store_.store_telegram(route.bank, telegram.offset, telegram.values)) {
-    outcome.error = fmt::format("registers 0x{:02X}..0x{:02X} run past the end of bank {} ({} registers)",
+    const auto* table = store_.table(route.bank);
+    outcome.error = fmt::format("registers 0x{:02X}..0x{:02X} run past the end of bank {} ({}{} registers)",
                                 telegram.offset, telegram.offset + telegram.values.size() - 1,
-                                banks::bank_name(route.bank), store_.length(route.bank));
+                                banks::bank_name(route.bank), table ? table->id + ": " : "",
+                                store_.filled_length(route.bank));
     return outcome;
   }
   outcome.updated.push_back(route.bank);

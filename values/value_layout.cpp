@@ -43,18 +43,10 @@ ValueDef def(std::string name, std::string label, std::string unit, Decoding dec
   return d;
 }
 
-// "knock_rank_1_cylinder" of "knock_rank_1" -> "knock_rank_1.cylinder"; a field whose id
-// does not start with its register's keeps it whole ("status.state").
-std::string field_name(const RegisterDef& reg, const banks::Field& field) {
-  const auto prefix = reg.id + "_";
-  const bool prefixed = field.id.starts_with(prefix) && field.id.size() > prefix.size();
-  return reg.id + "." + (prefixed ? field.id.substr(prefix.size()) : field.id);
-}
-
 void add_bit_word(std::vector<ValueDef>& values, const RegisterDef& reg) {
   values.push_back(def(reg.id, reg.label, "", Decoding::word, {reg.offset}));
   for (const auto& field : reg.fields) {
-    auto bits = def(field_name(reg, field), field.label, "", Decoding::bit_field, {reg.offset});
+    auto bits = def(banks::field_value_name(reg, field), field.label, "", Decoding::bit_field, {reg.offset});
     bits.first_bit = field.first_bit;
     bits.last_bit = field.last_bit;
     if (field.first_bit == field.last_bit) bits.type = ValueType::boolean;
@@ -69,7 +61,7 @@ void add_byte_pair(std::vector<ValueDef>& values, const RegisterDef& reg) {
     fields.push_back({8, 15, reg.id + "_high", reg.label, "", reg.unit, reg.scale, ""});
   }
   for (const auto& field : fields) {
-    auto byte = def(field_name(reg, field), field.label, field.unit, Decoding::byte_field, {reg.offset}, field.scale);
+    auto byte = def(banks::field_value_name(reg, field), field.label, field.unit, Decoding::byte_field, {reg.offset}, field.scale);
     byte.first_bit = field.first_bit;
     byte.last_bit = field.last_bit;
     values.push_back(std::move(byte));

@@ -4,6 +4,8 @@
 #include <cstdio>
 #include <sys/wait.h>
 
+#include <tuple>
+
 #include "banks/table_catalog.hpp"
 #include "tests/integration/bridge_fixture.hpp"
 
@@ -29,11 +31,13 @@ TEST_P(DeviceType, EveryNamedRegisterReadsWhatItsDeviceSent) {
     ASSERT_TRUE(got) << reg.id;
     EXPECT_EQ((*got)[0], 1000 + reg.offset) << GetParam() << "." << reg.id;
   }
-  const auto whole = client.read_input(0x1100, table->length());
-  ASSERT_TRUE(whole);
-  EXPECT_EQ(whole->back(), 1000 + table->length() - 1);
-  // One past the table is not served.
-  EXPECT_FALSE(client.read_input(0x1100, table->length() + 1));
+  // The bank is the seed's window of 64 whatever the type (seed §6.1): past the table, 0x7FFF.
+  const auto whole = client.read_input(0x1100, 64);
+  ASSERT_TRUE(whole) << client.last_error();
+  for (std::uint16_t n = 0; n < 64; ++n)
+    EXPECT_EQ((*whole)[n], n < table->length() ? 1000 + n : 0x7FFF) << GetParam() << " +" << n;
+  // One past the window is not served.
+  EXPECT_FALSE(client.read_input(0x1100, 65));
   EXPECT_EQ(client.last_error(), EMBXILADD);
 }
 
@@ -46,16 +50,73 @@ INSTANTIATE_TEST_SUITE_P(AllNine, DeviceType,
                            return name;
                          });
 
-TEST_F(BridgeTest, UscEndsAt0x27) {
-  config.banks = "{ D1: 0x1100 }";
-  config.devices = "{ D1: { type: usc, address: 5 } }";
+// Issue 30 point 3: a SCADA template written for the hardware reads every D_N as
+// 0x1N00 × 64 (seed §6.1: 0x1100÷0x113F for every device type), with function 4 and with
+// function 3 (answered like 4, SPEC §3). A USC's table is 40 long, a UVR's 49.
+TEST_F(BridgeTest, ATemplateOf64RegistersReadsAUscAndAUvrWhole) {
+  config.banks = "{ D2: 0x1200, D3: 0x1300 }";
+  config.devices = "{ D2: { type: usc, address: 5 }, D3: { type: uvr, address: 6 } }";
   start();
-  EXPECT_EQ(round_trip(config.modbus_port, {0, 1, 0, 0, 0, 6, 1, 0x04, 0x11, 0x27, 0x00, 0x01}),
+  auto feed = feed_client();
+  const std::vector<std::tuple<int, int, std::uint16_t>> devices = {{5, 0x1200, 40}, {6, 0x1300, 49}};
+  for (const auto& [address, base, length] : devices) {
+    ASSERT_EQ(banks::find_device_type(address == 5 ? "usc" : "uvr")->length(), length);
+    std::string values;
+    for (int n = 0; n < length; ++n) values += (n ? "," : "") + std::to_string(base + n);
+    feed_and_wait(feed, R"({"addr":)" + std::to_string(address) + R"(,"slot":0,"offset":0,"values":[)" + values + "]}",
+                  base + length - 1, static_cast<std::uint16_t>(base + length - 1));
+  }
+  ModbusClient client(config.modbus_port);
+  for (const auto& [address, base, length] : devices) {
+    std::vector<std::uint16_t> expected(64, 0x7FFF);
+    for (int n = 0; n < length; ++n) expected[n] = static_cast<std::uint16_t>(base + n);
+    EXPECT_EQ(client.read_input(base, 64), expected) << std::hex << base << " fn 4, error " << client.last_error();
+    EXPECT_EQ(client.read_holding(base, 64), expected) << std::hex << base << " fn 3, error " << client.last_error();
+    // Past the window nothing is served: a read that crosses its end is refused whole.
+    EXPECT_FALSE(client.read_input(base + 1, 64));
+    EXPECT_EQ(client.last_error(), EMBXILADD);
+    EXPECT_FALSE(client.read_holding(base + 0x3F, 2));
+    EXPECT_EQ(client.last_error(), EMBXILADD);
+  }
+  // The same bytes on the wire: 0x1227 is the USC's last register, 0x1228..0x123F read
+  // 0x7FFF like reserves, 0x1240 is nobody's.
+  EXPECT_EQ(round_trip(config.modbus_port, {0, 1, 0, 0, 0, 6, 1, 0x04, 0x12, 0x27, 0x00, 0x02}),
+            (Bytes{0, 1, 0, 0, 0, 7, 1, 0x04, 0x04, 0x12, 0x27, 0x7F, 0xFF}));
+  EXPECT_EQ(round_trip(config.modbus_port, {0, 1, 0, 0, 0, 6, 1, 0x04, 0x12, 0x3F, 0x00, 0x01}),
             (Bytes{0, 1, 0, 0, 0, 5, 1, 0x04, 0x02, 0x7F, 0xFF}));
-  EXPECT_EQ(round_trip(config.modbus_port, {0, 1, 0, 0, 0, 6, 1, 0x04, 0x11, 0x27, 0x00, 0x02}),
+  EXPECT_EQ(round_trip(config.modbus_port, {0, 1, 0, 0, 0, 6, 1, 0x04, 0x12, 0x40, 0x00, 0x01}),
             (Bytes{0, 1, 0, 0, 0, 3, 1, 0x84, 0x02}));
-  EXPECT_EQ(round_trip(config.modbus_port, {0, 1, 0, 0, 0, 6, 1, 0x04, 0x11, 0x28, 0x00, 0x01}),
-            (Bytes{0, 1, 0, 0, 0, 3, 1, 0x84, 0x02}));
+  // Past its table a telegram is refused whole, so those registers stay 0x7FFF.
+  feed.send(std::string(R"({"addr":5,"slot":0,"offset":39,"values":[1,2]})") + "\n");
+  const auto answer = feed.read_line();
+  ASSERT_TRUE(answer);
+  EXPECT_NE(answer->find("run past the end of bank D2 (usc: 40 registers)"), std::string::npos) << *answer;
+  EXPECT_EQ(client.read_input(0x1227, 2), (std::vector<std::uint16_t>{0x1227, 0x7FFF}));
+}
+
+// Issue 30 point 5: sources of W, C and S_N carry tenths already, and A saturates them like
+// any result (SPEC §1): 0x8000 (−32768) is outside −32767..32766 and reads 0x8001. A
+// master's 0x7FFF is its "not measured" and stays so.
+TEST_F(BridgeTest, BankASaturatesMinus32768FromWCAndS) {
+  config.devices =
+      "{ D1: { type: unigen-chp, address: 5 } }\n"
+      "mapping:\n"
+      "  A: [ W+0x00, C+0x00, S1+0x00, W+0x01 ]";
+  config.blocks = "  - { type: write, register: 0x0200, output: 1 }\n";
+  start();
+  ModbusClient client(config.modbus_port);
+  ASSERT_TRUE(client.write(0x0100, 0x8000));  // W+0x00 (W at 0x0100 in these tests)
+  ASSERT_TRUE(client.write(0x0200, 0x8000));  // the write block: user output 1 = C+0x00
+  ASSERT_TRUE(client.write(0x0101, 0x7FFF));  // W+0x01
+  auto feed = feed_client();
+  feed_and_wait(feed, R"({"addr":5,"slot":1,"offset":0,"values":[-32768]})", 0x2100, 0x8000);  // S1+0x00
+  EXPECT_EQ(client.read_input(0x1020, 1), std::vector<std::uint16_t>{0x8000});  // C itself as written
+  EXPECT_EQ(client.read_input(0x1000, 4), (std::vector<std::uint16_t>{0x8001, 0x8001, 0x8001, 0x7FFF}));
+  EXPECT_EQ(client.read_holding(0x1000, 4), (std::vector<std::uint16_t>{0x8001, 0x8001, 0x8001, 0x7FFF}));
+  // Inside the range a value is A's as it is.
+  ASSERT_TRUE(client.write(0x0100, 0x8001));
+  ASSERT_TRUE(client.write(0x0101, 0xFFFF));
+  EXPECT_EQ(client.read_input(0x1000, 4), (std::vector<std::uint16_t>{0x8001, 0x8001, 0x8001, 0xFFFF}));
 }
 
 // Seed §6.2.4.6: the UIS's cylinder masks are bit registers, 0 while the UIS is off-line.
@@ -164,6 +225,10 @@ TEST(MapCommand, FourDeviceTypesListEveryRegisterWithNamesAndUnits) {
       EXPECT_NE(line.find("," + reg.id + ","), std::string::npos) << line;
     }
   }
+  // Past its table of 40 the USC's D_N goes on to +0x3F, listed as reserves (seed §6.1).
+  EXPECT_NE(csv.find("\n0x1328,D3,0x28,reserve_28,Rezerva,reserve,"), std::string::npos) << csv;
+  EXPECT_NE(csv.find("\n0x133F,D3,0x3F,reserve_3f,Rezerva,reserve,"), std::string::npos) << csv;
+  EXPECT_EQ(csv.find("\n0x1340,"), std::string::npos) << csv;
   const auto json =
       run(std::string(UNIMA_BRIDGE_CLI) + " map --format json --config " UNIMA_SOURCE_DIR "/config/examples/four-devices.yaml");
   EXPECT_EQ(json.status, 0);

@@ -59,6 +59,22 @@ TEST_F(Feed, MalformedLinesAreAnsweredAndTheConnectionStays) {
   feed_and_wait(feed, R"({"addr":5,"slot":0,"offset":5,"values":[321]})", 0x0011 + 5, 321);
 }
 
+// Issue 30 point 5: a NUL byte after a telegram's JSON makes the line malformed (SPEC §6):
+// it is answered {"error":…} and changes nothing. White space after the JSON is fine.
+TEST_F(Feed, ANulByteAfterTheJsonIsAnsweredWithAnErrorAndChangesNothing) {
+  start();
+  auto feed = feed_client();
+  feed_and_wait(feed, R"({"addr":5,"slot":0,"offset":1,"values":[321]})", 0x0011 + 1, 321);
+  feed.send(std::string(R"({"addr":5,"slot":0,"offset":1,"values":[1]})") + '\0' + "garbage\n");
+  const auto answer = feed.read_line();
+  ASSERT_TRUE(answer) << "no answer to the line with a NUL byte";
+  EXPECT_TRUE(answer->starts_with(R"({"error":"not JSON: a NUL byte)")) << *answer;
+  // The next line, with white space after its JSON, is applied; the one with the NUL never was.
+  feed_and_wait(feed, R"({"addr":5,"slot":0,"offset":2,"values":[654]} )" "\t", 0x0011 + 2, 654);
+  ModbusClient client(config.modbus_port);
+  EXPECT_EQ(client.read_input(0x0011 + 1, 1), std::vector<std::uint16_t>{321});
+}
+
 TEST_F(Feed, TelegramsOfIoModulesGoToTheirSlotBank) {
   start();
   auto feed = feed_client();

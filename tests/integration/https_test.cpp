@@ -101,8 +101,9 @@ TEST_F(Https, PlainHttpGetsNoAnswerFromTheTlsPort) {
 TEST_F(Https, PasswordGuessesBeyondAFewASecondAreToldToWait) {
   start_https();
   ASSERT_EQ(get("/healthz", "technician:tech pass").at("status"), "200");
-  // 12 guesses, each on a new connection: past the 5 checks a host may start at once,
-  // and within the 20 handshakes it may (tls::HandshakeLimiter), which this test is not about.
+  // 12 guesses at once, each on its own connection: past the one check a host may have in
+  // flight however slow the machine is, and within the 20 handshakes it may start
+  // (tls::HandshakeLimiter), which this test is not about.
   const auto guesses = get("/healthz", "technician:guess", "--repeat 12");
   EXPECT_NE(guesses.at("statuses").find("429"), std::string::npos) << guesses.output;
   EXPECT_EQ(get("/healthz", "technician:tech pass").at("status"), "200");

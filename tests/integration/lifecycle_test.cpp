@@ -99,6 +99,28 @@ TEST(CheckCommand, RejectsOverlapsNamingBothBanks) {
   EXPECT_NE(r.output.find("bank D1 (0x0011..0x0050) overlaps bank W (0x0040..0x004F)"), std::string::npos) << r.output;
 }
 
+// A D_N is 64 registers whatever its type (seed §6.1): a bank placed right after a USC's
+// table of 40 now overlaps the USC's window, and `check` names both.
+TEST(CheckCommand, ADeviceBankIsTheSeedsWindowOf64Registers) {
+  TempDir dir;
+  const auto write = [&](const std::string& name, const std::string& text) {
+    const auto path = dir.path() / name;
+    std::FILE* f = std::fopen(path.c_str(), "w");
+    std::fputs(text.c_str(), f);
+    std::fclose(f);
+    return path.string();
+  };
+  const auto alone = run(std::string(UNIMA_BRIDGE_CLI) + " check --config " +
+                         write("usc.yaml", "devices:\n  D2: { type: usc, address: 5 }\n"));
+  EXPECT_EQ(alone.status, 0) << alone.output;
+  EXPECT_NE(alone.output.find("0x1200..0x123F  bank D2"), std::string::npos) << alone.output;
+  const auto crowded = run(std::string(UNIMA_BRIDGE_CLI) + " check --config " +
+                           write("crowded.yaml", "devices:\n  D2: { type: usc, address: 5 }\nbanks: { D2: 0x1200, S1: 0x1230 }\n"));
+  EXPECT_EQ(crowded.status, 1) << crowded.output;
+  EXPECT_NE(crowded.output.find("bank D2 (0x1200..0x123F) overlaps bank S1 (0x1230..0x1243)"), std::string::npos)
+      << crowded.output;
+}
+
 TEST(CheckCommand, UsageErrorsExitTwo) {
   EXPECT_EQ(run(std::string(UNIMA_BRIDGE_CLI)).status, 2);
   EXPECT_EQ(run(std::string(UNIMA_BRIDGE_CLI) + " frobnicate").status, 2);

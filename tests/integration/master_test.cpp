@@ -274,15 +274,17 @@ TEST_F(MasterTest, ADeadSlaveIsDegradedAndDoesNotStarveTheOthers) {
   ASSERT_TRUE(daemon->wait_for_log("modbus master: device 2 degraded")) << diagnostics();
   ASSERT_TRUE(output_becomes(3, 8)) << diagnostics();
   ASSERT_EQ(sim->control("reset"), "ok");
-  ASSERT_TRUE(eventually([&] { return sim->control("count 1") == "count 20"; })) << diagnostics();
-  // Two seconds at 100 ms: device 3 had its 20 too (a 50 ms probe finds room between the
-  // others' requests), and device 2 only probes (≤ 1 s apart).
-  const auto three = sim->control("count 3");
-  const auto n3 = std::stoul(three.substr(6));
-  EXPECT_GE(n3, 18u) << diagnostics();
-  const auto n2 = std::stoul(sim->control("count 2").substr(6));
+  const auto count = [&](int device) { return std::stoul(sim->control("count " + std::to_string(device)).substr(6)); };
+  // At least two seconds at 100 ms (a loaded machine may look a little later than 20):
+  // device 3 had nearly as many (a 50 ms probe finds room between the others' requests;
+  // a busy machine may delay a few), and device 2 only probes (≤ 1 s apart).
+  ASSERT_TRUE(eventually([&] { return count(1) >= 20; }, 10000ms)) << diagnostics();
+  const auto n3 = count(3);
+  const auto n1 = count(1);
+  const auto n2 = count(2);
+  EXPECT_GE(n3 * 10, n1 * 8) << n3 << " polls of device 3 beside " << n1 << " of device 1; " << diagnostics();
   EXPECT_GE(n2, 1u);
-  EXPECT_LE(n2, 4u) << diagnostics();
+  EXPECT_LE(n2, 2 + n1 / 10) << diagnostics();
   // Back from the dead: one answered probe makes it healthy again.
   ASSERT_EQ(sim->control("dead 2 off"), "ok");
   EXPECT_TRUE(daemon->wait_for_log("modbus master: device 2 answers again", 5000ms)) << diagnostics();

@@ -21,6 +21,7 @@ namespace unima::test {
 namespace {
 
 using test_support::CliProcess;
+using test_support::write_file;
 
 Bytes read_query(std::uint16_t transaction, std::uint8_t unit, std::uint16_t first, std::uint16_t count) {
   return {static_cast<std::uint8_t>(transaction >> 8), static_cast<std::uint8_t>(transaction), 0x00, 0x00, 0x00, 0x06,
@@ -250,6 +251,37 @@ TEST_F(Monitor, AReloadSwitchesTheLogAndTheFilterAndKeepsTheIndicators) {
   EXPECT_EQ(s["monitor"]["file"], other_log.string());
   EXPECT_EQ(s["monitor"]["filter"], "ad=xx fn=6 from=0x0000 to=0xFFFF");
   EXPECT_GE(s["ports"][0]["Done"].get<int>(), 3);  // counters go on across the reload
+}
+
+// The installed bridge.yaml sets no monitor.file: "No such file" alone left the operator
+// guessing which path was tried and which key would give one (issue 30, point 8).
+TEST(MonitorCommand, ALogThatIsNotThereSaysWhichPathWasTriedAndWhichKeyToSet) {
+  const std::filesystem::path default_log = "/var/log/unima-bridge/monitor.log";
+  if (std::filesystem::exists(default_log)) GTEST_SKIP() << default_log << " exists on this machine";
+  TempDir dir;
+  const auto config = dir.path() / "bridge.yaml";
+  write_file(config, "log: { level: info }\nstate: { file: none }\n");
+  const std::string cli = UNIMA_BRIDGE_CLI;
+
+  const auto without_file = run(cli + " monitor --config " + config.string());
+  EXPECT_EQ(without_file.status, 1);
+  EXPECT_NE(without_file.output.find("cannot open /var/log/unima-bridge/monitor.log: No such file or directory"),
+            std::string::npos)
+      << without_file.output;
+  EXPECT_NE(without_file.output.find(config.string() + " sets no monitor.file; set monitor.file there"),
+            std::string::npos)
+      << without_file.output;
+
+  const auto without_config = run(cli + " monitor");
+  EXPECT_EQ(without_config.status, 1);
+  EXPECT_NE(without_config.output.find("no --config was given; give --config FILE"), std::string::npos)
+      << without_config.output;
+
+  write_file(config, "monitor: { file: " + (dir.path() / "monitor.log").string() + " }\nstate: { file: none }\n");
+  const auto not_yet_written = run(cli + " monitor --config " + config.string());
+  EXPECT_EQ(not_yet_written.status, 1);
+  EXPECT_NE(not_yet_written.output.find("it is monitor.file of " + config.string()), std::string::npos)
+      << not_yet_written.output;
 }
 
 TEST(StatusCommand, ADaemonThatDoesNotAnswerIsAnErrorNamingTheSocket) {

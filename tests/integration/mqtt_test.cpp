@@ -132,6 +132,38 @@ TEST_F(Mqtt, AAndBAreKeyedByTheirMappingSources) {
   EXPECT_FALSE(b->contains("X.2")) << b->dump();
 }
 
+// SPEC §17, as a historian subscribed to the bank documents stores them: an unsigned
+// analog above 32767 as it is, a 32-bit pair as one value, a byte pair as two values in
+// their own units, a byte of 255 as null, no halves and no reserves.
+TEST_F(Mqtt, DocumentsCarryValuesAsTheSeedMeansThem) {
+  config.banks = "{ D1: 0x0011, D2: 0x0200, W: 0x0100 }";
+  config.devices = "{ D1: { type: unigen-chp, address: 5 }, D2: { type: uis, address: 6 } }";
+  start();
+  auto feed = feed_client();
+  const auto d1 = document_after("D1", [&] {
+    // engine_speed 41234 min-1 (unsigned in the table), operating hours low 25674, high 26.
+    feed_and_wait(feed, R"({"addr":5,"slot":0,"offset":1,"values":[41234,25674,26]})", 0x0011 + 3, 26);
+  }, [](const nlohmann::ordered_json& d) { return d["operating_hours"].is_number(); });
+  ASSERT_TRUE(d1);
+  EXPECT_EQ((*d1)["engine_speed"], 41234) << d1->dump();
+  EXPECT_EQ((*d1)["operating_hours"], 26 * 65536 + 25674) << d1->dump();
+  EXPECT_FALSE(d1->contains("operating_hours_low")) << d1->dump();
+  EXPECT_FALSE(d1->contains("operating_hours_high")) << d1->dump();
+  for (const auto& [key, value] : d1->items()) EXPECT_FALSE(key.starts_with("reserve")) << key;
+
+  // knock_rank_1 (UIS+0x08): cylinder 3 in the low byte, level 128 × 0.78125 % in the high.
+  const auto knock = document_after("D2", [&] {
+    feed_and_wait(feed, R"({"addr":6,"slot":0,"offset":8,"values":[32771,65283]})", 0x0200 + 9, 65283);
+  }, [](const nlohmann::ordered_json& d) { return d["knock_rank_1.level"].is_number(); });
+  ASSERT_TRUE(knock);
+  EXPECT_EQ((*knock)["knock_rank_1.cylinder"], 3) << knock->dump();
+  EXPECT_DOUBLE_EQ((*knock)["knock_rank_1.level"].get<double>(), 100.0) << knock->dump();
+  // knock_rank_2 = 0xFF03: level 255 is "not measured", the cylinder is still told.
+  EXPECT_TRUE((*knock)["knock_rank_2.level"].is_null()) << knock->dump();
+  EXPECT_EQ((*knock)["knock_rank_2.cylinder"], 3) << knock->dump();
+  EXPECT_FALSE(knock->contains("knock_rank_1")) << "a byte pair is two values, not one: " << knock->dump();
+}
+
 // The broker goes away: Modbus serves on, the log says so once; it comes back: status and
 // every bank are published again, with the values of now (not a backlog).
 TEST_F(Mqtt, ABrokerThatGoesAndComesBackGetsEverythingAgainWhileModbusServesOn) {

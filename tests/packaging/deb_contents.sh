@@ -19,7 +19,12 @@ expect_entry -rw-r--r-- usr/lib/tmpfiles.d/unima-bridge.conf
 expect_entry -rw-r--r-- etc/unima-bridge/bridge.yaml
 expect_entry -rw-r--r-- usr/share/man/man8/unima-bridged.8.gz
 expect_entry -rw-r--r-- usr/share/man/man1/unima-bridge.1.gz
-for doc in README.md quickstart.md configuration.md operations.md examples/bridge.yaml examples/chp-site.yaml; do
+# Every document of docs/, listed from the source tree so a new one cannot be left out.
+sources=("$UNIMA_SOURCE_DIR"/docs/*.md)
+[ "${#sources[@]}" -ge 12 ] || fail "expected the 12 documents of docs/ at least, found ${#sources[@]}"
+docs=(README.md docs/images/front-page.png examples/bridge.yaml examples/chp-site.yaml)
+for doc in "${sources[@]}"; do docs+=("$(basename "$doc")"); done
+for doc in "${docs[@]}"; do
   expect_entry -rw-r--r-- "usr/share/doc/unima-bridge/$doc"
 done
 if grep -q '\./usr/local\|\./tmp\|_CPack' "$scratch/contents"; then fail "stray paths in the package"; fi
@@ -31,6 +36,11 @@ field() { dpkg-deb -f "$deb" "$1"; }
 [ "$(field Architecture)" = "$(dpkg --print-architecture)" ] || fail "Architecture: $(field Architecture)"
 [ "$(field Section)" = net ] || fail "Section: $(field Section)"
 [ -n "$(field Maintainer)" ] || fail "no Maintainer"
+# What the daemon is, not only the Modbus TCP slave it was first.
+description=$(field Description)
+for what in "Modbus RTU and TCP" "slave" "master" "RS-485" "TLS" "captures" "monitor log" "MQTT" "HTTP"; do
+  grep -qF -- "$what" <<<"$description" || fail "the description does not say '$what': $description"
+done
 depends=$(field Depends)
 for lib in libc6 libstdc++6 libyaml-cpp0.7 libspdlog1.10 libfmt9 libsystemd0 "systemd | systemd-standalone-sysusers"; do
   grep -qF -- "$lib" <<<"$depends" || fail "Depends lacks $lib: $depends"

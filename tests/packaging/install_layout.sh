@@ -7,10 +7,12 @@ install_to "$prefix"
 for f in sbin/unima-bridged bin/unima-bridge \
          lib/systemd/system/unima-bridge.service lib/sysusers.d/unima-bridge.conf lib/tmpfiles.d/unima-bridge.conf \
          etc/unima-bridge/bridge.yaml share/man/man8/unima-bridged.8.gz share/man/man1/unima-bridge.1.gz \
-         share/doc/unima-bridge/README.md share/doc/unima-bridge/quickstart.md \
-         share/doc/unima-bridge/configuration.md share/doc/unima-bridge/operations.md \
+         share/doc/unima-bridge/README.md share/doc/unima-bridge/docs/images/front-page.png \
          share/doc/unima-bridge/examples/bridge.yaml share/doc/unima-bridge/examples/chp-site.yaml; do
   expect_file "$prefix/$f"
+done
+for doc in "$UNIMA_SOURCE_DIR"/docs/*.md; do
+  expect_file "$prefix/share/doc/unima-bridge/$(basename "$doc")"
 done
 [ -x "$prefix/sbin/unima-bridged" ] && [ -x "$prefix/bin/unima-bridge" ] || fail "programs not executable"
 MANWIDTH=80 man -l "$prefix/share/man/man8/unima-bridged.8.gz" >"$scratch/man.txt"

@@ -1,6 +1,6 @@
 # shellcheck shell=bash
 # Shared by the packaging tests (sourced). CTest sets UNIMA_SOURCE_DIR, UNIMA_BUILD_DIR,
-# UNIMA_BRIDGE_CLI and UNIMA_DEB_DIR.
+# UNIMA_BRIDGE_CLI, UNIMA_BRIDGED and UNIMA_DEB_DIR.
 set -euo pipefail
 
 fail() {

@@ -8,6 +8,8 @@
 #include <tuple>
 #include <sstream>
 
+#include <fmt/format.h>
+
 #include "banks/register_space.hpp"
 #include "banks/write_path.hpp"
 #include "banks/table_catalog.hpp"
@@ -80,7 +82,10 @@ TEST(SourceRef, SingleBitFieldsByName) {
 TEST(SourceRef, ErrorsSayWhatIsWrong) {
   EXPECT_EQ(ref_error("Q1+0x00", SourceUse::analog), "'Q1+0x00': unknown bank 'Q1'");
   EXPECT_EQ(ref_error("D1+0x40", SourceUse::analog), "'D1+0x40': offset 0x40 is past the end of bank D1 (64 registers)");
-  EXPECT_EQ(ref_error("D3+0x28", SourceUse::analog), "'D3+0x28': offset 0x28 is past the end of bank D3 (40 registers)");
+  // A USC's D_N is 64 registers (seed §6.1), but past its table of 40 there is nothing to read.
+  EXPECT_EQ(ref_error("D3+0x28", SourceUse::analog),
+            "'D3+0x28': offset 0x28 is past the end of the usc table of bank D3 (40 registers): it always reads 0x7FFF");
+  EXPECT_EQ(ref_error("D3+0x40", SourceUse::analog), "'D3+0x40': offset 0x40 is past the end of bank D3 (64 registers)");
   EXPECT_EQ(ref_error("D1.no_such", SourceUse::analog),
             "'D1.no_such': D1 (unigen-chp) has no register or single-bit field named 'no_such'");
   EXPECT_EQ(ref_error("D1+0x15", SourceUse::bit), "'D1+0x15' names a whole register; a bit source needs a bit, e.g. D1+0x15.0");
@@ -347,8 +352,16 @@ TEST(RegisterMap, ListsEveryRegisterOfTheConfiguredTables) {
   EXPECT_EQ(oil->unit, "°C");
   EXPECT_DOUBLE_EQ(oil->scale, 0.1);
   EXPECT_EQ(oil->access, "R");
-  // USC ends at +0x27: nothing of D3 at 0x1328.
-  EXPECT_TRUE(std::none_of(rows.begin(), rows.end(), [](const auto& r) { return r.address == 0x1328; }));
+  // The USC's table ends at +0x27; its D_N goes on to +0x3F (seed §6.1), as reserves.
+  for (std::uint16_t address = 0x1328; address <= 0x133F; ++address) {
+    const auto row = std::find_if(rows.begin(), rows.end(), [&](const auto& r) { return r.address == address; });
+    ASSERT_NE(row, rows.end()) << address;
+    EXPECT_EQ(row->bank, "D3");
+    EXPECT_EQ(row->kind, "reserve");
+    EXPECT_EQ(row->id, fmt::format("reserve_{:02x}", address - 0x1300));
+    EXPECT_EQ(row->access, "R");
+  }
+  EXPECT_TRUE(std::none_of(rows.begin(), rows.end(), [](const auto& r) { return r.address == 0x1340; }));
   EXPECT_TRUE(std::is_sorted(rows.begin(), rows.end(), [](const auto& a, const auto& b) { return a.address < b.address; }));
 }
 

@@ -186,6 +186,17 @@ TEST(MonitorLine, OtherTextIsNotAMonitorLine) {
     EXPECT_FALSE(parse_monitor_line(bad)) << bad;
 }
 
+// A JSON line is one value and nothing after it but white space; a NUL byte (what a crash
+// can leave at the end of a log file) makes it no monitor line.
+TEST(MonitorLine, AJsonLineWithAnythingAfterItIsNotAMonitorLine) {
+  std::string json;
+  append_drop_notice(json, at, 42, MonitorFormat::json);
+  json.pop_back();  // its "\n"
+  EXPECT_TRUE(parse_monitor_line(json + " \n"));
+  for (const auto& after : {std::string(1, '\0'), std::string("\0garbage", 8), std::string(" x")})
+    EXPECT_FALSE(parse_monitor_line(json + after)) << after.size();
+}
+
 TEST(MonitorLine, UtcTimeIsIsoWithMicroseconds) {
   std::string out;
   append_utc_time(out, system_clock::time_point{});

@@ -32,7 +32,10 @@ TEST(RegisterStore, ShapesOfTheBanks) {
   EXPECT_EQ(store.length(BankId::D1), 64);
   EXPECT_TRUE(store.exists(BankId::D1));
   EXPECT_FALSE(store.exists(BankId::D2));
-  EXPECT_EQ(store.length(BankId::D3), 0x28);
+  // A D_N is the seed's window of 64 whatever its type (seed §6.1); the USC's table fills 40.
+  EXPECT_EQ(store.length(BankId::D3), 64);
+  EXPECT_EQ(store.filled_length(BankId::D3), 0x28);
+  EXPECT_EQ(store.filled_length(BankId::D1), 64);
   EXPECT_FALSE(store.exists(BankId::D4));
   EXPECT_EQ(store.table(BankId::D1), &chp());
   EXPECT_EQ(store.table(BankId::D2), nullptr);
@@ -104,6 +107,24 @@ TEST(RegisterStore, ATelegramRunningPastTheEndStoresNothing) {
   EXPECT_EQ((std::array{store.read(BankId::D1, 62), store.read(BankId::D1, 63)}), before);
   EXPECT_FALSE(store.store_telegram(BankId::D1, 64, values));
   EXPECT_FALSE(store.store_telegram(BankId::D2, 0, values));  // no D2 configured
+}
+
+// Past a table's end a D_N reads 0x7FFF, on-line or not, whatever a telegram says: the
+// telegram that reaches there is refused whole.
+TEST(RegisterStore, ADeviceBankPastItsTableReadsNotMeasured) {
+  const auto* usc = find_device_type("usc");
+  RegisterStore store(shapes_with({usc, nullptr, nullptr, nullptr}));
+  store.set_online(BankId::D1, true);
+  const std::vector<std::uint16_t> table_values(usc->length(), 1234);
+  EXPECT_TRUE(store.store_telegram(BankId::D1, 0, table_values));
+  EXPECT_FALSE(store.store_telegram(BankId::D1, usc->length() - 1, std::vector<std::uint16_t>{1, 2}));
+  EXPECT_FALSE(store.store_telegram(BankId::D1, usc->length(), std::vector<std::uint16_t>{1}));
+  std::vector<std::uint16_t> window(device_bank_length);
+  store.read(BankId::D1, 0, window);
+  for (std::uint16_t offset = 0; offset < device_bank_length; ++offset) {
+    EXPECT_EQ(window[offset], offset < usc->length() ? 1234 : not_measured) << offset;
+    EXPECT_EQ(store.measured(BankId::D1, offset), offset < usc->length()) << offset;
+  }
 }
 
 TEST(RegisterStore, ModuleBanks) {
@@ -232,7 +253,7 @@ TEST(RegisterStore, TakeStateFromCarriesPublishedValuesAndSameTableDevices) {
   EXPECT_EQ(fresh.read(BankId::D1, 0x22), 854);
   EXPECT_EQ(fresh.read(BankId::D1, 0x20), offline_value(chp().registers[0x20].kind));
   // The new D2 table is another device: nothing of the old values.
-  EXPECT_EQ(fresh.length(BankId::D2), uvr->length());
+  EXPECT_EQ(fresh.filled_length(BankId::D2), uvr->length());
   fresh.set_online(BankId::D2, true);
   EXPECT_EQ(fresh.read(BankId::D2, 0x21), offline_value(uvr->registers[0x21].kind));
   EXPECT_EQ(fresh.read(BankId::D2, 0x22), offline_value(uvr->registers[0x22].kind));

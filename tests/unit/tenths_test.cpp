@@ -59,9 +59,24 @@ TEST(Tenths, NotMeasuredStaysNotMeasured) {
   EXPECT_EQ(tenths(0x7FFF, analog(1, true)), 0x7FFF);
 }
 
-TEST(Tenths, RawEntriesTableLessSourcesAndOtherKindsAreCopied) {
+// SPEC §1: sources in tenths already (W, C, S_N, a 0.1 °C temperature) keep their value,
+// and saturate like any result: 0x8000 (−32768) is outside −32767..32766.
+TEST(Tenths, SourcesInTenthsAlreadyKeepTheirValueAndSaturate) {
+  const auto w = tenths_conversion(nullptr, false);  // W, the source without a table
+  EXPECT_EQ(to_tenths(1500, w), 1500);
+  EXPECT_EQ(to_tenths(word(-1500), w), word(-1500));
+  EXPECT_EQ(to_tenths(0x8000, w), 0x8001);
+  EXPECT_EQ(to_tenths(0x8001, w), 0x8001);
+  EXPECT_EQ(to_tenths(0x7FFE, w), 0x7FFE);
+  EXPECT_EQ(to_tenths(0x7FFF, w), 0x7FFF);  // a master's "not measured" stays so
+  EXPECT_EQ(tenths(0x8000, analog(0.1, true)), 0x8001);   // C's user outputs, S_N, temperatures
+  EXPECT_EQ(tenths(0x8000, analog(0.1, false)), 32766);   // 3276.8 of an unsigned quantity
+  EXPECT_EQ(tenths(853, analog(0.1, false)), 853);
+}
+
+TEST(Tenths, RawEntriesAndOtherKindsAreCopied) {
   EXPECT_EQ(tenths(1500, analog(1, false), true), 1500);
-  EXPECT_EQ(to_tenths(1500, tenths_conversion(nullptr, false)), 1500);  // W: tenths already
+  EXPECT_EQ(tenths(0x8000, analog(0.1, true), true), 0x8000);  // raw: true is the register unchanged
   for (auto kind : {RegisterKind::bits, RegisterKind::u32_low, RegisterKind::u32_high, RegisterKind::byte_pair,
                     RegisterKind::ascii_pair}) {
     RegisterDef reg = analog(1, false);

@@ -127,6 +127,23 @@ TEST(FeedCodec, Errors) {
   EXPECT_FALSE(refused(R"({"addr":5,"slot":0,"offset":65535,"values":[1,2]})").empty());  // past 0xFFFF
 }
 
+// SPEC §6: anything after the JSON value but white space is an error, a NUL byte too —
+// which the JSON library alone would take for the end of the line.
+TEST(FeedCodec, NothingButWhiteSpaceMayFollowTheTelegram) {
+  using namespace std::string_literals;
+  const auto telegram = R"({"addr":5,"slot":0,"offset":1,"values":[1]})"s;
+  const auto recorded = R"({"t":0,"addr":5,"slot":0,"offset":1,"values":[1]})"s;
+  for (const auto& after : {"\0garbage"s, "\0"s, "  \t\0x"s, " garbage"s, "{}"s, telegram}) {
+    SCOPED_TRACE(nlohmann::json(after).dump(-1, ' ', true));
+    EXPECT_TRUE(contains(refused(telegram + after), "not JSON"));
+    EXPECT_TRUE(std::holds_alternative<std::string>(parse_recorded_line(recorded + after)));
+  }
+  EXPECT_TRUE(contains(refused('\0' + telegram), "not JSON"));
+  EXPECT_TRUE(contains(refused(telegram + "\0garbage"s), "a NUL byte at byte 44"));
+  EXPECT_EQ(parsed(telegram + " \t\r\n").values, std::vector<std::uint16_t>{1});
+  EXPECT_TRUE(std::holds_alternative<RecordedTelegram>(parse_recorded_line(recorded + " \t")));
+}
+
 TEST(FeedCodec, HugeIntegersAreRefusedNotWrapped) {
   // 2^64-1 must not slip through as -1.
   EXPECT_TRUE(contains(refused(R"({"addr":5,"slot":0,"offset":0,"values":[18446744073709551615]})"), "value"));
@@ -377,6 +394,19 @@ TEST_F(RouterFixture, ValuesPastTheBankAreRefusedWhole) {
   const auto fits = router.apply(Telegram{5, 0, 62, {1, 2}});
   EXPECT_TRUE(fits.error.empty()) << fits.error;
   EXPECT_EQ(store.read(BankId::D1, 63), 2);
+}
+
+// A UVR's D_N is 64 registers (seed §6.1) but its table 49: past the table nothing is
+// stored, so those registers keep reading 0x7FFF (SPEC §1).
+TEST_F(RouterFixture, ValuesPastTheTableAreRefusedWholeThoughTheBankGoesOn) {
+  const auto uvr_length = table("uvr").length();
+  ASSERT_LT(uvr_length, banks::device_bank_length);
+  const auto before = snapshot(store);
+  const auto outcome = router.apply(Telegram{6, 0, static_cast<std::uint16_t>(uvr_length - 1), {1, 2}});
+  EXPECT_TRUE(outcome.updated.empty());
+  EXPECT_TRUE(contains(outcome.error, "past the end of bank D2 (uvr: 49 registers)")) << outcome.error;
+  EXPECT_EQ(snapshot(store), before);
+  EXPECT_EQ(store.read(BankId::D2, uvr_length), banks::not_measured);
 }
 
 // A unit's CHP controller and its voltage regulator share the unit's address (seed §3.2.1).

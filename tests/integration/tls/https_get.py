@@ -6,7 +6,8 @@ with Python's ssl and http.client: the server's certificate checked against CA.
 
 Prints "server: <CN>", "status: <code>", "www-authenticate: <value>" when there is one,
 then "body: <the body, or its first BYTES for an event stream>"; or "error: <reason>".
---repeat N sends the request N times at once, each on a new connection, and prints
+--repeat N sends the request N times at once, each on a new connection and with the
+password followed by its number (PASSWORD1, PASSWORD2 …), and prints
 "statuses: <code> <code> ..." only. --close sends "Connection: close" over a bare TLS
 socket, reads to the end and prints "end: close_notify" when the server ended with its
 close_notify alert, "end: cut" when the connection ended without one.
@@ -64,11 +65,22 @@ def main():
         print(f"end: {end}")
         return 0
     if "--repeat" in options:
-        statuses = []
+        # Handshakes one after the other (a host may have only a few in progress), then
+        # every request before any answer is read: they reach the server together however
+        # slow the machine is.
+        connections = []
         for _ in range(options["--repeat"]):
-            connection = http.client.HTTPSConnection("127.0.0.1", port, context=context, timeout=5)
-            connection.request("GET", path, headers=headers)
-            statuses.append(str(connection.getresponse().status))
+            connection = http.client.HTTPSConnection("127.0.0.1", port, context=context, timeout=10)
+            connection.connect()
+            connections.append(connection)
+        for number, connection in enumerate(connections, 1):
+            # Each its own password, as a guesser's: the same header would share one check.
+            guess = dict(headers)
+            if credentials:
+                guess["Authorization"] = "Basic " + base64.b64encode(f"{credentials}{number}".encode()).decode()
+            connection.request("GET", path, headers=guess)
+        statuses = [str(connection.getresponse().status) for connection in connections]
+        for connection in connections:
             connection.close()
         print("statuses: " + " ".join(statuses))
         return 0
