@@ -1,5 +1,6 @@
 #pragma once
-// Loading one YAML document of the project's data or config files: a syntax error, or a
+// Loading one YAML document of the project's data or config files: a syntax error
+// (explained by banks/yaml_syntax where yaml-cpp's words do not say what is wrong), or a
 // conversion yaml-cpp refuses while `read` walks the nodes, becomes an `Error` naming
 // origin:line:column (yaml-cpp marks are 0-based, ours 1-based), like the errors `read`
 // raises itself. Shared by the device tables, the device profiles and the config loader;
@@ -16,6 +17,7 @@
 #include <fmt/ranges.h>
 
 #include "banks/number_text.hpp"
+#include "banks/yaml_syntax.hpp"
 
 namespace unima::banks {
 
@@ -28,7 +30,8 @@ auto read_yaml_document(std::string_view text, std::string_view origin, Read&& r
   try {
     root = YAML::Load(std::string(text));
   } catch (const YAML::ParserException& e) {
-    throw error(e);
+    const auto explained = explain_yaml_syntax_error(text, e.mark.line, e.mark.column, e.msg);
+    throw Error(fmt::format("{}:{}:{}: {}", origin, explained.line, explained.column, explained.message));
   }
   try {
     return read(root);

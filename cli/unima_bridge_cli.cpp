@@ -30,8 +30,9 @@ constexpr const char* usage =
     "\n"
     "  check     validate a config; exit 0 when it is good, 1 with the errors when not;\n"
     "            in master mode also the merge plan and the estimated bus load\n"
-    "  map       every register the config serves: address, bank, offset, identifier,\n"
-    "            label, unit, scale, access\n"
+    "  map       every register the config serves: address, its PLC-style input (3xxxx) and\n"
+    "            holding (4xxxx) register numbers, bank, access, unit, scale, identifier and\n"
+    "            label; csv and json add offset, kind and source\n"
     "  tables    the reference of every device table, in Markdown (docs/registers.md)\n"
     "  status    the front panel of the running daemon: mode, activity, Error, D_N/S_N on-line,\n"
     "            capture indicators, counters\n"
@@ -61,7 +62,7 @@ int check(const std::string& path) {
         throw std::runtime_error(fmt::format("{}: {}", http->origin, e.what()));
       }
     }
-    for (const auto& warning : unima::config::warnings(config)) fmt::print(stderr, "warning: {}\n", warning);
+    for (const auto& warning : unima::config::warnings(config)) fmt::print(stderr, "{}\n", warning);
     fmt::print("{}: OK\n", path);
     for (const auto& window : map.windows())
       fmt::print("  0x{:04X}..0x{:04X}  {}\n", window.first, window.end() - 1, window.name);
@@ -76,7 +77,8 @@ int check(const std::string& path) {
 int map(const std::string& path, unima::cli::MapFormat format) {
   try {
     const auto config = unima::config::load_file(path);
-    fmt::print("{}", unima::cli::format_register_map(unima::config::register_map(config), format));
+    const unima::cli::ServedFunctions served{config.modbus.extensions.function_3};
+    fmt::print("{}", unima::cli::format_register_map(unima::config::register_map(config), format, served));
     return 0;
   } catch (const std::exception& e) {
     fmt::print(stderr, "{}\n", e.what());

@@ -57,7 +57,7 @@ class BlockReader {
         return b[key];
       };
       if (block.is_slave_block() || (!b["point"] && !b["operand"]))
-        block.reg = static_cast<std::uint16_t>(yaml_.number(required("register"), 0, 0xFFFF));
+        block.reg = yaml_.register_address(required("register"));
       if (block.type == Block::Type::read) block.source = parse_source(state_, required("source"), SourceUse::analog);
       if (block.type == Block::Type::send) (void)required("source");  // parsed with its function, below
       if (block.type == Block::Type::write || block.type == Block::Type::capture || block.type == Block::Type::poll) {

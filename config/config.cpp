@@ -37,36 +37,42 @@ std::vector<const Block*> Config::active_blocks() const {
 
 bool writes_frozen(const Config& config) { return config.modbus.tcp && config.modbus.tcp->read_only; }
 
+std::string warning_text(std::string_view origin, std::string_view message) {
+  return fmt::format("{}: warning: {}", origin, message);
+}
+
 std::vector<std::string> warnings(const Config& config) {
   std::vector<std::string> found;
   const bool slave = config.modbus.mode == ModbusMode::slave;
   if (slave && !config.modbus.master.origin.empty())
-    found.push_back(fmt::format("{}: modbus.master is set, but this bridge is a slave; the master settings are unused",
-                                config.modbus.master.origin));
+    found.push_back(warning_text(config.modbus.master.origin,
+                                 "modbus.master is set, but this bridge is a slave; the master settings are unused"));
   for (const auto& block : config.blocks) {
     if (block.is_slave_block() != slave)
-      found.push_back(fmt::format("{}: {} block ignored: {} blocks act in {} mode only, this bridge is a {}",
-                                  block.origin, block_type_name(block.type), block_type_name(block.type),
-                                  block.is_slave_block() ? "slave" : "master", slave ? "slave" : "master"));
+      found.push_back(warning_text(block.origin, fmt::format("{} block ignored: {} blocks act in {} mode only, this bridge is a {}",
+                                                             block_type_name(block.type), block_type_name(block.type),
+                                                             block.is_slave_block() ? "slave" : "master",
+                                                             slave ? "slave" : "master")));
     else if (block.type == Block::Type::capture && !config.modbus.rtu)
-      found.push_back(fmt::format("{}: capture block inactive: capture listens on a Modbus RTU line, and "
-                                  "modbus.rtu is not set", block.origin));
+      found.push_back(warning_text(block.origin, "capture block inactive: capture listens on a Modbus RTU line, and "
+                                                 "modbus.rtu is not set"));
   }
   if (const auto& http = config.http; http && !is_loopback_address(http->listen)) {
     if (http->users.empty())
-      found.push_back(fmt::format("{}: http listens on {} without http.users: anyone who reaches the port reads the plant's "
-                                  "values and the monitor", http->origin, http->listen));
+      found.push_back(warning_text(http->origin, fmt::format("http listens on {} without http.users: anyone who reaches the "
+                                                             "port reads the plant's values and the monitor", http->listen)));
     else if (!http->tls)
-      found.push_back(fmt::format("{}: http listens on {} without http.tls: passwords cross the network in clear",
-                                  http->origin, http->listen));
+      found.push_back(warning_text(http->origin, fmt::format("http listens on {} without http.tls: passwords cross the "
+                                                             "network in clear", http->listen)));
   }
   if (config.mqtt && config.mqtt->commands && writes_frozen(config))
-    found.push_back(fmt::format("{}: mqtt.commands is true, but modbus.tcp.read_only is on: every MQTT command is "
-                                "refused (ok: false on set/result) while it is", config.mqtt->origin));
+    found.push_back(warning_text(config.mqtt->origin, "mqtt.commands is true, but modbus.tcp.read_only is on: every MQTT "
+                                                      "command is refused (ok: false on set/result) while it is"));
   if (!slave) {
     const auto more = foreign_slave_warnings(config);
     found.insert(found.end(), more.begin(), more.end());
   }
+  found.insert(found.end(), config.noted_warnings.begin(), config.noted_warnings.end());
   return found;
 }
 

@@ -63,6 +63,7 @@ struct UnimabusConfig {
   TransportKind transport = TransportKind::sim;
   std::string listen;        // feed: "host:port" or "unix:/path", as written
   ListenEndpoint listen_at;  // feed: `listen` parsed (config/endpoint); what the feed binds
+  std::string listen_origin; // feed: "file:line:col" of `listen`, named when it is taken
   unsigned max_clients = 16; // feed: connections served at once
   Duration offline_after = std::chrono::seconds(5);
   SimConfig sim;
@@ -78,6 +79,7 @@ struct TcpSlaveConfig {
   Duration frame_timeout = std::chrono::seconds(2);  // a started request must be complete within it
   PeerAllowList allow;     // empty: every peer (SPEC §11)
   bool read_only = false;  // every write answered with exception 01
+  std::string port_origin;  // "file:line:col" of `port`, else of the section: named when the port is taken
 };
 
 enum class Parity { none, even, odd };
@@ -222,6 +224,7 @@ struct HttpConfig {
   std::optional<HttpTlsConfig> tls;  // HTTPS instead of HTTP
   std::string users;                 // htpasswd-style file for basic authentication; empty: none
   std::string origin;                // "file:line:col" of http, for errors found at start
+  std::string port_origin;           // "file:line:col" of http.port, else of http
 };
 
 /// mqtt (SPEC §12): the bridge as a client of a fleet's broker.
@@ -252,14 +255,19 @@ struct MqttConfig {
 /// at what is there.
 struct HostPath {
   enum class Use {
-    unix_socket,  // the daemon listens there: nothing, or a socket it may replace (config/socket_path)
-    log_file,     // the daemon appends there: never through a symbolic link (monitor/log_path)
-    state_file,   // the daemon reads and rewrites there: a regular file, or nothing yet
+    unix_socket,      // the daemon listens there: nothing, or a socket it may replace (config/socket_path)
+    log_file,         // the daemon appends there: never through a symbolic link (monitor/log_path)
+    state_file,       // the daemon reads and rewrites there: a regular file, or nothing yet
+    serial_device,    // the daemon opens it, and retries while it cannot: a warning when it is not there
+    certificate,      // PEM files the daemon loads at start (tls/pem_check): an error when unusable,
+    private_key,      //   a warning when a certificate has expired
+    ca_certificates,
   };
   Use use = Use::log_file;
   std::string key;     // "status.socket", named in the message
   std::string path;
   std::string origin;  // "file:line:col" of the key; of its section, or of the file, for a default
+  std::string certificate;  // private_key: the key of the certificate it must belong to ("http.tls.certificate")
 };
 
 struct Config {
@@ -278,6 +286,10 @@ struct Config {
   std::optional<HttpConfig> http;  // absent: no HTTP
   std::optional<MqttConfig> mqtt;  // absent: no MQTT
   std::vector<HostPath> host_paths;  // in the order the file names them
+  /// Warnings the parse and check_on_host found (a PLC-style register number, a serial
+  /// device not there, an expired certificate), as warning_text writes them; config::warnings
+  /// gives them with the rest.
+  std::vector<std::string> noted_warnings;
 
   /// The blocks that act in this mode; the others are ignored (with a warning, SPEC §4).
   std::vector<const Block*> active_blocks() const;
@@ -332,7 +344,16 @@ banks::AddressMap address_map(const Config& config);
 bool writes_frozen(const Config& config);
 
 /// Things that are allowed but probably not meant, for the log at start-up and for
-/// `unima-bridge check`: blocks ignored in this mode, capture blocks without an RTU port.
+/// `unima-bridge check`: blocks ignored in this mode, capture blocks without an RTU port,
+/// and the noted_warnings. Each as warning_text writes it.
 std::vector<std::string> warnings(const Config& config);
+
+/// "file:line:column: warning: message", the one form of a config warning (docs/configuration.md).
+std::string warning_text(std::string_view origin, std::string_view message);
+
+/// The longest wait between two tries to open a serial line that cannot be opened (an
+/// adapter not plugged in): io/modbus/rtu_slave_port backs off up to it, and the warning
+/// of a missing device names it.
+inline constexpr std::chrono::milliseconds serial_reopen_longest_delay{5000};
 
 }  // namespace unima::config

@@ -8,6 +8,7 @@
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
+#include <ctime>
 #include <fstream>
 #include <sstream>
 
@@ -16,6 +17,7 @@
 #include "config/config.hpp"
 #include "config/socket_path.hpp"
 #include "monitor/log_path.hpp"
+#include "tls/pem_check.hpp"
 
 namespace unima::config {
 
@@ -55,15 +57,47 @@ std::optional<std::string> refused_state_path(const std::string& path) {
   return fmt::format("{} is {}, not a regular file; the state is kept in a file of its own", path, what);
 }
 
+std::optional<tls::PemContent> pem_content(HostPath::Use use) {
+  switch (use) {
+    case HostPath::Use::certificate: return tls::PemContent::certificate;
+    case HostPath::Use::private_key: return tls::PemContent::private_key;
+    case HostPath::Use::ca_certificates: return tls::PemContent::ca_certificates;
+    default: return std::nullopt;
+  }
+}
+
 // Why the daemon will not use `path` as `use` says, or nullopt. A socket path is checked
 // again right before the daemon removes anything (config/socket_path).
-std::optional<std::string> refusal(const HostPath& path) {
+std::optional<std::string> refusal(const Config& config, const HostPath& path) {
+  if (const auto content = pem_content(path.use)) {
+    auto problem = tls::pem_file_problem(path.path, *content);
+    for (const auto& certificate : config.host_paths)
+      if (!problem && !path.certificate.empty() && certificate.key == path.certificate &&
+          !tls::pem_file_problem(certificate.path, tls::PemContent::certificate))
+        problem = tls::key_mismatch(certificate.path, path.path, certificate.key);
+    if (problem) return fmt::format("{}: {}", path.path, *problem);
+    return std::nullopt;
+  }
   switch (path.use) {
     case HostPath::Use::unix_socket: return socket_path_conflict(path.path);
     case HostPath::Use::log_file: return monitor::refused_log_path(path.path);
     case HostPath::Use::state_file: return refused_state_path(path.path);
+    default: return std::nullopt;
   }
-  return std::nullopt;
+}
+
+// What the daemon copes with, but a technician should know of: a serial device that is
+// not there (the daemon opens it when it comes), a certificate out of its validity.
+std::optional<std::string> doubt(const Config& config, const HostPath& path) {
+  if (path.use == HostPath::Use::certificate || path.use == HostPath::Use::ca_certificates)
+    return tls::certificate_out_of_date(path.path, std::time(nullptr));
+  if (path.use != HostPath::Use::serial_device || ::access(path.path.c_str(), R_OK | W_OK) == 0) return std::nullopt;
+  const auto why = errno == ENOENT ? std::string("no such device") : std::string(std::strerror(errno));
+  if (config.modbus.mode == ModbusMode::master)
+    return fmt::format("{}; the master needs its line: the daemon will not start until it can open it", why);
+  return fmt::format("{}; the daemon starts without it and tries to open it again every {} s (an adapter not plugged "
+                     "in yet is fine)",
+                     why, std::chrono::duration_cast<std::chrono::seconds>(serial_reopen_longest_delay).count());
 }
 
 }  // namespace
@@ -81,8 +115,12 @@ Host Host::this_machine() {
 void check_on_host(Config& config) {
   if (auto& replay = config.unimabus.replay; config.unimabus.transport == TransportKind::replay)
     replay.recording = read_recording(replay);
-  for (const auto& path : config.host_paths)
-    if (const auto refused = refusal(path)) throw ConfigError(fmt::format("{}: {}: {}", path.origin, path.key, *refused));
+  for (const auto& path : config.host_paths) {
+    if (const auto refused = refusal(config, path))
+      throw ConfigError(fmt::format("{}: {}: {}", path.origin, path.key, *refused));
+    if (const auto doubted = doubt(config, path))
+      config.noted_warnings.push_back(warning_text(path.origin, fmt::format("{}: {}: {}", path.key, path.path, *doubted)));
+  }
 }
 
 }  // namespace unima::config

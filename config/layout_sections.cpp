@@ -59,7 +59,7 @@ void parse_bank_bases(ParseState& state, const YAML::Node& node) {
     const auto name = entry.first.Scalar();
     const auto bank = banks::parse_bank_name(name);
     if (!bank) yaml.fail(entry.first, fmt::format("unknown bank '{}' (banks are A, B, C, D1..D4, S1..S7, W, X)", name));
-    state.config.bank_bases[index_of(*bank)] = static_cast<std::uint16_t>(yaml.number(entry.second, 0, 0xFFFF));
+    state.config.bank_bases[index_of(*bank)] = yaml.register_address(entry.second);
     state.config.bank_origins[index_of(*bank)] = yaml.position(entry.second);
   }
 }

@@ -42,6 +42,7 @@ Config parse_document(const YAML::Node& root, const std::string& origin, const H
   if (root["mqtt"]) parse_mqtt(state, root["mqtt"]);
   validate_layout(state, root);
   resolve_tls_roles(state);
+  state.config.noted_warnings = yaml.take_warnings();
   return std::move(state.config);
 }
 

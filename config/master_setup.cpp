@@ -48,20 +48,20 @@ std::vector<std::string> foreign_slave_warnings(const Config& config) {
     const auto& line = set ? *set : *p.line;
     if (rtu && m.tcp.empty() &&
         (rtu->baud != line.baud || parity_letter(rtu->parity) != line.parity || rtu->stop_bits != line.stop_bits))
-      found.push_back(fmt::format("{}: modbus.rtu is {} baud 8{}{}, but device {} ({} at {}) {} {} baud 8{}{}{}",
-                                  rtu->origin, rtu->baud, parity_letter(rtu->parity), rtu->stop_bits, address, p.id,
+      found.push_back(warning_text(rtu->origin, fmt::format("modbus.rtu is {} baud 8{}{}, but device {} ({} at {}) {} {} baud 8{}{}{}",
+                                  rtu->baud, parity_letter(rtu->parity), rtu->stop_bits, address, p.id,
                                   use.origin, set ? "is set to" : "talks at", line.baud, line.parity, line.stop_bits,
                                   set ? "" : fmt::format(" by default ({}); if it was set to the line's, say so in "
-                                                         "modbus.master.devices.{}.line", p.source, address)));
+                                                         "modbus.master.devices.{}.line", p.source, address))));
     if (p.min_reply_time.count() == 0) continue;
     const bool own = device != m.devices.end() && device->second.response_timeout;
     const Duration timeout = own ? *device->second.response_timeout : m.response_timeout;
     if (timeout < p.min_reply_time)
-      found.push_back(fmt::format("{}: device {} is a {}, which takes at least {} ms to answer ({}), but its response "
-                                  "time-out is {} ms: every request would time out",
-                                  own ? device->second.origin : (m.origin.empty() ? use.origin : m.origin), address,
+      found.push_back(warning_text(own ? device->second.origin : (m.origin.empty() ? use.origin : m.origin),
+                                   fmt::format("device {} is a {}, which takes at least {} ms to answer ({}), but its "
+                                               "response time-out is {} ms: every request would time out", address,
                                   p.id, std::chrono::duration_cast<std::chrono::milliseconds>(p.min_reply_time).count(),
-                                  p.source, timeout.count()));
+                                  p.source, timeout.count())));
   }
   return found;
 }

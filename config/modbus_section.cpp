@@ -14,12 +14,14 @@ namespace unima::config::sections {
 
 namespace {
 
-RtuConfig parse_rtu_line(const YamlReader& yaml, const YAML::Node& node) {
+RtuConfig parse_rtu_line(ParseState& state, const YAML::Node& node) {
+  const auto& yaml = state.yaml;
   yaml.expect_keys(node, "modbus.rtu", {"device", "baud", "parity", "stop_bits", "rs485", "low_latency", "frame_gap"});
   RtuConfig r;
   r.origin = yaml.position(node);
   if (!node["device"]) yaml.fail(node, "modbus.rtu needs the serial device, e.g. device: /dev/ttyUSB0");
   r.device = yaml.text(node["device"]);
+  note_host_path(state, HostPath::Use::serial_device, node["device"], "modbus.rtu.device", r.device);
   if (const auto baud = node["baud"]) {
     r.baud = static_cast<unsigned>(yaml.number(baud, 0, 115200));
     // The seed's rates (4800..19200) and the usual ones above, up to 115200 (SPEC §3).
@@ -139,7 +141,7 @@ void parse_modbus(ParseState& state, const YAML::Node& node) {
   }
   if (node["tcp"]) m.tcp = parse_modbus_tcp(state, node["tcp"]);
   if (node["tls"]) m.tls = parse_modbus_tls(state, node["tls"]);
-  if (node["rtu"]) m.rtu = parse_rtu_line(yaml, node["rtu"]);
+  if (node["rtu"]) m.rtu = parse_rtu_line(state, node["rtu"]);
   // An RTU slave answers one address of 1..247 (0 is broadcast, 248..255 reserved).
   if (m.rtu && m.mode == ModbusMode::slave && (m.address < 1 || m.address > 247))
     yaml.fail(node["address"] ? node["address"] : node,

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -22,23 +23,35 @@ constexpr std::array<std::string_view, 7> tcp_keys = {"listen",        "port",  
 // Where a server listens: an IP address of this machine (config/endpoint) and a port,
 // 0 for any free one.
 void parse_listen_address(const YamlReader& yaml, const YAML::Node& section, std::string& listen,
-                          std::uint16_t& port) {
+                          std::uint16_t& port, std::string& port_origin) {
   if (section["listen"]) {
     listen = yaml.text(section["listen"]);
     if (const auto error = listen_address_error(listen, HostRule::listen_address)) yaml.fail(section["listen"], *error);
   }
   if (section["port"]) port = static_cast<std::uint16_t>(yaml.number(section["port"], 0, 65535));
+  port_origin = yaml.position(section["port"] ? section["port"] : section);
 }
 
-// The required PEM files of a TLS server; `section` names it in messages. Whether they
-// hold what they should is tls::load_server_credentials' question, at start and in `check`.
-void parse_pem_files(const YamlReader& yaml, const YAML::Node& node, std::string_view section,
-                     std::initializer_list<std::pair<const char*, std::string*>> files) {
-  for (const auto& [key, file] : files) {
-    if (!node[key]) yaml.fail(node, fmt::format("{} needs '{}', a PEM file", section, key));
-    *file = yaml.text(node[key]);
-    if (file->empty()) yaml.fail(node[key], fmt::format("{}.{} must be the path of a PEM file", section, key));
+// A PEM file the daemon loads: what is in it is check_on_host's question (tls/pem_check),
+// at start, on reload and in `check`, each key named at its own line.
+void note_pem_file(ParseState& state, const YAML::Node& node, std::string key, HostPath::Use use, std::string& file) {
+  file = state.yaml.text(node);
+  if (file.empty()) state.yaml.fail(node, fmt::format("{} must be the path of a PEM file", key));
+  note_host_path(state, use, node, std::move(key), file);
+}
+
+// A TLS server's PEM files: its certificate, its key (which must belong to it), and for
+// Modbus/TCP Security the CA of its clients. `section` names them in messages.
+void parse_server_pem_files(ParseState& state, const YAML::Node& node, std::string_view section, std::string& certificate,
+                            std::string& key, std::string* ca) {
+  for (const char* name : {"certificate", "key", "ca"}) {
+    if (!node[name] && (ca || std::string_view(name) != "ca"))
+      state.yaml.fail(node, fmt::format("{} needs '{}', a PEM file", section, name));
   }
+  note_pem_file(state, node["certificate"], fmt::format("{}.certificate", section), HostPath::Use::certificate, certificate);
+  note_pem_file(state, node["key"], fmt::format("{}.key", section), HostPath::Use::private_key, key);
+  state.config.host_paths.back().certificate = fmt::format("{}.certificate", section);
+  if (ca) note_pem_file(state, node["ca"], fmt::format("{}.ca", section), HostPath::Use::ca_certificates, *ca);
 }
 
 PeerAllowList parse_allow_list(const YamlReader& yaml, const YAML::Node& node, std::string_view key) {
@@ -55,7 +68,7 @@ PeerAllowList parse_allow_list(const YamlReader& yaml, const YAML::Node& node, s
 
 // The keys modbus.tcp and modbus.tls share; `key` names the section in messages.
 TcpSlaveConfig parse_tcp_slave(const YamlReader& yaml, const YAML::Node& node, std::string_view key, TcpSlaveConfig t) {
-  parse_listen_address(yaml, node, t.listen, t.port);
+  parse_listen_address(yaml, node, t.listen, t.port, t.port_origin);
   if (node["max_clients"]) t.max_clients = static_cast<unsigned>(yaml.number(node["max_clients"], 1, 10000));
   if (node["idle_timeout"]) t.idle_timeout = yaml.duration(node["idle_timeout"]);
   if (node["frame_timeout"]) {
@@ -86,7 +99,7 @@ modbus::WriteRights parse_role(const YamlReader& yaml, const std::string& name, 
       if (window == map.windows().end()) yaml.fail(item, fmt::format("bank {} is not served by this config", text));
       rights.allow(window->first, static_cast<std::uint16_t>(window->end() - 1));
     } else {
-      const auto address = static_cast<std::uint16_t>(yaml.number(item, 0, 0xFFFF));
+      const auto address = yaml.register_address(item);
       if (!map.find(address)) yaml.fail(item, fmt::format("register {:#06x} is in no bank or block of this config", address));
       rights.allow(address, address);
     }
@@ -109,7 +122,7 @@ TlsSlaveConfig parse_modbus_tls(ParseState& state, const YAML::Node& node) {
   TlsSlaveConfig tls;
   tls.origin = yaml.position(node);
   tls.connection = parse_tcp_slave(yaml, node, "modbus.tls", TlsSlaveConfig::default_connection());
-  parse_pem_files(yaml, node, "modbus.tls", {{"certificate", &tls.certificate}, {"key", &tls.key}, {"ca", &tls.ca}});
+  parse_server_pem_files(state, node, "modbus.tls", tls.certificate, tls.key, &tls.ca);
   if (const auto roles = node["roles"]) {
     if (!roles.IsMap()) yaml.fail(roles, "modbus.tls.roles must map each role to { write: [...] }");
     for (const auto& role : roles) state.tls_roles.emplace_back(yaml.text(role.first), role.second);
@@ -129,12 +142,12 @@ void parse_http(ParseState& state, const YAML::Node& node) {
   yaml.expect_keys(node, "http", {"listen", "port", "max_clients", "tls", "users"});
   HttpConfig h;
   h.origin = yaml.position(node);
-  parse_listen_address(yaml, node, h.listen, h.port);
+  parse_listen_address(yaml, node, h.listen, h.port, h.port_origin);
   if (node["max_clients"]) h.max_clients = static_cast<unsigned>(yaml.number(node["max_clients"], 1, 1000));
   if (const auto tls = node["tls"]) {
     yaml.expect_keys(tls, "http.tls", {"certificate", "key"});
     HttpTlsConfig t;
-    parse_pem_files(yaml, tls, "http.tls", {{"certificate", &t.certificate}, {"key", &t.key}});
+    parse_server_pem_files(state, tls, "http.tls", t.certificate, t.key, nullptr);
     h.tls = t;
   }
   if (const auto users = node["users"]) {
@@ -168,13 +181,17 @@ void parse_mqtt(ParseState& state, const YAML::Node& node) {
   if (node["password_file"]) m.password_file = yaml.text(node["password_file"]);
   if (!m.password_file.empty() && m.username.empty())
     yaml.fail(node["password_file"], "mqtt.password_file needs mqtt.username");
-  for (const auto& [key, file] : {std::pair{"ca", &m.ca}, std::pair{"certificate", &m.certificate}, std::pair{"key", &m.key}}) {
+  using Use = HostPath::Use;
+  for (const auto& [key, use, file] : {std::tuple{"ca", Use::ca_certificates, &m.ca},
+                                       std::tuple{"certificate", Use::certificate, &m.certificate},
+                                       std::tuple{"key", Use::private_key, &m.key}}) {
     if (!node[key]) continue;
     if (!m.tls) yaml.fail(node[key], fmt::format("mqtt.{} is for mqtts:// brokers", key));
-    *file = yaml.text(node[key]);
+    note_pem_file(state, node[key], fmt::format("mqtt.{}", key), use, *file);
   }
   if (m.certificate.empty() != m.key.empty())
     yaml.fail(node, "mqtt.certificate and mqtt.key go together (the client's certificate and its key)");
+  if (!m.key.empty()) state.config.host_paths.back().certificate = "mqtt.certificate";
   if (node["version"]) {
     const auto version = yaml.text(node["version"]);
     if (version == "3.1.1") m.version = 4;

@@ -31,6 +31,9 @@ struct ParseState {
 };
 
 // unimabus_sections.cpp: the UnimaBUS side and the files and socket the bridge keeps.
+/// What is at `path` is looked at by check_on_host, not by the parse: it notes where the
+/// file names it (`node`, or the section of a default).
+void note_host_path(ParseState& state, HostPath::Use use, const YAML::Node& node, std::string key, std::string path);
 void parse_unimabus(ParseState& state, const YAML::Node& node);
 void parse_log(ParseState& state, const YAML::Node& node);
 void parse_monitor(ParseState& state, const YAML::Node& node);

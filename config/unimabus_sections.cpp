@@ -13,12 +13,6 @@ namespace unima::config::sections {
 
 namespace {
 
-// What is at `path` is looked at by check_on_host, not here; the parse notes where the
-// file names it.
-void note_host_path(ParseState& state, HostPath::Use use, const YAML::Node& node, std::string key, std::string path) {
-  state.config.host_paths.push_back({use, std::move(key), std::move(path), state.yaml.position(node)});
-}
-
 // The replay transport's keys. Its recording is read by check_on_host, so that `check` and
 // a reload see a bad line before anything starts (SPEC §6).
 void parse_replay(ParseState& state, const YAML::Node& node) {
@@ -70,6 +64,7 @@ void parse_feed_listen(ParseState& state, const YAML::Node& node) {
   auto parsed = parse_listen_endpoint(u.listen);
   if (auto* error = std::get_if<std::string>(&parsed)) state.yaml.fail(node, *error);
   u.listen_at = std::get<ListenEndpoint>(std::move(parsed));
+  u.listen_origin = state.yaml.position(node);
   if (u.listen_at.is_unix())
     note_host_path(state, HostPath::Use::unix_socket, node, "unimabus.listen", u.listen_at.unix_path);
 }
@@ -104,6 +99,10 @@ std::string default_state_file(const std::string& config_file, const Host& host)
 }
 
 }  // namespace
+
+void note_host_path(ParseState& state, HostPath::Use use, const YAML::Node& node, std::string key, std::string path) {
+  state.config.host_paths.push_back({use, std::move(key), std::move(path), state.yaml.position(node), {}});
+}
 
 void parse_unimabus(ParseState& state, const YAML::Node& node) {
   const auto& yaml = state.yaml;
@@ -164,7 +163,7 @@ void parse_monitor(ParseState& state, const YAML::Node& node) {
       yaml.expect_keys(entry, "an indicator", {"address", "register"});
       if (!entry["address"] || !entry["register"]) yaml.fail(entry, "an indicator needs an address and a register");
       m.indicators.push_back({static_cast<std::uint8_t>(yaml.number(entry["address"], 0, 255)),
-                              static_cast<std::uint16_t>(yaml.number(entry["register"], 0, 0xFFFF))});
+                              yaml.register_address(entry["register"])});
     }
   }
 }

@@ -9,6 +9,7 @@
 #include <fmt/ranges.h>
 
 #include "banks/number_text.hpp"
+#include "modbus/plc_numbers.hpp"
 
 namespace unima::config {
 
@@ -20,6 +21,10 @@ std::string YamlReader::position(const YAML::Node& node) const {
 
 void YamlReader::fail(const YAML::Node& node, std::string_view message) const {
   throw ConfigError(fmt::format("{}: {}", position(node), message));
+}
+
+void YamlReader::warn(const YAML::Node& node, std::string_view message) const {
+  warnings_.push_back(warning_text(position(node), message));
 }
 
 void YamlReader::expect_keys(const YAML::Node& map, std::string_view what,
@@ -61,6 +66,25 @@ unsigned long YamlReader::number(const YAML::Node& node, unsigned long min, unsi
     fail(node, fmt::format("{} is out of range {}..{}", s, min, max));
   }
   return value;
+}
+
+std::uint16_t YamlReader::register_address(const YAML::Node& node) const {
+  if (!node.IsScalar()) fail(node, "expected a register address");
+  const auto& written = node.Scalar();
+  const auto parsed = banks::parse_number(written);
+  const bool decimal = parsed && !(written.size() > 2 && written[0] == '0' && (written[1] == 'x' || written[1] == 'X'));
+  const auto plc = decimal ? modbus::read_plc_number(*parsed) : std::nullopt;
+  const auto meaning = [&] {
+    return fmt::format("if {} register {} (PLC numbering, from 1) was meant, write its address 0x{:04X}",
+                       plc->table == modbus::PlcTable::input ? "input" : "holding", written, plc->address);
+  };
+  if (plc && *parsed > 0xFFFF) fail(node, fmt::format("{} is not a register address (0x0000..0xFFFF); {}", written, meaning()));
+  const auto address = static_cast<std::uint16_t>(number(node, 0, 0xFFFF));
+  if (plc)
+    warn(node, fmt::format("register {} is taken as address 0x{:04X}; {}; write 0x{:04X} to keep this address without "
+                           "this warning",
+                           written, address, meaning(), address));
+  return address;
 }
 
 bool YamlReader::boolean(const YAML::Node& node) const {

@@ -8,6 +8,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "config/config.hpp"
 
@@ -26,6 +27,11 @@ class YamlReader {
 
   /// Decimal or 0x hex, within [min, max].
   unsigned long number(const YAML::Node& node, unsigned long min, unsigned long max) const;
+  /// A Modbus register address, 0..0xFFFF: every key that holds one reads it here. A
+  /// decimal 30001..39999 or 40001..49999 is taken as written, with a warning naming the
+  /// address a PLC-style register number means (modbus/plc_numbers); a six-digit one fails
+  /// with it.
+  std::uint16_t register_address(const YAML::Node& node) const;
   bool boolean(const YAML::Node& node) const;
   /// A finite decimal number such as 0.5 or 2.5e3.
   double decimal(const YAML::Node& node) const;
@@ -39,8 +45,14 @@ class YamlReader {
   /// One of `choices`; the error lists them.
   std::string choice(const YAML::Node& node, std::initializer_list<std::string_view> choices) const;
 
+  /// Notes "file:line:column: warning: `message`" for config::warnings.
+  void warn(const YAML::Node& node, std::string_view message) const;
+  std::vector<std::string> take_warnings() { return std::move(warnings_); }
+
  private:
   std::string origin_;
+  // Noted while the nodes are read, which is otherwise const: a warning changes no value read.
+  mutable std::vector<std::string> warnings_;
 };
 
 }  // namespace unima::config

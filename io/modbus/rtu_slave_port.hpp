@@ -40,7 +40,7 @@ class RtuSlavePort {
       std::function<void(std::span<const std::uint8_t> query, std::span<const std::uint8_t> response)>;
 
   static constexpr std::chrono::milliseconds first_reopen_delay{200};
-  static constexpr std::chrono::milliseconds longest_reopen_delay{5000};
+  static constexpr std::chrono::milliseconds longest_reopen_delay = config::serial_reopen_longest_delay;
   /// A Not4Me request whose response has not come by then is reported without one.
   static constexpr std::chrono::milliseconds foreign_response_timeout{1000};
 

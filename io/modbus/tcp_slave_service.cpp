@@ -4,6 +4,7 @@
 
 #include "io/modbus/slave_context.hpp"
 #include "io/handshake_admission.hpp"
+#include "io/listen_error.hpp"
 #include "io/tls_context.hpp"
 #include "io/modbus/port_counters.hpp"
 
@@ -52,11 +53,12 @@ std::unique_ptr<TcpSlaveServer> TcpSlaveService::make_server(const config::Confi
       throw std::runtime_error(fmt::format("{}: {}", tls.origin, e.what()));
     }
   }
-  const auto* name = security_ == Security::tls ? "modbus tls" : "modbus tcp";
+  const auto* key = security_ == Security::tls ? "modbus.tls.port" : "modbus.tcp.port";
   try {
     return std::make_unique<TcpSlaveServer>(runtime_.io, options, slave_context(runtime_));
   } catch (const boost::system::system_error& e) {
-    throw std::runtime_error(fmt::format("{}: cannot listen on {}:{}: {}", name, c->listen, c->port, e.code().message()));
+    throw std::runtime_error(listen_error(c->port_origin, fmt::format("{} {}", key, c->port),
+                                          listen_address(c->listen, c->port), e.code()));
   }
 }
 

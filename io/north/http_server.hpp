@@ -34,6 +34,7 @@ struct HttpOptions {
   std::shared_ptr<asio::ssl::context> tls;  // HTTPS; null: plain HTTP
   // HTTPS: the handshakes a host may start (io/handshake_admission), the service's across reloads.
   std::shared_ptr<tls::HandshakeLimiter> handshakes;
+  std::string port_origin;  // the config's "file:line:col" of http.port, named when the port is taken
 };
 
 struct HttpResponse {

@@ -3,6 +3,7 @@
 #include <spdlog/spdlog.h>
 
 #include "io/handshake_admission.hpp"
+#include "io/listen_error.hpp"
 #include "io/tls_context.hpp"
 #include "platform/peer_warnings.hpp"
 
@@ -30,6 +31,7 @@ std::unique_ptr<HttpServer> HttpService::make_server(const config::Config& confi
   options.listen = config.http->listen;
   options.port = config.http->port;
   options.max_clients = config.http->max_clients;
+  options.port_origin = config.http->port_origin;
   if (const auto& tls = config.http->tls) {
     options.tls = make_server_tls_context({tls->certificate, tls->key, {}}, "http.tls");
     options.handshakes = handshakes_;
@@ -45,7 +47,8 @@ std::unique_ptr<HttpServer> HttpService::serve(const HttpOptions& options) {
     });
     return server;
   } catch (const boost::system::system_error& e) {
-    throw std::runtime_error(fmt::format("http: cannot listen on {}:{}: {}", options.listen, options.port, e.code().message()));
+    throw std::runtime_error(listen_error(options.port_origin, fmt::format("http.port {}", options.port),
+                                          listen_address(options.listen, options.port), e.code()));
   }
 }
 

@@ -4,6 +4,7 @@
 
 #include "banks/table_catalog.hpp"
 #include "io/activity.hpp"
+#include "io/listen_error.hpp"
 #include "io/unimabus/feed_transport.hpp"
 #include "io/unimabus/replay_transport.hpp"
 #include "io/unimabus/sim_transport.hpp"
@@ -63,8 +64,9 @@ std::unique_ptr<unimabus::Transport> UnimabusService::make_transport(const confi
       return std::make_unique<FeedTransport>(runtime_.io, config.unimabus.listen_at, config.unimabus.max_clients, handler,
                                              [this] { return runtime_.publisher.snapshot(); });
     } catch (const boost::system::system_error& e) {
-      throw std::runtime_error(
-          fmt::format("unimabus.listen: cannot listen on {}: {}", config.unimabus.listen, e.code().message()));
+      throw std::runtime_error(listen_error(config.unimabus.listen_origin,
+                                            fmt::format("unimabus.listen {}", config.unimabus.listen),
+                                            config.unimabus.listen, e.code()));
     }
   }
   if (config.unimabus.transport == config::TransportKind::replay) {

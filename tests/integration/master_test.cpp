@@ -452,7 +452,12 @@ TEST(MasterCheck, AcceptsTheMasterExample) {
                                     "/config/examples/master.yaml");
   EXPECT_EQ(status, 0) << output;
   EXPECT_NE(output.find("master: rtu /dev/ttyUSB0 38400 baud"), std::string::npos) << output;
-  EXPECT_EQ(output.find("warning"), std::string::npos) << output;
+  // The one warning a machine without the adapter gives: the example's line is not there.
+  const auto device_warning = output.find("warning: modbus.rtu.device: /dev/ttyUSB0: ");
+  const auto first_warning = output.find("warning");
+  EXPECT_TRUE(first_warning == std::string::npos ||
+              (first_warning == device_warning && output.find("warning", device_warning + 1) == std::string::npos))
+      << output;
 }
 
 // SPEC §9: the foreign slaves' serial defaults and reply times, checked against the config.
@@ -468,7 +473,7 @@ TEST(MasterCheck, WarnsWhereTheConfigContradictsAPolledDevicesProfile) {
                            "  - { type: poll, device: 3, profile: stepper-driver, point: STEP_ANGLE, period: 1s, output: 1 }\n");
   const auto [status, output] = run(std::string(UNIMA_BRIDGE_CLI) + " check --config " + file.string());
   EXPECT_EQ(status, 0) << output;  // warnings, not errors
-  EXPECT_NE(output.find("warning: " + file.string() + ":3:8: modbus.rtu is 19200 baud 8N1, but device 3 "
+  EXPECT_NE(output.find(file.string() + ":3:8: warning: modbus.rtu is 19200 baud 8N1, but device 3 "
                         "(stepper-driver at " + file.string() + ":6:5) talks at 9600 baud 8N1 by default (seed 002)"),
             std::string::npos)
       << output;

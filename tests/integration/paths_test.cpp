@@ -243,8 +243,8 @@ TEST_F(Paths, AStateFilePathThatIsNotARegularFileIsRefusedAtStartNamingTheKey) {
 TEST_F(Paths, AFeedPortThatIsTakenIsAnErrorNamingTheKey) {
   asio::io_context io;
   asio::ip::tcp::acceptor holder(io, asio::ip::tcp::endpoint(asio::ip::make_address("127.0.0.1"), config.feed_port));
-  expect_refused_start("unimabus.listen: cannot listen on 127.0.0.1:" + std::to_string(config.feed_port) +
-                       ": Address already in use");
+  const auto address = "127.0.0.1:" + std::to_string(config.feed_port);
+  expect_refused_start(":4:11: unimabus.listen " + address + ": address " + address + " is in use by another program");
 }
 
 }  // namespace

@@ -555,8 +555,9 @@ TEST(YamlReader, ExpectKeysAndPositions) {
 
 // http (SPEC §13): HTTPS and users, and what a bridge open beyond loopback is warned of.
 TEST(ConfigLoad, HttpTlsAndUsers) {
-  const auto c = load_text("http:\n  listen: 0.0.0.0\n  port: 8443\n  users: /etc/u\n"
-                           "  tls: { certificate: /etc/c.pem, key: /etc/c.key }\n", "h.yaml");
+  // The parse alone: the PEM files are check_on_host's (config_host_test).
+  const auto c = parse_text("http:\n  listen: 0.0.0.0\n  port: 8443\n  users: /etc/u\n"
+                            "  tls: { certificate: /etc/c.pem, key: /etc/c.key }\n", "h.yaml", Host::this_machine());
   ASSERT_TRUE(c.http);
   EXPECT_EQ(c.http->users, "/etc/u");
   ASSERT_TRUE(c.http->tls);
@@ -572,7 +573,7 @@ TEST(ConfigLoad, HttpTlsAndUsers) {
 
   const auto open = warnings(load_text("http: { listen: '::' }\n", "o.yaml"));
   ASSERT_EQ(open.size(), 1u);
-  EXPECT_EQ(open[0], "o.yaml:1:7: http listens on :: without http.users: anyone who reaches the port reads the plant's "
+  EXPECT_EQ(open[0], "o.yaml:1:7: warning: http listens on :: without http.users: anyone who reaches the port reads the plant's "
                      "values and the monitor");
   const auto clear = warnings(load_text("http: { listen: 10.0.0.5, users: /etc/u }\n", "o.yaml"));
   ASSERT_EQ(clear.size(), 1u);
@@ -582,9 +583,10 @@ TEST(ConfigLoad, HttpTlsAndUsers) {
 }
 
 TEST(ConfigLoad, MqttBrokerClientTopicAndTheirDefaults) {
-  const auto c = load_text("mqtt:\n  broker: mqtts://broker.example\n  client_id: site-17\n  username: bridge\n"
-                           "  password_file: /etc/p\n  ca: /etc/ca.pem\n  version: 5\n  publish: { period: 30s, on_change: false }\n"
-                           "  commands: true\n", "m.yaml");
+  // The parse alone: the PEM file is check_on_host's (config_host_test).
+  const auto c = parse_text("mqtt:\n  broker: mqtts://broker.example\n  client_id: site-17\n  username: bridge\n"
+                            "  password_file: /etc/p\n  ca: /etc/ca.pem\n  version: 5\n  publish: { period: 30s, on_change: false }\n"
+                            "  commands: true\n", "m.yaml", Host::this_machine());
   ASSERT_TRUE(c.mqtt);
   EXPECT_TRUE(c.mqtt->tls);
   EXPECT_EQ(c.mqtt->endpoint, (HostPort{"broker.example", 8883}));

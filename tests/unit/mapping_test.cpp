@@ -303,7 +303,7 @@ TEST(BlocksConfig, MasterBlocksAreIgnoredInSlaveModeWithAWarning) {
   EXPECT_EQ(c.active_blocks().size(), 1u);
   const auto w = config::warnings(c);
   ASSERT_EQ(w.size(), 2u);
-  EXPECT_EQ(w[0], "t.yaml:2:5: poll block ignored: poll blocks act in master mode only, this bridge is a slave");
+  EXPECT_EQ(w[0], "t.yaml:2:5: warning: poll block ignored: poll blocks act in master mode only, this bridge is a slave");
   // The send block's register 0x0201 does not collide with the write block: it is not served.
   EXPECT_NE(config::address_map(c).find(0x0201), nullptr);
 }
