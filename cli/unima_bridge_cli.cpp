@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <fmt/format.h>
@@ -19,28 +20,66 @@
 
 namespace {
 
-constexpr const char* usage =
-    "usage: unima-bridge check --config FILE\n"
-    "       unima-bridge map --config FILE [--format table|csv|json]\n"
-    "       unima-bridge tables\n"
-    "       unima-bridge status [-w|--watch] [--json] [--socket PATH | --config FILE]\n"
-    "       unima-bridge monitor [-f|--follow] [-n|--lines N] [--filter EXPR] [--json] [--config FILE] [LOG]\n"
-    "       unima-bridge profiles [ID]\n"
-    "       unima-bridge --version | -h|--help\n"
-    "\n"
-    "  check     validate a config; exit 0 when it is good, 1 with the errors when not;\n"
-    "            in master mode also the merge plan and the estimated bus load\n"
-    "  map       every register the config serves: address, its PLC-style input (3xxxx) and\n"
-    "            holding (4xxxx) register numbers, bank, access, unit, scale, identifier and\n"
-    "            label; csv and json add offset, kind and source\n"
-    "  tables    the reference of every device table, in Markdown (docs/registers.md)\n"
-    "  status    the front panel of the running daemon: mode, activity, Error, D_N/S_N on-line,\n"
-    "            capture indicators, counters\n"
-    "  monitor   read, filter and follow the monitor log (one line per Modbus transaction)\n"
-    "  profiles  the device profiles of foreign slaves for master mode; with ID, its points\n"
-    "\n"
-    "unima-bridge status --help and monitor --help describe their options; man unima-bridge(1)\n"
-    "describes them all.\n";
+// One entry per subcommand: the top-level --help lists them all, and `SUB --help` prints
+// its own entry, so the two never say different things (packaging/man_vs_help.py checks
+// the man page against both).
+struct Command {
+  std::string_view name;
+  std::string_view synopsis;
+  std::string_view about;  // lines after the first are indented under it
+};
+
+constexpr Command commands[] = {
+    {"check", "--config FILE",
+     "validate a config; exit 0 when it is good, 1 with the errors when not;\n"
+     "in master mode also the merge plan and the estimated bus load"},
+    {"map", "--config FILE [--format table|csv|json]",
+     "every register the config serves: address, its PLC-style input (3xxxx) and\n"
+     "holding (4xxxx) register numbers, bank, access, unit, scale, identifier and\n"
+     "label; csv and json add offset, kind and source"},
+    {"tables", "", "the reference of every device table, in Markdown (docs/registers.md)"},
+    {"status", "[-w|--watch] [--json] [--socket PATH | --config FILE]",
+     "the front panel of the running daemon: mode, activity, Error, D_N/S_N on-line,\n"
+     "capture indicators, counters"},
+    {"monitor", "[-f|--follow] [-n|--lines N] [--filter EXPR] [--json] [--config FILE] [LOG]",
+     "read, filter and follow the monitor log (one line per Modbus transaction)"},
+    {"profiles", "[ID]", "the device profiles of foreign slaves for master mode; with ID, its points"},
+};
+
+std::string synopsis_line(const Command& command) {
+  return fmt::format("unima-bridge {}{}{}", command.name, command.synopsis.empty() ? "" : " ", command.synopsis);
+}
+
+std::string about_text(const Command& command) {
+  std::string text = fmt::format("  {:<10}", command.name);
+  for (const char c : command.about) text += c == '\n' ? std::string("\n            ") : std::string(1, c);
+  return text + "\n";
+}
+
+std::string usage_text() {
+  std::string text;
+  for (const auto& command : commands) text += fmt::format("{}{}\n", text.empty() ? "usage: " : "       ", synopsis_line(command));
+  text += "       unima-bridge --version | -h|--help\n\n";
+  for (const auto& command : commands) text += about_text(command);
+  return text +
+         "\nunima-bridge status --help and monitor --help describe their options; man unima-bridge(1)\n"
+         "describes them all.\n";
+}
+
+/// `unima-bridge SUB --help` for the subcommands without options of their own to explain.
+std::string command_help(const Command& command) {
+  return fmt::format("usage: {}\n\n{}\nman unima-bridge(1) says more.\n", synopsis_line(command), about_text(command));
+}
+
+const Command* command_named(std::string_view name) {
+  for (const auto& command : commands)
+    if (command.name == name) return &command;
+  return nullptr;
+}
+
+bool asks_for_help(const std::vector<std::string>& args) {
+  return args.size() > 1 && (args[1] == "--help" || args[1] == "-h");
+}
 
 int check(const std::string& path) {
   try {
@@ -122,19 +161,26 @@ Options parse_options(const std::vector<std::string>& args, bool takes_format) {
 
 int main(int argc, char** argv) {
   const std::vector<std::string> args(argv + 1, argv + argc);
+  const auto usage = usage_text();
   if (args.empty() || args[0] == "--help" || args[0] == "-h") {
-    std::fputs(usage, args.empty() ? stderr : stdout);
+    std::fputs(usage.c_str(), args.empty() ? stderr : stdout);
     return args.empty() ? 2 : 0;
   }
   if (args[0] == "--version") {
     std::puts("unima-bridge " UNIMA_VERSION);
     return 0;
   }
+  // status and monitor explain their own options (cli_status, cli_monitor).
+  if (const auto* command = command_named(args[0]); command && asks_for_help(args) && args[0] != "status" &&
+                                                    args[0] != "monitor") {
+    fmt::print("{}", command_help(*command));
+    return 0;
+  }
   if (args[0] == "check" || args[0] == "map") {
     const bool is_map = args[0] == "map";
     const auto options = parse_options(args, is_map);
     if (!options.error.empty()) {
-      std::fprintf(stderr, "unima-bridge %s: %s\n%s", args[0].c_str(), options.error.c_str(), usage);
+      std::fprintf(stderr, "unima-bridge %s: %s\n%s", args[0].c_str(), options.error.c_str(), usage.c_str());
       return 2;
     }
     return is_map ? map(options.config, options.format.value_or(unima::cli::MapFormat::table))
@@ -155,6 +201,6 @@ int main(int argc, char** argv) {
   }
   if (args[0] == "status") return unima::cli::status_command({args.begin() + 1, args.end()});
   if (args[0] == "monitor") return unima::cli::monitor_command({args.begin() + 1, args.end()});
-  std::fprintf(stderr, "unima-bridge: unknown command '%s'\n%s", args[0].c_str(), usage);
+  std::fprintf(stderr, "unima-bridge: unknown command '%s'\n%s", args[0].c_str(), usage.c_str());
   return 2;
 }

@@ -81,6 +81,16 @@ TEST_F(Lifecycle, ABadConfigAtStartUpExitsNonZeroNamingThePosition) {
       << daemon->log();
 }
 
+// `unima-bridge SUB --help` answers as `man` would be asked: its usage line, exit 0 (it
+// said "unknown argument" for check and map, printed every table for tables).
+TEST(CheckCommand, EverySubcommandAnswersHelpWithItsUsage) {
+  for (const std::string sub : {"check", "map", "tables", "profiles", "status", "monitor"}) {
+    const auto r = run(std::string(UNIMA_BRIDGE_CLI) + " " + sub + " --help 2>&1");
+    EXPECT_EQ(r.status, 0) << sub << ": " << r.output;
+    EXPECT_TRUE(r.output.starts_with("usage: unima-bridge " + sub)) << sub << ": " << r.output.substr(0, 200);
+  }
+}
+
 TEST(CheckCommand, AcceptsTheDemoConfig) {
   const auto r = run(std::string(UNIMA_BRIDGE_CLI) + " check --config " UNIMA_SOURCE_DIR "/config/examples/demo.yaml");
   EXPECT_EQ(r.status, 0) << r.output;

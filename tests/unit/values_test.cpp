@@ -68,6 +68,10 @@ TEST_F(ValuesTest, A32BitPairIsOneValueAndNullWhenEitherHalfIsNotMeasured) {
   EXPECT_EQ(hours["value"], 2 * 65536 + 16) << hours;
   EXPECT_EQ(hours["unit"], "s");
   EXPECT_EQ(hours["state"], "ok");
+  const auto& defs = model.bank(BankId::D1)->values;
+  const auto def = std::find_if(defs.begin(), defs.end(), [](const ValueDef& d) { return d.name == "operating_hours"; });
+  ASSERT_NE(def, defs.end());
+  EXPECT_EQ(def->label, "Motohodiny") << "the quantity, not the low word the seed's label names";
   const auto d1 = names(BankId::D1);
   EXPECT_FALSE(has(d1, "operating_hours_low")) << "the halves are not values of their own";
   EXPECT_FALSE(has(d1, "operating_hours_high"));
