@@ -152,6 +152,18 @@ struct TlsSlaveConfig {
   }
 };
 
+/// modbus.gateway (SPEC §14, docs/gateway.md): Modbus TCP clients reach the foreign slaves
+/// on the master's line.
+struct GatewayConfig {
+  std::array<bool, 256> units{};        // by unit id: forwarded to the line
+  PeerAllowList priority;               // peers served before polls and other clients
+  Duration wait{2'000};                 // longest a request may wait for the line: then 0x06
+  std::optional<Duration> timeout;      // the slave's answer time-out; else its profile's, else 1 s
+  Duration cache{0};                    // parsed; not used yet (docs/gateway.md)
+  std::string origin;                   // "file:line:col" of the section
+  bool routes(std::uint8_t unit) const { return units[unit]; }
+};
+
 struct ModbusConfig {
   ModbusMode mode = ModbusMode::slave;
   std::uint8_t address = 1;  // seed "MBSAddr"
@@ -159,6 +171,7 @@ struct ModbusConfig {
   std::optional<TlsSlaveConfig> tls;
   std::optional<RtuConfig> rtu;
   MasterConfig master;
+  std::optional<GatewayConfig> gateway;
   bool readable_write_banks = true;
   Extensions extensions;
 };

@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include "banks/number_text.hpp"
 #include "config/endpoint.hpp"
 #include "config/section_parsers.hpp"
 
@@ -113,6 +114,64 @@ void parse_master(ParseState& state, const YAML::Node& node) {
   }
 }
 
+// One item of modbus.gateway.units: an id, or a range "2-9"; both ends within 1..247 (0 is
+// the broadcast, 248..255 are reserved: no slave on a line has them).
+void parse_gateway_unit(const YamlReader& yaml, const YAML::Node& item, GatewayConfig& gateway) {
+  const auto written = yaml.text(item);
+  const auto dash = written.find('-');
+  const auto bound = [&](std::string_view part) {
+    const auto value = banks::parse_number(std::string(part));
+    if (!value)
+      yaml.fail(item, fmt::format("modbus.gateway.units: '{}' is not a unit id or a range of them (write e.g. 3 or "
+                                  "2-9)", written));
+    if (*value < 1 || *value > 247)
+      yaml.fail(item, fmt::format("modbus.gateway.units: unit {} is outside 1..247", *value));
+    return static_cast<unsigned>(*value);
+  };
+  const auto first = bound(std::string_view(written).substr(0, dash));
+  const auto last = dash == std::string::npos ? first : bound(std::string_view(written).substr(dash + 1));
+  if (last < first)
+    yaml.fail(item, fmt::format("modbus.gateway.units: the range {} ends before it begins", written));
+  for (auto unit = first; unit <= last; ++unit) gateway.units[unit] = true;
+}
+
+GatewayConfig parse_gateway(const YamlReader& yaml, const YAML::Node& node) {
+  yaml.expect_keys(node, "modbus.gateway", {"units", "priority", "wait", "timeout", "cache"});
+  GatewayConfig gateway;
+  gateway.origin = yaml.position(node);
+  const auto units = node["units"];
+  if (!units || !units.IsSequence() || units.size() == 0)
+    yaml.fail(units ? units : node, "modbus.gateway.units must list the unit ids forwarded to the line, e.g. [2-9, 17]");
+  for (const auto& item : units) parse_gateway_unit(yaml, item, gateway);
+  if (node["priority"]) gateway.priority = parse_allow_list(yaml, node["priority"], "modbus.gateway.priority");
+  if (node["wait"]) gateway.wait = positive_duration(yaml, node["wait"]);
+  if (node["timeout"]) gateway.timeout = positive_duration(yaml, node["timeout"]);
+  if (node["cache"]) gateway.cache = yaml.duration(node["cache"]);
+  return gateway;
+}
+
+// SPEC §14: the gateway forwards to the line the master owns, and never the bridge's own
+// unit id, which keeps serving the banks.
+void check_gateway(const YamlReader& yaml, const YAML::Node& modbus, const ModbusConfig& m) {
+  const auto node = modbus["gateway"];
+  if (m.mode != ModbusMode::master)
+    yaml.fail(node, "modbus.gateway forwards to the line the master drives: it needs modbus.mode: master");
+  if (!m.master.tcp.empty())
+    yaml.fail(node, "modbus.gateway forwards RTU frames to modbus.rtu; a master driving modbus.master.tcp cannot "
+                    "forward yet");
+  if (!m.gateway->routes(m.address)) return;
+  const auto message = fmt::format("modbus.gateway.units: unit {} is the bridge's own modbus.address, which serves the "
+                                   "banks: leave it out",
+                                   m.address);
+  // At the item that names it.
+  for (const auto& item : node["units"]) {
+    GatewayConfig one;
+    parse_gateway_unit(yaml, item, one);
+    if (one.routes(m.address)) yaml.fail(item, message);
+  }
+  yaml.fail(node["units"], message);
+}
+
 }  // namespace
 
 const master::DeviceProfile* parse_profile(const ParseState& state, const YAML::Node& node) {
@@ -125,7 +184,8 @@ const master::DeviceProfile* parse_profile(const ParseState& state, const YAML::
 
 void parse_modbus(ParseState& state, const YAML::Node& node) {
   const auto& yaml = state.yaml;
-  yaml.expect_keys(node, "modbus", {"mode", "address", "tcp", "tls", "rtu", "readable_write_banks", "extensions", "master"});
+  yaml.expect_keys(node, "modbus", {"mode", "address", "tcp", "tls", "rtu", "readable_write_banks", "extensions", "master",
+                                     "gateway"});
   auto& m = state.config.modbus;
   if (node["mode"]) {
     const auto mode = yaml.choice(node["mode"], {"slave", "master"});
@@ -147,6 +207,7 @@ void parse_modbus(ParseState& state, const YAML::Node& node) {
     yaml.fail(node["address"] ? node["address"] : node,
               fmt::format("modbus.address {} cannot be an RTU slave's address (1..247)", m.address));
   if (node["master"]) parse_master(state, node["master"]);
+  if (node["gateway"]) m.gateway = parse_gateway(yaml, node["gateway"]);
   if (m.mode == ModbusMode::master) {
     // SPEC §3: in master mode the RTU line belongs to the master; a TCP target is the extension.
     if (!m.rtu && m.master.tcp.empty())
@@ -156,6 +217,7 @@ void parse_modbus(ParseState& state, const YAML::Node& node) {
       yaml.fail(node["master"]["tcp"], "modbus.master.tcp and modbus.rtu are both set; the master drives one "
                                        "line: remove one of them");
   }
+  if (m.gateway) check_gateway(yaml, node, m);
 }
 
 }  // namespace unima::config::sections

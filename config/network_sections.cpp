@@ -54,17 +54,6 @@ void parse_server_pem_files(ParseState& state, const YAML::Node& node, std::stri
   if (ca) note_pem_file(state, node["ca"], fmt::format("{}.ca", section), HostPath::Use::ca_certificates, *ca);
 }
 
-PeerAllowList parse_allow_list(const YamlReader& yaml, const YAML::Node& node, std::string_view key) {
-  if (!node.IsSequence() || node.size() == 0)
-    yaml.fail(node, fmt::format("{} must be a list of addresses and CIDR ranges, e.g. [192.168.10.0/24, 127.0.0.1]", key));
-  PeerAllowList list;
-  for (const auto& item : node) {
-    auto parsed = parse_network_range(yaml.text(item));
-    if (auto* error = std::get_if<std::string>(&parsed)) yaml.fail(item, fmt::format("{}: {}", key, *error));
-    list.ranges.push_back(std::get<NetworkRange>(std::move(parsed)));
-  }
-  return list;
-}
 
 // The keys modbus.tcp and modbus.tls share; `key` names the section in messages.
 TcpSlaveConfig parse_tcp_slave(const YamlReader& yaml, const YAML::Node& node, std::string_view key, TcpSlaveConfig t) {
@@ -108,6 +97,18 @@ modbus::WriteRights parse_role(const YamlReader& yaml, const std::string& name, 
 }
 
 }  // namespace
+
+PeerAllowList parse_allow_list(const YamlReader& yaml, const YAML::Node& node, std::string_view key) {
+  if (!node.IsSequence() || node.size() == 0)
+    yaml.fail(node, fmt::format("{} must be a list of addresses and CIDR ranges, e.g. [192.168.10.0/24, 127.0.0.1]", key));
+  PeerAllowList list;
+  for (const auto& item : node) {
+    auto parsed = parse_network_range(yaml.text(item));
+    if (auto* error = std::get_if<std::string>(&parsed)) yaml.fail(item, fmt::format("{}: {}", key, *error));
+    list.ranges.push_back(std::get<NetworkRange>(std::move(parsed)));
+  }
+  return list;
+}
 
 TcpSlaveConfig parse_modbus_tcp(ParseState& state, const YAML::Node& node) {
   state.yaml.expect_keys(node, "modbus.tcp", tcp_keys);

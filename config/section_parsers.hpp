@@ -50,6 +50,8 @@ const master::DeviceProfile* parse_profile(const ParseState& state, const YAML::
 // network_sections.cpp: what listens on or connects to the network besides the feed.
 TcpSlaveConfig parse_modbus_tcp(ParseState& state, const YAML::Node& node);
 TlsSlaveConfig parse_modbus_tls(ParseState& state, const YAML::Node& node);
+/// Addresses and CIDR ranges (modbus.tcp.allow, modbus.gateway.priority); `key` names it.
+PeerAllowList parse_allow_list(const YamlReader& yaml, const YAML::Node& node, std::string_view key);
 /// modbus.tls.roles' banks and registers, which must be served: after layout validation.
 void resolve_tls_roles(ParseState& state);
 void parse_http(ParseState& state, const YAML::Node& node);
