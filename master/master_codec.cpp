@@ -158,6 +158,22 @@ MasterResponse check_rtu_response(std::span<const std::uint8_t> frame, std::uint
   return check_response_pdu(body.subspan(1), request_pdu);
 }
 
+MasterResponse check_forwarded_rtu_answer(std::span<const std::uint8_t> frame, std::uint8_t address) {
+  if (frame.empty()) return status_only(ResponseStatus::timeout);
+  if (frame.size() < 4) return status_only(ResponseStatus::too_short);
+  const auto body = frame.first(frame.size() - 2);
+  const auto crc = static_cast<std::uint16_t>(frame[frame.size() - 2] | frame[frame.size() - 1] << 8);
+  if (modbus::crc16(body) != crc) return status_only(ResponseStatus::bad_crc);
+  if (frame[0] != address) return status_only(ResponseStatus::wrong_address);
+  const auto pdu = body.subspan(1);
+  if (pdu.size() > modbus::max_pdu_size) return status_only(ResponseStatus::bad_length);
+  if (pdu[0] & modbus::function::exception_flag) {
+    if (pdu.size() != 2) return status_only(ResponseStatus::bad_length);
+    return MasterResponse{ResponseStatus::exception, static_cast<modbus::ExceptionCode>(pdu[1]), pdu};
+  }
+  return MasterResponse{ResponseStatus::ok, modbus::ExceptionCode::none, pdu};
+}
+
 MasterResponse check_tcp_response(std::span<const std::uint8_t> adu, std::uint8_t unit,
                                   std::span<const std::uint8_t> request_pdu) {
   if (adu.empty()) return status_only(ResponseStatus::timeout);

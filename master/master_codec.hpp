@@ -69,6 +69,10 @@ std::optional<std::size_t> expected_response_length(std::span<const std::uint8_t
 /// Checks an RTU response frame (as ended by its length or by silence) against the request.
 MasterResponse check_rtu_response(std::span<const std::uint8_t> frame, std::uint8_t address,
                                   std::span<const std::uint8_t> request_pdu);
+/// Checks the answer to a forwarded request (SPEC §14): only the frame — its length, CRC
+/// and address — whatever the function. ok or exception with `pdu` the slave's answer PDU
+/// as it came; else timeout, too_short, bad_crc or wrong_address.
+MasterResponse check_forwarded_rtu_answer(std::span<const std::uint8_t> frame, std::uint8_t address);
 /// Checks a TCP response ADU (MBAP + PDU) against the request's unit and PDU. The
 /// transaction id is matched by the link, which skips late answers to older requests.
 MasterResponse check_tcp_response(std::span<const std::uint8_t> adu, std::uint8_t unit,

@@ -240,6 +240,16 @@ std::size_t MasterScheduler::replace(std::size_t index, std::vector<PlannedReque
   return first;
 }
 
+MasterScheduler::TimePoint MasterScheduler::ready_for(std::uint8_t unit) const {
+  const auto it = devices_.find(unit);
+  return it == devices_.end() ? line_free_ : device_ready(it->second);
+}
+
+void MasterScheduler::line_used(std::uint8_t unit, TimePoint start, TimePoint end) {
+  line_free_ = end + options_.frame_gap;
+  if (const auto it = devices_.find(unit); it != devices_.end()) it->second.last_start = start;
+}
+
 bool MasterScheduler::degraded(std::uint8_t address) const {
   const auto it = devices_.find(address);
   return it != devices_.end() && it->second.degraded;

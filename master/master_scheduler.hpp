@@ -97,6 +97,16 @@ class MasterScheduler {
   /// Returns the index of the first part.
   std::size_t replace(std::size_t index, std::vector<PlannedRequest> parts);
 
+  /// When a frame to `unit` may go: the line free after its gap, and the device's min_gap
+  /// since its last frame when it is one the master polls (SPEC §14: forwarded requests
+  /// keep the same pacing).
+  TimePoint ready_for(std::uint8_t unit) const;
+  /// A transaction that is not the scheduler's (a forwarded one) held the line from
+  /// `start` to `end`.
+  void line_used(std::uint8_t unit, TimePoint start, TimePoint end);
+  /// Whether `unit` is a device the master polls (its profile's timing applies).
+  bool knows(std::uint8_t unit) const { return devices_.contains(unit); }
+
   const PlannedRequest& request(std::size_t index) const { return slots_[index].request; }
   std::size_t request_count() const { return slots_.size(); }
   bool active(std::size_t index) const { return slots_[index].active; }

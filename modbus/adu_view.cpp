@@ -8,7 +8,8 @@ Framing framing_of(const Transaction& transaction) {
   switch (transaction.port) {
     case PortKind::tcp:
     case PortKind::tls: return Framing::tcp;
-    case PortKind::rtu: return Framing::rtu;
+    case PortKind::rtu:
+    case PortKind::gateway: return Framing::rtu;  // the frames on the master's RTU line
     case PortKind::master: return transaction.peer.empty() ? Framing::rtu : Framing::tcp;
   }
   return Framing::rtu;

@@ -25,6 +25,7 @@ enum class ExceptionCode : std::uint8_t {
   illegal_data_address = 0x02,
   illegal_data_value = 0x03,
   server_device_failure = 0x04,
+  server_device_busy = 0x06,
   gateway_path_unavailable = 0x0A,
   gateway_target_failed = 0x0B,
 };

@@ -10,7 +10,8 @@ Recipient recipient_of(Link link, std::uint8_t address, std::uint8_t own_address
 }
 
 Served serve_request(Link link, Recipient recipient, std::span<const std::uint8_t> pdu, std::span<std::uint8_t> out,
-                     RegisterModel& registers, const HandlerOptions& options, const WriteRights* rights) {
+                     RegisterModel& registers, const HandlerOptions& options, const WriteRights* rights,
+                     bool gateway) {
   Served served;
   switch (recipient) {
     case Recipient::this_slave: {
@@ -30,8 +31,10 @@ Served serve_request(Link link, Recipient recipient, std::span<const std::uint8_
     case Recipient::another_slave:
       served.state = TransactionState::not_for_me;
       if (link == Link::rtu) break;
-      // SPEC §3: a unit id that is not ours is Not4Me, answered "gateway target failed".
-      served.length = write_exception(pdu[0], ExceptionCode::gateway_target_failed, out);
+      // SPEC §3: a unit id that is not ours is Not4Me, answered "gateway target failed";
+      // SPEC §14: behind a gateway that does not route it, "gateway path unavailable".
+      served.length = write_exception(
+          pdu[0], gateway ? ExceptionCode::gateway_path_unavailable : ExceptionCode::gateway_target_failed, out);
       served.fault = true;
       break;
   }

@@ -40,8 +40,12 @@ struct Served {
 /// does not have is meant for the other slaves. Another slave's request on RTU is not
 /// served (the port listens to it, modbus/rtu/bus_listener).
 /// `rights`: what this client may write (nullptr: every register), see handle_request.
+/// `gateway`: the bridge forwards some unit ids to its master's line (SPEC §14); another
+/// slave's request on TCP that reaches this was not routed: "gateway path unavailable"
+/// (0x0A) instead of "gateway target failed" (0x0B).
 Served serve_request(Link link, Recipient recipient, std::span<const std::uint8_t> pdu, std::span<std::uint8_t> out,
-                     RegisterModel& registers, const HandlerOptions& options, const WriteRights* rights = nullptr);
+                     RegisterModel& registers, const HandlerOptions& options, const WriteRights* rights = nullptr,
+                     bool gateway = false);
 
 /// What a request served as a write (Served::kept_as) is served as instead when the state
 /// file could not keep it and nothing changed (SPEC §10): exception 04 into `out`, Err04

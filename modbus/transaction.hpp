@@ -19,7 +19,9 @@ enum class TransactionState : std::uint8_t {
   timeout,     // master: no answer
 };
 
-enum class PortKind : std::uint8_t { tcp, rtu, master, tls };  // tls: Modbus/TCP Security (SPEC §11)
+// tls: Modbus/TCP Security (SPEC §11); gateway: a TCP client's request forwarded on the
+// master's line (SPEC §14), the peer the client's address.
+enum class PortKind : std::uint8_t { tcp, rtu, master, tls, gateway };
 
 struct Transaction {
   PortKind port = PortKind::tcp;
@@ -40,6 +42,7 @@ inline TransactionState state_of_response(std::span<const std::uint8_t> response
       case 0x01: return TransactionState::err01;
       case 0x02: return TransactionState::err02;
       case 0x03: return TransactionState::err03;
+      case 0x0A:  // SPEC §14: a unit the gateway does not route
       case 0x0B: return TransactionState::not_for_me;
       default: return TransactionState::err04;
     }

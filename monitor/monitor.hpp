@@ -63,7 +63,7 @@ class Monitor {
   MonitorConfig config_;
   monitor::CommandFilter filter_;
   monitor::CaptureIndicators indicators_;
-  std::array<modbus::TransactionCounters, 4> counters_{};  // by PortKind
+  std::array<modbus::TransactionCounters, 5> counters_{};  // by PortKind
   std::optional<std::chrono::system_clock::time_point> last_frame_sent_;
   std::uint64_t frames_sent_ = 0;
   std::uint8_t next_ix_ = 0;

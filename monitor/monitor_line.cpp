@@ -481,6 +481,10 @@ void append_port_name(std::string& out, modbus::PortKind port, std::string_view 
       return;
     case modbus::PortKind::rtu: out += "rtu"; return;
     case modbus::PortKind::master: out += "master"; return;
+    case modbus::PortKind::gateway:  // the client whose request went on the line
+      out += "gw:";
+      out += peer;
+      return;
   }
 }
 

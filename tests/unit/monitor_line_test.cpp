@@ -88,6 +88,13 @@ TEST(MonitorLine, TimeoutOfAMasterPoll) {
             stamp + " master Ix=7 Rc=8 State=Timeout Ad=3 PDU=06 02 02 12 34 CRC=2527 Response=-\n");
 }
 
+// SPEC §14: a TCP client's request forwarded on the master's RTU line, named by the client.
+TEST(MonitorLine, AForwardedTransactionIsPortGwWithTheClientsAddress) {
+  EXPECT_EQ(line(PortKind::gateway, "10.0.0.5:40123", TransactionState::timeout,
+                 {0x03, 0x06, 0x02, 0x02, 0x12, 0x34, 0x25, 0x27}, {}),
+            stamp + " gw:10.0.0.5:40123 Ix=7 Rc=8 State=Timeout Ad=3 PDU=06 02 02 12 34 CRC=2527 Response=-\n");
+}
+
 TEST(MonitorLine, AMasterWithATcpTargetSpeaksMbap) {
   EXPECT_EQ(line(PortKind::master, "192.168.1.9:502", TransactionState::done, tcp_query, tcp_response),
             stamp +

@@ -63,6 +63,17 @@ TEST_F(SlaveSessionServing, AnotherSlavesRequestIsGatewayTargetFailedOnTcpAndSil
   EXPECT_EQ(registers.writable.at(0x0100), 0);  // not applied
 }
 
+// SPEC §14: behind a gateway, a unit id it does not route has no path: 0x0A.
+TEST_F(SlaveSessionServing, AnotherSlavesRequestBehindAGatewayIsGatewayPathUnavailable) {
+  const Bytes pdu{0x03, 0x00, 0x11, 0x00, 0x01};
+  const auto served = serve_request(Link::tcp, Recipient::another_slave, pdu, out, registers, options, nullptr, true);
+  EXPECT_EQ(served.length, 2u);
+  EXPECT_EQ(out[0], 0x83);
+  EXPECT_EQ(out[1], 0x0A);
+  EXPECT_EQ(served.state, TransactionState::not_for_me);
+  EXPECT_TRUE(served.fault);
+}
+
 TEST_F(SlaveSessionServing, ABroadcastWriteAppliesUnansweredAndNeverFaults) {
   auto served = serve(Link::rtu, Recipient::broadcast, {0x06, 0x01, 0x00, 0x00, 0x05});
   EXPECT_EQ(served.length, 0u);

@@ -1,0 +1,173 @@
+// The gateway's queue (SPEC §14): priority peers first, other clients one request each per
+// round, polls and forwarded requests taking turns, and requests that waited too long
+// leaving with "busy"; driven by simulated time.
+
+#include <gtest/gtest.h>
+
+#include <vector>
+
+#include "master/gateway_queue.hpp"
+#include "master/master_codec.hpp"
+#include "master/master_scheduler.hpp"
+
+namespace unima::master {
+namespace {
+
+using namespace std::chrono_literals;
+using TimePoint = GatewayQueue::TimePoint;
+
+const TimePoint t0 = TimePoint{} + 1000s;
+
+// Takes requests as the line would, with no poll due, and says whose they were.
+std::vector<std::uint64_t> serve_all(GatewayQueue& queue) {
+  std::vector<std::uint64_t> clients;
+  while (const auto next = queue.next(false)) {
+    clients.push_back(next->client);
+    queue.began(next->ticket);
+  }
+  return clients;
+}
+
+TEST(GatewayQueue, EmptyHasNothingAndNoExpiry) {
+  GatewayQueue queue(2s);
+  EXPECT_FALSE(queue.next(false));
+  EXPECT_FALSE(queue.next(true));
+  EXPECT_FALSE(queue.next_expiry());
+}
+
+TEST(GatewayQueue, ClientsTakeTurnsOneRequestEachPerRound) {
+  GatewayQueue queue(2s);
+  // Client 1 sends three before clients 2 and 3 send one each.
+  for (int i = 0; i < 3; ++i) queue.push(1, false, 3, t0);
+  queue.push(2, false, 3, t0 + 1ms);
+  queue.push(3, false, 4, t0 + 2ms);
+  EXPECT_EQ(serve_all(queue), (std::vector<std::uint64_t>{1, 2, 3, 1, 1}));
+}
+
+TEST(GatewayQueue, TheRoundGoesOnAfterTheClientServedLast) {
+  GatewayQueue queue(2s);
+  queue.push(2, false, 3, t0);
+  queue.began(queue.next(false)->ticket);
+  // Client 1 came first this time, but 2 was served last: 3 is next, then 1, then 2.
+  queue.push(1, false, 3, t0 + 1ms);
+  queue.push(2, false, 3, t0 + 2ms);
+  queue.push(3, false, 3, t0 + 3ms);
+  EXPECT_EQ(serve_all(queue), (std::vector<std::uint64_t>{3, 1, 2}));
+}
+
+TEST(GatewayQueue, PriorityPeersGoFirstEvenBeforeADuePoll) {
+  GatewayQueue queue(2s);
+  queue.push(1, false, 3, t0);
+  queue.push(2, false, 3, t0 + 1ms);
+  queue.began(queue.next(false)->ticket);  // client 1: the line's last transaction was forwarded
+  queue.push(9, true, 5, t0 + 2ms);
+  queue.push(9, true, 6, t0 + 3ms);
+  // Now a poll is due, but the priority peer still goes, oldest first.
+  auto next = queue.next(true);
+  ASSERT_TRUE(next);
+  EXPECT_EQ(next->client, 9u);
+  EXPECT_EQ(next->unit, 5);
+  queue.began(next->ticket);
+  next = queue.next(true);
+  ASSERT_TRUE(next);
+  EXPECT_EQ(next->unit, 6);
+  queue.began(next->ticket);
+  EXPECT_EQ(serve_all(queue), (std::vector<std::uint64_t>{2}));
+}
+
+TEST(GatewayQueue, PriorityRequestsDoNotTakeAnotherClientsTurn) {
+  GatewayQueue queue(2s);
+  queue.push(1, false, 3, t0);
+  queue.push(2, false, 3, t0);
+  queue.began(queue.next(false)->ticket);  // client 1
+  queue.push(9, true, 3, t0 + 1ms);
+  queue.began(queue.next(false)->ticket);  // the priority peer
+  EXPECT_EQ(serve_all(queue), (std::vector<std::uint64_t>{2}));
+}
+
+TEST(GatewayQueue, ADuePollAndForwardedRequestsTakeTurns) {
+  GatewayQueue queue(2s);
+  for (int i = 0; i < 4; ++i) queue.push(1, false, 3, t0);
+  // At first the line's last user counts as a poll: the request may go even with a poll due.
+  auto next = queue.next(true);
+  ASSERT_TRUE(next);
+  queue.began(next->ticket);
+  // A poll is due and the last transaction was forwarded: the poll goes.
+  EXPECT_FALSE(queue.next(true));
+  queue.poll_began();
+  next = queue.next(true);
+  ASSERT_TRUE(next);
+  queue.began(next->ticket);
+  // No poll due: requests may follow each other.
+  next = queue.next(false);
+  ASSERT_TRUE(next);
+  queue.began(next->ticket);
+  EXPECT_TRUE(queue.next(false));
+  EXPECT_FALSE(queue.next(true));
+}
+
+TEST(GatewayQueue, RequestsThatWaitedTooLongLeaveOldestFirst) {
+  GatewayQueue queue(2s);
+  const auto a = queue.push(1, false, 3, t0);
+  const auto b = queue.push(2, false, 3, t0 + 500ms);
+  queue.push(3, false, 3, t0 + 1500ms);
+  EXPECT_EQ(queue.next_expiry(), t0 + 2s);
+  EXPECT_TRUE(queue.expire(t0 + 2s - 1ms).empty());
+  const auto expired = queue.expire(t0 + 2500ms);
+  ASSERT_EQ(expired.size(), 2u);
+  EXPECT_EQ(expired[0].ticket, a);
+  EXPECT_EQ(expired[1].ticket, b);
+  EXPECT_EQ(queue.size(), 1u);
+  EXPECT_EQ(queue.next_expiry(), t0 + 3500ms);
+}
+
+TEST(GatewayQueue, AClientThatLeftLeavesNoRequestBehind) {
+  GatewayQueue queue(2s);
+  queue.push(1, false, 3, t0);
+  queue.push(2, false, 3, t0);
+  queue.push(1, false, 4, t0);
+  EXPECT_EQ(queue.drop_client(1).size(), 2u);
+  EXPECT_EQ(serve_all(queue), (std::vector<std::uint64_t>{2}));
+}
+
+// The scheduler keeps the line's pacing for a transaction that is not its own.
+TEST(GatewayLine, AForwardedTransactionHoldsTheLineAndTheDevicesGap) {
+  MasterScheduler::Options options;
+  options.frame_gap = 2ms;
+  PlannedRequest poll;
+  poll.device = 3;
+  poll.function = 3;
+  poll.count = 1;
+  poll.period = 1s;
+  MasterScheduler scheduler({poll}, options, {{3, MasterScheduler::DeviceTiming{35ms, 500ms}}}, t0);
+  EXPECT_EQ(scheduler.ready_for(7), t0);
+  scheduler.line_used(3, t0, t0 + 10ms);
+  EXPECT_EQ(scheduler.ready_for(7), t0 + 12ms);   // any unit: after the frame gap
+  EXPECT_EQ(scheduler.ready_for(3), t0 + 35ms);   // the stepper driver's 35 ms since its last frame
+  EXPECT_FALSE(scheduler.decide(t0 + 11ms).send);  // the poll waits for the line too
+  EXPECT_EQ(scheduler.decide(t0 + 11ms).wake, t0 + 35ms);
+  EXPECT_TRUE(scheduler.knows(3));
+  EXPECT_FALSE(scheduler.knows(7));
+}
+
+// Only the frame is checked of a forwarded answer: any function, the slave's exception as it is.
+TEST(GatewayCodec, AForwardedAnswerIsCheckedForItsFrameOnly) {
+  const auto answer = rtu_frame(3, Bytes{0x2B, 0x0E, 0x01, 0x01});  // function 43, not checked further
+  auto r = check_forwarded_rtu_answer(answer, 3);
+  EXPECT_EQ(r.status, ResponseStatus::ok);
+  EXPECT_EQ(Bytes(r.pdu.begin(), r.pdu.end()), (Bytes{0x2B, 0x0E, 0x01, 0x01}));
+  const auto exception = rtu_frame(3, Bytes{0x83, 0x02});
+  r = check_forwarded_rtu_answer(exception, 3);
+  EXPECT_EQ(r.status, ResponseStatus::exception);
+  EXPECT_EQ(r.exception, modbus::ExceptionCode::illegal_data_address);
+  EXPECT_EQ(Bytes(r.pdu.begin(), r.pdu.end()), (Bytes{0x83, 0x02}));
+  EXPECT_EQ(check_forwarded_rtu_answer(answer, 4).status, ResponseStatus::wrong_address);
+  auto corrupt = answer;
+  corrupt.back() ^= 0x01;
+  EXPECT_EQ(check_forwarded_rtu_answer(corrupt, 3).status, ResponseStatus::bad_crc);
+  EXPECT_EQ(check_forwarded_rtu_answer({}, 3).status, ResponseStatus::timeout);
+  EXPECT_EQ(check_forwarded_rtu_answer(Bytes{0x03, 0x83, 0x02}, 3).status, ResponseStatus::too_short);
+}
+
+}  // namespace
+}  // namespace unima::master
