@@ -16,6 +16,7 @@
 #include "config/config.hpp"
 #include "config/register_map.hpp"
 #include "io/error_hold.hpp"
+#include "io/gateway_request.hpp"
 #include "io/state_file.hpp"
 #include "modbus/capture.hpp"
 #include "monitor/monitor.hpp"
@@ -56,6 +57,9 @@ struct Runtime {
   std::chrono::steady_clock::time_point started_at = std::chrono::steady_clock::now();
   /// The whole status document (`unima-bridge status --json`), for who shows it.
   std::function<nlohmann::json()> status;
+  /// A TCP client's request for a foreign slave (modbus.gateway, SPEC §14), to the running
+  /// master's line; the master service sets it.
+  std::function<void(GatewayRequest, GatewayAnswer)> forward_to_line;
 
   const config::Config& config() const { return banks->config; }
 };

@@ -6,6 +6,7 @@
 #include "io/master/master_rtu_link.hpp"
 #include "io/master/master_tcp_link.hpp"
 #include "master/master_codec.hpp"
+#include "modbus/request_handler.hpp"
 
 namespace unima::io {
 
@@ -46,8 +47,8 @@ std::string outcome_text(const master::MasterResponse& r) {
 }  // namespace
 
 std::string describe_master_transaction(const modbus::Transaction& t) {
-  return fmt::format("{} {}{} {} -> {}", state_name(t.state), t.peer.empty() ? "rtu" : "tcp:", t.peer, hex(t.query),
-                     hex(t.response));
+  const auto* port = t.port == modbus::PortKind::gateway ? "gw:" : t.peer.empty() ? "rtu" : "tcp:";
+  return fmt::format("{} {}{} {} -> {}", state_name(t.state), port, t.peer, hex(t.query), hex(t.response));
 }
 
 std::shared_ptr<MasterPort> MasterPort::create(asio::io_context& io, const config::Config& config, Hooks hooks) {
@@ -57,16 +58,20 @@ std::shared_ptr<MasterPort> MasterPort::create(asio::io_context& io, const confi
     link = std::make_shared<MasterTcpLink>(io, master.tcp, master.tcp_target);
   else
     link = std::make_shared<MasterRtuLink>(io, *config.modbus.rtu);
-  return std::make_shared<MasterPort>(io, std::move(setup), std::move(link), std::move(hooks));
+  return std::make_shared<MasterPort>(io, std::move(setup), std::move(link), std::move(hooks), config.modbus.gateway);
 }
 
-MasterPort::MasterPort(asio::io_context& io, config::MasterSetup setup, std::shared_ptr<MasterLink> link, Hooks hooks)
+MasterPort::MasterPort(asio::io_context& io, config::MasterSetup setup, std::shared_ptr<MasterLink> link, Hooks hooks,
+                       std::optional<config::GatewayConfig> gateway)
     : setup_(std::move(setup)),
       link_(std::move(link)),
       hooks_(std::move(hooks)),
       wake_timer_(io),
       stale_timer_(io.get_executor(), [this] { return staleness_ ? staleness_->next_expiry() : std::nullopt; },
-                   [this] { expire_stale_values(); }) {}
+                   [this] { expire_stale_values(); }),
+      executor_(io.get_executor()),
+      gateway_config_(std::move(gateway)),
+      expiry_timer_(io) {}
 
 MasterPort::~MasterPort() { stop(); }
 
@@ -82,6 +87,7 @@ void MasterPort::start() {
     stale_limits.push_back(setup_.blocks[i].is_read() ? std::optional<Clock::duration>(setup_.stale_after[i]) : std::nullopt);
   staleness_.emplace(std::move(stale_limits), now);
   skip_warned_.assign(setup_.blocks.size(), false);
+  if (gateway_config_) gateway_.emplace(gateway_config_->wait);
   spdlog::info("modbus master: {}, {} requests for {} blocks", link_->describe(), scheduler_->request_count(),
                setup_.blocks.size());
   stale_timer_.watch();
@@ -94,7 +100,13 @@ void MasterPort::stop() {
   link_->close();
   wake_timer_.cancel();
   stale_timer_.cancel();
+  expiry_timer_.cancel();
   in_flight_ = false;
+  // The clients waiting for the line get an answer: nothing behind the gateway will give one.
+  if (on_line_) refuse(*std::exchange(on_line_, std::nullopt), modbus::ExceptionCode::gateway_target_failed);
+  for (auto& [ticket, waiting] : waiting_) refuse(std::move(waiting), modbus::ExceptionCode::gateway_target_failed);
+  waiting_.clear();
+  gateway_.reset();
   for (const auto& [device, c] : counters_)
     spdlog::info("modbus master: device {}: {} requests, {} answered, {} time-outs, {} bad frames, {} exceptions, "
                  "{} retries, {} probes, {} sends skipped{}",
@@ -106,12 +118,23 @@ void MasterPort::pump() {
   while (running_ && !in_flight_) {
     const auto now = Clock::now();
     const auto decision = scheduler_->decide(now);
+    auto wake = decision.wake;
+    if (gateway_) {
+      if (const auto next = gateway_->next(decision.send.has_value())) {
+        const auto ready = scheduler_->ready_for(next->unit);
+        if (ready <= now) {
+          forward_now(*next, now);
+          continue;
+        }
+        wake = std::min(wake, ready);
+      }
+    }
     if (decision.send) {
       send(*decision.send);
       continue;
     }
-    if (decision.wake == Clock::time_point::max()) return;
-    wake_timer_.expires_at(decision.wake);
+    if (wake == Clock::time_point::max()) return;
+    wake_timer_.expires_at(wake);
     wake_timer_.async_wait([weak = weak_from_this()](const boost::system::error_code& ec) {
       const auto self = weak.lock();
       if (!ec && self) self->pump();
@@ -148,6 +171,7 @@ void MasterPort::send(const MasterScheduler::Choice& choice) {
   if (choice.attempt > 0) ++counters.retries;
   if (choice.probe) ++counters.probes;
   scheduler_->begin(choice, now);
+  if (gateway_) gateway_->poll_began();
   in_flight_ = true;
   const auto sent = std::chrono::system_clock::now();
   if (hooks_.on_query_sent) hooks_.on_query_sent(sent);
@@ -209,6 +233,91 @@ void MasterPort::finished(const MasterScheduler::Choice& choice, const master::B
     spdlog::debug("modbus master: device {} function {} {}: {}", request.device, request.function, range(request),
                   outcome_text(result));
   pump();
+}
+
+void MasterPort::forward(GatewayRequest request, GatewayAnswer answer) {
+  if (!running_ || !gateway_) return refuse(Forwarded{std::move(request), std::move(answer)},
+                                            modbus::ExceptionCode::gateway_target_failed);
+  const auto ticket = gateway_->push(request.client, request.priority, request.unit, Clock::now());
+  waiting_.emplace(ticket, Forwarded{std::move(request), std::move(answer)});
+  if (gateway_->size() == 1) expire_waiting();  // the timer was idle: arm it
+  if (in_flight_) return;  // the line's next turn is decided when its transaction ends
+  // Not from within the client's call: its answer must not come back into it.
+  asio::post(executor_, [weak = weak_from_this()] {
+    if (const auto self = weak.lock(); self && !self->in_flight_) self->pump();
+  });
+}
+
+void MasterPort::expire_waiting() {
+  if (!running_ || !gateway_) return;
+  for (const auto& expired : gateway_->expire(Clock::now())) {
+    auto waiting = waiting_.extract(expired.ticket);
+    if (!waiting.empty()) refuse(std::move(waiting.mapped()), modbus::ExceptionCode::server_device_busy);
+  }
+  const auto next = gateway_->next_expiry();
+  if (!next) return;
+  expiry_timer_.expires_at(*next);
+  expiry_timer_.async_wait([weak = weak_from_this()](const boost::system::error_code& ec) {
+    if (const auto self = weak.lock(); self && !ec) self->expire_waiting();
+  });
+}
+
+// A forwarded request is sent as it came and never retried: the client decides whether
+// to ask again (a write twice may not be what it wants).
+void MasterPort::forward_now(const master::GatewayQueue::Request& next, Clock::time_point now) {
+  gateway_->began(next.ticket);
+  auto waiting = waiting_.extract(next.ticket);
+  if (waiting.empty()) return;
+  on_line_ = std::move(waiting.mapped());
+  in_flight_ = true;
+  const auto sent = std::chrono::system_clock::now();
+  if (hooks_.on_query_sent) hooks_.on_query_sent(sent);
+  const auto unit = on_line_->request.unit;
+  link_->transact(unit, on_line_->request.pdu, gateway_timeout(unit),
+                  [weak = weak_from_this(), now, sent](master::Bytes query, master::Bytes response) {
+                    const auto self = weak.lock();
+                    if (!self || !self->on_line_) return;
+                    self->forwarded(*std::exchange(self->on_line_, std::nullopt), now, sent, query, response);
+                  });
+}
+
+void MasterPort::forwarded(const Forwarded& forwarded, Clock::time_point started,
+                           std::chrono::system_clock::time_point sent, const master::Bytes& query,
+                           const master::Bytes& response) {
+  if (!running_) return;
+  in_flight_ = false;
+  const auto& request = forwarded.request;
+  scheduler_->line_used(request.unit, started, Clock::now());
+  const auto result = master::check_forwarded_rtu_answer(response, request.unit);
+  if (hooks_.on_transaction)
+    hooks_.on_transaction(modbus::Transaction{modbus::PortKind::gateway, request.peer, sent,
+                                              master::transaction_state(result), query, response, false});
+  if (result.status == ResponseStatus::ok || result.status == ResponseStatus::exception) {
+    forwarded.answer(result.pdu);
+  } else {
+    // No answer, a bad CRC, another slave's answer: the target failed to respond (SPEC §14).
+    std::array<std::uint8_t, 2> pdu{};
+    modbus::write_exception(request.pdu[0], modbus::ExceptionCode::gateway_target_failed, pdu);
+    forwarded.answer(pdu);
+  }
+  pump();
+}
+
+void MasterPort::refuse(Forwarded forwarded, modbus::ExceptionCode code) {
+  asio::post(executor_, [forwarded = std::move(forwarded), code] {
+    std::array<std::uint8_t, 2> pdu{};
+    modbus::write_exception(forwarded.request.pdu.at(0), code, pdu);
+    forwarded.answer(pdu);
+  });
+}
+
+// modbus.gateway.timeout; else the polled device's response time-out (its own, else the
+// master's); else 1 s (SPEC §14).
+std::chrono::milliseconds MasterPort::gateway_timeout(std::uint8_t unit) const {
+  if (gateway_config_ && gateway_config_->timeout) return *gateway_config_->timeout;
+  if (scheduler_->knows(unit))
+    return std::chrono::duration_cast<std::chrono::milliseconds>(scheduler_->timing(unit).response_timeout);
+  return std::chrono::seconds(1);
 }
 
 void MasterPort::take_values(const master::PlannedRequest& request, const master::MasterResponse& result,

@@ -7,6 +7,11 @@
 // Faults (time-out, bad CRC, exception, short or wrong frame) go to the monitor hook, to
 // the fault hook (C+0x13 bit 15 and its 2 s hold) and to the counters. A value stays as
 // last read until `stale_after` without a good read, then reads 0x7FFF.
+//
+// With modbus.gateway (SPEC §14, docs/gateway.md), TCP clients' requests for the foreign
+// slaves share the line with the polls: master/gateway_queue says whose turn it is, the
+// scheduler when the line is free. A forwarded request goes once (never retried), and each
+// is a monitor line of port `gw`.
 
 #include <chrono>
 #include <functional>
@@ -20,8 +25,10 @@
 #include "config/config.hpp"
 #include "config/master_setup.hpp"
 #include "platform/asio.hpp"
+#include "io/gateway_request.hpp"
 #include "io/lazy_deadline.hpp"
 #include "io/master/master_link.hpp"
+#include "master/gateway_queue.hpp"
 #include "master/staleness.hpp"
 #include "master/master_scheduler.hpp"
 #include "modbus/transaction.hpp"
@@ -63,10 +70,16 @@ class MasterPort : public std::enable_shared_from_this<MasterPort> {
   void start();
   void stop();
 
+  /// A TCP client's request for a foreign slave (modbus.gateway): queued for the line and
+  /// answered once; 0x06 when it could not start within `wait`, 0x0B when the slave did
+  /// not answer well.
+  void forward(GatewayRequest request, GatewayAnswer answer);
+
   std::string describe() const { return link_->describe(); }
   const std::map<std::uint8_t, MasterDeviceCounters>& counters() const { return counters_; }
 
-  MasterPort(asio::io_context& io, config::MasterSetup setup, std::shared_ptr<MasterLink> link, Hooks hooks);
+  MasterPort(asio::io_context& io, config::MasterSetup setup, std::shared_ptr<MasterLink> link, Hooks hooks,
+             std::optional<config::GatewayConfig> gateway = std::nullopt);
 
  private:
   using Clock = master::MasterScheduler::Clock;
@@ -74,6 +87,19 @@ class MasterPort : public std::enable_shared_from_this<MasterPort> {
   void send(const master::MasterScheduler::Choice& choice);
   void finished(const master::MasterScheduler::Choice& choice, const master::Bytes& pdu,
                 std::chrono::system_clock::time_point sent, master::Bytes query, master::Bytes response);
+  struct Forwarded {
+    GatewayRequest request;
+    GatewayAnswer answer;
+  };
+  void forward_now(const master::GatewayQueue::Request& next, Clock::time_point now);
+  void forwarded(const Forwarded& forwarded, Clock::time_point started, std::chrono::system_clock::time_point sent,
+                 const master::Bytes& query, const master::Bytes& response);
+  /// Answers a forwarded request with the gateway's own exception, after this call.
+  void refuse(Forwarded forwarded, modbus::ExceptionCode code);
+  std::chrono::milliseconds gateway_timeout(std::uint8_t unit) const;
+  /// Answers 0x06 to the requests that have waited `wait`, also while a transaction is
+  /// under way, and arms the timer for the next.
+  void expire_waiting();
   void take_values(const master::PlannedRequest& request, const master::MasterResponse& result, Clock::time_point now);
   void publish(unsigned output, std::uint16_t value);
   void expire_stale_values();
@@ -90,6 +116,12 @@ class MasterPort : public std::enable_shared_from_this<MasterPort> {
   std::map<std::uint8_t, MasterDeviceCounters> counters_;
   bool in_flight_ = false;
   bool running_ = false;
+  asio::any_io_executor executor_;
+  std::optional<config::GatewayConfig> gateway_config_;
+  std::optional<master::GatewayQueue> gateway_;
+  asio::steady_timer expiry_timer_;
+  std::map<master::GatewayQueue::Ticket, Forwarded> waiting_;  // queued for the line
+  std::optional<Forwarded> on_line_;                            // the forwarded request under way
 };
 
 /// One line for the log: "Timeout rtu 01 03 04 24 00 02 85 30 -> -".

@@ -3,10 +3,21 @@
 #include <spdlog/spdlog.h>
 
 #include "io/modbus/port_counters.hpp"
+#include "modbus/request_handler.hpp"
 
 namespace unima::io {
 
-MasterService::MasterService(Runtime& runtime) : runtime_(runtime), master_(make_master(runtime.config())) {}
+MasterService::MasterService(Runtime& runtime) : runtime_(runtime), master_(make_master(runtime.config())) {
+  // To whichever master runs now: a reload swaps it.
+  runtime_.forward_to_line = [this](GatewayRequest request, GatewayAnswer answer) {
+    if (master_) return master_->forward(std::move(request), std::move(answer));
+    asio::post(runtime_.io, [fn = request.pdu.at(0), answer = std::move(answer)] {
+      std::array<std::uint8_t, 2> pdu{};
+      modbus::write_exception(fn, modbus::ExceptionCode::gateway_target_failed, pdu);
+      answer(pdu);
+    });
+  };
+}
 
 std::shared_ptr<MasterPort> MasterService::make_master(const config::Config& config) {
   if (config.modbus.mode != config::ModbusMode::master) return nullptr;

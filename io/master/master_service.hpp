@@ -14,6 +14,7 @@ namespace unima::io {
 class MasterService final : public Service {
  public:
   explicit MasterService(Runtime& runtime);
+  ~MasterService() override { runtime_.forward_to_line = nullptr; }
 
   void start() override;
   void stop() override;

@@ -1,6 +1,7 @@
 #include "io/modbus/slave_context.hpp"
 
 #include "io/runtime.hpp"
+#include "platform/asio.hpp"
 
 namespace unima::io {
 
@@ -17,6 +18,18 @@ SlaveContext slave_context(Runtime& runtime) {
   // The error hold and the monitor live as long as the runtime, which outlives the ports.
   context.on_fault = [&runtime] { runtime.error_hold.fault(); };
   context.on_transaction = [monitor = runtime.monitor.get()](const modbus::Transaction& t) { monitor->observe(t); };
+  if (const auto& gateway = runtime.config().modbus.gateway) {
+    context.gateway = std::make_shared<const config::GatewayConfig>(*gateway);
+    context.forward = [&runtime](GatewayRequest request, GatewayAnswer answer) {
+      if (runtime.forward_to_line) return runtime.forward_to_line(std::move(request), std::move(answer));
+      // No master runs (it could not open its line): nothing behind the gateway answers.
+      asio::post(runtime.io, [fn = request.pdu.at(0), answer = std::move(answer)] {
+        std::array<std::uint8_t, 2> pdu{};
+        modbus::write_exception(fn, modbus::ExceptionCode::gateway_target_failed, pdu);
+        answer(pdu);
+      });
+    };
+  }
   return context;
 }
 

@@ -4,7 +4,10 @@
 
 #include <cstdint>
 #include <functional>
+#include <memory>
 
+#include "config/config.hpp"
+#include "io/gateway_request.hpp"
 #include "modbus/register_model.hpp"
 #include "modbus/request_handler.hpp"
 #include "modbus/transaction.hpp"
@@ -26,6 +29,11 @@ struct SlaveContext {
   std::function<void()> on_fault;
   /// Called after every transaction, when set (the monitor, indicators). Must not block.
   std::function<void(const modbus::Transaction&)> on_transaction;
+  /// modbus.gateway (SPEC §14), a copy that lives as long as this context: the unit ids
+  /// the plain TCP port forwards to the master's line; null without a gateway.
+  std::shared_ptr<const config::GatewayConfig> gateway;
+  /// The way to the line; answers 0x0B while no master runs.
+  std::function<void(GatewayRequest, GatewayAnswer)> forward;
 };
 
 /// The running banks served as the config says (the write path, the extensions, the own

@@ -14,10 +14,16 @@ namespace unima::io {
 
 using asio::ip::tcp;
 
+namespace {
+// Clients of the gateway are told apart by the order they connected in.
+std::uint64_t next_client_id = 1;
+}  // namespace
+
 TcpSlaveServer::Connection::Connection(TcpSlaveServer& server, tcp::socket socket)
     : server_(server),
       socket_(std::move(socket)),
-      idle_(socket_.get_executor(), [this] { return idle_deadline(); }, [this] { close_idle(); }) {
+      idle_(socket_.get_executor(), [this] { return idle_deadline(); }, [this] { close_idle(); }),
+      client_id_(next_client_id++) {
   boost::system::error_code ec;
   const auto remote = socket_.remote_endpoint(ec);
   peer_ = ec ? std::string("?") : remote.address().to_string() + ":" + std::to_string(remote.port());
@@ -56,6 +62,7 @@ void TcpSlaveServer::Connection::read() {
 
 void TcpSlaveServer::Connection::serve() {
   if (!process()) return finish_broken_stream();
+  if (forwarding_) return forward();
   if (out_used_ == 0) return read();
   if (waiting_) return send_once_durable();
   send();
@@ -84,9 +91,17 @@ bool TcpSlaveServer::Connection::process() {
     const auto adu_out = std::span(out_.data() + out_used_, modbus::max_tcp_adu_size);
     const auto pdu_out = adu_out.subspan(modbus::mbap_header_size, modbus::max_pdu_size);
     const auto unit = adu.header.unit_id;
-    const auto served =
-        modbus::serve_request(modbus::Link::tcp, modbus::recipient_of(modbus::Link::tcp, unit, context.unit_id),
-                              adu.pdu, pdu_out, *context.registers, context.options, server_.write_rights(role_));
+    const auto recipient = modbus::recipient_of(modbus::Link::tcp, unit, context.unit_id);
+    if (recipient == modbus::Recipient::another_slave && forwards(unit)) {
+      auto& forwarding = forwarding_.emplace();
+      forwarding.header = adu.header;
+      forwarding.request_size = adu.size;
+      std::copy_n(in_.data() + at, adu.size, forwarding.request.begin());
+      at += adu.size;
+      break;
+    }
+    const auto served = modbus::serve_request(modbus::Link::tcp, recipient, adu.pdu, pdu_out, *context.registers,
+                                              context.options, server_.write_rights(role_), context.gateway != nullptr);
     const auto size = modbus::write_mbap_header(adu.header.transaction_id, unit, served.length, adu_out) + served.length;
     if (served.kept_as != 0) {
       auto& write = waiting_.emplace();
@@ -164,6 +179,44 @@ void TcpSlaveServer::Connection::answer_waiting_write(bool durable) {
     context.on_transaction(modbus::Transaction{port_kind(), peer_, std::chrono::system_clock::now(), served.state,
                                                std::span<const std::uint8_t>(write.request.data(), write.request_size),
                                                adu_out.first(out_used_ - write.answer_at), served.length > 0});
+}
+
+// The plain TCP port forwards; over TLS a forwarded write would need the roles' unit rights
+// (SPEC §14), which are not there yet: the TLS port routes nothing (0x0A).
+bool TcpSlaveServer::Connection::forwards(std::uint8_t unit) const {
+  const auto& context = server_.context_;
+  return port_kind() == modbus::PortKind::tcp && context.gateway && context.gateway->routes(unit) && context.forward;
+}
+
+void TcpSlaveServer::Connection::forward() {
+  const auto& context = server_.context_;
+  const auto& f = *forwarding_;
+  const auto pdu = std::span(f.request.data() + modbus::mbap_header_size, f.request_size - modbus::mbap_header_size);
+  // An empty allow list lets everyone in; an empty priority list puts nobody first.
+  const auto& priority = context.gateway->priority;
+  GatewayRequest request{client_id_, peer_, !priority.empty() && priority.allows(peer_address(address_)),
+                         f.header.unit_id, std::vector<std::uint8_t>(pdu.begin(), pdu.end())};
+  context.forward(std::move(request), [this, self = shared_from_this()](std::span<const std::uint8_t> answer) {
+    if (finished_) return;
+    answer_forwarded(answer);
+    send();
+  });
+}
+
+void TcpSlaveServer::Connection::answer_forwarded(std::span<const std::uint8_t> pdu) {
+  const auto f = *std::exchange(forwarding_, std::nullopt);
+  if (out_.size() < out_used_ + modbus::max_tcp_adu_size) out_.resize(out_used_ + modbus::max_tcp_adu_size);
+  const auto adu_out = std::span(out_.data() + out_used_, modbus::max_tcp_adu_size);
+  const auto length = std::min(pdu.size(), modbus::max_pdu_size);
+  std::copy_n(pdu.begin(), length, adu_out.begin() + modbus::mbap_header_size);
+  const auto size = modbus::write_mbap_header(f.header.transaction_id, f.header.unit_id, length, adu_out) + length;
+  const auto& context = server_.context_;
+  if (context.on_transaction)
+    context.on_transaction(modbus::Transaction{port_kind(), peer_, std::chrono::system_clock::now(),
+                                               modbus::state_of_response(pdu.first(length)),
+                                               std::span<const std::uint8_t>(f.request.data(), f.request_size),
+                                               adu_out.first(size), true});
+  out_used_ += size;
 }
 
 // Requests that waited behind a write are in in_ already: they are served before more is

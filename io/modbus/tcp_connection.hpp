@@ -104,6 +104,20 @@ class TcpSlaveServer::Connection : public std::enable_shared_from_this<Connectio
     std::size_t request_size = 0;
   };
   std::optional<WaitingWrite> waiting_;
+
+  // A request for a foreign slave on the master's line (modbus.gateway, SPEC §14): like a
+  // write waiting for the state file, its answer comes later and the requests behind it
+  // wait in in_, so that the answers keep their order.
+  struct Forwarding {
+    modbus::MbapHeader header;
+    std::array<std::uint8_t, modbus::max_tcp_adu_size> request;
+    std::size_t request_size = 0;
+  };
+  std::optional<Forwarding> forwarding_;
+  std::uint64_t client_id_;  // this connection's turn in the gateway's round
+  bool forwards(std::uint8_t unit) const;
+  void forward();
+  void answer_forwarded(std::span<const std::uint8_t> pdu);
 };
 
 /// A client of a Modbus/TCP Security port (tls_connection.cpp).

@@ -55,9 +55,6 @@ void TcpSlaveServer::stop() {
   for (const auto& c : connections_.take_all()) c->abandon();
 }
 
-namespace {
-
-// The peer's address in the allow list's form: IPv4 as ::ffff:a.b.c.d.
 config::PeerAddress peer_address(const asio::ip::address& address) {
   if (address.is_v6()) return address.to_v6().to_bytes();
   config::PeerAddress bytes{};
@@ -66,8 +63,6 @@ config::PeerAddress peer_address(const asio::ip::address& address) {
   std::copy(v4.begin(), v4.end(), bytes.begin() + 12);
   return bytes;
 }
-
-}  // namespace
 
 const modbus::WriteRights* TcpSlaveServer::write_rights(const std::optional<std::string>& role) const {
   if (options_.read_only) return &nothing_;

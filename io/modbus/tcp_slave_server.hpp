@@ -110,4 +110,8 @@ class TcpSlaveServer {
   // Warnings about clients (evictions, deadlines, bad headers) at most once a minute.
 };
 
+/// The peer's address in the form of modbus.tcp.allow and modbus.gateway.priority: IPv4
+/// as ::ffff:a.b.c.d.
+config::PeerAddress peer_address(const asio::ip::address& address);
+
 }  // namespace unima::io

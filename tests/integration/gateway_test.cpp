@@ -1,0 +1,281 @@
+// The gateway end to end (SPEC §14, issue 31): the daemon in master mode polls simulated
+// foreign slaves on a pty while Modbus TCP clients reach them through it. What a slave
+// hears and says is checked in the simulator's frame log, byte for byte.
+
+#include <modbus/modbus.h>
+
+#include <cstdio>
+#include <string>
+#include <thread>
+
+#include "modbus/rtu/crc16.hpp"
+#include "tests/integration/master_fixture.hpp"
+
+namespace unima::test {
+namespace {
+
+constexpr std::uint8_t plc = 5;      // wecon-lx5v: functions 1, 2, 3, 5, 6, 15, 16
+constexpr std::uint8_t stepper = 6;  // stepper-driver, polled by the bridge
+constexpr std::uint8_t dead = 7;     // routed, but nothing answers
+
+std::string hex(const Bytes& bytes) {
+  std::string out;
+  for (const auto b : bytes) {
+    char cell[4];
+    std::snprintf(cell, sizeof cell, "%s%02X", out.empty() ? "" : " ", b);
+    out += cell;
+  }
+  return out;
+}
+
+Bytes rtu_frame(std::uint8_t address, const Bytes& pdu) {
+  Bytes frame{address};
+  frame.insert(frame.end(), pdu.begin(), pdu.end());
+  const auto crc = modbus::crc16(frame);
+  frame.push_back(static_cast<std::uint8_t>(crc & 0xFF));
+  frame.push_back(static_cast<std::uint8_t>(crc >> 8));
+  return frame;
+}
+
+struct Answer {
+  std::uint16_t transaction = 0;
+  std::uint8_t unit = 0;
+  Bytes pdu;
+};
+
+// One request on a raw socket: the MBAP header as a client writes it, the answer as it came.
+std::optional<Answer> ask(Socket& socket, std::uint16_t transaction, std::uint8_t unit, const Bytes& pdu,
+                          std::chrono::milliseconds timeout = 3000ms) {
+  const auto length = pdu.size() + 1;
+  Bytes adu{static_cast<std::uint8_t>(transaction >> 8), static_cast<std::uint8_t>(transaction & 0xFF), 0, 0,
+            static_cast<std::uint8_t>(length >> 8),      static_cast<std::uint8_t>(length & 0xFF),      unit};
+  adu.insert(adu.end(), pdu.begin(), pdu.end());
+  socket.send(adu);
+  const auto header = socket.receive(7, timeout);
+  if (header.size() != 7) return std::nullopt;
+  const std::size_t rest = (header[4] << 8 | header[5]) - 1u;
+  Answer answer{static_cast<std::uint16_t>(header[0] << 8 | header[1]), header[6], socket.receive(rest, timeout)};
+  if (answer.pdu.size() != rest) return std::nullopt;
+  return answer;
+}
+
+class GatewayTest : public MasterTest {
+ protected:
+  void SetUp() override {
+    MasterTest::SetUp();
+    config.monitor_section = "monitor:\n  file: " + monitor_log().string() + "\n";
+  }
+  std::filesystem::path monitor_log() const { return dir.path() / "monitor.log"; }
+  /// The stepper driver polled every 200 ms (its SUBDIVISION, 8, into output 1) beside the clients.
+  void start_with(const std::string& gateway) {
+    simulate({"5=wecon-lx5v", "6=stepper-driver", "7=sic184-v3,dead"});
+    config.master = "retries: 1, response_timeout: 300ms";
+    config.blocks = "  - { type: poll, device: 6, profile: stepper-driver, point: SUBDIVISION, period: 200ms, output: 1 }\n";
+    config.modbus_extra = "  gateway: " + gateway + "\n";
+    start();
+  }
+  std::size_t heard(const Bytes& frame) const {
+    std::size_t n = 0;
+    for (const auto& f : sim->frames()) n += f.rx && f.hex == hex(frame);
+    return n;
+  }
+  bool said(const Bytes& frame) const {
+    for (const auto& f : sim->frames())
+      if (!f.rx && f.hex == hex(frame)) return true;
+    return false;
+  }
+  std::size_t polls() const { return std::stoul(sim->control("count 6").substr(6)); }
+};
+
+// Every function goes to the slave as the client sent it, and the slave's answer comes back
+// as it said it, with the client's transaction id and unit id.
+TEST_F(GatewayTest, EveryFunctionIsForwardedByteExactWithTheClientsTransactionId) {
+  start_with("{ units: [5-7], timeout: 300ms }");
+  ASSERT_EQ(sim->control("set 5 0 4660"), "ok");  // D0 = 0x1234
+  const std::vector<Bytes> requests = {
+      {0x03, 0x00, 0x00, 0x00, 0x02},                          // D0..D1
+      {0x06, 0x00, 0x01, 0x00, 0x2A},                          // D1 = 42
+      {0x10, 0x00, 0x02, 0x00, 0x02, 0x04, 0x00, 0x01, 0x00, 0x02},  // D2, D3
+      {0x01, 0x00, 0x00, 0x00, 0x08},                          // M0..M7
+      {0x02, 0xF8, 0x00, 0x00, 0x08},                          // X0..X7
+      {0x05, 0x00, 0x03, 0xFF, 0x00},                          // M3 on
+      {0x0F, 0x00, 0x08, 0x00, 0x0A, 0x02, 0xFF, 0x03},        // M8..M17
+      {0x03, 0x00, 0x00, 0x00, 0x04},                          // D0..D3 as written
+  };
+  auto socket = Socket::tcp(config.modbus_port);
+  for (std::size_t i = 0; i < requests.size(); ++i) {
+    const auto transaction = static_cast<std::uint16_t>(0x4100 + i);
+    const auto answer = ask(socket, transaction, plc, requests[i]);
+    ASSERT_TRUE(answer) << "request " << i << "\n" << diagnostics();
+    EXPECT_EQ(answer->transaction, transaction);
+    EXPECT_EQ(answer->unit, plc);
+    EXPECT_EQ(heard(rtu_frame(plc, requests[i])), 1u) << "request " << i << "\n" << diagnostics();
+    EXPECT_TRUE(said(rtu_frame(plc, answer->pdu))) << "request " << i << ": " << hex(answer->pdu) << "\n" << diagnostics();
+    EXPECT_EQ(answer->pdu[0], requests[i][0]) << "request " << i << ": " << hex(answer->pdu);
+  }
+  EXPECT_EQ(sim->control("get 5 1"), "value 42");
+  EXPECT_EQ(sim->control("coil 5 3"), "coil 1");
+  // The last read: what functions 3, 6 and 16 left in D0..D3.
+  const auto last = ask(socket, 0x4200, plc, {0x03, 0x00, 0x00, 0x00, 0x04});
+  ASSERT_TRUE(last);
+  EXPECT_EQ(hex(last->pdu), "03 08 12 34 00 2A 00 01 00 02");
+}
+
+// A libmodbus client sees the foreign slave as if it were on its own line.
+TEST_F(GatewayTest, ALibmodbusClientReadsAndWritesAForeignSlave) {
+  start_with("{ units: [5-7], timeout: 300ms }");
+  ASSERT_EQ(sim->control("set 5 10 777"), "ok");
+  ModbusClient client(config.modbus_port, plc);
+  ASSERT_TRUE(client.connected());
+  EXPECT_EQ(client.read_holding(10, 1), std::optional(std::vector<std::uint16_t>{777}));
+  EXPECT_TRUE(client.write(11, 1234));
+  EXPECT_TRUE(client.write_many(12, {5, 6}));
+  EXPECT_EQ(sim->control("get 5 11"), "value 1234");
+  EXPECT_EQ(client.read_holding(11, 3), std::optional(std::vector<std::uint16_t>{1234, 5, 6}));
+  // The bridge's own unit id still serves the banks: output 1 holds the stepper's poll.
+  EXPECT_TRUE(output_becomes(1, 8)) << diagnostics();
+}
+
+// The slave's exception is its answer: passed back as it came. Function 4 is one the PLC lacks.
+TEST_F(GatewayTest, TheSlavesExceptionIsPassedBack) {
+  start_with("{ units: [5-7], timeout: 300ms }");
+  auto socket = Socket::tcp(config.modbus_port);
+  const auto no_function = ask(socket, 1, plc, {0x04, 0x00, 0x00, 0x00, 0x01});
+  ASSERT_TRUE(no_function) << diagnostics();
+  EXPECT_EQ(hex(no_function->pdu), "84 01");
+  EXPECT_TRUE(said(rtu_frame(plc, {0x84, 0x01}))) << diagnostics();
+  ModbusClient client(config.modbus_port, stepper);
+  EXPECT_FALSE(client.read_holding(0x0500, 1));  // outside the stepper driver's map
+  EXPECT_EQ(client.last_error(), EMBXILADD);
+}
+
+// SPEC §14: a unit id the gateway does not route is 0x0A; the bridge's own, 0 and 255 serve the banks.
+TEST_F(GatewayTest, AUnitNotRoutedIsGatewayPathUnavailable) {
+  start_with("{ units: [5-7], timeout: 300ms }");
+  ModbusClient unrouted(config.modbus_port, 9);
+  EXPECT_FALSE(unrouted.read_holding(0, 1));
+  EXPECT_EQ(unrouted.last_error(), EMBXGPATH);
+  for (const int unit : {1, 0, 255}) {
+    ModbusClient own(config.modbus_port, unit);
+    EXPECT_TRUE(own.read_input(c_bank, 1)) << "unit " << unit;
+  }
+  EXPECT_EQ(heard(rtu_frame(9, {0x03, 0x00, 0x00, 0x00, 0x01})), 0u);
+}
+
+// No answer within the time-out: 0x0B, and a write that got none is not sent again; nor is
+// a read: the client decides whether to ask again.
+TEST_F(GatewayTest, ADeadSlaveIsGatewayTargetFailedAndNothingIsRetried) {
+  start_with("{ units: [5-7], timeout: 300ms }");
+  auto socket = Socket::tcp(config.modbus_port);
+  const Bytes write{0x05, 0x07, 0xD0, 0xFF, 0x00};  // ENABLE on the dead SIC184
+  const auto started = std::chrono::steady_clock::now();
+  const auto answer = ask(socket, 0x0777, dead, write);
+  const auto took = std::chrono::steady_clock::now() - started;
+  ASSERT_TRUE(answer) << diagnostics();
+  EXPECT_EQ(answer->transaction, 0x0777);
+  EXPECT_EQ(hex(answer->pdu), "85 0B");
+  EXPECT_GE(took, 300ms);
+  const Bytes read{0x03, 0x00, 0x00, 0x00, 0x01};
+  const auto read_answer = ask(socket, 0x0778, dead, read);
+  ASSERT_TRUE(read_answer);
+  EXPECT_EQ(hex(read_answer->pdu), "83 0B");
+  // Two time-outs later (the retries a poll would get), each went on the line once.
+  std::this_thread::sleep_for(700ms);
+  EXPECT_EQ(heard(rtu_frame(dead, write)), 1u) << diagnostics();
+  EXPECT_EQ(heard(rtu_frame(dead, read)), 1u) << diagnostics();
+  // The gateway keeps serving the others.
+  const auto alive = ask(socket, 0x0779, plc, read);
+  ASSERT_TRUE(alive);
+  EXPECT_EQ(alive->pdu[0], 0x03);
+}
+
+// Forwarded requests and polls share the line: the poll keeps coming while a client asks
+// without pause, and each forwarded transaction is a monitor line of port gw.
+TEST_F(GatewayTest, PollsGoOnBesideAClientAndEachTransactionIsAMonitorLine) {
+  start_with("{ units: [5-7], timeout: 300ms }");
+  ASSERT_TRUE(output_becomes(1, 8)) << diagnostics();
+  auto socket = Socket::tcp(config.modbus_port);
+  const auto polls_before = polls();
+  const auto started = std::chrono::steady_clock::now();
+  std::size_t asked = 0;
+  while (std::chrono::steady_clock::now() - started < 1500ms) {
+    const auto answer = ask(socket, static_cast<std::uint16_t>(asked), plc, {0x03, 0x00, 0x00, 0x00, 0x01});
+    ASSERT_TRUE(answer) << diagnostics();
+    ASSERT_EQ(answer->pdu[0], 0x03);
+    ++asked;
+  }
+  EXPECT_GE(asked, 10u);
+  // 200 ms polls for 1.5 s: 7 or 8 on time; at least 5 even on a loaded machine.
+  EXPECT_GE(polls() - polls_before, 5u) << diagnostics();
+  (void)ask(socket, 0x0900, dead, {0x03, 0x00, 0x00, 0x00, 0x01});
+  std::string log;
+  ASSERT_TRUE(eventually([&] {
+    log = read_file(monitor_log());
+    return log.find("State=Timeout Ad=7") != std::string::npos;
+  })) << log;
+  const auto port = " gw:127.0.0.1:" + std::to_string(socket.local_port()) + " ";
+  EXPECT_NE(log.find(port), std::string::npos) << log;
+  EXPECT_NE(log.find(port + "Ix="), std::string::npos) << log;
+  const auto done = log.find("State=Done Ad=5 PDU=03 00 00 00 01");
+  ASSERT_NE(done, std::string::npos) << log;
+  EXPECT_NE(log.rfind(" gw:127.0.0.1:", done), std::string::npos) << log;
+  EXPECT_NE(log.find(" master "), std::string::npos) << log;  // the polls, as before
+}
+
+// A request that cannot start within `wait` is answered "busy": here the line is held by a
+// request to a dead slave for its whole time-out.
+TEST_F(GatewayTest, ARequestThatCannotStartWithinWaitIsBusy) {
+  start_with("{ units: [5-7], timeout: 800ms, wait: 150ms }");
+  auto first = Socket::tcp(config.modbus_port);
+  auto second = Socket::tcp(config.modbus_port);
+  const Bytes to_dead{0x03, 0x00, 0x00, 0x00, 0x01};
+  // The first request holds the line; the second waits behind it.
+  Bytes adu{0x00, 0x01, 0, 0, 0, 6, dead, 0x03, 0x00, 0x00, 0x00, 0x01};
+  first.send(adu);
+  ASSERT_TRUE(sim->wait_for_frame(hex(rtu_frame(dead, to_dead)))) << diagnostics();
+  const auto started = std::chrono::steady_clock::now();
+  const auto busy = ask(second, 0x0002, plc, {0x03, 0x00, 0x00, 0x00, 0x01});
+  const auto took = std::chrono::steady_clock::now() - started;
+  ASSERT_TRUE(busy) << diagnostics();
+  EXPECT_EQ(busy->transaction, 0x0002);
+  EXPECT_EQ(hex(busy->pdu), "83 06");
+  EXPECT_LT(took, 700ms);  // at its wait, not when the line is free again
+  EXPECT_EQ(heard(rtu_frame(plc, {0x03, 0x00, 0x00, 0x00, 0x01})), 0u);
+  const auto header = first.receive(9);
+  ASSERT_EQ(header.size(), 9u);
+  EXPECT_EQ(header[7], 0x83);
+  EXPECT_EQ(header[8], 0x0B);
+}
+
+// While the line is held, a normal client's request and then a priority peer's wait: the
+// priority peer goes first when the line frees; then each client in turn.
+TEST_F(GatewayTest, APriorityPeerGoesFirstAndClientsTakeTurns) {
+  start_with("{ units: [5-7], timeout: 600ms, wait: 3s, priority: [127.0.0.2] }");
+  auto holder = Socket::tcp(config.modbus_port);
+  auto normal = Socket::tcp(config.modbus_port);
+  auto other = Socket::tcp(config.modbus_port);
+  auto priority = Socket::tcp_from("127.0.0.2", config.modbus_port);
+  ASSERT_TRUE(priority.valid());
+  const auto request = [](std::uint16_t transaction, std::uint8_t unit, std::uint16_t reg) {
+    return Bytes{static_cast<std::uint8_t>(transaction >> 8), static_cast<std::uint8_t>(transaction), 0, 0, 0, 6,
+                 unit, 0x03, static_cast<std::uint8_t>(reg >> 8), static_cast<std::uint8_t>(reg), 0x00, 0x01};
+  };
+  holder.send(request(1, dead, 0));
+  ASSERT_TRUE(sim->wait_for_frame(hex(rtu_frame(dead, {0x03, 0x00, 0x00, 0x00, 0x01})))) << diagnostics();
+  normal.send(request(2, plc, 2));
+  normal.send(request(3, plc, 3));  // pipelined: waits behind its first
+  other.send(request(4, plc, 4));
+  std::this_thread::sleep_for(50ms);
+  priority.send(request(5, plc, 5));
+  for (auto* socket : {&normal, &normal, &other, &priority}) ASSERT_EQ(socket->receive(11).size(), 11u) << diagnostics();
+  ASSERT_EQ(holder.receive(9).size(), 9u);
+  // The order the PLC heard them in: the priority peer's, then one of each client, then the rest.
+  std::vector<std::string> order;
+  for (const auto& f : sim->frames())
+    if (f.rx && f.hex.starts_with("05 03 00 0")) order.push_back(f.hex.substr(0, 14));
+  EXPECT_EQ(order, (std::vector<std::string>{"05 03 00 05 00", "05 03 00 02 00", "05 03 00 04 00", "05 03 00 03 00"}))
+      << diagnostics();
+}
+
+}  // namespace
+}  // namespace unima::test
