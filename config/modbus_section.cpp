@@ -114,25 +114,10 @@ void parse_master(ParseState& state, const YAML::Node& node) {
   }
 }
 
-// One item of modbus.gateway.units: an id, or a range "2-9"; both ends within 1..247 (0 is
-// the broadcast, 248..255 are reserved: no slave on a line has them).
+// One item of modbus.gateway.units: an id, or a range "2-9".
 void parse_gateway_unit(const YamlReader& yaml, const YAML::Node& item, GatewayConfig& gateway) {
-  const auto written = yaml.text(item);
-  const auto dash = written.find('-');
-  const auto bound = [&](std::string_view part) {
-    const auto value = banks::parse_number(std::string(part));
-    if (!value)
-      yaml.fail(item, fmt::format("modbus.gateway.units: '{}' is not a unit id or a range of them (write e.g. 3 or "
-                                  "2-9)", written));
-    if (*value < 1 || *value > 247)
-      yaml.fail(item, fmt::format("modbus.gateway.units: unit {} is outside 1..247", *value));
-    return static_cast<unsigned>(*value);
-  };
-  const auto first = bound(std::string_view(written).substr(0, dash));
-  const auto last = dash == std::string::npos ? first : bound(std::string_view(written).substr(dash + 1));
-  if (last < first)
-    yaml.fail(item, fmt::format("modbus.gateway.units: the range {} ends before it begins", written));
-  for (auto unit = first; unit <= last; ++unit) gateway.units[unit] = true;
+  const auto [first, last] = parse_unit_range(yaml, item, yaml.text(item), "modbus.gateway.units", "3 or 2-9");
+  for (unsigned unit = first; unit <= last; ++unit) gateway.units[unit] = true;
 }
 
 GatewayConfig parse_gateway(const YamlReader& yaml, const YAML::Node& node) {
@@ -177,6 +162,25 @@ void check_gateway(const YamlReader& yaml, const YAML::Node& modbus, const Modbu
 }
 
 }  // namespace
+
+// 0 is the broadcast and 248..255 are reserved: no slave on a line has them.
+std::pair<std::uint8_t, std::uint8_t> parse_unit_range(const YamlReader& yaml, const YAML::Node& item,
+                                                       std::string_view written, std::string_view key,
+                                                       std::string_view example) {
+  const auto dash = written.find('-');
+  const auto bound = [&](std::string_view part) {
+    const auto value = banks::parse_number(std::string(part));
+    if (!value)
+      yaml.fail(item, fmt::format("{}: '{}' is not a unit id or a range of them (write e.g. {})", key, yaml.text(item),
+                                  example));
+    if (*value < 1 || *value > 247) yaml.fail(item, fmt::format("{}: unit {} is outside 1..247", key, *value));
+    return static_cast<std::uint8_t>(*value);
+  };
+  const auto first = bound(written.substr(0, dash));
+  const auto last = dash == std::string_view::npos ? first : bound(written.substr(dash + 1));
+  if (last < first) yaml.fail(item, fmt::format("{}: the range {} ends before it begins", key, written));
+  return {first, last};
+}
 
 const master::DeviceProfile* parse_profile(const ParseState& state, const YAML::Node& node) {
   const auto id = state.yaml.text(node);

@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <array>
+#include <optional>
+#include <string_view>
 #include <tuple>
 #include <utility>
 #include <vector>
@@ -69,7 +71,17 @@ TcpSlaveConfig parse_tcp_slave(const YamlReader& yaml, const YAML::Node& node, s
   return t;
 }
 
-// A role's `write: [W, X, 0x0201]`: banks by name, registers by address.
+// A role's "unit 3" or "units 5-9": the ids after the word, or nullopt for an item that is
+// not one (a bank or a register).
+std::optional<std::string_view> unit_words(std::string_view text) {
+  if (!text.starts_with("unit")) return std::nullopt;
+  text.remove_prefix(text.starts_with("units") ? 5 : 4);
+  while (!text.empty() && text.front() == ' ') text.remove_prefix(1);
+  return text;
+}
+
+// A role's `write: [W, X, 0x0201, "unit 3", "units 5-9"]`: banks by name, registers by
+// address, and the foreign slaves behind the gateway it may send writes to (SPEC §14).
 modbus::WriteRights parse_role(const YamlReader& yaml, const std::string& name, const YAML::Node& node,
                                const banks::AddressMap& map) {
   if (!node.IsMap()) yaml.fail(node, fmt::format("modbus.tls.roles.{} must be {{ write: [...] }}", name));
@@ -78,10 +90,16 @@ modbus::WriteRights parse_role(const YamlReader& yaml, const std::string& name, 
   const auto write = node["write"];
   if (!write) return rights;
   if (!write.IsSequence())
-    yaml.fail(write, fmt::format("modbus.tls.roles.{}.write must be a list of banks and registers, e.g. [W, X, 0x0201]", name));
+    yaml.fail(write, fmt::format("modbus.tls.roles.{}.write must be a list of banks, registers and units, e.g. "
+                                 "[W, X, 0x0201, \"unit 3\"]",
+                                 name));
   for (const auto& item : write) {
     const auto text = yaml.text(item);
-    if (const auto bank = banks::parse_bank_name(text)) {
+    if (const auto units = unit_words(text)) {
+      const auto [first, last] = parse_unit_range(yaml, item, *units, fmt::format("modbus.tls.roles.{}.write", name),
+                                                  "\"unit 3\" or \"units 5-9\"");
+      rights.allow_units(first, last);
+    } else if (const auto bank = banks::parse_bank_name(text)) {
       const auto window = std::find_if(map.windows().begin(), map.windows().end(), [&](const banks::Window& w) {
         return w.kind == banks::Window::Kind::bank && w.bank == *bank;
       });

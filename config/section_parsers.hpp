@@ -46,6 +46,12 @@ void parse_state(ParseState& state, const YAML::Node& node, const YAML::Node& ro
 void parse_modbus(ParseState& state, const YAML::Node& node);
 /// A device profile named in the config (modbus.master.devices.N.profile, a block's profile).
 const master::DeviceProfile* parse_profile(const ParseState& state, const YAML::Node& node);
+/// Unit ids of foreign slaves (modbus.gateway.units, a TLS role's "units 5-9"): `written`
+/// is an id or a range "2-9", both ends within 1..247. An error, at `item`, begins with
+/// `key` and shows `example` of the right form.
+std::pair<std::uint8_t, std::uint8_t> parse_unit_range(const YamlReader& yaml, const YAML::Node& item,
+                                                       std::string_view written, std::string_view key,
+                                                       std::string_view example);
 
 // network_sections.cpp: what listens on or connects to the network besides the feed.
 TcpSlaveConfig parse_modbus_tcp(ParseState& state, const YAML::Node& node);

@@ -52,4 +52,12 @@ Served refuse_unkept_write(Recipient recipient, std::uint8_t function, std::span
   return served;
 }
 
+Served refuse_forwarded_write(std::uint8_t function, std::span<std::uint8_t> out) {
+  Served served;
+  served.length = answer_refused_write(function, WriteResult::Status::not_allowed, out);
+  served.state = state_of_response(out.first(served.length));
+  served.fault = true;
+  return served;
+}
+
 }  // namespace unima::modbus

@@ -53,4 +53,9 @@ Served serve_request(Link link, Recipient recipient, std::span<const std::uint8_
 /// `function`: the request's function code.
 Served refuse_unkept_write(Recipient recipient, std::uint8_t function, std::span<std::uint8_t> out);
 
+/// What a request for a foreign slave behind the gateway is served as when the client may
+/// not send it there (WriteRights::may_forward, SPEC §14): exception 01 into `out`, Err01
+/// and a fault, as a write to the banks outside the client's rights; nothing goes on the line.
+Served refuse_forwarded_write(std::uint8_t function, std::span<std::uint8_t> out);
+
 }  // namespace unima::modbus

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "modbus/protocol.hpp"
+
 namespace unima::modbus {
 
 void WriteRights::allow(std::uint16_t first, std::uint16_t last) {
@@ -18,6 +20,22 @@ void WriteRights::allow(std::uint16_t first, std::uint16_t last) {
       merged.push_back(range);
   }
   ranges_ = std::move(merged);
+}
+
+void WriteRights::allow_units(std::uint8_t first, std::uint8_t last) {
+  for (unsigned unit = first; unit <= last; ++unit) units_[unit] = true;
+}
+
+bool WriteRights::may_forward(std::uint8_t unit, std::uint8_t function) const {
+  // Functions 1-4 only read: SPEC §14 lets every client read through the gateway. Every
+  // other function counts as a write, the ones the bridge does not know too (23, 43, a
+  // vendor's): it forwards them unread, so it cannot tell that they change nothing.
+  if (function >= function::read_coils && function <= function::read_input_registers) return true;
+  return everything_ || units_[unit];
+}
+
+bool WriteRights::allows_nothing() const {
+  return !everything_ && ranges_.empty() && std::none_of(units_.begin(), units_.end(), [](bool u) { return u; });
 }
 
 bool WriteRights::allows(std::uint16_t first, std::uint16_t count) const {

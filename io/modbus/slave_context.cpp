@@ -10,6 +10,7 @@ SlaveContext slave_context(Runtime& runtime) {
   context.registers = runtime.banks->writes.get();
   context.state = runtime.state.get();
   context.unit_id = runtime.config().modbus.address;
+  context.writes_frozen = config::writes_frozen(runtime.config());
   const auto& ext = runtime.config().modbus.extensions;
   context.options.max_read_registers = modbus::max_read_registers_tcp;
   context.options.read_holding_registers = ext.function_3;

@@ -30,10 +30,12 @@ struct SlaveContext {
   /// Called after every transaction, when set (the monitor, indicators). Must not block.
   std::function<void(const modbus::Transaction&)> on_transaction;
   /// modbus.gateway (SPEC §14), a copy that lives as long as this context: the unit ids
-  /// the plain TCP port forwards to the master's line; null without a gateway.
+  /// the TCP and TLS ports forward to the master's line; null without a gateway.
   std::shared_ptr<const config::GatewayConfig> gateway;
   /// The way to the line; answers 0x0B while no master runs.
   std::function<void(GatewayRequest, GatewayAnswer)> forward;
+  /// config::writes_frozen: no port takes a write, forwarded ones included.
+  bool writes_frozen = false;
 };
 
 /// The running banks served as the config says (the write path, the extensions, the own

@@ -92,7 +92,9 @@ bool TcpSlaveServer::Connection::process() {
     const auto pdu_out = adu_out.subspan(modbus::mbap_header_size, modbus::max_pdu_size);
     const auto unit = adu.header.unit_id;
     const auto recipient = modbus::recipient_of(modbus::Link::tcp, unit, context.unit_id);
-    if (recipient == modbus::Recipient::another_slave && forwards(unit)) {
+    const auto* rights = server_.write_rights(role_);
+    const bool routed = recipient == modbus::Recipient::another_slave && forwards(unit);
+    if (routed && (!rights || rights->may_forward(unit, adu.pdu[0]))) {
       auto& forwarding = forwarding_.emplace();
       forwarding.header = adu.header;
       forwarding.request_size = adu.size;
@@ -100,8 +102,10 @@ bool TcpSlaveServer::Connection::process() {
       at += adu.size;
       break;
     }
-    const auto served = modbus::serve_request(modbus::Link::tcp, recipient, adu.pdu, pdu_out, *context.registers,
-                                              context.options, server_.write_rights(role_), context.gateway != nullptr);
+    const auto served =
+        routed ? modbus::refuse_forwarded_write(adu.pdu[0], pdu_out)
+               : modbus::serve_request(modbus::Link::tcp, recipient, adu.pdu, pdu_out, *context.registers,
+                                       context.options, rights, context.gateway != nullptr);
     const auto size = modbus::write_mbap_header(adu.header.transaction_id, unit, served.length, adu_out) + served.length;
     if (served.kept_as != 0) {
       auto& write = waiting_.emplace();
@@ -181,11 +185,11 @@ void TcpSlaveServer::Connection::answer_waiting_write(bool durable) {
                                                adu_out.first(out_used_ - write.answer_at), served.length > 0});
 }
 
-// The plain TCP port forwards; over TLS a forwarded write would need the roles' unit rights
-// (SPEC §14), which are not there yet: the TLS port routes nothing (0x0A).
+// The plain and the TLS port forward alike; what a client may send is its write rights'
+// question (process()).
 bool TcpSlaveServer::Connection::forwards(std::uint8_t unit) const {
   const auto& context = server_.context_;
-  return port_kind() == modbus::PortKind::tcp && context.gateway && context.gateway->routes(unit) && context.forward;
+  return context.gateway && context.gateway->routes(unit) && context.forward;
 }
 
 void TcpSlaveServer::Connection::forward() {

@@ -65,7 +65,9 @@ config::PeerAddress peer_address(const asio::ip::address& address) {
 }
 
 const modbus::WriteRights* TcpSlaveServer::write_rights(const std::optional<std::string>& role) const {
-  if (options_.read_only) return &nothing_;
+  // The bridge-wide freeze (modbus.tcp.read_only) holds on every port; the banks' write
+  // path refuses by it too, but a write forwarded to the line passes no write path.
+  if (options_.read_only || context_.writes_frozen) return &nothing_;
   if (!options_.tls) return nullptr;
   if (!role) return &nothing_;
   const auto rights = options_.tls->roles.find(*role);

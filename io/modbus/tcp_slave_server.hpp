@@ -92,8 +92,9 @@ class TcpSlaveServer {
   bool make_room();
   /// False (and logged, rate-limited) when modbus.tcp.allow does not list the peer.
   bool allowed(const asio::ip::address& address, const std::string& peer) const;
-  /// What a client of this port may write: nothing when read only; on a TLS port what its
-  /// role may (nothing without one); nullptr: everything.
+  /// What a client of this port may write, to the banks and through the gateway: nothing
+  /// when this port or the bridge is read only; on a TLS port what its role may (nothing
+  /// without one); nullptr: everything.
   const modbus::WriteRights* write_rights(const std::optional<std::string>& role) const;
 
   asio::io_context& io_;

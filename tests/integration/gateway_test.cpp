@@ -1,14 +1,17 @@
 // The gateway end to end (SPEC §14, issue 31): the daemon in master mode polls simulated
-// foreign slaves on a pty while Modbus TCP clients reach them through it. What a slave
-// hears and says is checked in the simulator's frame log, byte for byte.
+// foreign slaves on a pty while Modbus TCP clients reach them through it, and Modbus/TCP
+// Security clients (tests/integration/tls/modbus_tls_client.py) within their roles' rights.
+// What a slave hears and says is checked in the simulator's frame log, byte for byte.
 
 #include <modbus/modbus.h>
 
 #include <cstdio>
+#include <sstream>
 #include <string>
 #include <thread>
 
 #include "modbus/rtu/crc16.hpp"
+#include "tests/integration/certificate_fixture.hpp"
 #include "tests/integration/master_fixture.hpp"
 
 namespace unima::test {
@@ -66,12 +69,13 @@ class GatewayTest : public MasterTest {
     config.monitor_section = "monitor:\n  file: " + monitor_log().string() + "\n";
   }
   std::filesystem::path monitor_log() const { return dir.path() / "monitor.log"; }
-  /// The stepper driver polled every 200 ms (its SUBDIVISION, 8, into output 1) beside the clients.
-  void start_with(const std::string& gateway) {
+  /// The stepper driver polled every 200 ms (its SUBDIVISION, 8, into output 1) beside the
+  /// clients; `more`: more lines of the modbus section.
+  void start_with(const std::string& gateway, const std::string& more = "") {
     simulate({"5=wecon-lx5v", "6=stepper-driver", "7=sic184-v3,dead"});
     config.master = "retries: 1, response_timeout: 300ms";
     config.blocks = "  - { type: poll, device: 6, profile: stepper-driver, point: SUBDIVISION, period: 200ms, output: 1 }\n";
-    config.modbus_extra = "  gateway: " + gateway + "\n";
+    config.modbus_extra = "  gateway: " + gateway + "\n" + more;
     start();
   }
   std::size_t heard(const Bytes& frame) const {
@@ -275,6 +279,91 @@ TEST_F(GatewayTest, APriorityPeerGoesFirstAndClientsTakeTurns) {
     if (f.rx && f.hex.starts_with("05 03 00 0")) order.push_back(f.hex.substr(0, 14));
   EXPECT_EQ(order, (std::vector<std::string>{"05 03 00 05 00", "05 03 00 02 00", "05 03 00 04 00", "05 03 00 03 00"}))
       << diagnostics();
+}
+
+// The TLS port (SPEC §14 with §11's roles): the gateway beside a Modbus/TCP Security port
+// with the certificates of tests/integration/tls/make_certificates.sh.
+class GatewayTlsTest : public GatewayTest {
+ protected:
+  void SetUp() override {
+    GatewayTest::SetUp();
+    certs = dir.path() / "certs";
+    const auto made = run(tls_dir + "/make_certificates.sh " + certs.string());
+    ASSERT_EQ(made.status, 0) << made.output;
+    tls_port = free_port();
+  }
+  /// The operator may write W and unit 5, the viewer W only; `extra`: more keys of modbus.tls.
+  void start_with_tls(const std::string& extra = "") {
+    const auto pem = [&](const std::string& name) { return (certs / name).string(); };
+    start_with("{ units: [5-7], timeout: 300ms }",
+               "  tls: { listen: 127.0.0.1, port: " + std::to_string(tls_port) + ", certificate: " + pem("server.pem") +
+                   ", key: " + pem("server.key") + ", ca: " + pem("ca.pem") +
+                   ", roles: { operator: { write: [W, \"unit 5\"] }, viewer: { write: [W] } }" + extra + " }\n");
+    ASSERT_TRUE(wait_for_port(tls_port)) << diagnostics();
+  }
+  /// What `identity` got for each of `requests` (PDUs in hex) sent to `unit` over TLS: the
+  /// answers' PDUs in hex, or the client's "error: …" line.
+  std::vector<std::string> tls_client(const std::string& identity, std::uint8_t unit,
+                                      const std::vector<std::string>& requests) const {
+    std::string command = tls_dir + "/modbus_tls_client.py --unit " + std::to_string(unit) + " " +
+                          std::to_string(tls_port) + " " + (certs / "ca.pem").string() + " " +
+                          (certs / (identity + ".pem")).string() + " " + (certs / (identity + ".key")).string() + " --";
+    for (const auto& r : requests) command += " " + r;
+    std::istringstream output(run(command).output);
+    std::vector<std::string> answers;
+    for (std::string line; std::getline(output, line);)
+      if (!line.starts_with("server: ") && !line.starts_with("version: ")) answers.push_back(line);
+    return answers;
+  }
+
+  std::filesystem::path certs;
+  std::uint16_t tls_port = 0;
+};
+
+const Bytes write_d11{0x06, 0x00, 0x0B, 0x04, 0xD2};  // D11 = 1234 on the PLC
+
+// Reads are forwarded for every role; a write only for a role whose list names the unit,
+// else 01 and nothing goes on the line; a unit not routed is 0x0A over TLS too.
+TEST_F(GatewayTlsTest, AWriteGoesToTheUnitTheRoleNamesAndReadsForEveryRole) {
+  start_with_tls();
+  ASSERT_EQ(sim->control("set 5 10 777"), "ok");
+  EXPECT_EQ(tls_client("viewer", plc, {"03000a0001", "06000b04d2", "10000b00010204d2"}),
+            (std::vector<std::string>{"03020309", "8601", "9001"}))
+      << diagnostics();
+  EXPECT_EQ(tls_client("norole", plc, {"03000a0001", "06000b04d2"}), (std::vector<std::string>{"03020309", "8601"}));
+  EXPECT_EQ(heard(rtu_frame(plc, {0x03, 0x00, 0x0A, 0x00, 0x01})), 2u) << diagnostics();
+  EXPECT_EQ(heard(rtu_frame(plc, write_d11)), 0u) << diagnostics();
+  EXPECT_EQ(sim->control("get 5 11"), "value 0");
+
+  EXPECT_EQ(tls_client("operator", plc, {"06000b04d2", "03000b0001"}),
+            (std::vector<std::string>{"06000b04d2", "030204d2"}))
+      << diagnostics();
+  EXPECT_EQ(heard(rtu_frame(plc, write_d11)), 1u) << diagnostics();
+  EXPECT_EQ(sim->control("get 5 11"), "value 1234");
+  // Unit 6 is routed but not the operator's; unit 9 is not routed at all.
+  EXPECT_EQ(tls_client("operator", stepper, {"0600000001"}), (std::vector<std::string>{"8601"}));
+  EXPECT_EQ(tls_client("operator", 9, {"0300000001"}), (std::vector<std::string>{"830a"}));
+}
+
+// modbus.tls.read_only forwards no write, whatever the role; reads still go.
+TEST_F(GatewayTlsTest, ReadOnlyForwardsNoWrite) {
+  start_with_tls(", read_only: true");
+  EXPECT_EQ(tls_client("operator", plc, {"06000b04d2", "03000b0001"}), (std::vector<std::string>{"8601", "03020000"}))
+      << diagnostics();
+  EXPECT_EQ(heard(rtu_frame(plc, write_d11)), 0u) << diagnostics();
+}
+
+// The bridge-wide modbus.tcp.read_only holds on the TLS port and for the plain port's
+// forwarded writes too.
+TEST_F(GatewayTlsTest, TheBridgeWideReadOnlyForwardsNoWriteOnEitherPort) {
+  config.tcp_extra = ", read_only: true";
+  start_with_tls();
+  EXPECT_EQ(tls_client("operator", plc, {"06000b04d2"}), (std::vector<std::string>{"8601"})) << diagnostics();
+  auto socket = Socket::tcp(config.modbus_port);
+  const auto answer = ask(socket, 0x0101, plc, write_d11);
+  ASSERT_TRUE(answer) << diagnostics();
+  EXPECT_EQ(hex(answer->pdu), "86 01");
+  EXPECT_EQ(heard(rtu_frame(plc, write_d11)), 0u) << diagnostics();
 }
 
 }  // namespace

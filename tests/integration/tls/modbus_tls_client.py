@@ -2,13 +2,14 @@
 """A Modbus/TCP Security client for the tests (SPEC §11), on Python's ssl module: TLS 1.2+
 with a client certificate, then Modbus requests over the TLS stream.
 
-  modbus_tls_client.py [--tls1.2 [--ciphers SUITES]] PORT CA [CERT KEY] -- REQUEST...
+  modbus_tls_client.py [--tls1.2 [--ciphers SUITES]] [--unit N] PORT CA [CERT KEY] -- REQUEST...
 
 Each REQUEST is a PDU in hex ("0600000007", "0400110001"); for each one line is printed:
 the response PDU in hex, or "error: <why>" (and the client stops) when the handshake or the
 connection fails; first "server: <CN>" of the certificate the server presented, last
 "version: TLSv1.x". --tls1.2 caps the client at TLS 1.2; --ciphers offers only those TLS 1.2
-suites (OpenSSL's names). Exit status 0 when every request was answered.
+suites (OpenSSL's names); --unit sends to unit id N (default 1, the bridge's own). Exit
+status 0 when every request was answered.
 """
 
 import socket
@@ -25,6 +26,9 @@ def main() -> int:
     ciphers = None
     if args[0] == "--ciphers":
         ciphers, args = args[1], args[2:]
+    unit = 1
+    if args[0] == "--unit":
+        unit, args = int(args[1]), args[2:]
     split = args.index("--")
     port, ca, *identity = args[:split]
     requests = args[split + 1:]
@@ -44,7 +48,7 @@ def main() -> int:
         print(f"server: {subject['commonName']}", flush=True)
         for transaction, request in enumerate(requests, start=1):
             pdu = bytes.fromhex(request)
-            stream.sendall(struct.pack(">HHHB", transaction, 0, len(pdu) + 1, 1) + pdu)
+            stream.sendall(struct.pack(">HHHB", transaction, 0, len(pdu) + 1, unit) + pdu)
             header = receive(stream, 7)
             answered, _, length, _ = struct.unpack(">HHHB", header)
             body = receive(stream, length - 1)
