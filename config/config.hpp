@@ -159,7 +159,7 @@ struct GatewayConfig {
   PeerAllowList priority;               // peers served before polls and other clients
   Duration wait{2'000};                 // longest a request may wait for the line: then 0x06
   std::optional<Duration> timeout;      // the slave's answer time-out; else its profile's, else 1 s
-  Duration cache{0};                    // only 0 (off) for now: config refuses more (docs/gateway.md)
+  Duration cache{0};                    // an identical read answered this young is served again; 0: off
   std::string origin;                   // "file:line:col" of the section
   bool routes(std::uint8_t unit) const { return units[unit]; }
 };

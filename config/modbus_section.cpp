@@ -132,10 +132,6 @@ GatewayConfig parse_gateway(const YamlReader& yaml, const YAML::Node& node) {
   if (node["wait"]) gateway.wait = positive_duration(yaml, node["wait"]);
   if (node["timeout"]) gateway.timeout = positive_duration(yaml, node["timeout"]);
   if (node["cache"]) gateway.cache = yaml.duration(node["cache"]);
-  // Accepted and ignored, a cache would make a SCADA believe it is on (docs/gateway.md).
-  if (gateway.cache > Duration{0})
-    yaml.fail(node["cache"], "modbus.gateway.cache: this version answers no read from a cache yet; leave the key out "
-                             "or write 0ms");
   return gateway;
 }
 

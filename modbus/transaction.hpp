@@ -17,6 +17,7 @@ enum class TransactionState : std::uint8_t {
   err03,       // exception 03 illegal data value, also bad length or CRC
   err04,       // exception 04, also a foreign response shorter than 5 bytes or with the wrong function
   timeout,     // master: no answer
+  cached,      // gateway: a read answered from the cache, without the line (SPEC §14)
 };
 
 // tls: Modbus/TCP Security (SPEC §11); gateway: a TCP client's request forwarded on the

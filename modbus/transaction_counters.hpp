@@ -8,7 +8,7 @@
 
 namespace unima::modbus {
 
-inline constexpr std::size_t transaction_state_count = 7;
+inline constexpr std::size_t transaction_state_count = 8;
 
 struct TransactionCounters {
   std::uint64_t transactions = 0;

@@ -17,8 +17,8 @@ namespace {
 
 using Clock = std::chrono::system_clock;
 
-constexpr std::array<std::string_view, 7> state_names = {"Done",  "Not4Me", "Err01",  "Err02",
-                                                         "Err03", "Err04",  "Timeout"};
+constexpr std::array<std::string_view, 8> state_names = {"Done",  "Not4Me", "Err01",   "Err02",
+                                                         "Err03", "Err04",  "Timeout", "Cached"};
 // The last UTC second formatted, per thread: lines come many per second, and the date and
 // clock of a second are the costly part of a time stamp.
 struct SecondText {

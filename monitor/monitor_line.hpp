@@ -26,7 +26,7 @@
 
 namespace unima::monitor {
 
-/// "Done", "Not4Me", "Err01".."Err04", "Timeout".
+/// "Done", "Not4Me", "Err01".."Err04", "Timeout", "Cached".
 std::string_view state_name(modbus::TransactionState state);
 std::optional<modbus::TransactionState> parse_state(std::string_view name);
 

@@ -31,6 +31,7 @@ std::string_view state_name(TransactionState state) {
     case TransactionState::err03: return "Err03";
     case TransactionState::err04: return "Err04";
     case TransactionState::timeout: return "Timeout";
+    case TransactionState::cached: return "Cached";
   }
   return "?";
 }
@@ -88,6 +89,7 @@ void MasterPort::start() {
   staleness_.emplace(std::move(stale_limits), now);
   skip_warned_.assign(setup_.blocks.size(), false);
   if (gateway_config_) gateway_.emplace(gateway_config_->wait);
+  if (gateway_config_ && gateway_config_->cache > config::Duration::zero()) cache_.emplace(gateway_config_->cache);
   spdlog::info("modbus master: {}, {} requests for {} blocks", link_->describe(), scheduler_->request_count(),
                setup_.blocks.size());
   stale_timer_.watch();
@@ -107,6 +109,7 @@ void MasterPort::stop() {
   for (auto& [ticket, waiting] : waiting_) refuse(std::move(waiting), modbus::ExceptionCode::gateway_target_failed);
   waiting_.clear();
   gateway_.reset();
+  cache_.reset();
   for (const auto& [device, c] : counters_)
     spdlog::info("modbus master: device {}: {} requests, {} answered, {} time-outs, {} bad frames, {} exceptions, "
                  "{} retries, {} probes, {} sends skipped{}",
@@ -172,6 +175,8 @@ void MasterPort::send(const MasterScheduler::Choice& choice) {
   if (choice.probe) ++counters.probes;
   scheduler_->begin(choice, now);
   if (gateway_) gateway_->poll_began();
+  // The master's own send changes the slave as a client's write would.
+  if (cache_ && !request.is_read()) cache_->written(request.device);
   in_flight_ = true;
   const auto sent = std::chrono::system_clock::now();
   if (hooks_.on_query_sent) hooks_.on_query_sent(sent);
@@ -238,6 +243,13 @@ void MasterPort::finished(const MasterScheduler::Choice& choice, const master::B
 void MasterPort::forward(GatewayRequest request, GatewayAnswer answer) {
   if (!running_ || !gateway_) return refuse(Forwarded{std::move(request), std::move(answer)},
                                             modbus::ExceptionCode::gateway_target_failed);
+  if (cache_) {
+    if (auto cached = cache_->answer(request.unit, request.pdu, Clock::now()))
+      return answer_from_cache(Forwarded{std::move(request), std::move(answer)}, std::move(*cached));
+    // A write empties the unit's cache now, and again when it goes on the line: a read
+    // answered in between saw the slave before it.
+    if (!master::GatewayCache::is_read(request.pdu)) cache_->written(request.unit);
+  }
   const auto ticket = gateway_->push(request.client, request.priority, request.unit, Clock::now());
   waiting_.emplace(ticket, Forwarded{std::move(request), std::move(answer)});
   if (gateway_->size() == 1) expire_waiting();  // the timer was idle: arm it
@@ -273,6 +285,7 @@ void MasterPort::forward_now(const master::GatewayQueue::Request& next, Clock::t
   const auto sent = std::chrono::system_clock::now();
   if (hooks_.on_query_sent) hooks_.on_query_sent(sent);
   const auto unit = on_line_->request.unit;
+  if (cache_ && !master::GatewayCache::is_read(on_line_->request.pdu)) cache_->written(unit);
   link_->transact(unit, on_line_->request.pdu, gateway_timeout(unit),
                   [weak = weak_from_this(), now, sent](master::Bytes query, master::Bytes response) {
                     const auto self = weak.lock();
@@ -293,6 +306,8 @@ void MasterPort::forwarded(const Forwarded& forwarded, Clock::time_point started
     hooks_.on_transaction(modbus::Transaction{modbus::PortKind::gateway, request.peer, sent,
                                               master::transaction_state(result), query, response, false});
   if (result.status == ResponseStatus::ok || result.status == ResponseStatus::exception) {
+    // Only the slave's data is kept (GatewayCache keeps no exception).
+    if (cache_) cache_->answered(request.unit, request.pdu, result.pdu, Clock::now());
     forwarded.answer(result.pdu);
   } else {
     // No answer, a bad CRC, another slave's answer: the target failed to respond (SPEC §14).
@@ -301,6 +316,18 @@ void MasterPort::forwarded(const Forwarded& forwarded, Clock::time_point started
     forwarded.answer(pdu);
   }
   pump();
+}
+
+void MasterPort::answer_from_cache(Forwarded forwarded, master::Bytes answer) {
+  const auto& request = forwarded.request;
+  if (hooks_.on_transaction) {
+    // The frames as they went on the line when the answer was kept.
+    const auto query = master::rtu_frame(request.unit, request.pdu);
+    const auto response = master::rtu_frame(request.unit, answer);
+    hooks_.on_transaction(modbus::Transaction{modbus::PortKind::gateway, request.peer, std::chrono::system_clock::now(),
+                                              TransactionState::cached, query, response, false});
+  }
+  asio::post(executor_, [forwarded = std::move(forwarded), answer = std::move(answer)] { forwarded.answer(answer); });
 }
 
 void MasterPort::refuse(Forwarded forwarded, modbus::ExceptionCode code) {

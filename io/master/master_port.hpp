@@ -11,7 +11,8 @@
 // With modbus.gateway (SPEC §14, docs/gateway.md), TCP clients' requests for the foreign
 // slaves share the line with the polls: master/gateway_queue says whose turn it is, the
 // scheduler when the line is free. A forwarded request goes once (never retried), and each
-// is a monitor line of port `gw`.
+// is a monitor line of port `gw`. With modbus.gateway.cache, master/gateway_cache answers an
+// equal read again without the line (a monitor line of state Cached).
 
 #include <chrono>
 #include <functional>
@@ -28,6 +29,7 @@
 #include "io/gateway_request.hpp"
 #include "io/lazy_deadline.hpp"
 #include "io/master/master_link.hpp"
+#include "master/gateway_cache.hpp"
 #include "master/gateway_queue.hpp"
 #include "master/staleness.hpp"
 #include "master/master_scheduler.hpp"
@@ -94,6 +96,8 @@ class MasterPort : public std::enable_shared_from_this<MasterPort> {
   void forward_now(const master::GatewayQueue::Request& next, Clock::time_point now);
   void forwarded(const Forwarded& forwarded, Clock::time_point started, std::chrono::system_clock::time_point sent,
                  const master::Bytes& query, const master::Bytes& response);
+  /// Answers a read from the cache, after this call; the monitor sees it now.
+  void answer_from_cache(Forwarded forwarded, master::Bytes answer);
   /// Answers a forwarded request with the gateway's own exception, after this call.
   void refuse(Forwarded forwarded, modbus::ExceptionCode code);
   std::chrono::milliseconds gateway_timeout(std::uint8_t unit) const;
@@ -119,6 +123,7 @@ class MasterPort : public std::enable_shared_from_this<MasterPort> {
   asio::any_io_executor executor_;
   std::optional<config::GatewayConfig> gateway_config_;
   std::optional<master::GatewayQueue> gateway_;
+  std::optional<master::GatewayCache> cache_;  // modbus.gateway.cache longer than 0
   asio::steady_timer expiry_timer_;
   std::map<master::GatewayQueue::Ticket, Forwarded> waiting_;  // queued for the line
   std::optional<Forwarded> on_line_;                            // the forwarded request under way

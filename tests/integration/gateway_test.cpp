@@ -366,5 +366,91 @@ TEST_F(GatewayTlsTest, TheBridgeWideReadOnlyForwardsNoWriteOnEitherPort) {
   EXPECT_EQ(heard(rtu_frame(plc, write_d11)), 0u) << diagnostics();
 }
 
+// modbus.gateway.cache: an equal read within the window is answered without the line, to
+// any client, with its own transaction id; after the window it goes on the line again; a
+// write to the unit empties its cache. Each answer from the cache is a monitor line, Cached.
+TEST_F(GatewayTest, AnEqualReadWithinTheCacheWindowIsAnsweredWithoutTheLine) {
+  start_with("{ units: [5-7], timeout: 300ms, cache: 600ms }");
+  ASSERT_EQ(sim->control("set 5 0 4660"), "ok");  // D0 = 0x1234
+  const Bytes read{0x03, 0x00, 0x00, 0x00, 0x01};
+  auto first = Socket::tcp(config.modbus_port);
+  auto second = Socket::tcp(config.modbus_port);
+  const auto asked = ask(first, 0x0101, plc, read);
+  const auto again = ask(second, 0x0202, plc, read);
+  ASSERT_TRUE(asked && again) << diagnostics();
+  EXPECT_EQ(hex(asked->pdu), "03 02 12 34");
+  EXPECT_EQ(again->transaction, 0x0202);
+  EXPECT_EQ(again->unit, plc);
+  EXPECT_EQ(hex(again->pdu), "03 02 12 34");
+  EXPECT_EQ(heard(rtu_frame(plc, read)), 1u) << diagnostics();
+
+  std::this_thread::sleep_for(700ms);  // the window is over
+  ASSERT_TRUE(ask(first, 0x0103, plc, read));
+  EXPECT_EQ(heard(rtu_frame(plc, read)), 2u) << diagnostics();
+
+  // A write between two reads empties the unit's cache: the next read goes on the line.
+  const auto written = ask(second, 0x0204, plc, {0x06, 0x00, 0x00, 0x00, 0x2A});
+  ASSERT_TRUE(written);
+  EXPECT_EQ(written->pdu[0], 0x06);
+  const auto after_write = ask(first, 0x0105, plc, read);
+  ASSERT_TRUE(after_write);
+  EXPECT_EQ(hex(after_write->pdu), "03 02 00 2A");
+  EXPECT_EQ(heard(rtu_frame(plc, read)), 3u) << diagnostics();
+
+  std::string log;
+  const auto cached_line = " gw:127.0.0.1:" + std::to_string(second.local_port()) + " ";
+  ASSERT_TRUE(eventually([&] {
+    log = read_file(monitor_log());
+    return log.find("State=Cached Ad=5 PDU=03 00 00 00 01") != std::string::npos;
+  })) << log;
+  const auto cached = log.find("State=Cached Ad=5 PDU=03 00 00 00 01 CRC=");
+  ASSERT_NE(cached, std::string::npos) << log;
+  EXPECT_EQ(log.rfind(cached_line, cached), log.rfind(" gw:", cached)) << log;
+  EXPECT_NE(log.find("Response=05 03 02 12 34", cached), std::string::npos) << log;
+  // One answer came from the cache; the others went on the line.
+  std::size_t cached_lines = 0;
+  for (auto at = log.find("State=Cached"); at != std::string::npos; at = log.find("State=Cached", at + 1)) ++cached_lines;
+  EXPECT_EQ(cached_lines, 1u) << log;
+}
+
+// An exception or a time-out is never an answer to keep: the next equal read goes on the line.
+TEST_F(GatewayTest, AnExceptionOrATimeOutIsNotCached) {
+  start_with("{ units: [5-7], timeout: 300ms, cache: 5s }");
+  auto socket = Socket::tcp(config.modbus_port);
+  const Bytes no_function{0x04, 0x00, 0x00, 0x00, 0x01};  // the PLC lacks function 4
+  const Bytes read{0x03, 0x00, 0x00, 0x00, 0x01};
+  for (const std::uint16_t transaction : {1, 2}) {
+    const auto refused = ask(socket, transaction, plc, no_function);
+    ASSERT_TRUE(refused) << diagnostics();
+    EXPECT_EQ(hex(refused->pdu), "84 01");
+    const auto timed_out = ask(socket, transaction, dead, read);
+    ASSERT_TRUE(timed_out) << diagnostics();
+    EXPECT_EQ(hex(timed_out->pdu), "83 0B");
+  }
+  EXPECT_EQ(heard(rtu_frame(plc, no_function)), 2u) << diagnostics();
+  EXPECT_EQ(heard(rtu_frame(dead, read)), 2u) << diagnostics();
+}
+
+TEST_F(GatewayTest, WithTheCacheOffEveryReadGoesOnTheLine) {
+  start_with("{ units: [5-7], timeout: 300ms, cache: 0ms }");
+  auto socket = Socket::tcp(config.modbus_port);
+  const Bytes read{0x03, 0x00, 0x00, 0x00, 0x01};
+  for (const std::uint16_t transaction : {1, 2, 3}) ASSERT_TRUE(ask(socket, transaction, plc, read)) << diagnostics();
+  EXPECT_EQ(heard(rtu_frame(plc, read)), 3u) << diagnostics();
+  std::string log;
+  const auto lines_on_the_line = [&] {
+    std::size_t n = 0;
+    for (auto at = log.find("State=Done Ad=5 PDU=03 00 00 00 01"); at != std::string::npos;
+         at = log.find("State=Done Ad=5 PDU=03 00 00 00 01", at + 1))
+      ++n;
+    return n;
+  };
+  ASSERT_TRUE(eventually([&] {
+    log = read_file(monitor_log());
+    return lines_on_the_line() >= 3;
+  })) << log;
+  EXPECT_EQ(log.find("State=Cached"), std::string::npos) << log;
+}
+
 }  // namespace
 }  // namespace unima::test

@@ -140,7 +140,7 @@ TEST(MonitorLine, DropNotice) {
 }
 
 TEST(MonitorLine, EveryStateHasItsName) {
-  const std::vector<std::string> names = {"Done", "Not4Me", "Err01", "Err02", "Err03", "Err04", "Timeout"};
+  const std::vector<std::string> names = {"Done", "Not4Me", "Err01", "Err02", "Err03", "Err04", "Timeout", "Cached"};
   for (std::size_t i = 0; i < names.size(); ++i) {
     EXPECT_EQ(state_name(static_cast<TransactionState>(i)), names[i]);
     EXPECT_EQ(parse_state(names[i]), static_cast<TransactionState>(i));
