@@ -29,7 +29,7 @@ PeerAddress address(std::string_view text) {
   return a;
 }
 
-TEST(GatewayConfig, UnitsAsIdsAndRangesWithPriorityWaitAndTimeout) {
+TEST(GatewayConfig, UnitsAsIdsAndRangesWithPriorityWaitTimeoutAndCache) {
   const auto c = load(rtu_master +
                       "  gateway:\n"
                       "    units: [2-9, 17]\n"
