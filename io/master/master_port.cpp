@@ -7,6 +7,7 @@
 #include "io/master/master_tcp_link.hpp"
 #include "master/master_codec.hpp"
 #include "modbus/request_handler.hpp"
+#include "monitor/monitor_line.hpp"
 
 namespace unima::io {
 
@@ -22,20 +23,6 @@ std::string hex(std::span<const std::uint8_t> bytes) {
   return out.empty() ? "-" : out;
 }
 
-std::string_view state_name(TransactionState state) {
-  switch (state) {
-    case TransactionState::done: return "Done";
-    case TransactionState::not_for_me: return "Not4Me";
-    case TransactionState::err01: return "Err01";
-    case TransactionState::err02: return "Err02";
-    case TransactionState::err03: return "Err03";
-    case TransactionState::err04: return "Err04";
-    case TransactionState::timeout: return "Timeout";
-    case TransactionState::cached: return "Cached";
-  }
-  return "?";
-}
-
 std::string range(const master::PlannedRequest& r) {
   return r.count == 1 ? fmt::format("{}", r.first) : fmt::format("{}..{}", r.first, r.first + r.count - 1);
 }
@@ -49,7 +36,7 @@ std::string outcome_text(const master::MasterResponse& r) {
 
 std::string describe_master_transaction(const modbus::Transaction& t) {
   const auto* port = t.port == modbus::PortKind::gateway ? "gw:" : t.peer.empty() ? "rtu" : "tcp:";
-  return fmt::format("{} {}{} {} -> {}", state_name(t.state), port, t.peer, hex(t.query), hex(t.response));
+  return fmt::format("{} {}{} {} -> {}", monitor::state_name(t.state), port, t.peer, hex(t.query), hex(t.response));
 }
 
 std::shared_ptr<MasterPort> MasterPort::create(asio::io_context& io, const config::Config& config, Hooks hooks) {
