@@ -17,6 +17,8 @@ std::string data_type_name(DataType type) {
   return "DataType(" + std::to_string(number) + ")";
 }
 
+bool PropertySet::well_formed() const { return keys.size() == values.size(); }
+
 const PropertyValue* PropertySet::find(std::string_view key) const {
   for (std::size_t i = 0; i < keys.size() && i < values.size(); ++i)
     if (keys[i] == key) return &values[i];

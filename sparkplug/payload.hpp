@@ -90,7 +90,7 @@ struct PropertySet {
   std::vector<std::string> keys;          // field 1
   std::vector<PropertyValue> values;      // field 2
 
-  bool well_formed() const { return keys.size() == values.size(); }
+  bool well_formed() const;
   /// The value of `key`; nullptr when there is none (or the arrays differ in length there).
   const PropertyValue* find(std::string_view key) const;
   bool operator==(const PropertySet&) const;
