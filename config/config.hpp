@@ -240,6 +240,12 @@ struct HttpConfig {
   std::string port_origin;           // "file:line:col" of http.port, else of http
 };
 
+/// mqtt.discovery (SPEC §15): Home Assistant finds the bridge's values by itself.
+struct MqttDiscoveryConfig {
+  std::string prefix = "homeassistant";  // Home Assistant's discovery prefix
+  bool operator==(const MqttDiscoveryConfig&) const = default;
+};
+
 /// mqtt (SPEC §12): the bridge as a client of a fleet's broker.
 struct MqttConfig {
   std::string broker;        // as written: mqtt://host[:port] or mqtts://host[:port]
@@ -254,6 +260,7 @@ struct MqttConfig {
   std::chrono::milliseconds period{10'000};  // every bank in full
   bool on_change = true;     // and each bank when it changes (at most every 100 ms)
   bool commands = false;     // set/W/<offset>, set/X/<bit>
+  std::optional<MqttDiscoveryConfig> discovery;  // absent: no Home Assistant discovery
   std::string origin;        // "file:line:col" of mqtt
   /// The same client and publishing (where the section stands in the file does not count).
   bool same_client(const MqttConfig& other) const {

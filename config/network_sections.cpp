@@ -199,7 +199,7 @@ void parse_http(ParseState& state, const YAML::Node& node) {
 void parse_mqtt(ParseState& state, const YAML::Node& node) {
   const auto& yaml = state.yaml;
   yaml.expect_keys(node, "mqtt", {"broker", "client_id", "topic", "username", "password_file", "ca", "certificate",
-                                  "key", "version", "publish", "commands"});
+                                  "key", "version", "publish", "commands", "discovery"});
   MqttConfig m;
   m.origin = yaml.position(node);
   if (!node["broker"]) yaml.fail(node, "mqtt needs 'broker', e.g. mqtt://127.0.0.1:1883 or mqtts://broker.example:8883");
@@ -246,6 +246,17 @@ void parse_mqtt(ParseState& state, const YAML::Node& node) {
     if (publish["on_change"]) m.on_change = yaml.boolean(publish["on_change"]);
   }
   if (node["commands"]) m.commands = yaml.boolean(node["commands"]);
+  if (const auto discovery = node["discovery"]) {
+    if (!discovery.IsMap() && !discovery.IsNull())
+      yaml.fail(discovery, "mqtt.discovery must be a mapping, e.g. { prefix: homeassistant }");
+    yaml.expect_keys(discovery, "mqtt.discovery", {"prefix"});
+    MqttDiscoveryConfig d;
+    if (discovery["prefix"]) d.prefix = yaml.text(discovery["prefix"]);
+    if (d.prefix.empty() || d.prefix.front() == '/' || d.prefix.back() == '/' || d.prefix.find_first_of("#+") != std::string::npos)
+      yaml.fail(discovery["prefix"] ? discovery["prefix"] : discovery,
+                "mqtt.discovery.prefix must be a topic prefix without wildcards (# +) or a leading or trailing /");
+    m.discovery = d;
+  }
   state.config.mqtt = m;
 }
 

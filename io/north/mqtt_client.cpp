@@ -58,9 +58,13 @@ mosquitto* MqttClient::make_handle() {
   mosquitto_disconnect_callback_set(mosq, [](mosquitto*, void* self, int rc) { static_cast<MqttClient*>(self)->handle_disconnect(rc); });
   mosquitto_message_callback_set(mosq, [](mosquitto*, void* self, const mosquitto_message* message) {
     auto& client = *static_cast<MqttClient*>(self);
-    if (!client.on_message_ || message->topic == nullptr) return;
-    client.on_message_(message->topic, std::string_view(static_cast<const char*>(message->payload),
-                                                        static_cast<std::size_t>(std::max(message->payloadlen, 0))));
+    if (message->topic == nullptr) return;
+    const std::string_view payload(static_cast<const char*>(message->payload), static_cast<std::size_t>(std::max(message->payloadlen, 0)));
+    for (const auto& subscription : client.subscriptions_) {
+      bool matches = false;
+      mosquitto_topic_matches_sub(subscription.pattern.c_str(), message->topic, &matches);
+      if (matches) subscription.handler(message->topic, payload);
+    }
   });
   return mosq;
 }
@@ -217,7 +221,7 @@ void MqttClient::handle_connack(int rc) {
   connected_since_ = std::chrono::system_clock::now();
   spdlog::info("mqtt: connected to {}:{} as {}", options_.host, options_.port, options_.client_id);
   publish(options_.status_topic, "online", true);
-  if (!subscription_.empty()) mosquitto_subscribe(mosq_, nullptr, subscription_.c_str(), 1);
+  for (const auto& subscription : subscriptions_) mosquitto_subscribe(mosq_, nullptr, subscription.pattern.c_str(), 1);
   if (on_connected_) on_connected_();
 }
 

@@ -17,6 +17,7 @@
 #include <random>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "platform/asio.hpp"
 
@@ -55,11 +56,10 @@ class MqttClient {
   bool backlogged() const;
   /// Called on each (re)connection, after `online`.
   void on_connected(std::function<void()> handler) { on_connected_ = std::move(handler); }
-  /// Subscribes `pattern` (QoS 1) on each connection; messages go to `handler`.
-  void subscribe(std::string pattern, std::function<void(std::string_view topic, std::string_view payload)> handler) {
-    subscription_ = std::move(pattern);
-    on_message_ = std::move(handler);
-  }
+  using MessageHandler = std::function<void(std::string_view topic, std::string_view payload)>;
+  /// Subscribes `pattern` (QoS 1) on each connection, beside the patterns subscribed
+  /// before; a message goes to the handler of each pattern it matches.
+  void subscribe(std::string pattern, MessageHandler handler) { subscriptions_.push_back({std::move(pattern), std::move(handler)}); }
 
   struct Counters {
     std::uint64_t connections = 0;
@@ -104,8 +104,11 @@ class MqttClient {
   std::string refusal_;  // why the broker refused the last CONNECT, for lost()
   Counters counters_;
   std::function<void()> on_connected_;
-  std::string subscription_;
-  std::function<void(std::string_view, std::string_view)> on_message_;
+  struct Subscription {
+    std::string pattern;
+    MessageHandler handler;
+  };
+  std::vector<Subscription> subscriptions_;
   std::shared_ptr<bool> alive_ = std::make_shared<bool>(true);
 };
 

@@ -49,17 +49,24 @@ std::unique_ptr<MqttClient> MqttService::make_client(const config::Config& confi
   options.version = m.version;
   options.status_topic = m.topic + "/status";
   auto client = std::make_unique<MqttClient>(runtime_.io, options);
-  client->on_connected([this] {
+  client->on_connected([this, announcing = client.get()] {
+    // Home Assistant's configs before the documents their entities read.
+    discovery_.announce(*announcing);
     if (schedule_) schedule_->publish_all();
     publish();
   });
   if (m.commands)
     client->subscribe(m.topic + "/set/#", [this](std::string_view topic, std::string_view payload) { take_command(topic, payload); });
+  if (m.discovery)
+    client->subscribe(mqtt::home_assistant_status_topic(config), [this, announcing = client.get()](std::string_view, std::string_view payload) {
+      if (payload == "online") discovery_.announce(*announcing);
+    });
   return client;
 }
 
 void MqttService::lay_out() {
   const auto& running = *runtime_.banks;
+  discovery_.serve(mqtt::discovery_messages(running.config, running.value_model));
   if (!running.config.mqtt) {
     banks_.clear();
     schedule_.reset();
@@ -168,6 +175,7 @@ void MqttService::commit(const Banks&) {
     }
   }
   lay_out();
+  if (client_) discovery_.announce(*client_);  // a new client announces when it connects
 }
 
 void MqttService::describe(nlohmann::json& status) const {

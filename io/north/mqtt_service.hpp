@@ -3,14 +3,16 @@
 // banks whose values or on-line state changed, every `period` and after each
 // (re)connection all of them, from the value model (values/) over the register store
 // that Modbus reads, so a document and a Modbus read never disagree — and the commands
-// it takes (`<prefix>/set/W/<n>`, `set/X/<bit>`), written through the one write path. A
-// reload keeps the client (and its session) when the broker settings did not change.
+// it takes (`<prefix>/set/W/<n>`, `set/X/<bit>`), written through the one write path;
+// with `discovery`, Home Assistant's configs (io/north/discovery_announcer). A reload
+// keeps the client (and its session) when the broker settings did not change.
 
 #include <memory>
 #include <optional>
 #include <string_view>
 #include <vector>
 
+#include "io/north/discovery_announcer.hpp"
 #include "io/north/mqtt_client.hpp"
 #include "io/service.hpp"
 #include "mqtt/bank_documents.hpp"
@@ -40,6 +42,7 @@ class MqttService final : public Service {
   std::unique_ptr<MqttClient> client_;
   std::vector<banks::BankId> banks_;  // the published banks, in the model's order
   std::optional<mqtt::PublishSchedule> schedule_;
+  DiscoveryAnnouncer discovery_;  // Home Assistant's configs (mqtt.discovery)
   asio::steady_timer timer_;
   bool started_ = false;
   // Staged by a reload:
