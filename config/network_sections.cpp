@@ -80,10 +80,29 @@ std::optional<std::string_view> unit_words(std::string_view text) {
   return text;
 }
 
+// A right to write to a unit that the gateway does not forward is never used: the request
+// gets 0x0A before anyone asks for rights. Not an error (the gateway's units may be cut
+// down on purpose for a while), but said, at the item.
+void warn_units_not_routed(const YamlReader& yaml, const YAML::Node& item, std::string_view key, unsigned first,
+                           unsigned last, const std::optional<GatewayConfig>& gateway) {
+  std::vector<unsigned> unrouted;
+  for (auto unit = first; unit <= last; ++unit)
+    if (!gateway || !gateway->routes(static_cast<std::uint8_t>(unit))) unrouted.push_back(unit);
+  if (unrouted.empty()) return;
+  const auto which = unrouted.size() == 1 ? fmt::format("unit {} is", unrouted.front())
+                     : unrouted.size() == last - first + 1 ? fmt::format("units {}-{} are", first, last)
+                                                            : fmt::format("units {} are", fmt::join(unrouted, ", "));
+  yaml.warn(item, gateway ? fmt::format("{}: {} not in modbus.gateway.units; no request reaches {} and this right is "
+                                        "never used",
+                                        key, which, unrouted.size() == 1 ? "it" : "them")
+                          : fmt::format("{}: {} named, but there is no modbus.gateway; this right is never used", key,
+                                        which));
+}
+
 // A role's `write: [W, X, 0x0201, "unit 3", "units 5-9"]`: banks by name, registers by
 // address, and the foreign slaves behind the gateway it may send writes to (SPEC §14).
 modbus::WriteRights parse_role(const YamlReader& yaml, const std::string& name, const YAML::Node& node,
-                               const banks::AddressMap& map) {
+                               const banks::AddressMap& map, const std::optional<GatewayConfig>& gateway) {
   if (!node.IsMap()) yaml.fail(node, fmt::format("modbus.tls.roles.{} must be {{ write: [...] }}", name));
   yaml.expect_keys(node, fmt::format("modbus.tls.roles.{}", name), {"write"});
   auto rights = modbus::WriteRights::nothing();
@@ -99,6 +118,7 @@ modbus::WriteRights parse_role(const YamlReader& yaml, const std::string& name, 
       const auto [first, last] = parse_unit_range(yaml, item, *units, fmt::format("modbus.tls.roles.{}.write", name),
                                                   "\"unit 3\" or \"units 5-9\"");
       rights.allow_units(first, last);
+      warn_units_not_routed(yaml, item, fmt::format("modbus.tls.roles.{}.write", name), first, last, gateway);
     } else if (const auto bank = banks::parse_bank_name(text)) {
       const auto window = std::find_if(map.windows().begin(), map.windows().end(), [&](const banks::Window& w) {
         return w.kind == banks::Window::Kind::bank && w.bank == *bank;
@@ -153,7 +173,7 @@ void resolve_tls_roles(ParseState& state) {
   auto& tls = state.config.modbus.tls;
   if (!tls) return;
   const auto map = address_map(state.config);
-  for (const auto& [name, node] : state.tls_roles) tls->roles.insert_or_assign(name, parse_role(state.yaml, name, node, map));
+  for (const auto& [name, node] : state.tls_roles) tls->roles.insert_or_assign(name, parse_role(state.yaml, name, node, map, state.config.modbus.gateway));
 }
 
 void parse_http(ParseState& state, const YAML::Node& node) {

@@ -14,6 +14,7 @@ Files this script did not write (inputs a fuzzer found and someone added) are le
 import zlib
 import pathlib
 import re
+import struct
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 CORPUS = ROOT / "fuzz" / "corpus"
@@ -321,6 +322,69 @@ def tls_session() -> None:
     write("tls_session", "modbus-in-the-clear", b"\x00" + SEED_TCP["seed004-tcp-read-query"])
 
 
+def pb_varint(value: int) -> bytes:
+    """A protobuf base-128 varint, low seven bits first ("Encoding" guide)."""
+    out = b""
+    while value >= 0x80:
+        out += bytes([value & 0x7F | 0x80])
+        value >>= 7
+    return out + bytes([value])
+
+
+def pb(field: int, value) -> bytes:
+    """A protobuf field: an int as a varint, bytes as length-delimited, ("f", x) as a
+    fixed32 float, ("d", x) as a fixed64 double."""
+    if isinstance(value, tuple):
+        kind, number = value
+        return pb_varint(field << 3 | (5 if kind == "f" else 1)) + struct.pack("<f" if kind == "f" else "<d", number)
+    if isinstance(value, int):
+        return pb_varint(field << 3) + pb_varint(value)
+    if isinstance(value, str):
+        value = value.encode()
+    return pb_varint(field << 3 | 2) + pb_varint(len(value)) + value
+
+
+def sparkplug_metric(name=None, alias=None, datatype=None, value_field=None, value=None, null=False, props=b"") -> bytes:
+    """Payload.Metric (Sparkplug 3.0 §6.4.3): name 1, alias 2, timestamp 3, datatype 4,
+    is_null 7, properties 9, the value in field 10..16."""
+    out = pb(1, name) if name is not None else b""
+    out += pb(2, alias) if alias is not None else b""
+    out += pb(3, 1700000000000)
+    out += pb(4, datatype) if datatype is not None else b""
+    out += pb(7, 1) if null else b""
+    out += pb(9, props) if props else b""
+    out += pb(value_field, value) if value_field else b""
+    return out
+
+
+def sparkplug_payload() -> None:
+    # fuzz/sparkplug_payload_fuzzer.cpp: the MQTT payload, all of it. Commands as a host
+    # sends them (NCMD rebirth, DCMD by name and by alias), births as the bridge sends
+    # them (bdSeq, engUnit, nulls), and the corners of protobuf's format.
+    def payload(*metrics: bytes, seq=None) -> bytes:
+        out = pb(1, 1700000000123) + b"".join(pb(2, m) for m in metrics)
+        return out + (pb(3, seq) if seq is not None else b"")
+
+    eng_unit = pb(1, "engUnit") + pb(2, pb(1, 12) + pb(8, "°C"))
+    write("sparkplug_payload", "ncmd-rebirth", payload(sparkplug_metric("Node Control/Rebirth", None, 11, 14, 1)))
+    write("sparkplug_payload", "dcmd-w-float", payload(sparkplug_metric("w_03", None, 9, 12, ("f", -1.5))))
+    write("sparkplug_payload", "dcmd-w-double", payload(sparkplug_metric("w_00", None, 10, 13, ("d", 21.5))))
+    write("sparkplug_payload", "dcmd-x-by-alias", payload(sparkplug_metric(None, 42, 6, 10, 5)))
+    write("sparkplug_payload", "dcmd-int16-sign-extended", payload(sparkplug_metric("w_01", None, 2, 10, 0xFFFFFFA9)))
+    write("sparkplug_payload", "dcmd-uint32-in-long", payload(sparkplug_metric("x", None, 7, 11, 4294967295)))
+    write("sparkplug_payload", "nbirth", payload(sparkplug_metric("bdSeq", None, 4, 11, 3),
+                                                 sparkplug_metric("Node Control/Rebirth", None, 11, 14, 0), seq=0))
+    write("sparkplug_payload", "dbirth-units-and-nulls",
+          payload(sparkplug_metric("engine_speed", 1, 6, 10, 1500, props=eng_unit),
+                  sparkplug_metric("mains_active_power", 2, 9, null=True, props=eng_unit),
+                  sparkplug_metric("display_line1_chars_01_02", 3, 12, 15, "KO"), seq=1))
+    nested = pb(1, "set") + pb(2, pb(1, 20) + pb(9, pb(1, "Quality") + pb(2, pb(1, 3) + pb(3, 192))))
+    write("sparkplug_payload", "nested-property-sets", payload(sparkplug_metric("n", None, 6, 10, 1, props=nested)))
+    write("sparkplug_payload", "unknown-fields-and-group",
+          payload(sparkplug_metric("m", None, 11, 14, 1) + pb(31, 7)) + pb(6, 1) + bytes([0x33, 0x08, 0x01, 0x34]))
+    write("sparkplug_payload", "empty", b"")
+
+
 def table_ids(folder: str) -> list[str]:
     ids = []
     for path in sorted((ROOT / folder).glob("*.yaml")):
@@ -358,5 +422,5 @@ def dictionaries() -> None:
 
 
 for make in (mbap_request, rtu_framer, feed_line, command_filter, source_ref, config_loader, master_codec,
-             replay_reader, state_journal, tls_session, basic_auth, dictionaries):
+             replay_reader, state_journal, tls_session, basic_auth, sparkplug_payload, dictionaries):
     make()

@@ -62,6 +62,32 @@ TEST(GatewayRights, ARoleNamesUnitsBesideBanksAndRegisters) {
   EXPECT_FALSE(operator_rights(load("[]")).may_forward(3, 0x10));
 }
 
+// A right to a unit the gateway does not forward is never used: said at the item, and the
+// config still loads (the units may be cut down on purpose for a while).
+TEST(GatewayRights, AUnitTheGatewayDoesNotForwardIsWarnedOfAtItsItem) {
+  const auto routed = [](const std::string& write) {
+    return config::parse_text("modbus:\n"
+                              "  mode: master\n"
+                              "  rtu: { device: /dev/ttyUSB0 }\n"
+                              "  gateway: { units: [3, 5-7] }\n"
+                              "  tls: { certificate: s.pem, key: s.key, ca: ca.pem,\n"
+                              "         roles: { operator: { write: " + write + " } } }\n",
+                              "r.yaml", config::Host{});
+  };
+  EXPECT_TRUE(config::warnings(routed("[W, \"unit 3\", \"units 5-7\"]")).empty());
+  EXPECT_EQ(config::warnings(routed("[\"unit 4\"]")),
+            std::vector<std::string>{"r.yaml:6:39: warning: modbus.tls.roles.operator.write: unit 4 is not in "
+                                     "modbus.gateway.units; no request reaches it and this right is never used"});
+  EXPECT_EQ(config::warnings(routed("[\"units 6-9\"]")),
+            std::vector<std::string>{"r.yaml:6:39: warning: modbus.tls.roles.operator.write: units 8, 9 are not in "
+                                     "modbus.gateway.units; no request reaches them and this right is never used"});
+  const auto without_gateway = load("[W, \"units 5-9\"]");
+  EXPECT_TRUE(operator_rights(without_gateway).may_forward(5, 0x06));
+  EXPECT_EQ(config::warnings(without_gateway),
+            std::vector<std::string>{"r.yaml:3:42: warning: modbus.tls.roles.operator.write: units 5-9 are named, but there "
+                                     "is no modbus.gateway; this right is never used"});
+}
+
 TEST(GatewayRights, AMalformedUnitEntryFailsAtItsPosition) {
   EXPECT_EQ(error("[W, \"unit 300\"]"), "r.yaml:3:42: modbus.tls.roles.operator.write: unit 300 is outside 1..247");
   EXPECT_EQ(error("[\"unit 0\"]"), "r.yaml:3:39: modbus.tls.roles.operator.write: unit 0 is outside 1..247");
