@@ -168,6 +168,9 @@ std::string render_status_panel(const nlohmann::json& s) {
                          q["last_error"].is_string() ? q["last_error"].get<std::string>() : std::string("connecting"));
     out += fmt::format("            {} messages published, {} connections, {} dropped\n", q["published"].get<std::uint64_t>(),
                        q["connections"].get<std::uint64_t>(), q["drops"].get<std::uint64_t>());
+    if (q.contains("last_takeover") && q["last_takeover"].is_string())
+      out += fmt::format("            session taken over by another client with this id {} times, last at {}\n",
+                         q["session_takeovers"].get<std::uint64_t>(), q["last_takeover"].get<std::string>());
   }
   return out;
 }

@@ -19,6 +19,7 @@
 #include "banks/register_store.hpp"
 #include "banks/source_ref.hpp"
 #include "config/endpoint.hpp"
+#include "config/mqtt_identity.hpp"
 #include "config/peer_allow_list.hpp"
 #include "master/device_profile.hpp"
 #include "master/master_value.hpp"
@@ -251,7 +252,7 @@ struct MqttConfig {
   std::string broker;        // as written: mqtt://host[:port] or mqtts://host[:port]
   bool tls = false;          // mqtts://
   HostPort endpoint;         // the broker's host (a name or an address) and port (1883, 8883)
-  std::string client_id;     // default unima-bridge-<hostname>
+  std::string client_id;     // default unima-bridge-<hostname>-<8 hex digits of the machine id> (config/mqtt_identity)
   std::string topic;         // the prefix, default unima/<client_id>
   std::string username;      // empty: none
   std::string password_file; // its first line is the password
@@ -262,6 +263,9 @@ struct MqttConfig {
   bool commands = false;     // set/W/<offset>, set/X/<bit>
   std::optional<MqttDiscoveryConfig> discovery;  // absent: no Home Assistant discovery
   std::string origin;        // "file:line:col" of mqtt
+  // What the birth message tells of the machine (SPEC §15), as the parse found it:
+  std::string host_name;     // gethostname(2); empty when it has none
+  std::string machine_id;    // the first 8 hex digits of /etc/machine-id; empty when there is none
   /// The same client and publishing (where the section stands in the file does not count).
   bool same_client(const MqttConfig& other) const {
     auto a = *this, b = other;
@@ -292,6 +296,7 @@ struct HostPath {
 
 struct Config {
   std::string file;
+  std::string file_sha256;  // of the text parsed (the file's bytes), as sha256sum prints it: the birth names it
   UnimabusConfig unimabus;
   ModbusConfig modbus;
   std::array<std::uint16_t, banks::bank_count> bank_bases{};
@@ -325,10 +330,14 @@ class ConfigError : public std::runtime_error {
 /// reads no environment and a test can pose as any host.
 struct Host {
   std::string name;  // gethostname(2): the default mqtt.client_id; empty when it has none
+  /// The first 8 hex digits of machine-id(5), for the default mqtt.client_id
+  /// (config/mqtt_identity.hpp); empty when there is none.
+  std::string machine_id;
   /// An environment variable's value; empty when it is not set (systemd's $STATE_DIRECTORY).
   std::function<std::string(std::string_view variable)> environment = [](std::string_view) { return std::string(); };
 
-  static Host this_machine();
+  /// This machine's; `machine_id_path` is a test's stand-in for /etc/machine-id.
+  static Host this_machine(const std::string& machine_id_path = std::string(machine_id_file));
 };
 
 /// The YAML text as a Config, or a ConfigError naming `origin`:line:column. Pure: it opens

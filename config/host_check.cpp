@@ -102,9 +102,12 @@ std::optional<std::string> doubt(const Config& config, const HostPath& path) {
 
 }  // namespace
 
-Host Host::this_machine() {
+Host Host::this_machine(const std::string& machine_id_path) {
   Host host;
   host.name = host_name();
+  std::ifstream machine_id(machine_id_path);
+  std::string line;
+  if (machine_id && std::getline(machine_id, line)) host.machine_id = machine_id_digits(line);
   host.environment = [](std::string_view variable) {
     const char* value = std::getenv(std::string(variable).c_str());
     return std::string(value ? value : "");

@@ -13,6 +13,7 @@
 #include "banks/yaml_document.hpp"
 #include "config/config.hpp"
 #include "config/section_parsers.hpp"
+#include "tls/sha256.hpp"
 
 namespace unima::config {
 
@@ -49,8 +50,10 @@ Config parse_document(const YAML::Node& root, const std::string& origin, const H
 }  // namespace
 
 Config parse_text(const std::string& text, const std::string& origin, const Host& host) {
-  return banks::read_yaml_document<ConfigError>(
+  auto config = banks::read_yaml_document<ConfigError>(
       text, origin, [&](const YAML::Node& root) { return parse_document(root, origin, host); });
+  config.file_sha256 = tls::sha256_hex(text);
+  return config;
 }
 
 Config load_text(const std::string& text, const std::string& origin, const Host& host) {

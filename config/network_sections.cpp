@@ -208,9 +208,18 @@ void parse_mqtt(ParseState& state, const YAML::Node& node) {
   if (auto* error = std::get_if<std::string>(&broker)) yaml.fail(node["broker"], fmt::format("mqtt.broker: {}", *error));
   m.tls = std::get<MqttBroker>(broker).tls;
   m.endpoint = std::get<MqttBroker>(broker).endpoint;
-  const auto& host_name = state.host.name;
-  m.client_id = node["client_id"] ? yaml.text(node["client_id"])
-                                  : host_name.empty() ? std::string("unima-bridge") : "unima-bridge-" + host_name;
+  m.host_name = state.host.name;
+  m.machine_id = state.host.machine_id;
+  if (node["client_id"]) {
+    m.client_id = yaml.text(node["client_id"]);
+  } else {
+    m.client_id = default_client_id(m.host_name, m.machine_id);
+    if (m.machine_id.empty())
+      yaml.warn(node, fmt::format("mqtt.client_id: this machine has no {} (machine-id(5)), so the default client id is {} "
+                                  "without one: bridges of one cloned image would share it and take the broker's session "
+                                  "from each other; set mqtt.client_id",
+                                  machine_id_file, m.client_id));
+  }
   if (m.client_id.empty() || m.client_id.size() > 64)
     yaml.fail(node["client_id"] ? node["client_id"] : node, "mqtt.client_id must be 1..64 characters");
   m.topic = node["topic"] ? yaml.text(node["topic"]) : "unima/" + m.client_id;

@@ -55,6 +55,7 @@ struct Runtime {
   ErrorHold error_hold;              // C+0x13 bit 15, held 2 s after the last fault
   unimabus::Publisher publisher;     // W, X and the user outputs to the running transport
   std::chrono::steady_clock::time_point started_at = std::chrono::steady_clock::now();
+  std::chrono::system_clock::time_point started_utc = std::chrono::system_clock::now();  // the birth's `started`
   /// The whole status document (`unima-bridge status --json`), for who shows it.
   std::function<nlohmann::json()> status;
   /// A TCP client's request for a foreign slave (modbus.gateway, SPEC §14), to the running

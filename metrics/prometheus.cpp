@@ -152,6 +152,9 @@ std::string prometheus_text(const nlohmann::json& status) {
     out.family("mqtt_connections_total", "counter", "Connections made to the MQTT broker.").sample(field(mqtt, "connections"));
     out.family("mqtt_drops_total", "counter", "Connections to the MQTT broker that dropped.").sample(field(mqtt, "drops"));
     out.family("mqtt_published_total", "counter", "MQTT messages handed to the broker's connection.").sample(field(mqtt, "published"));
+    out.family("mqtt_session_takeovers_total", "counter",
+               "Times the MQTT broker gave the bridge's session to another client with its client id.")
+        .sample(field(mqtt, "session_takeovers"));
   }
   if (const auto& logins = field(field(status, "http"), "logins"); logins.is_object()) {
     out.family("http_password_checks_total", "counter", "Password hashes of http.users computed (on the worker, not the loop).")

@@ -13,6 +13,8 @@ packages=(
   prometheus chromium chromium-driver
   # MQTT: the client library; the broker and its command-line clients for the tests
   libmosquitto-dev mosquitto mosquitto-clients
+  # MQTT 5 request/response in the tests: paho-mqtt as the fleet's application (tests/integration/mqtt)
+  python3-paho-mqtt
   mbpoll socat
   # packaging tests: systemd-analyze, systemd-sysusers/-tmpfiles, man, dpkg-shlibdeps, shellcheck
   systemd man-db groff-base dpkg-dev shellcheck

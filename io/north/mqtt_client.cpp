@@ -1,9 +1,11 @@
 #include "io/north/mqtt_client.hpp"
 
 #include <mosquitto.h>
+#include <mqtt_protocol.h>
 
 #include <algorithm>
 #include <cerrno>
+#include <cstdlib>
 #include <cstring>
 #include <mutex>
 
@@ -20,6 +22,21 @@ constexpr std::chrono::milliseconds max_backoff = 60s;
 std::string reason(int rc) {
   if (rc == MOSQ_ERR_ERRNO) return std::strerror(errno);
   return mosquitto_strerror(rc);
+}
+
+// MQTT 5's Response Topic and Correlation Data of a message, when it carries them.
+void read_response_request(const mosquitto_property* properties, MqttMessage& message) {
+  char* topic = nullptr;
+  if (mosquitto_property_read_string(properties, MQTT_PROP_RESPONSE_TOPIC, &topic, false) != nullptr && topic != nullptr) {
+    message.response_topic = topic;
+    std::free(topic);
+  }
+  void* data = nullptr;
+  std::uint16_t length = 0;
+  if (mosquitto_property_read_binary(properties, MQTT_PROP_CORRELATION_DATA, &data, &length, false) != nullptr && data != nullptr) {
+    message.correlation_data.assign(static_cast<const char*>(data), length);
+    std::free(data);
+  }
 }
 
 }  // namespace
@@ -56,14 +73,19 @@ mosquitto* MqttClient::make_handle() {
   }
   mosquitto_connect_callback_set(mosq, [](mosquitto*, void* self, int rc) { static_cast<MqttClient*>(self)->handle_connack(rc); });
   mosquitto_disconnect_callback_set(mosq, [](mosquitto*, void* self, int rc) { static_cast<MqttClient*>(self)->handle_disconnect(rc); });
-  mosquitto_message_callback_set(mosq, [](mosquitto*, void* self, const mosquitto_message* message) {
+  // The v5 callback serves 3.1.1 too (without properties).
+  mosquitto_message_v5_callback_set(mosq, [](mosquitto*, void* self, const mosquitto_message* message,
+                                             const mosquitto_property* properties) {
     auto& client = *static_cast<MqttClient*>(self);
     if (message->topic == nullptr) return;
-    const std::string_view payload(static_cast<const char*>(message->payload), static_cast<std::size_t>(std::max(message->payloadlen, 0)));
+    MqttMessage received{message->topic, std::string_view(static_cast<const char*>(message->payload),
+                                                          static_cast<std::size_t>(std::max(message->payloadlen, 0))),
+                         {}, {}};
+    read_response_request(properties, received);
     for (const auto& subscription : client.subscriptions_) {
       bool matches = false;
       mosquitto_topic_matches_sub(subscription.pattern.c_str(), message->topic, &matches);
-      if (matches) subscription.handler(message->topic, payload);
+      if (matches) subscription.handler(received);
     }
   });
   return mosq;
@@ -103,7 +125,7 @@ void MqttClient::stop() {
   retry_timer_.cancel();
   resolver_.cancel();
   if (connected_) {
-    publish(options_.status_topic, "offline", true);
+    send(options_.status_topic, "offline", true);
     mosquitto_disconnect(mosq_);  // written at once: the broker forgets the will
     connected_ = false;
     spdlog::info("mqtt: disconnected from {}:{}", options_.host, options_.port);
@@ -114,8 +136,28 @@ void MqttClient::stop() {
 bool MqttClient::backlogged() const { return connected_ && mosquitto_want_write(mosq_); }
 
 bool MqttClient::publish(const std::string& topic, std::string_view payload, bool retain) {
-  if (!connected_) return false;
+  return connected_ && send(topic, payload, retain);
+}
+
+bool MqttClient::send(const std::string& topic, std::string_view payload, bool retain) {
   const int rc = mosquitto_publish(mosq_, nullptr, topic.c_str(), static_cast<int>(payload.size()), payload.data(), 1, retain);
+  if (rc != MOSQ_ERR_SUCCESS) return false;
+  ++counters_.published;
+  watch();
+  return true;
+}
+
+bool MqttClient::publish_response(const std::string& topic, std::string_view payload, std::string_view correlation_data) {
+  if (!connected_) return false;
+  mosquitto_property* properties = nullptr;
+  if (!correlation_data.empty() &&
+      mosquitto_property_add_binary(&properties, MQTT_PROP_CORRELATION_DATA, correlation_data.data(),
+                                    static_cast<std::uint16_t>(correlation_data.size())) != MOSQ_ERR_SUCCESS)
+    return false;
+  // A topic with wildcards, or not UTF-8, is refused here (MOSQ_ERR_INVALID), not sent.
+  const int rc = mosquitto_publish_v5(mosq_, nullptr, topic.c_str(), static_cast<int>(payload.size()), payload.data(), 1,
+                                      false, properties);
+  mosquitto_property_free_all(&properties);
   if (rc != MOSQ_ERR_SUCCESS) return false;
   ++counters_.published;
   watch();
@@ -187,7 +229,8 @@ void MqttClient::lost(const std::string& why) {
   // Never inside one of libmosquitto's calls: lost() runs after they return.
   mosquitto_destroy(mosq_);
   mosq_ = make_handle();
-  last_error_ = refusal_.empty() ? why : std::exchange(refusal_, {});
+  last_error_ = taken_over_ ? fmt::format("the broker gave the session of client id {} to another client", options_.client_id)
+                            : refusal_.empty() ? why : std::exchange(refusal_, {});
   if (!drop_logged_) {
     spdlog::warn("mqtt: no connection to {}:{}: {}; trying again with back-off", options_.host, options_.port, last_error_);
     drop_logged_ = true;
@@ -198,8 +241,15 @@ void MqttClient::lost(const std::string& why) {
 void MqttClient::retry_later() {
   if (!running_) return;
   std::uniform_real_distribution<double> spread(0.75, 1.25);
-  const auto wait = std::chrono::milliseconds(static_cast<long>(backoff_.count() * spread(jitter_)));
+  auto wait = std::chrono::milliseconds(static_cast<long>(backoff_.count() * spread(jitter_)));
   backoff_ = std::min(backoff_ * 2, max_backoff);
+  if (std::exchange(taken_over_, false)) {
+    // No sooner than retry_after: the jitter only adds, so that a pair sharing an id
+    // does not come back together.
+    std::uniform_real_distribution<double> later(1.0, 1.25);
+    const std::chrono::milliseconds hold = mqtt::SessionTakeover::retry_after;
+    wait = std::max(wait, std::chrono::milliseconds(static_cast<long>(hold.count() * later(jitter_))));
+  }
   retry_timer_.expires_after(wait);
   retry_timer_.async_wait([this, alive = alive_](const boost::system::error_code& ec) {
     if (*alive && !ec && running_) resolve();
@@ -213,27 +263,47 @@ void MqttClient::handle_connack(int rc) {
                (options_.version == 5 ? mosquitto_reason_string(rc) : mosquitto_connack_string(rc));
     return;  // loop_read reports the refusal as an error: lost() logs it and retries
   }
-  connected_ = true;
   drop_logged_ = false;
   last_error_.clear();
   backoff_ = 1s;
   ++counters_.connections;
   connected_since_ = std::chrono::system_clock::now();
+  takeover_.connected(std::chrono::steady_clock::now());
   spdlog::info("mqtt: connected to {}:{} as {}", options_.host, options_.port, options_.client_id);
-  publish(options_.status_topic, "online", true);
+  // The birth, then `online`, before anything else (publish() takes nothing until
+  // connected_): whoever sees `online` finds the birth of this connection already there.
+  if (birth_ && !options_.birth_topic.empty()) send(options_.birth_topic, birth_(), true);
+  send(options_.status_topic, "online", true);
+  connected_ = true;
   for (const auto& subscription : subscriptions_) mosquitto_subscribe(mosq_, nullptr, subscription.pattern.c_str(), 1);
   if (on_connected_) on_connected_();
 }
 
-void MqttClient::handle_disconnect(int) {
+// `rc` is libmosquitto's error, or with MQTT 5 the reason code of the broker's DISCONNECT.
+void MqttClient::handle_disconnect(int rc) {
   if (!connected_) return;
   connected_ = false;
   connected_since_.reset();
   ++counters_.drops;
-  if (running_) {
-    spdlog::warn("mqtt: the connection to {}:{} dropped", options_.host, options_.port);
-    drop_logged_ = true;
+  using mqtt::ConnectionEnd;
+  const auto end = options_.version == 5 && rc == MQTT_RC_SESSION_TAKEN_OVER ? ConnectionEnd::taken_over
+                   : rc == MOSQ_ERR_CONN_LOST                                ? ConnectionEnd::closed_by_broker
+                                                                             : ConnectionEnd::failed;
+  taken_over_ = takeover_.ended(end, std::chrono::steady_clock::now());
+  if (!running_) return;
+  drop_logged_ = true;
+  if (taken_over_) {
+    ++counters_.session_takeovers;
+    last_takeover_ = std::chrono::system_clock::now();
+    spdlog::error("mqtt: {}:{} gave the session of client id {} to another client ({}): two clients must not share "
+                  "one mqtt.client_id; trying again in {} s",
+                  options_.host, options_.port, options_.client_id,
+                  end == ConnectionEnd::taken_over ? "MQTT 5 reason 0x8E, session taken over"
+                                                   : "closed by the broker soon after connecting, twice in a row",
+                  mqtt::SessionTakeover::retry_after.count());
+    return;
   }
+  spdlog::warn("mqtt: the connection to {}:{} dropped", options_.host, options_.port);
 }
 
 }  // namespace unima::io

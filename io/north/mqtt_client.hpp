@@ -6,8 +6,13 @@
 // (mosquitto_connect_async). A lost or refused connection is tried again with back-off
 // (1 s doubling to 60 s, ±25 % jitter); Modbus never waits for any of it.
 //
-// The will is `offline` on the status topic, retained; a connection publishes `online`
-// there, and stop() publishes `offline` before a clean disconnect.
+// The will is `offline` on the status topic, retained; a connection publishes the birth
+// (SPEC §15), then `online` there, and only then takes anyone's publish(): nothing can go
+// before them. stop() publishes `offline` before a clean disconnect.
+//
+// A broker that gave the session to another client with the same id
+// (mqtt/session_takeover.hpp) is tried again no sooner than 30 s later, with an error in
+// the log naming the id.
 
 #include <chrono>
 #include <cstdint>
@@ -19,6 +24,7 @@
 #include <string_view>
 #include <vector>
 
+#include "mqtt/session_takeover.hpp"
 #include "platform/asio.hpp"
 
 struct mosquitto;
@@ -35,7 +41,16 @@ struct MqttClientOptions {
   std::string password;
   int version = 4;  // 4: MQTT 3.1.1; 5: MQTT 5
   std::string status_topic;  // <prefix>/status
+  std::string birth_topic;   // <prefix>/birth; empty: no birth
   std::chrono::seconds keepalive{30};
+};
+
+/// A message that came; MQTT 5's Response Topic and Correlation Data when it carried them.
+struct MqttMessage {
+  std::string_view topic;
+  std::string_view payload;
+  std::string response_topic;    // empty: none (always with MQTT 3.1.1)
+  std::string correlation_data;  // bytes, given back as they came
 };
 
 class MqttClient {
@@ -54,23 +69,32 @@ class MqttClient {
   /// True while what was published has not all gone to the socket (a slow broker): the
   /// caller publishes its latest state later instead of queueing more.
   bool backlogged() const;
-  /// Called on each (re)connection, after `online`.
+  /// An answer to an MQTT 5 request (SPEC §15): QoS 1, not retained, with the request's
+  /// correlation data; false when not connected or the broker cannot take `topic`.
+  bool publish_response(const std::string& topic, std::string_view payload, std::string_view correlation_data);
+  /// The birth's payload, made at each connection (the facts in it may have changed).
+  void birth(std::function<std::string()> payload) { birth_ = std::move(payload); }
+  /// Called on each (re)connection, after the birth and `online`.
   void on_connected(std::function<void()> handler) { on_connected_ = std::move(handler); }
-  using MessageHandler = std::function<void(std::string_view topic, std::string_view payload)>;
   /// Subscribes `pattern` (QoS 1) on each connection, beside the patterns subscribed
   /// before; a message goes to the handler of each pattern it matches.
-  void subscribe(std::string pattern, MessageHandler handler) { subscriptions_.push_back({std::move(pattern), std::move(handler)}); }
+  void subscribe(std::string pattern, std::function<void(const MqttMessage&)> handler) {
+    subscriptions_.push_back({std::move(pattern), std::move(handler)});
+  }
 
   struct Counters {
     std::uint64_t connections = 0;
     std::uint64_t drops = 0;
     std::uint64_t published = 0;
+    std::uint64_t session_takeovers = 0;
   };
   const Counters& counters() const { return counters_; }
   const MqttClientOptions& options() const { return options_; }
   /// Why the last attempt or connection failed; empty while connected.
   const std::string& last_error() const { return last_error_; }
   std::optional<std::chrono::system_clock::time_point> connected_since() const { return connected_since_; }
+  /// When a broker last gave the session to another client; none yet: nullopt.
+  std::optional<std::chrono::system_clock::time_point> last_takeover() const { return last_takeover_; }
 
  private:
   mosquitto* make_handle();
@@ -84,6 +108,8 @@ class MqttClient {
   void release_socket();
   void handle_connack(int rc);
   void handle_disconnect(int rc);
+  /// A QoS 1 publish, connected_ or not: only handle_connack sends before connected_.
+  bool send(const std::string& topic, std::string_view payload, bool retain);
 
   asio::io_context& io_;
   MqttClientOptions options_;
@@ -102,11 +128,15 @@ class MqttClient {
   std::optional<std::chrono::system_clock::time_point> connected_since_;
   std::string last_error_;
   std::string refusal_;  // why the broker refused the last CONNECT, for lost()
+  mqtt::SessionTakeover takeover_;
+  bool taken_over_ = false;  // the connection that ended last: its session was taken over
+  std::optional<std::chrono::system_clock::time_point> last_takeover_;
   Counters counters_;
+  std::function<std::string()> birth_;
   std::function<void()> on_connected_;
   struct Subscription {
     std::string pattern;
-    MessageHandler handler;
+    std::function<void(const MqttMessage&)> handler;
   };
   std::vector<Subscription> subscriptions_;
   std::shared_ptr<bool> alive_ = std::make_shared<bool>(true);

@@ -5,7 +5,9 @@
 #include <spdlog/spdlog.h>
 
 #include "monitor/monitor_line.hpp"
+#include "mqtt/birth.hpp"
 #include "mqtt/command.hpp"
+#include "platform/clock_sync.hpp"
 #include "platform/log_text.hpp"
 #include "values/store_snapshot.hpp"
 
@@ -48,7 +50,9 @@ std::unique_ptr<MqttClient> MqttService::make_client(const config::Config& confi
   if (!m.password_file.empty()) options.password = first_line_of(m.password_file);
   options.version = m.version;
   options.status_topic = m.topic + "/status";
+  options.birth_topic = m.topic + "/birth";
   auto client = std::make_unique<MqttClient>(runtime_.io, options);
+  client->birth([this] { return birth(); });
   client->on_connected([this, announcing = client.get()] {
     // Home Assistant's configs before the documents their entities read.
     discovery_.announce(*announcing);
@@ -56,12 +60,23 @@ std::unique_ptr<MqttClient> MqttService::make_client(const config::Config& confi
     publish();
   });
   if (m.commands)
-    client->subscribe(m.topic + "/set/#", [this](std::string_view topic, std::string_view payload) { take_command(topic, payload); });
+    client->subscribe(m.topic + "/set/#", [this](const MqttMessage& message) { take_command(message); });
   if (m.discovery)
-    client->subscribe(mqtt::home_assistant_status_topic(config), [this, announcing = client.get()](std::string_view, std::string_view payload) {
-      if (payload == "online") discovery_.announce(*announcing);
+    client->subscribe(mqtt::home_assistant_status_topic(config), [this, announcing = client.get()](const MqttMessage& message) {
+      if (message.payload == "online") discovery_.announce(*announcing);
     });
   return client;
+}
+
+// Of the running config: a reload that keeps the client still changes config_sha256.
+std::string MqttService::birth() const {
+  const auto& config = runtime_.config();
+  return mqtt::birth_document({.version = UNIMA_VERSION,
+                               .config_sha256 = config.file_sha256,
+                               .started = runtime_.started_utc,
+                               .hostname = config.mqtt->host_name,
+                               .machine_id = config.mqtt->machine_id,
+                               .clock_synced = platform::clock_synchronized()});
 }
 
 void MqttService::lay_out() {
@@ -78,14 +93,23 @@ void MqttService::lay_out() {
 
 // A command is a Modbus write by other means: it takes the one write path (rights, the
 // register space, the state file, UnimaBUS) and is answered once what it kept is durable.
-void MqttService::take_command(std::string_view topic, std::string_view payload) {
+// An MQTT 5 request (Response Topic, Correlation Data) is answered where it asks, with its
+// correlation data; any other command, or a response topic the client cannot publish to
+// (wildcards), on `<prefix>/set/result`.
+void MqttService::take_command(const MqttMessage& message) {
+  const auto topic = message.topic;
+  const auto payload = message.payload;
   const auto& running = *runtime_.banks;
   const auto& prefix = running.config.mqtt->topic;
   const auto set = prefix + "/set/";
   if (!topic.starts_with(set) || topic == prefix + "/set/result") return;  // our own results come back too
   const auto result_topic = prefix + "/set/result";
-  const auto answer = [this, result_topic, topic = std::string(topic)](const std::string& error) {
-    if (client_) client_->publish(result_topic, mqtt::command_result(topic, error), false);
+  const auto answer = [this, result_topic, topic = std::string(topic), response_topic = message.response_topic,
+                       correlation = message.correlation_data](const std::string& error) {
+    if (!client_) return;
+    const auto result = mqtt::command_result(topic, error);
+    if (!response_topic.empty() && client_->publish_response(response_topic, result, correlation)) return;
+    client_->publish(result_topic, result, false);
   };
   const auto parsed = mqtt::parse_command(topic.substr(set.size()), payload);
   if (const auto* error = std::get_if<std::string>(&parsed)) return answer(*error);
@@ -164,7 +188,10 @@ void MqttService::abandon() {
   new_client_ = false;
 }
 
-void MqttService::commit(const Banks&) {
+void MqttService::commit(const Banks& previous) {
+  // The same client after a reload: the retained birth tells of the config now running.
+  if (!new_client_ && client_ && client_->connected() && previous.config.file_sha256 != runtime_.config().file_sha256)
+    client_->publish(client_->options().birth_topic, birth(), true);
   if (new_client_) {
     if (client_) client_->stop();  // `offline`, a clean goodbye, before the new client says `online`
     client_ = std::move(next_client_);
@@ -184,13 +211,20 @@ void MqttService::describe(nlohmann::json& status) const {
   const auto& c = client_->counters();
   nlohmann::json mqtt{{"broker", config.broker},      {"client_id", config.client_id}, {"topic", config.topic},
                       {"connected", client_->connected()}, {"connections", c.connections},  {"drops", c.drops},
-                      {"published", c.published}};
+                      {"published", c.published}, {"session_takeovers", c.session_takeovers}};
   if (const auto since = client_->connected_since()) {
     std::string time;
     monitor::append_utc_time(time, *since);
     mqtt["since"] = time;
   } else {
     mqtt["since"] = nullptr;
+  }
+  if (const auto taken = client_->last_takeover()) {
+    std::string time;
+    monitor::append_utc_time(time, *taken);
+    mqtt["last_takeover"] = time;
+  } else {
+    mqtt["last_takeover"] = nullptr;
   }
   mqtt["last_error"] = client_->last_error().empty() ? nlohmann::json(nullptr) : nlohmann::json(client_->last_error());
   status["mqtt"] = mqtt;

@@ -3,9 +3,12 @@
 // banks whose values or on-line state changed, every `period` and after each
 // (re)connection all of them, from the value model (values/) over the register store
 // that Modbus reads, so a document and a Modbus read never disagree — and the commands
-// it takes (`<prefix>/set/W/<n>`, `set/X/<bit>`), written through the one write path;
-// with `discovery`, Home Assistant's configs (io/north/discovery_announcer). A reload
-// keeps the client (and its session) when the broker settings did not change.
+// it takes (`<prefix>/set/W/<n>`, `set/X/<bit>`), written through the one write path and
+// answered on `<prefix>/set/result` or, for an MQTT 5 request that names one, on its
+// Response Topic (SPEC §15). Before all of it on each connection, the birth
+// (`<prefix>/birth`, mqtt/birth.hpp); with `discovery`, Home Assistant's configs
+// (io/north/discovery_announcer). A reload keeps the client (and its session) when the
+// broker settings did not change; a reload to another config file says so in a new birth.
 
 #include <memory>
 #include <optional>
@@ -36,7 +39,8 @@ class MqttService final : public Service {
   void lay_out();
   void tick();
   void publish();
-  void take_command(std::string_view topic, std::string_view payload);
+  void take_command(const MqttMessage& message);
+  std::string birth() const;
 
   Runtime& runtime_;
   std::unique_ptr<MqttClient> client_;

@@ -103,15 +103,53 @@ TEST(ConfigHostCheck, AcceptsWhatIsFreeOrASocket) {
   EXPECT_NO_THROW(check_on_host(config));
 }
 
-TEST(ConfigParse, TheHostNameGivesTheDefaultMqttClient) {
-  const auto named = parse_text("mqtt: { broker: 'mqtt://10.0.0.2' }\n", "m.yaml", host_called("plc-7"));
+TEST(ConfigParse, TheHostNameAndMachineIdGiveTheDefaultMqttClient) {
+  auto host = host_called("plc-7");
+  host.machine_id = "3d1219c7";
+  const auto named = parse_text("mqtt: { broker: 'mqtt://10.0.0.2' }\n", "m.yaml", host);
   ASSERT_TRUE(named.mqtt);
+  EXPECT_EQ(named.mqtt->client_id, "unima-bridge-plc-7-3d1219c7");
+  EXPECT_EQ(named.mqtt->topic, "unima/unima-bridge-plc-7-3d1219c7");
+  EXPECT_EQ(named.mqtt->host_name, "plc-7");
+  EXPECT_EQ(named.mqtt->machine_id, "3d1219c7");
+  EXPECT_EQ(warnings(named), std::vector<std::string>{});
+  const auto set = parse_text("mqtt: { broker: 'mqtt://10.0.0.2', client_id: site-17 }\n", "m.yaml", host);
+  EXPECT_EQ(set.mqtt->client_id, "site-17");
+}
+
+// No machine id: the host name alone, and a warning that cloned images would collide —
+// but none when the config names its client id (then the default does not matter).
+TEST(ConfigParse, WithoutAMachineIdTheDefaultClientIsTheHostNameAndAWarningSaysSo) {
+  const auto named = parse_text("mqtt: { broker: 'mqtt://10.0.0.2' }\n", "m.yaml", host_called("plc-7"));
   EXPECT_EQ(named.mqtt->client_id, "unima-bridge-plc-7");
-  EXPECT_EQ(named.mqtt->topic, "unima/unima-bridge-plc-7");
+  EXPECT_EQ(warnings(named),
+            std::vector<std::string>{
+                "m.yaml:1:7: warning: mqtt.client_id: this machine has no /etc/machine-id (machine-id(5)), so the default "
+                "client id is unima-bridge-plc-7 without one: bridges of one cloned image would share it and take the "
+                "broker's session from each other; set mqtt.client_id"});
   const auto nameless = parse_text("mqtt: { broker: 'mqtt://10.0.0.2' }\n", "m.yaml", host_called(""));
   EXPECT_EQ(nameless.mqtt->client_id, "unima-bridge");
   const auto set = parse_text("mqtt: { broker: 'mqtt://10.0.0.2', client_id: site-17 }\n", "m.yaml", host_called("plc-7"));
-  EXPECT_EQ(set.mqtt->client_id, "site-17");
+  EXPECT_EQ(warnings(set), std::vector<std::string>{});
+}
+
+// Read once from the file machine-id(5) names (a test's own file here); a file that is
+// not a machine id counts as none.
+TEST(ConfigHostCheck, TheMachineIdIsReadFromItsFile) {
+  TempDir dir;
+  test_support::write_file(dir.path() / "machine-id", "3D1219C7C4C5404AAA1F6D2A48ADFDA4\n");
+  EXPECT_EQ(Host::this_machine((dir.path() / "machine-id").string()).machine_id, "3d1219c7");
+  test_support::write_file(dir.path() / "empty", "");
+  EXPECT_EQ(Host::this_machine((dir.path() / "empty").string()).machine_id, "");
+  EXPECT_EQ(Host::this_machine((dir.path() / "none").string()).machine_id, "");
+}
+
+// SPEC §15: config_sha256 is of the file's bytes, as sha256sum prints it.
+TEST(ConfigParse, TheConfigsDigestIsOfItsText) {
+  EXPECT_EQ(parse_text("", "empty.yaml", host_called("x")).file_sha256,
+            "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
+  EXPECT_EQ(parse_text("log: { level: info }\n", "l.yaml", host_called("x")).file_sha256,
+            "c24ecf020b550feddc3a5b9c41e0273a38b717d3690b800bd2841d7ce3963ac2");
 }
 
 TEST(ConfigParse, TheStateFileFollowsTheEnvironmentGiven) {

@@ -57,7 +57,9 @@ TEST(ReadOnly, AFrozenWritePathRefusesEveryWriteAndChangesNothingUntilThawed) {
 }
 
 config::Config config_of(const std::string& yaml) {
-  return config::parse_text(yaml, "bridge.yaml", config::Host{"box"});
+  config::Host host;
+  host.name = "box";
+  return config::parse_text(yaml, "bridge.yaml", host);
 }
 
 TEST(ReadOnly, ThePlainPortsReadOnlyFreezesTheBridgeAndTheTlsPortsIsItsOwn) {

@@ -1,0 +1,22 @@
+#include "mqtt/birth.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include "monitor/monitor_line.hpp"
+
+namespace unima::mqtt {
+
+std::string birth_document(const BirthFacts& facts) {
+  std::string started;
+  monitor::append_utc_time(started, facts.started);
+  nlohmann::ordered_json document;
+  document["version"] = facts.version;
+  document["config_sha256"] = facts.config_sha256;
+  document["started"] = started;
+  document["hostname"] = facts.hostname;
+  document["machine_id"] = facts.machine_id.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(facts.machine_id);
+  document["clock_synced"] = facts.clock_synced;
+  return document.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
+}  // namespace unima::mqtt

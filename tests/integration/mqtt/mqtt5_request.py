@@ -1,0 +1,73 @@
+#!/usr/bin/python3
+"""One MQTT 5 request to the bridge (SPEC §15), as a fleet's application makes it with
+paho-mqtt (Debian's python3-paho-mqtt): subscribe RESPONSE_TOPIC, publish PAYLOAD on
+TOPIC with Response Topic and Correlation Data, wait for the answer.
+
+  mqtt5_request.py PORT TOPIC PAYLOAD RESPONSE_TOPIC CORRELATION_HEX [--no-properties]
+
+Prints "answer: <payload>" and "correlation: <hex of its Correlation Data, or none>" of
+the first message on RESPONSE_TOPIC, or "error: <reason>" after 5 s. --no-properties
+publishes the command without either property (a plain command answered on set/result;
+the script then waits on RESPONSE_TOPIC all the same, so give it that).
+
+Debian's python3 by its path: python3-paho-mqtt is installed for it, not for another
+python3 first on PATH.
+"""
+import sys
+import threading
+
+import paho.mqtt.client as mqtt
+from paho.mqtt.packettypes import PacketTypes
+from paho.mqtt.properties import Properties
+
+
+def main():
+    port, topic, payload, response_topic, correlation_hex = sys.argv[1:6]
+    with_properties = "--no-properties" not in sys.argv[6:]
+    subscribed = threading.Event()
+    answered = threading.Event()
+    answer = {}
+
+    client = mqtt.Client(client_id="fleet-app", protocol=mqtt.MQTTv5)
+
+    def on_connect(client, userdata, flags, reason_code, properties):
+        client.subscribe(response_topic, qos=1)
+
+    def on_subscribe(client, userdata, mid, reason_codes, properties):
+        subscribed.set()
+
+    def on_message(client, userdata, message):
+        if answered.is_set():
+            return
+        data = getattr(message.properties, "CorrelationData", None)
+        answer["payload"] = message.payload.decode(errors="replace")
+        answer["correlation"] = data.hex() if data is not None else "none"
+        answered.set()
+
+    client.on_connect = on_connect
+    client.on_subscribe = on_subscribe
+    client.on_message = on_message
+    client.connect("127.0.0.1", int(port))
+    client.loop_start()
+    try:
+        if not subscribed.wait(5):
+            print("error: not subscribed")
+            return 1
+        properties = Properties(PacketTypes.PUBLISH)
+        if with_properties:
+            properties.ResponseTopic = response_topic
+            properties.CorrelationData = bytes.fromhex(correlation_hex)
+        client.publish(topic, payload, qos=1, properties=properties)
+        if not answered.wait(5):
+            print("error: no answer on " + response_topic)
+            return 1
+        print("answer: " + answer["payload"])
+        print("correlation: " + answer["correlation"])
+        return 0
+    finally:
+        client.loop_stop()
+        client.disconnect()
+
+
+if __name__ == "__main__":
+    sys.exit(main())
