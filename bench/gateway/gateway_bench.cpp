@@ -281,6 +281,18 @@ class Line {
   Line& operator=(const Line&) = delete;
 
   std::uint16_t port() const { return port_; }
+  /// The gateway's CPU time so far, in µs: the scheduler's run time of each of its threads
+  /// (/proc/PID/task/*/schedstat, in ns; /proc/PID/stat counts 10 ms ticks).
+  double cpu_us() const {
+    double ns = 0;
+    std::error_code ec;
+    for (const auto& task : fs::directory_iterator("/proc/" + std::to_string(server_->pid()) + "/task", ec)) {
+      std::istringstream fields(slurp(task.path() / "schedstat"));
+      double run = 0;
+      if (fields >> run) ns += run;
+    }
+    return ns / 1000;
+  }
   unsigned baud() const { return baud_; }
   fs::path frames_path() const { return dir_ / "frames.log"; }
   std::vector<Frame> frames() const {
@@ -481,7 +493,8 @@ int main(int argc, char** argv) {
   std::vector<Gateway> gateways{Gateway::bridge};
   if (!options.mbusd.empty()) gateways.push_back(Gateway::mbusd);
   const std::vector<unsigned> bauds{19200, 115200};
-  std::map<std::pair<int, unsigned>, std::vector<double>> rates, fairness, slave_ms, gap_ms, gap_p90_ms;  // (gateway, baud)
+  std::map<std::pair<int, unsigned>, std::vector<double>> rates, fairness, slave_ms, gap_ms, gap_p90_ms,
+      cpu_per_transaction;  // (gateway, baud)
   std::vector<double> priority_p99, priority_turns_max, overhead_p99, overhead_p90, overhead_p50, bank_ratio, bank_idle, bank_busy;
   std::string errors;
   const auto failed = [&](const std::string& what, const std::string& error) {
@@ -495,7 +508,13 @@ int main(int argc, char** argv) {
       for (const auto baud : bauds)
         for (const auto g : gateways) {
           const Line line(g, baud, options);
+          const auto cpu_before = line.cpu_us();
           const auto run = busy(line, options.seconds, false);
+          // Per transaction answered in all, warm-up included: what it costs the gateway's loop.
+          const auto answered = run.rate() * run.seconds;
+          cpu_per_transaction[{static_cast<int>(g), baud}].push_back((line.cpu_us() - cpu_before) /
+                                                                     std::max(answered, 1.0) * run.seconds /
+                                                                     (run.seconds + 0.3));
           failed(format("%s at %u baud", name(g), baud), run.error);
           rates[{static_cast<int>(g), baud}].push_back(run.rate());
           fairness[{static_cast<int>(g), baud}].push_back(run.worst_fairness_percent());
@@ -567,6 +586,11 @@ int main(int argc, char** argv) {
                        verdict(worst <= 10), limit.transaction_us / 1000 - t3_5, median(slave_ms[key]), t3_5,
                        median(gap_ms[key]), median(gap_p90_ms[key]));
     }
+  report += "\nCPU time of the gateway process per forwarded transaction (its threads' run time, schedstat):";
+  for (const auto baud : bauds)
+    for (const auto g : gateways)
+      report += format(" %s at %u: %.0f µs;", name(g), baud, median(cpu_per_transaction[{static_cast<int>(g), baud}]));
+  report += "\n";
   const auto bound = 2 * line_limit(19200).transaction_us;
   report += format("\nPriority peer among 8 busy clients, 19200 baud: p99 %.2f ms, bound (one transaction in progress "
                    "+ its own) %.2f ms: %s; p99 per round, ms: %s; requests on the line while one of its waited, its "
