@@ -17,8 +17,11 @@
 //   overhead   one client on an idle line: its latency minus the line time of its
 //              transaction (request heard to answer ended, in the frame log), p99
 //   banks      the daemon's own banks (function 4) under unima-bench-load, with the
-//              gateway idle and with the 8 clients busy on it
+//              gateway idle and with the 8 clients busy on it; and, steadier on a shared
+//              host, the gateway process's CPU time per forwarded transaction
 //   mbusd      with --mbusd PATH, the line-use and fairness runs through mbusd too
+//
+// Beside them, how late this host wakes a sleeping thread: the latencies' tails are that.
 //
 // Every load loop is bounded by time and by count. Exit 0 when every run worked and every
 // answer was right, 1 otherwise, 2 when it could not start; no time is asserted — each
