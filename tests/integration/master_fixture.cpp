@@ -10,11 +10,12 @@
 
 namespace unima::test {
 
-SlaveSim::SlaveSim(const TempDir& dir, const std::vector<std::string>& slaves, bool pty, bool tcp)
+SlaveSim::SlaveSim(const TempDir& dir, const std::vector<std::string>& slaves, bool pty, bool tcp, unsigned wire_baud)
     : out_path_(dir.path() / "sim.out"), frames_path_(dir.path() / "frames.log"), control_path_(dir.path() / "sim.ctl") {
   std::vector<std::string> args{UNIMA_SLAVE_SIM, "--frames", frames_path_.string(), "--control", control_path_.string()};
   if (pty) args.insert(args.end(), {"--pty", (dir.path() / "ttySIM").string()});
   if (tcp) args.insert(args.end(), {"--tcp", "0"});
+  if (wire_baud) args.insert(args.end(), {"--baud", std::to_string(wire_baud)});
   for (const auto& s : slaves) args.insert(args.end(), {"--slave", s});
   process_ = std::make_unique<test_support::ChildProcess>(args, test_support::writing_to(out_path_));
   ready_ = eventually([&] { return output().find("ready ") != std::string::npos; });
@@ -64,10 +65,10 @@ std::string SlaveSim::control(const std::string& line) const {
   return socket.read_line().value_or("(no answer)");
 }
 
-void MasterTest::simulate(const std::vector<std::string>& slaves, bool tcp) {
-  sim = std::make_unique<SlaveSim>(dir, slaves, true, tcp);
+void MasterTest::simulate(const std::vector<std::string>& slaves, bool tcp, bool wire) {
+  sim = std::make_unique<SlaveSim>(dir, slaves, true, tcp, wire ? line_baud : 0);
   ASSERT_TRUE(sim->ready()) << sim->output();
-  config.line = "rtu: { device: " + sim->pty() + ", baud: 38400 }";
+  config.line = "rtu: { device: " + sim->pty() + ", baud: " + std::to_string(line_baud) + " }";
 }
 
 void MasterTest::start() {

@@ -24,8 +24,10 @@ struct SimFrame {
 class SlaveSim {
  public:
   /// Starts the simulator with `slaves` ("1=sic184-v3", "2=stepper-driver,dead"), on a pty
-  /// at DIR/ttySIM when `pty`, on a free TCP port when `tcp`.
-  SlaveSim(const TempDir& dir, const std::vector<std::string>& slaves, bool pty = true, bool tcp = false);
+  /// at DIR/ttySIM when `pty`, on a free TCP port when `tcp`; `wire_baud` not 0: the
+  /// simulator plays that line's wire times (its --baud).
+  SlaveSim(const TempDir& dir, const std::vector<std::string>& slaves, bool pty = true, bool tcp = false,
+           unsigned wire_baud = 0);
   ~SlaveSim();
   SlaveSim(const SlaveSim&) = delete;
   SlaveSim& operator=(const SlaveSim&) = delete;
@@ -60,8 +62,10 @@ class MasterTest : public ::testing::Test {
     config.feed_port = free_port();
     config.status_socket = (dir.path() / "control.sock").string();
   }
-  /// Starts the simulator (on a pty) with `slaves`, and points the config's line at it.
-  void simulate(const std::vector<std::string>& slaves, bool tcp = false);
+  /// Starts the simulator (on a pty) with `slaves`, and points the config's line at it
+  /// (38400 baud); `wire`: the simulator answers when a line at that speed would have.
+  void simulate(const std::vector<std::string>& slaves, bool tcp = false, bool wire = false);
+  static constexpr unsigned line_baud = 38400;
   /// Starts the daemon and waits until its TCP slave accepts connections.
   void start();
   /// C+(output-1), read over the daemon's TCP slave (bank C at its default 0x1020).

@@ -3,11 +3,16 @@
 // tests and the benchmark. Each slave serves its device profile's map; switches make one
 // dead, slow or answering garbage, at start or at run time through a control socket.
 //
-//   foreign-slave-sim [--pty LINK] [--tcp PORT] [--frames FILE] [--control PATH]
+//   foreign-slave-sim [--pty LINK] [--baud N] [--tcp PORT] [--frames FILE] [--control PATH]
 //                     --slave ADDR=PROFILE[,dead][,slow=MS][,garbage=KIND][,exception=CODE] ...
 //
 // KIND: crc, short, function, address, noise. On start it prints "ready pty=LINK tcp=PORT".
 // --frames logs every frame heard and sent: "<monotonic µs> rx|tx rtu|tcp <hex bytes>".
+// --baud N: the pty carries a frame at once, so the simulator plays the wire of a line at N
+// baud, 8N1: an RTU answer leaves when, on that line, the request would have been carried
+// (its bytes × 10 bits ÷ N), the slave had heard its t3.5 of silence, waited its `slow`
+// and sent its answer's bytes — so "rx" is logged when the request begins on the wire and
+// "tx" when the answer has ended there. Without it an answer leaves after `slow` alone.
 // Control lines: "dead A on|off", "slow A MS", "garbage A KIND|off", "exception A CODE|off",
 // "set A REG VALUE", "get A REG", "input A REG 0|1", "coil A REG", "count A", "reset";
 // answered by one line.
@@ -38,6 +43,7 @@
 #include "tests/support/pseudo_terminal.hpp"
 #include "modbus/rtu/crc16.hpp"
 #include "modbus/rtu/rtu_adu.hpp"
+#include "modbus/rtu/rtu_timing.hpp"
 #include "modbus/mbap.hpp"
 #include "tests/sim/foreign_slave.hpp"
 
@@ -76,6 +82,7 @@ struct Client {
 std::map<std::uint8_t, Slave> slaves;
 std::vector<Pending> pending;
 std::FILE* frames = nullptr;
+std::optional<unima::modbus::RtuTiming> line_timing;  // --baud: the wire to play
 std::uint32_t noise_state = 12345;
 volatile sig_atomic_t stop_requested = 0;
 
@@ -180,7 +187,13 @@ void serve(int fd, bool rtu, std::uint8_t address, std::span<const std::uint8_t>
   Bytes reply = slave.behaviour.exception ? Bytes{static_cast<std::uint8_t>(pdu[0] | 0x80), slave.behaviour.exception}
                                           : slave.model->answer(pdu);
   if (address == 0) return;  // broadcast: no answer
-  pending.push_back({Clock::now() + slave.behaviour.slow, fd, rtu, spoil(slave.behaviour, rtu, address, reply, transaction)});
+  auto answer = spoil(slave.behaviour, rtu, address, reply, transaction);
+  auto at = Clock::now() + slave.behaviour.slow;
+  if (rtu && line_timing) {
+    const auto wire = [](std::size_t bytes) { return line_timing->character * static_cast<long>(bytes); };
+    at += wire(pdu.size() + 3) + line_timing->frame_gap + wire(answer.size());
+  }
+  pending.push_back({at, fd, rtu, std::move(answer)});
 }
 
 // RTU: a request's length from its first bytes (Modbus over Serial Line V1.02 §2.5.1.1).
@@ -351,6 +364,7 @@ int main(int argc, char** argv) {
       return argv[++i];
     };
     if (arg == "--pty") pty_link = value();
+    else if (arg == "--baud") line_timing = unima::modbus::rtu_timing(static_cast<unsigned>(std::stoul(value())), false, 1);
     else if (arg == "--tcp") tcp_port = static_cast<std::uint16_t>(std::stoul(value()));
     else if (arg == "--frames") frames_path = value();
     else if (arg == "--control") control_path = value();
@@ -398,8 +412,10 @@ int main(int argc, char** argv) {
     auto wake = Clock::now() + std::chrono::milliseconds(200);
     for (const auto& p : pending) wake = std::min(wake, p.at);
     if (!rtu_in.empty()) wake = std::min(wake, rtu_last_byte + rtu_silence);
-    const auto wait = std::chrono::ceil<std::chrono::milliseconds>(wake - Clock::now()).count();
-    ::poll(fds.data(), fds.size(), static_cast<int>(std::max<long>(wait, 0)));
+    // To the microsecond, not poll's millisecond: an answer's time is what --baud plays.
+    const auto wait = std::max(std::chrono::nanoseconds(0), std::chrono::ceil<std::chrono::nanoseconds>(wake - Clock::now()));
+    const timespec timeout{static_cast<time_t>(wait.count() / 1'000'000'000), static_cast<long>(wait.count() % 1'000'000'000)};
+    ::ppoll(fds.data(), fds.size(), &timeout, nullptr);
     const auto now = Clock::now();
 
     std::uint8_t buf[4096];
