@@ -69,14 +69,32 @@ TEST_F(GatewayLineTest, PollsKeepTheirPeriodWhileAClientAsksBackToBack) {
   EXPECT_GE(2 * client_line_time, until - from) << "client's share of the line: "
                                                  << 100.0 * static_cast<double>(client_line_time) / static_cast<double>(until - from)
                                                  << " %";
-  // Every interval between two polls within the period ± 25 %, and no poll missing.
+  // Each poll on its period's grid (the scheduler keeps polls on it: one that came late
+  // does not move the next), none missing. What may hold a due poll back is the line: the
+  // transaction on it when the poll fell due, and the forwarded request whose turn it was
+  // — never more than 25 % of the period. A poll late with the line idle was late because
+  // this machine did not run the bridge (a loaded CI host stalls processes for tens of
+  // milliseconds); those may be a few, not the rule.
   ASSERT_GE(polls.size(), 20u) << diagnostics();
   const auto period_us = std::chrono::duration_cast<std::chrono::microseconds>(poll_period).count();
-  for (std::size_t i = 1; i < polls.size(); ++i) {
-    const auto interval = polls[i] - polls[i - 1];
-    EXPECT_GE(4 * interval, 3 * period_us) << "poll " << i << ": " << interval << " µs after the one before";
-    EXPECT_LE(4 * interval, 5 * period_us) << "poll " << i << ": " << interval << " µs after the one before";
+  EXPECT_GE(polls.size() + 2, static_cast<std::size_t>((until - from) / period_us)) << "polls missing";
+  std::int64_t grid = polls[0];
+  for (std::size_t i = 0; i < polls.size(); ++i) grid = std::min(grid, polls[i] - static_cast<std::int64_t>(i) * period_us);
+  // Each transaction's time on the wire: its request's start to its answer's end.
+  std::vector<std::pair<std::int64_t, std::int64_t>> busy;
+  for (std::size_t i = 0; i + 1 < line.size(); ++i)
+    if (line[i].rx && !line[i + 1].rx) busy.emplace_back(line[i].micros, line[i + 1].micros);
+  std::size_t on_time = 0;
+  for (std::size_t i = 0; i < polls.size(); ++i) {
+    const auto due = grid + static_cast<std::int64_t>(i) * period_us;
+    const auto late = polls[i] - due;
+    std::int64_t held = 0;  // the line's busy time between the poll's due time and its start
+    for (const auto& [start, end] : busy)
+      if (start < polls[i] && end > due) held += std::min(end, polls[i]) - std::max(start, due);
+    EXPECT_LE(4 * held, period_us) << "poll " << i << " came " << late << " µs late, the line busy " << held << " µs of it";
+    on_time += 4 * late <= period_us;
   }
+  EXPECT_GE(10 * on_time, 8 * polls.size()) << on_time << " of " << polls.size() << " polls within 25 % of their time";
 
   // t3.5 from each answer's end on the wire to the next request. The simulator logs an answer
   // before writing it and a request after reading it, so the pty only adds to the gap; the
