@@ -10,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "tests/integration/certificate_fixture.hpp"
 #include "tests/integration/cli_under_test.hpp"
 #include "tests/integration/gateway_fixture.hpp"
 #include "tests/support/peers/http_exchange.hpp"
@@ -251,6 +252,34 @@ TEST_F(GatewayStatusTest, AClientThatGoesTakesItsQueuedRequestWithIt) {
   EXPECT_EQ(heard(rtu_frame(plc, read_d(9))), 0u) << diagnostics();
   EXPECT_EQ(unit_status(plc)["requests"], 2);
   EXPECT_TRUE(daemon->wait_for_log("1 of its requests left the queue")) << daemon->log();
+  EXPECT_TRUE(daemon->running()) << daemon->log();
+}
+
+// The same over the TLS port: the client's close_notify is seen while its request waits.
+TEST_F(GatewayStatusTest, ATlsClientThatGoesTakesItsQueuedRequestWithIt) {
+  const auto certs = dir.path() / "certs";
+  const auto made = run(tls_dir + "/make_certificates.sh " + certs.string());
+  ASSERT_EQ(made.status, 0) << made.output;
+  const auto pem = [&](const std::string& name) { return (certs / name).string(); };
+  const auto tls_port = free_port();
+  start_with("{ units: [5-7], timeout: 3s, wait: 5s }",
+             "  tls: { listen: 127.0.0.1, port: " + std::to_string(tls_port) + ", certificate: " + pem("server.pem") +
+                 ", key: " + pem("server.key") + ", ca: " + pem("ca.pem") + ", roles: { viewer: { write: [W] } } }\n");
+  ASSERT_TRUE(wait_for_port(tls_port)) << diagnostics();
+  // The holder's read takes the line for 2 s: time for the TLS client to connect, ask and go.
+  ASSERT_EQ(sim->control("slow 5 2000"), "ok");
+  auto holder = Socket::tcp(config.modbus_port);
+  holder.send(adu(1, plc, read_d(0)));
+  ASSERT_TRUE(sim->wait_for_frame(hex(rtu_frame(plc, read_d(0))))) << diagnostics();
+  const auto left = run(tls_dir + "/modbus_tls_client.py --unit 5 --leave 300 " + std::to_string(tls_port) + " " +
+                        pem("ca.pem") + " " + pem("viewer.pem") + " " + pem("viewer.key") + " -- 0300090001");
+  ASSERT_NE(left.output.find("left"), std::string::npos) << left.output;
+  EXPECT_TRUE(daemon->wait_for_log("1 of its requests left the queue", 1500ms)) << daemon->log();
+  ASSERT_EQ(holder.receive(11, 4000ms).size(), 11u) << diagnostics();
+  ASSERT_EQ(sim->control("slow 5 0"), "ok");
+  ASSERT_TRUE(ask(holder, 2, plc, read_d(1))) << diagnostics();
+  EXPECT_EQ(heard(rtu_frame(plc, read_d(9))), 0u) << diagnostics();
+  EXPECT_EQ(unit_status(plc)["queue_depth"], 0);
   EXPECT_TRUE(daemon->running()) << daemon->log();
 }
 
