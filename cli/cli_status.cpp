@@ -25,7 +25,8 @@ constexpr const char* usage =
     "usage: unima-bridge status [-w|--watch] [--json] [--socket PATH | --config FILE]\n"
     "\n"
     "  shows what the Bridge's front panel shows: mode, Modbus and UnimaBUS activity, Error,\n"
-    "  D_N and S_N on-line, the capture indicators, and counters per port\n"
+    "  D_N and S_N on-line, the capture indicators, counters per port, and with\n"
+    "  modbus.gateway one row per unit its clients reach\n"
     "  --config FILE  the daemon's config, for its status.socket\n"
     "  --socket PATH  the daemon's status socket (default: the config's status.socket, else\n"
     "                 /run/unima-bridge/control.sock)\n"
@@ -88,6 +89,32 @@ std::string counter(const nlohmann::json& port, const char* key) {
   return port.contains(key) ? std::to_string(port[key].get<std::uint64_t>()) : "-";
 }
 
+// A wait in ms as the table shows it: whole ms from 10 up, tenths below.
+std::string wait_ms(const nlohmann::json& ms) {
+  const auto value = ms.get<double>();
+  return value >= 10 ? fmt::format("{:.0f}", value) : fmt::format("{:.1f}", value);
+}
+
+// modbus.gateway (SPEC §14): one row per unit a client has asked for, the silent ones
+// saying since when.
+std::string render_gateway(const nlohmann::json& g) {
+  std::string out = fmt::format("Gateway     units {}, wait {} ms, timeout {}, cache {}\n", g["routes"].get<std::string>(),
+                                g["wait_ms"].get<long>(),
+                                g["timeout_ms"].is_null() ? std::string("the device's") : fmt::format("{} ms", g["timeout_ms"].get<long>()),
+                                g["cache_ms"].get<long>() > 0 ? fmt::format("{} ms", g["cache_ms"].get<long>()) : std::string("off"));
+  if (g["units"].empty()) return out + "  no client has asked for a unit yet\n";
+  out += "  unit  requests  answered  exceptions  timeouts  bad  busy  cached  queue  wait ms last/mean/max  state\n";
+  for (const auto& u : g["units"]) {
+    const auto& w = u["wait_ms"];
+    const auto state = u["since"].is_string() ? "not answering since " + u["since"].get<std::string>() : u["state"].get<std::string>();
+    out += fmt::format("  {:>4} {:>9} {:>9} {:>11} {:>9} {:>4} {:>5} {:>7} {:>6}  {:>20}  {}\n", u["unit"].get<int>(),
+                       counter(u, "requests"), counter(u, "answered"), counter(u, "exceptions"), counter(u, "timeouts"),
+                       counter(u, "bad_frames"), counter(u, "busy"), counter(u, "cache_hits"), counter(u, "queue_depth"),
+                       wait_ms(w["last"]) + "/" + wait_ms(w["mean"]) + "/" + wait_ms(w["max"]), state);
+  }
+  return out;
+}
+
 }  // namespace
 
 std::string render_status_panel(const nlohmann::json& s) {
@@ -137,6 +164,8 @@ std::string render_status_panel(const nlohmann::json& s) {
     if (p.contains("listen")) out += "  " + p["listen"].get<std::string>();
     out += "\n";
   }
+
+  if (s.contains("gateway")) out += render_gateway(s["gateway"]);
 
   const auto& m = s["monitor"];
   std::string where;

@@ -61,6 +61,9 @@ struct Runtime {
   /// A TCP client's request for a foreign slave (modbus.gateway, SPEC §14), to the running
   /// master's line; the master service sets it.
   std::function<void(GatewayRequest, GatewayAnswer)> forward_to_line;
+  /// A client whose requests went through forward_to_line closed its connection: its
+  /// requests still queued for the line leave the queue. Set beside forward_to_line.
+  std::function<void(std::uint64_t client)> client_gone_from_line;
 
   const config::Config& config() const { return banks->config; }
 };

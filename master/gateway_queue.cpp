@@ -64,4 +64,8 @@ std::vector<GatewayQueue::Request> GatewayQueue::drop_client(std::uint64_t clien
   return dropped;
 }
 
+std::size_t GatewayQueue::waiting_for(std::uint8_t unit) const {
+  return static_cast<std::size_t>(std::count_if(queue_.begin(), queue_.end(), [&](const Request& r) { return r.unit == unit; }));
+}
+
 }  // namespace unima::master

@@ -57,6 +57,8 @@ class GatewayQueue {
   std::vector<Request> drop_client(std::uint64_t client);
 
   std::size_t size() const { return queue_.size(); }
+  /// The requests for `unit` waiting now (the gateway's queue depth of a unit).
+  std::size_t waiting_for(std::uint8_t unit) const;
   bool empty() const { return queue_.empty(); }
 
  private:

@@ -35,9 +35,11 @@ class Exposition {
     text_ += fmt::format("# HELP {} {}\n# TYPE {} {}\n", name_, help, name_, type);
     return *this;
   }
-  Exposition& sample(const nlohmann::json& value, const Labels& labels = {}) {
+  /// `suffix`: a summary's "_sum" or "_count" after the family's name.
+  Exposition& sample(const nlohmann::json& value, const Labels& labels = {}, const char* suffix = "") {
     if (!value.is_number() && !value.is_boolean()) return *this;  // absent: left out
     text_ += name_;
+    text_ += suffix;
     if (!labels.empty()) {
       text_ += '{';
       for (std::size_t i = 0; i < labels.size(); ++i)
@@ -136,6 +138,34 @@ std::string prometheus_text(const nlohmann::json& status) {
     for (const auto& d : master.is_array() ? master : nlohmann::json::array())
       out.sample(field(d, name), {{"device", text(field(d, "device"))}});
   }
+
+  // modbus.gateway (SPEC §14), by unit id: what its clients got, what waits, whether it answers.
+  const auto& gateway_units = field(field(status, "gateway"), "units");
+  const auto& units = gateway_units.is_array() ? gateway_units : nlohmann::json::array();
+  const auto unit_label = [](const nlohmann::json& u) { return Labels{{"unit", text(field(u, "unit"))}}; };
+  for (const auto& [name, help] :
+       {std::pair{"requests", "Requests the gateway sent on the line to a unit (never retried)."},
+        std::pair{"answered", "Answers with data from a unit behind the gateway."},
+        std::pair{"exceptions", "The slave's own exception answers, passed back to the client."},
+        std::pair{"timeouts", "Forwarded requests without an answer (the client got exception 0B)."},
+        std::pair{"bad_frames", "Forwarded requests answered with a bad frame: CRC, length, address (the client got 0B)."},
+        std::pair{"busy", "Requests that could not start on the line within wait (the client got exception 06)."},
+        std::pair{"cache_hits", "Reads answered from the gateway's cache, without the line."}}) {
+    out.family(fmt::format("gateway_{}_total", name), "counter", help);
+    for (const auto& u : units) out.sample(field(u, name), unit_label(u));
+  }
+  out.family("gateway_queue_depth", "gauge", "Requests for a unit waiting for the line now.");
+  for (const auto& u : units) out.sample(field(u, "queue_depth"), unit_label(u));
+  out.family("gateway_answering", "gauge", "1 while a unit behind the gateway answers; 0 after 3 failed requests in a row.");
+  for (const auto& u : units) out.sample(field(u, "state").is_string() ? nlohmann::json(field(u, "state") == "answering") : nlohmann::json(), unit_label(u));
+  const auto seconds = [](const nlohmann::json& ms) { return ms.is_number() ? nlohmann::json(ms.get<double>() / 1000.0) : nlohmann::json(); };
+  out.family("gateway_wait_seconds", "summary", "Time a forwarded request waited for the line, from the client to its frame.");
+  for (const auto& u : units) {
+    const auto& wait = field(u, "wait_ms");
+    out.sample(seconds(field(wait, "sum")), unit_label(u), "_sum").sample(field(wait, "count"), unit_label(u), "_count");
+  }
+  out.family("gateway_wait_max_seconds", "gauge", "The longest a forwarded request for a unit has waited for the line.");
+  for (const auto& u : units) out.sample(seconds(field(field(u, "wait_ms"), "max")), unit_label(u));
 
   const auto& monitor = field(status, "monitor");
   out.family("monitor_lines_written_total", "counter", "Monitor lines written.").sample(field(monitor, "written"));

@@ -145,6 +145,33 @@ function indicatorBox(indicator, i) {
   return box;
 }
 
+// The gateway's units (SPEC §14): one row each, a unit that stopped answering in red with
+// since when, so a technician sees a silent slave without reading the monitor.
+function gatewayTable(units) {
+  const table = element('table');
+  const head = element('tr');
+  for (const name of ['unit', 'state', 'requests', 'answered', 'exceptions', 'time-outs', 'busy', 'queue', 'wait ms (mean)'])
+    head.append(element('th', {}, name));
+  table.append(head);
+  for (const u of units) {
+    const tr = element('tr', { 'data-unit': String(u.unit), 'data-state': u.state });
+    const state = u.since ? `${u.state} since ${u.since}` : u.state;
+    tr.append(element('td', { class: 'count' }, String(u.unit)), element('td', { class: 'state' }, state));
+    for (const count of [u.requests, u.answered, u.exceptions, u.timeouts + u.bad_frames, u.busy, u.queue_depth, u.wait_ms_mean])
+      tr.append(element('td', { class: 'count' }, String(count)));
+    table.append(tr);
+  }
+  return table;
+}
+
+function showGateway(gateway) {
+  const box = document.getElementById('gateway');
+  box.hidden = !gateway;
+  if (!gateway) return;
+  const title = element('h3', {}, `Gateway: units ${gateway.routes}`);
+  box.replaceChildren(title, gateway.units.length ? gatewayTable(gateway.units) : element('p', {}, 'no client has asked for a unit yet'));
+}
+
 function showPanel(panel) {
   document.getElementById('mode').textContent = `${panel.mode} mode`;
   showLed('led-modbus', panel.modbus);
@@ -153,6 +180,7 @@ function showPanel(panel) {
   document.getElementById('devices').replaceChildren(...panel.devices.map(d => chip(d.bank, d.type, d.online, d.type !== null)));
   document.getElementById('modules').replaceChildren(...panel.modules.map(m => chip(m.bank, null, m.online)));
   document.getElementById('indicators').replaceChildren(...panel.indicators.map(indicatorBox));
+  showGateway(panel.gateway);
 }
 
 function showLines(event) {

@@ -27,6 +27,10 @@ std::string range(const master::PlannedRequest& r) {
   return r.count == 1 ? fmt::format("{}", r.first) : fmt::format("{}..{}", r.first, r.first + r.count - 1);
 }
 
+// A poll's and a forwarded transaction's alike: anything but a good answer lights the
+// Error LED (C+0x13 bit 15, SPEC §8), the slave's exception included.
+bool is_fault(TransactionState state) { return state != TransactionState::done; }
+
 std::string outcome_text(const master::MasterResponse& r) {
   if (r.status != ResponseStatus::exception) return std::string(response_status_name(r.status));
   return fmt::format("exception {:02X}", static_cast<unsigned>(r.exception));
@@ -198,7 +202,7 @@ void MasterPort::finished(const MasterScheduler::Choice& choice, const master::B
     case ResponseStatus::exception: ++counters.exceptions; break;
     default: ++counters.bad_frames;
   }
-  if (state != TransactionState::done && hooks_.on_fault) hooks_.on_fault();
+  if (is_fault(state) && hooks_.on_fault) hooks_.on_fault();
 
   if (result.status == ResponseStatus::ok && request.is_read()) take_values(request, result, now);
   if (auto parts = master::split_after(request, result, setup_.blocks); !parts.empty()) {
@@ -230,9 +234,12 @@ void MasterPort::finished(const MasterScheduler::Choice& choice, const master::B
 void MasterPort::forward(GatewayRequest request, GatewayAnswer answer) {
   if (!running_ || !gateway_) return refuse(Forwarded{std::move(request), std::move(answer)},
                                             modbus::ExceptionCode::gateway_target_failed);
+  auto& counters = gateway_units_[request.unit];
   if (cache_) {
-    if (auto cached = cache_->answer(request.unit, request.pdu, Clock::now()))
+    if (auto cached = cache_->answer(request.unit, request.pdu, Clock::now())) {
+      ++counters.cache_hits;
       return answer_from_cache(Forwarded{std::move(request), std::move(answer)}, std::move(*cached));
+    }
     // A write empties the unit's cache now, and again when it goes on the line: a read
     // answered in between saw the slave before it.
     if (!master::GatewayCache::is_read(request.pdu)) cache_->written(request.unit);
@@ -247,11 +254,21 @@ void MasterPort::forward(GatewayRequest request, GatewayAnswer answer) {
   });
 }
 
+void MasterPort::client_gone(std::uint64_t client) {
+  if (!gateway_) return;
+  const auto dropped = gateway_->drop_client(client);
+  for (const auto& request : dropped) waiting_.erase(request.ticket);
+  if (!dropped.empty())
+    spdlog::debug("modbus gateway: client {} went; {} of its requests left the queue", client, dropped.size());
+}
+
 void MasterPort::expire_waiting() {
   if (!running_ || !gateway_) return;
   for (const auto& expired : gateway_->expire(Clock::now())) {
     auto waiting = waiting_.extract(expired.ticket);
-    if (!waiting.empty()) refuse(std::move(waiting.mapped()), modbus::ExceptionCode::server_device_busy);
+    if (waiting.empty()) continue;
+    ++gateway_units_[expired.unit].busy;
+    refuse(std::move(waiting.mapped()), modbus::ExceptionCode::server_device_busy);
   }
   const auto next = gateway_->next_expiry();
   if (!next) return;
@@ -268,6 +285,9 @@ void MasterPort::forward_now(const master::GatewayQueue::Request& next, Clock::t
   auto waiting = waiting_.extract(next.ticket);
   if (waiting.empty()) return;
   on_line_ = std::move(waiting.mapped());
+  auto& counters = gateway_units_[next.unit];
+  ++counters.requests;
+  counters.wait.took_line(now - next.queued);
   in_flight_ = true;
   const auto sent = std::chrono::system_clock::now();
   if (hooks_.on_query_sent) hooks_.on_query_sent(sent);
@@ -289,9 +309,11 @@ void MasterPort::forwarded(const Forwarded& forwarded, Clock::time_point started
   const auto& request = forwarded.request;
   scheduler_->line_used(request.unit, started, Clock::now());
   const auto result = master::check_forwarded_rtu_answer(response, request.unit);
+  const auto state = master::transaction_state(result);
   if (hooks_.on_transaction)
-    hooks_.on_transaction(modbus::Transaction{modbus::PortKind::gateway, request.peer, sent,
-                                              master::transaction_state(result), query, response, false});
+    hooks_.on_transaction(modbus::Transaction{modbus::PortKind::gateway, request.peer, sent, state, query, response, false});
+  count_forwarded(request.unit, result, sent);
+  if (is_fault(state) && hooks_.on_fault) hooks_.on_fault();
   if (result.status == ResponseStatus::ok || result.status == ResponseStatus::exception) {
     // Only the slave's data is kept (GatewayCache keeps no exception).
     if (cache_) cache_->answered(request.unit, request.pdu, result.pdu, Clock::now());
@@ -303,6 +325,29 @@ void MasterPort::forwarded(const Forwarded& forwarded, Clock::time_point started
     forwarded.answer(pdu);
   }
   pump();
+}
+
+void MasterPort::count_forwarded(std::uint8_t unit, const master::MasterResponse& result,
+                                 std::chrono::system_clock::time_point sent) {
+  auto& counters = gateway_units_[unit];
+  switch (result.status) {
+    case ResponseStatus::ok: ++counters.answered; break;
+    case ResponseStatus::exception: ++counters.exceptions; break;
+    case ResponseStatus::timeout: ++counters.timeouts; break;
+    default: ++counters.bad_frames;
+  }
+  const auto transition = master::slave_answered(result) ? counters.answering.answered() : counters.answering.failed(sent);
+  switch (transition) {
+    case master::UnitAnswering::Transition::stopped_answering:
+      spdlog::warn("modbus gateway: unit {} is not answering: {} forwarded requests in a row got no good answer "
+                   "(the last: {}); its clients get exception 0B, the others are served as before",
+                   unit, master::UnitAnswering::failures_to_silent, outcome_text(result));
+      break;
+    case master::UnitAnswering::Transition::answers_again:
+      spdlog::info("modbus gateway: unit {} answers again", unit);
+      break;
+    case master::UnitAnswering::Transition::none: break;
+  }
 }
 
 void MasterPort::answer_from_cache(Forwarded forwarded, master::Bytes answer) {

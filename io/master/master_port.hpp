@@ -12,7 +12,9 @@
 // slaves share the line with the polls: master/gateway_queue says whose turn it is, the
 // scheduler when the line is free. A forwarded request goes once (never retried), and each
 // is a monitor line of port `gw`. With modbus.gateway.cache, master/gateway_cache answers an
-// equal read again without the line (a monitor line of state Cached).
+// equal read again without the line (a monitor line of state Cached). Each unit a client
+// asks for is counted (GatewayUnitCounters; docs/gateway.md "Seen and counted"), and a
+// forwarded fault lights the Error LED as a poll's does.
 
 #include <chrono>
 #include <functional>
@@ -33,6 +35,8 @@
 #include "master/gateway_queue.hpp"
 #include "master/staleness.hpp"
 #include "master/master_scheduler.hpp"
+#include "master/unit_answering.hpp"
+#include "master/wait_time.hpp"
 #include "modbus/transaction.hpp"
 
 namespace unima::io {
@@ -48,6 +52,20 @@ struct MasterDeviceCounters {
   std::uint64_t probes = 0;
   std::uint64_t skipped = 0;     // sends left out: their source was not measured
   bool degraded = false;
+};
+
+/// What the gateway has done for one unit id since a client first asked for it (SPEC §14,
+/// docs/gateway.md "Seen and counted"), for the status document and /metrics.
+struct GatewayUnitCounters {
+  std::uint64_t requests = 0;    // sent on the line (never retried)
+  std::uint64_t answered = 0;    // the slave's data
+  std::uint64_t exceptions = 0;  // the slave's own exception answers
+  std::uint64_t timeouts = 0;    // no answer: 0x0B
+  std::uint64_t bad_frames = 0;  // bad CRC, too short, another address: 0x0B
+  std::uint64_t busy = 0;        // not on the line within `wait`: 0x06
+  std::uint64_t cache_hits = 0;  // answered from modbus.gateway.cache
+  master::WaitTime wait;         // from forward() to the line
+  master::UnitAnswering answering;
 };
 
 class MasterPort : public std::enable_shared_from_this<MasterPort> {
@@ -76,9 +94,17 @@ class MasterPort : public std::enable_shared_from_this<MasterPort> {
   /// answered once; 0x06 when it could not start within `wait`, 0x0B when the slave did
   /// not answer well.
   void forward(GatewayRequest request, GatewayAnswer answer);
+  /// A client's connection closed: its requests still queued leave the queue unanswered
+  /// (nobody would read the answer). One already on the line runs to its end.
+  void client_gone(std::uint64_t client);
 
   std::string describe() const { return link_->describe(); }
   const std::map<std::uint8_t, MasterDeviceCounters>& counters() const { return counters_; }
+  /// Each unit id a client has asked the gateway for; empty without modbus.gateway.
+  const std::map<std::uint8_t, GatewayUnitCounters>& gateway_units() const { return gateway_units_; }
+  /// The requests for `unit` waiting for the line now.
+  std::size_t queue_depth(std::uint8_t unit) const { return gateway_ ? gateway_->waiting_for(unit) : 0; }
+  const std::optional<config::GatewayConfig>& gateway_config() const { return gateway_config_; }
 
   MasterPort(asio::io_context& io, config::MasterSetup setup, std::shared_ptr<MasterLink> link, Hooks hooks,
              std::optional<config::GatewayConfig> gateway = std::nullopt);
@@ -96,6 +122,8 @@ class MasterPort : public std::enable_shared_from_this<MasterPort> {
   void forward_now(const master::GatewayQueue::Request& next, Clock::time_point now);
   void forwarded(const Forwarded& forwarded, Clock::time_point started, std::chrono::system_clock::time_point sent,
                  const master::Bytes& query, const master::Bytes& response);
+  /// Counts a forwarded transaction's outcome, and logs when its unit stops or starts answering.
+  void count_forwarded(std::uint8_t unit, const master::MasterResponse& result, std::chrono::system_clock::time_point sent);
   /// Answers a read from the cache, after this call; the monitor sees it now.
   void answer_from_cache(Forwarded forwarded, master::Bytes answer);
   /// Answers a forwarded request with the gateway's own exception, after this call.
@@ -127,6 +155,7 @@ class MasterPort : public std::enable_shared_from_this<MasterPort> {
   asio::steady_timer expiry_timer_;
   std::map<master::GatewayQueue::Ticket, Forwarded> waiting_;  // queued for the line
   std::optional<Forwarded> on_line_;                            // the forwarded request under way
+  std::map<std::uint8_t, GatewayUnitCounters> gateway_units_;
 };
 
 /// One line for the log: "Timeout rtu 01 03 04 24 00 02 85 30 -> -".

@@ -1,11 +1,76 @@
 #include "io/master/master_service.hpp"
 
+#include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
 #include "io/modbus/port_counters.hpp"
 #include "modbus/request_handler.hpp"
+#include "monitor/monitor_line.hpp"
 
 namespace unima::io {
+
+namespace {
+
+// "2-9, 17": the routed unit ids as the config writes them.
+std::string unit_ranges(const config::GatewayConfig& gateway) {
+  std::string text;
+  for (unsigned first = 1; first <= 247; ++first) {
+    if (!gateway.units[first]) continue;
+    auto last = first;
+    while (last < 247 && gateway.units[last + 1]) ++last;
+    text += (text.empty() ? "" : ", ") + (last == first ? std::to_string(first) : fmt::format("{}-{}", first, last));
+    first = last;
+  }
+  return text;
+}
+
+double milliseconds(master::WaitTime::Duration duration) {
+  // To the microsecond: the JSON stays short, and a line's waits are milliseconds long.
+  return static_cast<double>(std::chrono::duration_cast<std::chrono::microseconds>(duration).count()) / 1000.0;
+}
+
+nlohmann::json gateway_unit_json(std::uint8_t unit, const GatewayUnitCounters& c, std::size_t queue_depth) {
+  nlohmann::json since = nullptr;
+  if (const auto silent = c.answering.silent_since()) {
+    std::string time;
+    monitor::append_utc_time(time, *silent);
+    since = time;
+  }
+  return {{"unit", unit},
+          {"state", c.answering.answering() ? "answering" : "not answering"},
+          {"since", since},
+          {"requests", c.requests},
+          {"answered", c.answered},
+          {"exceptions", c.exceptions},
+          {"timeouts", c.timeouts},
+          {"bad_frames", c.bad_frames},
+          {"busy", c.busy},
+          {"cache_hits", c.cache_hits},
+          {"queue_depth", queue_depth},
+          {"wait_ms",
+           {{"last", milliseconds(c.wait.last())},
+            {"mean", milliseconds(c.wait.mean())},
+            {"max", milliseconds(c.wait.max())},
+            {"count", c.wait.count()},
+            {"sum", milliseconds(c.wait.sum())}}}};
+}
+
+// modbus.gateway as it runs, and each unit a client has asked for.
+nlohmann::json gateway_json(const config::GatewayConfig& config, const MasterPort& master) {
+  auto priority = nlohmann::json::array();
+  for (const auto& range : config.priority.ranges) priority.push_back(range.text);
+  nlohmann::json gateway{{"routes", unit_ranges(config)},
+                         {"priority", priority},
+                         {"wait_ms", config.wait.count()},
+                         {"timeout_ms", config.timeout ? nlohmann::json(config.timeout->count()) : nlohmann::json(nullptr)},
+                         {"cache_ms", config.cache.count()},
+                         {"units", nlohmann::json::array()}};
+  for (const auto& [unit, counters] : master.gateway_units())
+    gateway["units"].push_back(gateway_unit_json(unit, counters, master.queue_depth(unit)));
+  return gateway;
+}
+
+}  // namespace
 
 MasterService::MasterService(Runtime& runtime) : runtime_(runtime), master_(make_master(runtime.config())) {
   // To whichever master runs now: a reload swaps it.
@@ -16,6 +81,9 @@ MasterService::MasterService(Runtime& runtime) : runtime_(runtime), master_(make
       modbus::write_exception(fn, modbus::ExceptionCode::gateway_target_failed, pdu);
       answer(pdu);
     });
+  };
+  runtime_.client_gone_from_line = [this](std::uint64_t client) {
+    if (master_) master_->client_gone(client);
   };
 }
 
@@ -64,6 +132,7 @@ void MasterService::describe(nlohmann::json& status) const {
     devices.push_back({{"device", device},     {"requests", c.requests},     {"answered", c.answered},
                        {"timeouts", c.timeouts}, {"exceptions", c.exceptions}, {"bad_frames", c.bad_frames},
                        {"retries", c.retries}});
+  if (const auto& gateway = runtime_.config().modbus.gateway) status["gateway"] = gateway_json(*gateway, *master_);
 }
 
 }  // namespace unima::io

@@ -30,6 +30,9 @@ SlaveContext slave_context(Runtime& runtime) {
         answer(pdu);
       });
     };
+    context.client_gone = [&runtime](std::uint64_t client) {
+      if (runtime.client_gone_from_line) runtime.client_gone_from_line(client);
+    };
   }
   return context;
 }

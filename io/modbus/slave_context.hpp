@@ -34,6 +34,9 @@ struct SlaveContext {
   std::shared_ptr<const config::GatewayConfig> gateway;
   /// The way to the line; answers 0x0B while no master runs.
   std::function<void(GatewayRequest, GatewayAnswer)> forward;
+  /// A client that forwarded closed its connection (GatewayRequest::client): its queued
+  /// requests leave the line's queue.
+  std::function<void(std::uint64_t client)> client_gone;
   /// config::writes_frozen: no port takes a write, forwarded ones included.
   bool writes_frozen = false;
 };

@@ -205,6 +205,28 @@ void TcpSlaveServer::Connection::forward() {
     answer_forwarded(answer);
     send();
   });
+  ++forwarded_count_;
+  watch_while_forwarding();
+}
+
+void TcpSlaveServer::Connection::watch_while_forwarding() {
+  if (finished_ || !forwarding_ || in_used_ == in_.size()) return;  // full: the rest waits in the socket
+  socket_.async_wait(tcp::socket::wait_read,
+                     [this, self = shared_from_this(), count = forwarded_count_](const boost::system::error_code& ec) {
+                       // Answered meanwhile: the connection reads as usual again.
+                       if (finished_ || !forwarding_ || count != forwarded_count_) return;
+                       if (ec) return finish(ec.message());
+                       take_while_forwarding();
+                     });
+}
+
+void TcpSlaveServer::Connection::take_while_forwarding() {
+  boost::system::error_code ec;
+  const auto n = socket_.read_some(asio::buffer(in_.data() + in_used_, in_.size() - in_used_), ec);
+  if (ec == asio::error::would_block || ec == asio::error::try_again) return watch_while_forwarding();
+  if (ec) return finish(ec == asio::error::eof ? "closed by the client" : ec.message());
+  in_used_ += n;
+  watch_while_forwarding();
 }
 
 void TcpSlaveServer::Connection::answer_forwarded(std::span<const std::uint8_t> pdu) {
@@ -302,6 +324,7 @@ void TcpSlaveServer::Connection::finish(const std::string& why) {
   if (finished_) return;
   finished_ = true;
   spdlog::debug("{}: {} disconnected: {}", server_.name(), peer_, why);
+  if (forwarding_ && server_.context_.client_gone) server_.context_.client_gone(client_id_);
   close();
   server_.forget(this);
 }

@@ -57,6 +57,13 @@ class TcpSlaveServer::Connection : public std::enable_shared_from_this<Connectio
   virtual bool handshake_pending() const { return false; }
   /// What a protocol says before its connection closes (TLS: close_notify); nothing for plain TCP.
   virtual void say_goodbye() {}
+  /// The socket is readable while a forwarded request waits: what the client sent is kept
+  /// in in_ for after the answer, and a client that went is finished. Then watches again.
+  virtual void take_while_forwarding();
+  /// While a forwarded request waits for the line and its answer, nothing else reads the
+  /// socket: this watches it, so that a client that goes is seen then and its queued
+  /// request leaves the line's queue (SPEC §14) instead of going on the line for nobody.
+  void watch_while_forwarding();
   modbus::PortKind port_kind() const { return server_.options_.tls ? modbus::PortKind::tls : modbus::PortKind::tcp; }
 
   /// Answers what in_ holds: at once, or once the state file holds what it wrote.
@@ -115,6 +122,7 @@ class TcpSlaveServer::Connection : public std::enable_shared_from_this<Connectio
   };
   std::optional<Forwarding> forwarding_;
   std::uint64_t client_id_;  // this connection's turn in the gateway's round
+  std::uint64_t forwarded_count_ = 0;  // which forwarded request a watch of the socket belongs to
   bool forwards(std::uint8_t unit) const;
   void forward();
   void answer_forwarded(std::span<const std::uint8_t> pdu);

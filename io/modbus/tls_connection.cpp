@@ -94,17 +94,27 @@ class TlsConnection final : public TcpSlaveServer::Connection {
   }
 
   void take_plaintext() {
+    if (pull_plaintext()) serve();
+  }
+
+  // The session's plaintext into in_, as far as it has room; false when the connection
+  // finished (the client's close_notify, a broken record).
+  bool pull_plaintext() {
     plaintext_waits_ = true;
     while (in_used_ < in_.size()) {
       std::size_t n = 0;
       const auto status = tls_.read(std::span(in_.data() + in_used_, in_.size() - in_used_), n);
-      if (status == tls::MemorySession::Status::closed) return finish("closed by the client (close_notify)");
+      if (status == tls::MemorySession::Status::closed) {
+        finish("closed by the client (close_notify)");
+        return false;
+      }
       if (status == tls::MemorySession::Status::failed) {
         // A record that does not authenticate is an attack or a broken path: the operator hears of it.
         send_alert();
         platform::warn_from_peer("modbus tls: broken sessions", peer_, "modbus tls: {} broke the session: {}; closing its connection",
                                  peer_, tls_.error());
-        return finish("TLS: " + tls_.error());
+        finish("TLS: " + tls_.error());
+        return false;
       }
       if (status == tls::MemorySession::Status::want_input) {
         plaintext_waits_ = false;
@@ -112,7 +122,21 @@ class TlsConnection final : public TcpSlaveServer::Connection {
       }
       in_used_ += n;
     }
-    serve();
+    return true;
+  }
+
+  // While a request is forwarded: the records that came go through the session, so that
+  // a close_notify is seen as the plain port sees an end of stream.
+  void take_while_forwarding() override {
+    boost::system::error_code ec;
+    const auto n = socket_.read_some(asio::buffer(cipher_in_), ec);
+    if (ec == asio::error::would_block || ec == asio::error::try_again) return watch_while_forwarding();
+    if (ec) {
+      peer_gone_ = true;
+      return finish(ec == asio::error::eof ? "closed by the client" : ec.message());
+    }
+    tls_.feed(std::span(cipher_in_.data(), n));
+    if (pull_plaintext() && !plaintext_waits_) watch_while_forwarding();
   }
 
   // Sends what the session wrote besides answers (its handshake flight), then reads on.

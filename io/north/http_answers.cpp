@@ -1,6 +1,7 @@
 #include "io/north/http_answers.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -44,6 +45,25 @@ nlohmann::json led_of(const nlohmann::json& activity) {
   return {{"on", activity["active"]}, {"frames", activity["frames"]}, {"lit_ms", activity["lit_ms"]}};
 }
 
+// The gateway's units as the page's table shows them: the counts a technician reads, the
+// mean wait rounded to 0.1 ms so that the panel does not change with every microsecond.
+nlohmann::json gateway_panel(const nlohmann::json& gateway) {
+  auto units = nlohmann::json::array();
+  for (const auto& u : gateway["units"])
+    units.push_back({{"unit", u["unit"]},
+                     {"state", u["state"]},
+                     {"since", u["since"]},
+                     {"requests", u["requests"]},
+                     {"answered", u["answered"]},
+                     {"exceptions", u["exceptions"]},
+                     {"timeouts", u["timeouts"]},
+                     {"bad_frames", u["bad_frames"]},
+                     {"busy", u["busy"]},
+                     {"queue_depth", u["queue_depth"]},
+                     {"wait_ms_mean", std::round(u["wait_ms"]["mean"].get<double>() * 10) / 10}});
+  return {{"routes", gateway["routes"]}, {"units", units}};
+}
+
 // The front panel of seed 004: its LEDs, the D_N and S_N on-line, the capture indicators.
 nlohmann::json panel_of(const nlohmann::json& status) {
   nlohmann::json panel;
@@ -57,6 +77,7 @@ nlohmann::json panel_of(const nlohmann::json& status) {
   panel["modules"] = nlohmann::json::array();
   for (const auto& module : status["modules"]) panel["modules"].push_back({{"bank", module["bank"]}, {"online", module["online"]}});
   panel["indicators"] = status["indicators"];
+  if (status.contains("gateway")) panel["gateway"] = gateway_panel(status["gateway"]);
   return panel;
 }
 

@@ -150,6 +150,23 @@ TEST(GatewayLine, AForwardedTransactionHoldsTheLineAndTheDevicesGap) {
   EXPECT_FALSE(scheduler.knows(7));
 }
 
+// The queue depth a unit shows in the status: its requests waiting, whoever sent them; a
+// request leaves it when it takes the line, expires or its client goes.
+TEST(GatewayQueue, EachUnitsWaitingRequestsAreCounted) {
+  GatewayQueue queue(2s);
+  queue.push(1, false, 5, t0);
+  queue.push(2, false, 5, t0);
+  queue.push(2, false, 7, t0);
+  EXPECT_EQ(queue.waiting_for(5), 2u);
+  EXPECT_EQ(queue.waiting_for(7), 1u);
+  EXPECT_EQ(queue.waiting_for(9), 0u);
+  queue.began(queue.next(false)->ticket);  // client 1's request for 5
+  EXPECT_EQ(queue.waiting_for(5), 1u);
+  queue.drop_client(2);
+  EXPECT_EQ(queue.waiting_for(5), 0u);
+  EXPECT_EQ(queue.waiting_for(7), 0u);
+}
+
 // Only the frame is checked of a forwarded answer: any function, the slave's exception as it is.
 TEST(GatewayCodec, AForwardedAnswerIsCheckedForItsFrameOnly) {
   const auto answer = rtu_frame(3, Bytes{0x2B, 0x0E, 0x01, 0x01});  // function 43, not checked further

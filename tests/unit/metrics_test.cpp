@@ -82,6 +82,35 @@ TEST(Prometheus, LabelValuesAreEscaped) {
   EXPECT_TRUE(has_line(text, R"(unima_bridge_device_online{bank="D1",type="a\"b\\c\nd"} 1)")) << text;
 }
 
+// modbus.gateway (SPEC §14): each unit's counters with a unit label, its queue depth and
+// whether it answers as gauges, and its wait as a summary (sum and count) and the longest.
+TEST(Prometheus, TheGatewaysUnitsAreCountedByUnit) {
+  const auto gateway = nlohmann::json::parse(R"({"gateway": {"routes": "5-7", "units": [
+    {"unit": 5, "state": "answering", "since": null, "requests": 12, "answered": 10, "exceptions": 1, "timeouts": 0,
+     "bad_frames": 1, "busy": 2, "cache_hits": 4, "queue_depth": 3,
+     "wait_ms": {"last": 1.5, "mean": 2.5, "max": 40.0, "count": 12, "sum": 30.0}},
+    {"unit": 7, "state": "not answering", "since": "2026-11-27 08:10:01.532000", "requests": 3, "answered": 0,
+     "exceptions": 0, "timeouts": 3, "bad_frames": 0, "busy": 0, "cache_hits": 0, "queue_depth": 0,
+     "wait_ms": {"last": 0, "mean": 0, "max": 0, "count": 3, "sum": 0}} ]}})");
+  const auto text = prometheus_text(gateway);
+  EXPECT_TRUE(has_line(text, "# TYPE unima_bridge_gateway_requests_total counter")) << text;
+  EXPECT_TRUE(has_line(text, R"(unima_bridge_gateway_requests_total{unit="5"} 12)")) << text;
+  EXPECT_TRUE(has_line(text, R"(unima_bridge_gateway_answered_total{unit="5"} 10)")) << text;
+  EXPECT_TRUE(has_line(text, R"(unima_bridge_gateway_exceptions_total{unit="5"} 1)")) << text;
+  EXPECT_TRUE(has_line(text, R"(unima_bridge_gateway_timeouts_total{unit="7"} 3)")) << text;
+  EXPECT_TRUE(has_line(text, R"(unima_bridge_gateway_bad_frames_total{unit="5"} 1)")) << text;
+  EXPECT_TRUE(has_line(text, R"(unima_bridge_gateway_busy_total{unit="5"} 2)")) << text;
+  EXPECT_TRUE(has_line(text, R"(unima_bridge_gateway_cache_hits_total{unit="5"} 4)")) << text;
+  EXPECT_TRUE(has_line(text, "# TYPE unima_bridge_gateway_queue_depth gauge")) << text;
+  EXPECT_TRUE(has_line(text, R"(unima_bridge_gateway_queue_depth{unit="5"} 3)")) << text;
+  EXPECT_TRUE(has_line(text, R"(unima_bridge_gateway_answering{unit="5"} 1)")) << text;
+  EXPECT_TRUE(has_line(text, R"(unima_bridge_gateway_answering{unit="7"} 0)")) << text;
+  EXPECT_TRUE(has_line(text, "# TYPE unima_bridge_gateway_wait_seconds summary")) << text;
+  EXPECT_TRUE(has_line(text, R"(unima_bridge_gateway_wait_seconds_sum{unit="5"} 0.03)")) << text;
+  EXPECT_TRUE(has_line(text, R"(unima_bridge_gateway_wait_seconds_count{unit="5"} 12)")) << text;
+  EXPECT_TRUE(has_line(text, R"(unima_bridge_gateway_wait_max_seconds{unit="5"} 0.04)")) << text;
+}
+
 TEST(Prometheus, AnEmptyDocumentGivesOnlyHelpAndType) {
   const auto text = prometheus_text(nlohmann::json::object());
   for (std::size_t at = 0; at < text.size();) {

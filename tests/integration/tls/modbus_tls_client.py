@@ -10,12 +10,16 @@ connection fails; first "server: <CN>" of the certificate the server presented, 
 "version: TLSv1.x". --tls1.2 caps the client at TLS 1.2; --ciphers offers only those TLS 1.2
 suites (OpenSSL's names); --unit sends to unit id N (default 1, the bridge's own). Exit
 status 0 when every request was answered.
+
+--leave MS: sends the first request only, and MS ms later closes the session (its
+close_notify, then the socket) without waiting for the answer; prints "left".
 """
 
 import socket
 import ssl
 import struct
 import sys
+import time
 
 
 def main() -> int:
@@ -29,6 +33,9 @@ def main() -> int:
     unit = 1
     if args[0] == "--unit":
         unit, args = int(args[1]), args[2:]
+    leave_ms = None
+    if args[0] == "--leave":
+        leave_ms, args = int(args[1]), args[2:]
     split = args.index("--")
     port, ca, *identity = args[:split]
     requests = args[split + 1:]
@@ -49,6 +56,11 @@ def main() -> int:
         for transaction, request in enumerate(requests, start=1):
             pdu = bytes.fromhex(request)
             stream.sendall(struct.pack(">HHHB", transaction, 0, len(pdu) + 1, unit) + pdu)
+            if leave_ms is not None:
+                time.sleep(leave_ms / 1000)
+                leave(stream)
+                print("left", flush=True)
+                return 0
             header = receive(stream, 7)
             answered, _, length, _ = struct.unpack(">HHHB", header)
             body = receive(stream, length - 1)
@@ -61,6 +73,16 @@ def main() -> int:
         print(f"error: {e}", flush=True)
         return 1
     return 0
+
+
+def leave(stream: ssl.SSLSocket) -> None:
+    """A clean close as a client sends it: close_notify, then the socket, whatever answers."""
+    try:
+        stream.settimeout(0.5)
+        stream.unwrap()
+    except (OSError, ssl.SSLError):
+        pass
+    stream.close()
 
 
 def receive(stream: ssl.SSLSocket, n: int) -> bytes:
