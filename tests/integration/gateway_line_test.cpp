@@ -1,5 +1,6 @@
 // The gateway's share of the line (SPEC §14, issue 31, 2): "polls keep their period within
-// 25 % while clients use at most half of the line", and t3.5 between frames. Timed where a
+// 25 % while clients use at most half of the line", staleness of polled values stays
+// correct, and t3.5 between frames. Timed where a
 // slave would time it — in the simulator's frame log — with the simulator playing a 38400
 // baud wire (its --baud), so a transaction takes the line as long as it would on RS-485,
 // whatever the load on this machine does to the clients.
@@ -30,7 +31,8 @@ class GatewayLineTest : public MasterTest {};
 // the half the spec allows it — and the poll still comes every period, within 25 %.
 TEST_F(GatewayLineTest, PollsKeepTheirPeriodWhileAClientAsksBackToBack) {
   simulate({"5=wecon-lx5v", "6=stepper-driver"}, false, /*wire=*/true);
-  config.master = "retries: 1, response_timeout: 300ms";
+  // stale_after at its least, two periods: a poll held back that long would show 0x7FFF.
+  config.master = "retries: 1, response_timeout: 300ms, stale_after: 200ms";
   config.blocks = "  - { type: poll, device: 6, profile: stepper-driver, point: SUBDIVISION, period: 100ms, output: 1 }\n";
   config.modbus_extra = "  gateway: { units: [5], timeout: 300ms }\n";
   start();
@@ -44,8 +46,11 @@ TEST_F(GatewayLineTest, PollsKeepTheirPeriodWhileAClientAsksBackToBack) {
   // Bounded: 3 s of asking, at most 2000 requests (a transaction takes ~7 ms of wire here).
   const auto from = micros();
   std::size_t answered = 0;
-  for (std::size_t asked = 0; asked < 2000 && micros() - from < 3'000'000; ++asked)
+  std::vector<std::uint16_t> polled;  // the polled value as the banks serve it meanwhile
+  for (std::size_t asked = 0; asked < 2000 && micros() - from < 3'000'000; ++asked) {
     answered += client.read_holding(0, 2).has_value();
+    if (asked % 20 == 0) polled.push_back(output(1).value_or(0));
+  }
   const auto until = micros();
 
   std::vector<SimFrame> line;
@@ -62,6 +67,10 @@ TEST_F(GatewayLineTest, PollsKeepTheirPeriodWhileAClientAsksBackToBack) {
       if (i + 1 < line.size() && !line[i + 1].rx) client_line_time += line[i + 1].micros - line[i].micros;
     }
   }
+
+  // The polled value stayed fresh all along: never stale (0x7FFF), never lost.
+  EXPECT_GE(polled.size(), 5u);
+  for (const auto value : polled) EXPECT_EQ(value, 8) << "the polled SUBDIVISION as bank C served it";
 
   // The client was served, and took at least half of the line while the polls went on.
   EXPECT_GE(answered, 100u) << diagnostics();
