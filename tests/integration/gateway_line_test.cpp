@@ -1,9 +1,8 @@
 // The gateway's share of the line (SPEC §14, issue 31, 2): "polls keep their period within
-// 25 % while clients use at most half of the line", staleness of polled values stays
-// correct, and t3.5 between frames. Timed where a
-// slave would time it — in the simulator's frame log — with the simulator playing a 38400
-// baud wire (its --baud), so a transaction takes the line as long as it would on RS-485,
-// whatever the load on this machine does to the clients.
+// 25 % while clients use at most half of the line", polled values stay fresh, and t3.5
+// between frames. Timed where a slave would time it — in the simulator's frame log — with
+// the simulator playing a 38400 baud wire (its --baud), so a transaction takes the line as
+// long as it would on RS-485, whatever the load on this machine does to the clients.
 
 #include <algorithm>
 #include <string>
