@@ -168,6 +168,12 @@ std::string render_status_panel(const nlohmann::json& s) {
                          q["last_error"].is_string() ? q["last_error"].get<std::string>() : std::string("connecting"));
     out += fmt::format("            {} messages published, {} connections, {} dropped\n", q["published"].get<std::uint64_t>(),
                        q["connections"].get<std::uint64_t>(), q["drops"].get<std::uint64_t>());
+    if (const auto& b = q.contains("buffer") ? q["buffer"] : nlohmann::json(); b.is_object())
+      out += fmt::format("            history buffer {}: {} documents ({} bytes) to send, {} dropped when full, {} sent\n",
+                         b["file"].get<std::string>(), b["messages"].get<std::uint64_t>(), b["bytes"].get<std::uint64_t>(),
+                         b["dropped"].get<std::uint64_t>(), b["history_sent"].get<std::uint64_t>());
+    else if (q.contains("buffer"))
+      out += "            no history buffer (mqtt.buffer.file: none): an outage keeps only the present values\n";
   }
   return out;
 }

@@ -4,8 +4,11 @@
 // (re)connection all of them, from the value model (values/) over the register store
 // that Modbus reads, so a document and a Modbus read never disagree — and the commands
 // it takes (`<prefix>/set/W/<n>`, `set/X/<bit>`), written through the one write path;
-// with `discovery`, Home Assistant's configs (io/north/discovery_announcer). A reload
-// keeps the client (and its session) when the broker settings did not change.
+// with `discovery`, Home Assistant's configs (io/north/discovery_announcer). While the
+// broker is unreachable the same documents go to the history buffer (`buffer`, SPEC §15:
+// io/north/history_buffer), sent as history once the live ones are out again
+// (io/north/history_sender). A reload keeps the client (and its session) when the broker
+// settings did not change.
 
 #include <memory>
 #include <optional>
@@ -13,6 +16,8 @@
 #include <vector>
 
 #include "io/north/discovery_announcer.hpp"
+#include "io/north/history_buffer.hpp"
+#include "io/north/history_sender.hpp"
 #include "io/north/mqtt_client.hpp"
 #include "io/service.hpp"
 #include "mqtt/bank_documents.hpp"
@@ -37,12 +42,17 @@ class MqttService final : public Service {
   void tick();
   void publish();
   void take_command(std::string_view topic, std::string_view payload);
+  /// Documents go to the history buffer instead of the broker.
+  bool buffering() const;
 
   Runtime& runtime_;
   std::unique_ptr<MqttClient> client_;
   std::vector<banks::BankId> banks_;  // the published banks, in the model's order
   std::optional<mqtt::PublishSchedule> schedule_;
   DiscoveryAnnouncer discovery_;  // Home Assistant's configs (mqtt.discovery)
+  std::unique_ptr<HistoryBuffer> buffer_;  // null: mqtt.buffer.file none, or no mqtt at the start
+  std::unique_ptr<HistorySender> history_;
+  bool history_waits_ = false;  // a new connection's history goes once its live documents are out
   asio::steady_timer timer_;
   bool started_ = false;
   // Staged by a reload:
