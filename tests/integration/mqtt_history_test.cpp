@@ -242,8 +242,8 @@ TEST_F(MqttHistory, ACorruptBufferIsSetAsideAndANewOneBegun) {
       EXPECT_EQ(test_support::read_file(entry.path()).substr(0, 28), "unima-bridge mqtt history 1\n");
     }
   EXPECT_EQ(aside, 1u);
+  wait_online();  // the new buffer is begun before the daemon runs
   EXPECT_EQ(test_support::read_file(buffer_file()), "unima-bridge mqtt history 1\n");
-  wait_online();
 }
 
 }  // namespace
