@@ -200,6 +200,12 @@ std::string render_status_panel(const nlohmann::json& s) {
     if (q.contains("last_takeover") && q["last_takeover"].is_string())
       out += fmt::format("            session taken over by another client with this id {} times, last at {}\n",
                          q["session_takeovers"].get<std::uint64_t>(), q["last_takeover"].get<std::string>());
+    if (const auto& b = q.contains("buffer") ? q["buffer"] : nlohmann::json(); b.is_object())
+      out += fmt::format("            history buffer {}: {} documents ({} bytes) to send, {} dropped when full, {} sent\n",
+                         b["file"].get<std::string>(), b["messages"].get<std::uint64_t>(), b["bytes"].get<std::uint64_t>(),
+                         b["dropped"].get<std::uint64_t>(), b["history_sent"].get<std::uint64_t>());
+    else if (q.contains("buffer"))
+      out += "            no history buffer (mqtt.buffer.file: none): an outage keeps only the present values\n";
   }
   return out;
 }

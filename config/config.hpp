@@ -247,6 +247,16 @@ struct MqttDiscoveryConfig {
   bool operator==(const MqttDiscoveryConfig&) const = default;
 };
 
+/// mqtt.buffer (SPEC §15): the documents made while the broker is unreachable, kept on the
+/// disk until they are sent as history.
+struct MqttBufferConfig {
+  /// Empty: `file: none`, no history is kept. Default: `mqtt-buffer` beside the state file's
+  /// default ($STATE_DIRECTORY, or beside the config: `bridge.yaml` -> `bridge.mqtt-buffer`).
+  std::string file;
+  std::uint64_t max_size = 64ull << 20;
+  bool operator==(const MqttBufferConfig&) const = default;
+};
+
 /// mqtt (SPEC §12): the bridge as a client of a fleet's broker.
 struct MqttConfig {
   std::string broker;        // as written: mqtt://host[:port] or mqtts://host[:port]
@@ -262,14 +272,17 @@ struct MqttConfig {
   bool on_change = true;     // and each bank when it changes (at most every 100 ms)
   bool commands = false;     // set/W/<offset>, set/X/<bit>
   std::optional<MqttDiscoveryConfig> discovery;  // absent: no Home Assistant discovery
+  MqttBufferConfig buffer;
   std::string origin;        // "file:line:col" of mqtt
   // What the birth message tells of the machine (SPEC §15), as the parse found it:
   std::string host_name;     // gethostname(2); empty when it has none
   std::string machine_id;    // the first 8 hex digits of /etc/machine-id; empty when there is none
-  /// The same client and publishing (where the section stands in the file does not count).
+  /// The same client and publishing (where the section stands in the file does not count,
+  /// nor the buffer, which changes at the next start).
   bool same_client(const MqttConfig& other) const {
     auto a = *this, b = other;
     a.origin = b.origin = {};
+    a.buffer = b.buffer = {};
     return a == b;
   }
   bool operator==(const MqttConfig&) const = default;

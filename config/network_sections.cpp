@@ -196,10 +196,34 @@ void parse_http(ParseState& state, const YAML::Node& node) {
   state.config.http = h;
 }
 
+namespace {
+
+// mqtt.buffer (SPEC §15): on by default, beside the state file; `file: none` turns it off.
+void parse_mqtt_buffer(ParseState& state, const YAML::Node& mqtt, MqttBufferConfig& buffer) {
+  const auto& yaml = state.yaml;
+  const auto node = mqtt["buffer"];
+  if (node && !node.IsMap()) yaml.fail(node, "mqtt.buffer must be a mapping, e.g. { file: /var/lib/unima-bridge/mqtt-buffer, max_size: 64MiB }");
+  if (node) yaml.expect_keys(node, "mqtt.buffer", {"file", "max_size"});
+  if (node && node["max_size"]) buffer.max_size = yaml.byte_size(node["max_size"], 4096, 1ull << 40);
+  if (!node || !node["file"]) {
+    buffer.file = default_state_path(state.config.file, state.host, "mqtt-buffer");
+    return note_host_path(state, HostPath::Use::state_file, node ? node : mqtt, "mqtt.buffer.file", buffer.file);
+  }
+  const auto written = yaml.text(node["file"]);
+  if (written.empty()) yaml.fail(node["file"], "mqtt.buffer.file must be a path, or none to keep no history");
+  buffer.file = written == "none" ? std::string() : written;
+  if (buffer.file.empty()) return;
+  if (buffer.file == state.config.state.file)
+    yaml.fail(node["file"], "mqtt.buffer.file is the state file; each needs a file of its own");
+  note_host_path(state, HostPath::Use::state_file, node["file"], "mqtt.buffer.file", buffer.file);
+}
+
+}  // namespace
+
 void parse_mqtt(ParseState& state, const YAML::Node& node) {
   const auto& yaml = state.yaml;
   yaml.expect_keys(node, "mqtt", {"broker", "client_id", "topic", "username", "password_file", "ca", "certificate",
-                                  "key", "version", "publish", "commands", "discovery"});
+                                  "key", "version", "publish", "commands", "discovery", "buffer"});
   MqttConfig m;
   m.origin = yaml.position(node);
   if (!node["broker"]) yaml.fail(node, "mqtt needs 'broker', e.g. mqtt://127.0.0.1:1883 or mqtts://broker.example:8883");
@@ -266,6 +290,7 @@ void parse_mqtt(ParseState& state, const YAML::Node& node) {
                 "mqtt.discovery.prefix must be a topic prefix without wildcards (# +) or a leading or trailing /");
     m.discovery = d;
   }
+  parse_mqtt_buffer(state, node, m.buffer);
   state.config.mqtt = m;
 }
 

@@ -39,6 +39,10 @@ void parse_log(ParseState& state, const YAML::Node& node);
 void parse_monitor(ParseState& state, const YAML::Node& node);
 /// Also without the section (a null `node`): the default socket is where the daemon listens.
 void parse_status(ParseState& state, const YAML::Node& node, const YAML::Node& root);
+/// Where a file the daemon keeps across restarts goes by default: `name` in systemd's
+/// $STATE_DIRECTORY when the service sets it, otherwise beside the config, `name` as its
+/// extension (`bridge.yaml` -> `bridge.<name>`).
+std::string default_state_path(const std::string& config_file, const Host& host, std::string_view name);
 /// Also without the section: the default state file comes from the host's environment.
 void parse_state(ParseState& state, const YAML::Node& node, const YAML::Node& root);
 

@@ -90,15 +90,15 @@ void parse_monitor_filter(const YamlReader& yaml, const YAML::Node& filter, moni
   }
 }
 
+}  // namespace
+
 // systemd's StateDirectory= is where a service keeps its state; $STATE_DIRECTORY lists its
 // directories separated by colons. Outside the service the state goes beside the config.
-std::string default_state_file(const std::string& config_file, const Host& host) {
+std::string default_state_path(const std::string& config_file, const Host& host, std::string_view name) {
   if (const auto directories = host.environment("STATE_DIRECTORY"); !directories.empty())
-    return directories.substr(0, directories.find(':')) + "/state";
-  return std::filesystem::path(config_file).replace_extension(".state").string();
+    return directories.substr(0, directories.find(':')) + "/" + std::string(name);
+  return std::filesystem::path(config_file).replace_extension("." + std::string(name)).string();
 }
-
-}  // namespace
 
 void note_host_path(ParseState& state, HostPath::Use use, const YAML::Node& node, std::string key, std::string path) {
   state.config.host_paths.push_back({use, std::move(key), std::move(path), state.yaml.position(node), {}});
@@ -182,7 +182,7 @@ void parse_status(ParseState& state, const YAML::Node& node, const YAML::Node& r
 void parse_state(ParseState& state, const YAML::Node& node, const YAML::Node& root) {
   const auto& yaml = state.yaml;
   auto& file = state.config.state.file;
-  file = default_state_file(state.config.file, state.host);
+  file = default_state_path(state.config.file, state.host, "state");
   if (node) yaml.expect_keys(node, "state", {"file"});
   if (!node || !node["file"]) return note_host_path(state, HostPath::Use::state_file, node ? node : root, "state.file", file);
   const auto written = yaml.text(node["file"]);

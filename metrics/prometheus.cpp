@@ -185,6 +185,20 @@ std::string prometheus_text(const nlohmann::json& status) {
     out.family("mqtt_session_takeovers_total", "counter",
                "Times the MQTT broker gave the bridge's session to another client with its client id.")
         .sample(field(mqtt, "session_takeovers"));
+    if (const auto& buffer = field(mqtt, "buffer"); buffer.is_object()) {
+      out.family("mqtt_buffer_bytes", "gauge", "Bytes of history in the MQTT buffer not yet acknowledged by the broker.")
+          .sample(field(buffer, "bytes"));
+      out.family("mqtt_buffer_messages", "gauge", "Documents in the MQTT buffer not yet acknowledged by the broker.")
+          .sample(field(buffer, "messages"));
+      out.family("mqtt_buffer_dropped_total", "counter", "Documents the full MQTT buffer dropped (the oldest first).")
+          .sample(field(buffer, "dropped"));
+      out.family("mqtt_buffer_history_sent_total", "counter", "History messages the broker acknowledged.")
+          .sample(field(buffer, "history_sent"));
+      out.family("mqtt_buffer_syncs_total", "counter", "fdatasync calls of the MQTT buffer (at most one a second).")
+          .sample(field(buffer, "syncs"));
+      out.family("mqtt_buffer_failures_total", "counter", "MQTT buffer writes or reads the disk refused.")
+          .sample(field(buffer, "failures"));
+    }
   }
   if (const auto& logins = field(field(status, "http"), "logins"); logins.is_object()) {
     out.family("http_password_checks_total", "counter", "Password hashes of http.users computed (on the worker, not the loop).")

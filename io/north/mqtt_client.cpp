@@ -73,6 +73,10 @@ mosquitto* MqttClient::make_handle() {
   }
   mosquitto_connect_callback_set(mosq, [](mosquitto*, void* self, int rc) { static_cast<MqttClient*>(self)->handle_connack(rc); });
   mosquitto_disconnect_callback_set(mosq, [](mosquitto*, void* self, int rc) { static_cast<MqttClient*>(self)->handle_disconnect(rc); });
+  mosquitto_publish_callback_set(mosq, [](mosquitto*, void* self, int mid) {
+    auto& client = *static_cast<MqttClient*>(self);
+    if (client.on_acknowledged_) client.on_acknowledged_(mid);
+  });
   // The v5 callback serves 3.1.1 too (without properties).
   mosquitto_message_v5_callback_set(mosq, [](mosquitto*, void* self, const mosquitto_message* message,
                                              const mosquitto_property* properties) {
@@ -162,6 +166,16 @@ bool MqttClient::publish_response(const std::string& topic, std::string_view pay
   ++counters_.published;
   watch();
   return true;
+}
+
+std::optional<int> MqttClient::publish_acknowledged(const std::string& topic, std::string_view payload) {
+  if (!connected_) return std::nullopt;
+  int mid = 0;
+  const int rc = mosquitto_publish(mosq_, &mid, topic.c_str(), static_cast<int>(payload.size()), payload.data(), 1, false);
+  if (rc != MOSQ_ERR_SUCCESS) return std::nullopt;
+  ++counters_.published;
+  watch();
+  return mid;
 }
 
 void MqttClient::resolve() {

@@ -66,6 +66,11 @@ class MqttClient {
   /// Queues a QoS 1 message; false (nothing queued) while not connected: the caller keeps
   /// the latest values and publishes them all when on_connected says so.
   bool publish(const std::string& topic, std::string_view payload, bool retain);
+  /// Queues a QoS 1 message, not retained, whose acknowledgement the caller follows: its
+  /// message id, told to on_acknowledged when the broker's PUBACK comes; nullopt (nothing
+  /// queued) while not connected. Ids are of this connection only.
+  std::optional<int> publish_acknowledged(const std::string& topic, std::string_view payload);
+  void on_acknowledged(std::function<void(int mid)> handler) { on_acknowledged_ = std::move(handler); }
   /// True while what was published has not all gone to the socket (a slow broker): the
   /// caller publishes its latest state later instead of queueing more.
   bool backlogged() const;
@@ -134,6 +139,7 @@ class MqttClient {
   Counters counters_;
   std::function<std::string()> birth_;
   std::function<void()> on_connected_;
+  std::function<void(int mid)> on_acknowledged_;
   struct Subscription {
     std::string pattern;
     std::function<void(const MqttMessage&)> handler;

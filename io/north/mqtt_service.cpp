@@ -31,6 +31,10 @@ bool same_client(const config::Config& a, const config::Config& b) {
 }  // namespace
 
 MqttService::MqttService(Runtime& runtime) : runtime_(runtime), timer_(runtime.io) {
+  if (const auto& mqtt = runtime.config().mqtt; mqtt && !mqtt->buffer.file.empty()) {
+    buffer_ = std::make_unique<HistoryBuffer>(runtime.io, mqtt->buffer.file, mqtt->buffer.max_size);
+    history_ = std::make_unique<HistorySender>(*buffer_);
+  }
   client_ = make_client(runtime.config());
   lay_out();
 }
@@ -57,7 +61,13 @@ std::unique_ptr<MqttClient> MqttService::make_client(const config::Config& confi
     // Home Assistant's configs before the documents their entities read.
     discovery_.announce(*announcing);
     if (schedule_) schedule_->publish_all();
+    // The history waits for the live documents (publish() begins it once they are out).
+    if (history_) history_->end();
+    history_waits_ = history_ != nullptr;
     publish();
+  });
+  client->on_acknowledged([this](int mid) {
+    if (history_) history_->acknowledged(mid);
   });
   if (m.commands)
     client->subscribe(m.topic + "/set/#", [this](const MqttMessage& message) { take_command(message); });
@@ -140,9 +150,15 @@ void MqttService::tick() {
   });
 }
 
+// SPEC §15: the broker is unreachable once an attempt to reach it failed or the connection
+// dropped — not in the moment between the start and the first connection.
+bool MqttService::buffering() const { return buffer_ && !client_->connected() && !client_->last_error().empty(); }
+
 void MqttService::publish() {
+  if (!client_ || !schedule_) return;
+  const bool live = client_->connected();
   // A broker that does not keep up gets the latest state once it does, not a queue of states.
-  if (!client_ || !client_->connected() || client_->backlogged() || !schedule_) return;
+  if (live ? client_->backlogged() : !buffering()) return;
   const auto& running = *runtime_.banks;
   const auto snapshot = values::snapshot_of(*running.store);
   // Each bank's state as the text of its values and on-line flag: compared whole.
@@ -160,9 +176,11 @@ void MqttService::publish() {
     const auto bank = banks_[index];
     const auto document =
         mqtt::bank_document(*running.value_model.bank(bank), bank_values[index], snapshot[banks::index_of(bank)].online, now);
-    client_->publish(prefix + "/" + std::string(banks::bank_name(bank)),
-                     document.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace), true);
+    auto text = document.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+    if (live) client_->publish(prefix + "/" + std::string(banks::bank_name(bank)), text, true);
+    else buffer_->append(banks::bank_name(bank), std::move(text));
   }
+  if (live && std::exchange(history_waits_, false)) history_->begin(*client_, prefix);
 }
 
 void MqttService::start() {
@@ -179,6 +197,12 @@ void MqttService::stop() {
 }
 
 void MqttService::stage(const Banks& next) {
+  const auto buffer_of = [](const config::Config& config) {
+    return config.mqtt ? config.mqtt->buffer.file : std::string();
+  };
+  if (next.config.mqtt && buffer_of(next.config) != (buffer_ ? buffer_->path().string() : std::string()))
+    spdlog::warn("{}: mqtt.buffer changes at the next start; until then the history goes to {}", next.config.file,
+                 buffer_ ? buffer_->path().string() : "no file");
   new_client_ = !same_client(runtime_.config(), next.config);
   if (new_client_) next_client_ = make_client(next.config);
 }
@@ -194,6 +218,7 @@ void MqttService::commit(const Banks& previous) {
     client_->publish(client_->options().birth_topic, birth(), true);
   if (new_client_) {
     if (client_) client_->stop();  // `offline`, a clean goodbye, before the new client says `online`
+    if (history_) history_->end();
     client_ = std::move(next_client_);
     new_client_ = false;
     if (client_ && started_) {
@@ -227,6 +252,12 @@ void MqttService::describe(nlohmann::json& status) const {
     mqtt["last_takeover"] = nullptr;
   }
   mqtt["last_error"] = client_->last_error().empty() ? nlohmann::json(nullptr) : nlohmann::json(client_->last_error());
+  mqtt["buffer"] = nullptr;
+  if (buffer_) {
+    const auto b = buffer_->counters();
+    mqtt["buffer"] = {{"file", buffer_->path().string()}, {"bytes", b.bytes},  {"messages", b.messages}, {"dropped", b.dropped},
+                      {"history_sent", history_->sent()},   {"syncs", b.syncs}, {"failures", b.failures}};
+  }
   status["mqtt"] = mqtt;
 }
 

@@ -7,8 +7,11 @@
 // answered on `<prefix>/set/result` or, for an MQTT 5 request that names one, on its
 // Response Topic (SPEC §15). Before all of it on each connection, the birth
 // (`<prefix>/birth`, mqtt/birth.hpp); with `discovery`, Home Assistant's configs
-// (io/north/discovery_announcer). A reload keeps the client (and its session) when the
-// broker settings did not change; a reload to another config file says so in a new birth.
+// (io/north/discovery_announcer). While the broker is unreachable the same documents go to
+// the history buffer (`buffer`, SPEC §15: io/north/history_buffer), sent as history once
+// the live ones are out again (io/north/history_sender). A reload keeps the client (and
+// its session) when the broker settings did not change; a reload to another config file
+// says so in a new birth.
 
 #include <memory>
 #include <optional>
@@ -16,6 +19,8 @@
 #include <vector>
 
 #include "io/north/discovery_announcer.hpp"
+#include "io/north/history_buffer.hpp"
+#include "io/north/history_sender.hpp"
 #include "io/north/mqtt_client.hpp"
 #include "io/service.hpp"
 #include "mqtt/bank_documents.hpp"
@@ -41,12 +46,17 @@ class MqttService final : public Service {
   void publish();
   void take_command(const MqttMessage& message);
   std::string birth() const;
+  /// Documents go to the history buffer instead of the broker.
+  bool buffering() const;
 
   Runtime& runtime_;
   std::unique_ptr<MqttClient> client_;
   std::vector<banks::BankId> banks_;  // the published banks, in the model's order
   std::optional<mqtt::PublishSchedule> schedule_;
   DiscoveryAnnouncer discovery_;  // Home Assistant's configs (mqtt.discovery)
+  std::unique_ptr<HistoryBuffer> buffer_;  // null: mqtt.buffer.file none, or no mqtt at the start
+  std::unique_ptr<HistorySender> history_;
+  bool history_waits_ = false;  // a new connection's history goes once its live documents are out
   asio::steady_timer timer_;
   bool started_ = false;
   // Staged by a reload:

@@ -163,6 +163,43 @@ TEST(ConfigParse, TheStateFileFollowsTheEnvironmentGiven) {
   EXPECT_EQ(set.state.file, "/srv/s");
 }
 
+TEST(ConfigParse, TheMqttBufferGoesWhereTheStateGoesUnlessGivenOrNone) {
+  const auto mqtt = std::string("mqtt: { broker: 'mqtt://10.0.0.2' }\n");
+  const auto service = parse_text(mqtt, "/etc/unima/bridge.yaml", host_called("x", {{"STATE_DIRECTORY", "/var/lib/unima-bridge"}}));
+  EXPECT_EQ(service.mqtt->buffer.file, "/var/lib/unima-bridge/mqtt-buffer");
+  EXPECT_EQ(service.mqtt->buffer.max_size, 64u << 20);
+  const auto by_hand = parse_text(mqtt, "/etc/unima/bridge.yaml", host_called("x"));
+  EXPECT_EQ(by_hand.mqtt->buffer.file, "/etc/unima/bridge.mqtt-buffer");
+  const auto& noted = by_hand.host_paths.back();
+  EXPECT_EQ(noted.use, HostPath::Use::state_file);
+  EXPECT_EQ(noted.key, "mqtt.buffer.file");
+  EXPECT_EQ(noted.origin, "/etc/unima/bridge.yaml:1:7");
+  const auto set = parse_text("mqtt: { broker: 'mqtt://x', buffer: { file: /srv/h, max_size: 1MiB } }\n", "b.yaml", host_called("x"));
+  EXPECT_EQ(set.mqtt->buffer.file, "/srv/h");
+  EXPECT_EQ(set.mqtt->buffer.max_size, 1u << 20);
+  EXPECT_EQ(set.host_paths.back().origin, "b.yaml:1:45");
+  const auto off = parse_text("mqtt: { broker: 'mqtt://x', buffer: { file: none } }\n", "b.yaml", host_called("x"));
+  EXPECT_EQ(off.mqtt->buffer.file, "");
+  EXPECT_NE(off.host_paths.back().key, "mqtt.buffer.file");
+}
+
+TEST(ConfigParse, MqttBufferErrorsPointAtTheKey) {
+  const auto error = [](const std::string& yaml) {
+    return test_support::error_message<ConfigError>([&] { (void)parse_text(yaml, "cfg.yaml", host_called("x")); });
+  };
+  EXPECT_EQ(error("mqtt: { broker: 'mqtt://x', buffer: { max_size: 64 } }\n"), "cfg.yaml:1:49: 64 is out of range 4096..1099511627776 bytes");
+  EXPECT_EQ(error("mqtt: { broker: 'mqtt://x', buffer: { max_size: 64 parsecs } }\n"),
+            "cfg.yaml:1:49: '64 parsecs' is not a size (write e.g. 65536, 64k, 10MB)");
+  EXPECT_EQ(error("mqtt: { broker: 'mqtt://x', buffer: { file: '' } }\n"),
+            "cfg.yaml:1:45: mqtt.buffer.file must be a path, or none to keep no history");
+  EXPECT_EQ(error("mqtt: { broker: 'mqtt://x', buffer: { size: 1M } }\n"),
+            "cfg.yaml:1:39: unknown key 'size' in mqtt.buffer (known: file, max_size)");
+  EXPECT_EQ(error("mqtt: { broker: 'mqtt://x', buffer: 64MiB }\n"),
+            "cfg.yaml:1:37: mqtt.buffer must be a mapping, e.g. { file: /var/lib/unima-bridge/mqtt-buffer, max_size: 64MiB }");
+  EXPECT_EQ(error("state: { file: /srv/s }\nmqtt: { broker: 'mqtt://x', buffer: { file: /srv/s } }\n"),
+            "cfg.yaml:2:45: mqtt.buffer.file is the state file; each needs a file of its own");
+}
+
 TEST(ConfigLoad, LoadTextIsTheParseAndTheHostCheck) {
   TempDir dir;
   const auto file = (dir.path() / "rec.jsonl").string();

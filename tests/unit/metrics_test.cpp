@@ -29,7 +29,9 @@ const auto status = nlohmann::json::parse(R"({
   "master": [ {"device": 3, "requests": 10, "answered": 8, "timeouts": 2, "exceptions": 0, "bad_frames": 0} ],
   "monitor": {"written": 100, "dropped": 4},
   "state": {"file": "/var/lib/unima-bridge/state", "records": 6, "syncs": 2, "failures": 0},
-  "mqtt": {"broker": "mqtt://b", "connected": true, "connections": 3, "drops": 2, "published": 120, "session_takeovers": 1},
+  "mqtt": {"broker": "mqtt://b", "connected": true, "connections": 3, "drops": 2, "published": 120, "session_takeovers": 1,
+           "buffer": {"file": "/var/lib/unima-bridge/mqtt-buffer", "bytes": 4096, "messages": 3, "dropped": 5,
+                      "history_sent": 40, "syncs": 9, "failures": 0}},
   "http": {"logins": {"checked": 9, "wrong": 7, "peer_limited": 30, "busy": 1, "in_flight": 2}}
 })");
 
@@ -40,6 +42,13 @@ TEST(Prometheus, EveryFamilyHasHelpAndTypeAndTheStatusValues) {
   EXPECT_TRUE(has_line(text, "unima_bridge_mqtt_drops_total 2")) << text;
   EXPECT_TRUE(has_line(text, "unima_bridge_mqtt_published_total 120")) << text;
   EXPECT_TRUE(has_line(text, "unima_bridge_mqtt_session_takeovers_total 1")) << text;
+  EXPECT_TRUE(has_line(text, "# TYPE unima_bridge_mqtt_buffer_dropped_total counter")) << text;
+  EXPECT_TRUE(has_line(text, "unima_bridge_mqtt_buffer_dropped_total 5")) << text;
+  EXPECT_TRUE(has_line(text, "# TYPE unima_bridge_mqtt_buffer_bytes gauge")) << text;
+  EXPECT_TRUE(has_line(text, "unima_bridge_mqtt_buffer_bytes 4096")) << text;
+  EXPECT_TRUE(has_line(text, "unima_bridge_mqtt_buffer_messages 3")) << text;
+  EXPECT_TRUE(has_line(text, "unima_bridge_mqtt_buffer_history_sent_total 40")) << text;
+  EXPECT_TRUE(has_line(text, "unima_bridge_mqtt_buffer_syncs_total 9")) << text;
   EXPECT_TRUE(has_line(text, "# HELP unima_bridge_uptime_seconds Seconds since the daemon started.")) << text;
   EXPECT_TRUE(has_line(text, "# TYPE unima_bridge_uptime_seconds gauge")) << text;
   EXPECT_TRUE(has_line(text, "unima_bridge_uptime_seconds 42")) << text;
