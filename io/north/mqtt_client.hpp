@@ -17,6 +17,7 @@
 #include <random>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "platform/asio.hpp"
 
@@ -33,7 +34,7 @@ struct MqttClientOptions {
   std::string username;  // empty: none
   std::string password;
   int version = 4;  // 4: MQTT 3.1.1; 5: MQTT 5
-  std::string status_topic;  // <prefix>/status
+  std::string status_topic;  // <prefix>/status; empty: no status messages and no will of its own (Sparkplug's is the NDEATH)
   std::chrono::seconds keepalive{30};
 };
 
@@ -55,6 +56,20 @@ class MqttClient {
   bool backlogged() const;
   /// Called on each (re)connection, after `online`.
   void on_connected(std::function<void()> handler) { on_connected_ = std::move(handler); }
+  /// A will for each CONNECT, asked for just before it (Sparkplug: the NDEATH of the coming
+  /// session, whose bdSeq each CONNECT counts); it takes the place of the status topic's.
+  struct Will {
+    std::string topic;
+    std::string payload;
+    int qos = 1;
+    bool retain = false;
+  };
+  void will_for_each_connect(std::function<Will()> make) { make_will_ = std::move(make); }
+  /// QoS 0, never retained (Sparkplug's births and data, §4.1 of its specification); false
+  /// while not connected.
+  bool publish_at_most_once(const std::string& topic, std::string_view payload);
+  /// One more pattern subscribed on each connection, its messages to subscribe()'s handler.
+  void subscribe_also(std::string pattern) { more_subscriptions_.push_back(std::move(pattern)); }
   /// Subscribes `pattern` (QoS 1) on each connection; messages go to `handler`.
   void subscribe(std::string pattern, std::function<void(std::string_view topic, std::string_view payload)> handler) {
     subscription_ = std::move(pattern);
@@ -106,6 +121,8 @@ class MqttClient {
   std::function<void()> on_connected_;
   std::string subscription_;
   std::function<void(std::string_view, std::string_view)> on_message_;
+  std::function<Will()> make_will_;
+  std::vector<std::string> more_subscriptions_;
   std::shared_ptr<bool> alive_ = std::make_shared<bool>(true);
 };
 
