@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "tests/integration/bridge_fixture.hpp"
+#include "tests/support/peers/http_exchange.hpp"
 #include "tests/support/peers/mqtt_broker.hpp"
 #include "tests/support/peers/mqtt_subscription.hpp"
 
@@ -383,6 +384,36 @@ TEST_F(Sparkplug, AMalformedDcmdIsOnlyCountedAndLogged) {
   const auto w3 = client.read_holding(0x0103, 1);
   EXPECT_FALSE(w3 && (*w3)[0] == 120);
   EXPECT_EQ(published(), before) << "nothing is answered";
+}
+
+TEST_F(Sparkplug, TheSessionIsSeenInStatusAndMetrics) {
+  const auto http_port = free_port();
+  config.extra += "http: { listen: 127.0.0.1, port: " + std::to_string(http_port) + " }\n";
+  const auto t = tap();
+  start_with();
+  ASSERT_TRUE(wait_for(*t, device("DBIRTH", "X"))) << daemon->log();
+  const auto s = status();
+  EXPECT_EQ(s["connected"], true);
+  EXPECT_EQ(s["born"], true);
+  EXPECT_EQ(s["bdSeq"], 0);
+  EXPECT_EQ(s["group_id"], "plant-7");
+  std::size_t births = 0;
+  for (const auto& m : messages(*t)) births += m.topic.find("BIRTH/") != std::string::npos;
+  EXPECT_EQ(s["births"].get<std::size_t>(), births);
+  EXPECT_TRUE(s["primary_host"].is_null());
+  const auto text = run(std::string(UNIMA_BRIDGE_CLI) + " status --socket " + config.status_socket);
+  EXPECT_NE(text.output.find("Sparkplug   plant-7/bridge-17 connected to mqtt://127.0.0.1:"), std::string::npos) << text.output;
+  EXPECT_NE(text.output.find("commands 0 taken, 0 refused, 0 malformed"), std::string::npos) << text.output;
+
+  ASSERT_TRUE(wait_for_port(http_port));
+  const auto metrics = test_support::http_get(http_port, "/metrics");
+  ASSERT_EQ(metrics.status, 200);
+  const auto file = dir.path() / "metrics.txt";
+  test_support::write_file(file, metrics.body);
+  const auto checked = run("promtool check metrics < " + file.string());
+  EXPECT_EQ(checked.status, 0) << checked.output << metrics.body;
+  EXPECT_NE(metrics.body.find("\nunima_bridge_sparkplug_connected 1\n"), std::string::npos) << metrics.body;
+  EXPECT_NE(metrics.body.find("\nunima_bridge_sparkplug_bd_seq 0\n"), std::string::npos) << metrics.body;
 }
 
 }  // namespace
