@@ -386,6 +386,28 @@ TEST_F(Sparkplug, AMalformedDcmdIsOnlyCountedAndLogged) {
   EXPECT_EQ(published(), before) << "nothing is answered";
 }
 
+// A reload that keeps the section keeps the connection and sends every birth again; one
+// that changes it says the old node's death and connects anew with the next bdSeq.
+TEST_F(Sparkplug, AReloadRebirthsOrReconnects) {
+  const auto t = tap();
+  start_with();
+  ASSERT_TRUE(wait_for(*t, device("DBIRTH", "X"))) << daemon->log();
+  daemon->signal(SIGHUP);
+  ASSERT_TRUE(eventually([&] { return count_of(*t, nbirth) == 2 && count_of(*t, device("DBIRTH", "X")) == 2; }, 6000ms))
+      << daemon->log();
+  EXPECT_EQ(count_of(*t, ndeath), 0u);
+  EXPECT_EQ(status()["connections"], 1);
+
+  const auto at = config.extra.find("bridge-17");
+  ASSERT_NE(at, std::string::npos);
+  config.extra.replace(at, 9, "bridge-18");
+  daemon->rewrite_config(config.yaml());
+  daemon->signal(SIGHUP);
+  EXPECT_TRUE(wait_for(*t, ndeath, [](const json& p) { return (*metric(p, "bdSeq"))["value"] == 0; })) << daemon->log();
+  EXPECT_TRUE(wait_for(*t, "spBv1.0/plant-7/NBIRTH/bridge-18", [](const json& p) { return (*metric(p, "bdSeq"))["value"] == 1; }))
+      << daemon->log();
+}
+
 TEST_F(Sparkplug, TheSessionIsSeenInStatusAndMetrics) {
   const auto http_port = free_port();
   config.extra += "http: { listen: 127.0.0.1, port: " + std::to_string(http_port) + " }\n";
