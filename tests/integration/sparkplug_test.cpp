@@ -364,6 +364,20 @@ TEST_F(Sparkplug, DcmdWritesWThroughTheOneWritePathReadBackOverModbus) {
   EXPECT_NE(read_file(dir.path() / "bridge.state").find("W 3 125"), std::string::npos);
 }
 
+// modbus.tcp.read_only freezes every way a write comes in: a DCMD too, counted as refused.
+TEST_F(Sparkplug, ReadOnlyRefusesADcmd) {
+  config.tcp_extra = ", read_only: true";
+  const auto t = tap();
+  start_with(", commands: true");
+  ASSERT_TRUE(wait_for(*t, device("DBIRTH", "W"))) << daemon->log();
+  publish_bytes(device("DCMD", "W"), float_metric("w_03", 12.5f));
+  ASSERT_TRUE(eventually([&] { return status()["commands"]["refused"] == 1; })) << status().dump();
+  EXPECT_EQ(status()["commands"]["taken"], 0);
+  ModbusClient client(config.modbus_port);
+  const auto w3 = client.read_holding(0x0103, 1);
+  EXPECT_FALSE(w3 && (*w3)[0] == 125);
+}
+
 TEST_F(Sparkplug, AMalformedDcmdIsOnlyCountedAndLogged) {
   const auto t = tap();
   start_with(", commands: true");
