@@ -10,6 +10,7 @@
 #include "io/monitor_service.hpp"
 #include "io/north/http_service.hpp"
 #include "io/north/mqtt_service.hpp"
+#include "io/north/sparkplug_service.hpp"
 #include "io/state_service.hpp"
 #include "io/status_socket_service.hpp"
 #include "io/unimabus/unimabus_service.hpp"
@@ -33,6 +34,7 @@ Bridge::Bridge(asio::io_context& io, config::Config config)
   services_.push_back(std::make_unique<io::StatusSocketService>(runtime_));
   services_.push_back(std::make_unique<io::HttpService>(runtime_));
   services_.push_back(std::make_unique<io::MqttService>(runtime_));
+  services_.push_back(std::make_unique<io::SparkplugService>(runtime_));
 }
 
 Bridge::~Bridge() {

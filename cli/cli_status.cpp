@@ -207,6 +207,23 @@ std::string render_status_panel(const nlohmann::json& s) {
     else if (q.contains("buffer"))
       out += "            no history buffer (mqtt.buffer.file: none): an outage keeps only the present values\n";
   }
+  if (s.contains("sparkplug")) {
+    const auto& p = s["sparkplug"];
+    const auto node = fmt::format("{}/{}", p["group_id"].get<std::string>(), p["edge_node_id"].get<std::string>());
+    if (p["connected"].get<bool>())
+      out += fmt::format("Sparkplug   {} connected to {} since {}, bdSeq {}, next seq {}\n", node, p["broker"].get<std::string>(),
+                         p["since"].get<std::string>(), p["bdSeq"].dump(), p["seq"].get<unsigned>());
+    else
+      out += fmt::format("Sparkplug   {} not connected to {}: {}\n", node, p["broker"].get<std::string>(),
+                         p["last_error"].is_string() ? p["last_error"].get<std::string>() : std::string("connecting"));
+    if (p["primary_host"].is_object())
+      out += fmt::format("            primary host {} {}{}\n", p["primary_host"]["name"].get<std::string>(),
+                         p["primary_host"]["state"].get<std::string>(), p["born"].get<bool>() ? "" : ": births wait for it online");
+    const auto& c = p["commands"];
+    out += fmt::format("            {} births, {} data, {} device deaths; commands {} taken, {} refused, {} malformed\n",
+                       p["births"].get<std::uint64_t>(), p["data"].get<std::uint64_t>(), p["deaths"].get<std::uint64_t>(),
+                       c["taken"].get<std::uint64_t>(), c["refused"].get<std::uint64_t>(), c["malformed"].get<std::uint64_t>());
+  }
   return out;
 }
 

@@ -68,6 +68,9 @@ std::vector<std::string> warnings(const Config& config) {
   if (config.mqtt && config.mqtt->commands && writes_frozen(config))
     found.push_back(warning_text(config.mqtt->origin, "mqtt.commands is true, but modbus.tcp.read_only is on: every MQTT "
                                                       "command is refused (ok: false on set/result) while it is"));
+  if (config.sparkplug && config.sparkplug->commands && writes_frozen(config))
+    found.push_back(warning_text(config.sparkplug->origin, "sparkplug.commands is true, but modbus.tcp.read_only is on: "
+                                                           "every DCMD is refused (counted) while it is"));
   if (!slave) {
     const auto more = foreign_slave_warnings(config);
     found.insert(found.end(), more.begin(), more.end());

@@ -288,6 +288,31 @@ struct MqttConfig {
   bool operator==(const MqttConfig&) const = default;
 };
 
+/// sparkplug (SPEC §16): the bridge as a Sparkplug B edge node, on a broker of its own
+/// connection (which may be the mqtt section's broker). The broker, TLS and credentials
+/// keys are mqtt's, read by the same parser.
+struct SparkplugConfig {
+  std::string broker;        // as written: mqtt://host[:port] or mqtts://host[:port]
+  bool tls = false;
+  HostPort endpoint;
+  std::string client_id;     // default unima-bridge-<group_id>-<edge_node_id>
+  std::string username;
+  std::string password_file;
+  std::string ca, certificate, key;
+  int version = 4;
+  std::string group_id;      // spBv1.0/<group_id>/...
+  std::string edge_node_id;  // default: this machine's name
+  std::string primary_host;  // empty: births go out on connecting, not on a host's STATE
+  bool commands = false;     // DCMD to W and X metrics writes them
+  std::string origin;        // "file:line:col" of sparkplug
+  bool same_client(const SparkplugConfig& other) const {
+    auto a = *this, b = other;
+    a.origin = b.origin = {};
+    return a == b;
+  }
+  bool operator==(const SparkplugConfig&) const = default;
+};
+
 /// A path the config names on this machine: the parse only notes it, check_on_host looks
 /// at what is there.
 struct HostPath {
@@ -323,6 +348,7 @@ struct Config {
   StateConfig state;
   std::optional<HttpConfig> http;  // absent: no HTTP
   std::optional<MqttConfig> mqtt;  // absent: no MQTT
+  std::optional<SparkplugConfig> sparkplug;  // absent: no Sparkplug B
   std::vector<HostPath> host_paths;  // in the order the file names them
   /// Warnings the parse and check_on_host found (a PLC-style register number, a serial
   /// device not there, an expired certificate), as warning_text writes them; config::warnings

@@ -26,7 +26,7 @@ Config parse_document(const YAML::Node& root, const std::string& origin, const H
   if (!root.IsNull() && !root.IsMap()) yaml.fail(root, "the config must be a mapping of sections");
   yaml.expect_keys(root, "the config",
                    {"unimabus", "modbus", "banks", "devices", "mapping", "blocks", "log", "monitor", "status", "state",
-                    "http", "mqtt"});
+                    "http", "mqtt", "sparkplug"});
   for (banks::BankId bank : banks::all_banks) state.config.bank_bases[index_of(bank)] = banks::default_base(bank);
   if (root["unimabus"]) parse_unimabus(state, root["unimabus"]);
   if (root["modbus"]) parse_modbus(state, root["modbus"]);
@@ -41,6 +41,7 @@ Config parse_document(const YAML::Node& root, const std::string& origin, const H
   parse_state(state, root["state"], root);
   if (root["http"]) parse_http(state, root["http"]);
   if (root["mqtt"]) parse_mqtt(state, root["mqtt"]);
+  if (root["sparkplug"]) parse_sparkplug(state, root["sparkplug"]);
   validate_layout(state, root);
   resolve_tls_roles(state);
   state.config.noted_warnings = yaml.take_warnings();

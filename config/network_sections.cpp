@@ -218,58 +218,87 @@ void parse_mqtt_buffer(ParseState& state, const YAML::Node& mqtt, MqttBufferConf
   note_host_path(state, HostPath::Use::state_file, node["file"], "mqtt.buffer.file", buffer.file);
 }
 
+constexpr std::array<std::string_view, 7> broker_keys = {"broker", "username", "password_file", "ca",
+                                                          "certificate", "key", "version"};
+
+std::vector<std::string_view> keys_with_broker(std::initializer_list<std::string_view> own) {
+  std::vector<std::string_view> keys(broker_keys.begin(), broker_keys.end());
+  keys.insert(keys.end(), own.begin(), own.end());
+  return keys;
+}
+
+// How a section reaches its broker — the URL, TLS files, credentials, protocol version —
+// read alike for mqtt and sparkplug (both configs name these fields the same), `section`
+// naming the keys in messages.
+template <typename Section>
+void parse_broker_connection(ParseState& state, const YAML::Node& node, std::string_view section, Section& s) {
+  const auto& yaml = state.yaml;
+  if (!node["broker"])
+    yaml.fail(node, fmt::format("{} needs 'broker', e.g. mqtt://127.0.0.1:1883 or mqtts://broker.example:8883", section));
+  s.broker = yaml.text(node["broker"]);
+  auto broker = parse_mqtt_broker(s.broker);
+  if (auto* error = std::get_if<std::string>(&broker)) yaml.fail(node["broker"], fmt::format("{}.broker: {}", section, *error));
+  s.tls = std::get<MqttBroker>(broker).tls;
+  s.endpoint = std::get<MqttBroker>(broker).endpoint;
+  if (node["username"]) s.username = yaml.text(node["username"]);
+  if (node["password_file"]) s.password_file = yaml.text(node["password_file"]);
+  if (!s.password_file.empty() && s.username.empty())
+    yaml.fail(node["password_file"], fmt::format("{0}.password_file needs {0}.username", section));
+  using Use = HostPath::Use;
+  for (const auto& [key, use, file] : {std::tuple{"ca", Use::ca_certificates, &s.ca},
+                                       std::tuple{"certificate", Use::certificate, &s.certificate},
+                                       std::tuple{"key", Use::private_key, &s.key}}) {
+    if (!node[key]) continue;
+    if (!s.tls) yaml.fail(node[key], fmt::format("{}.{} is for mqtts:// brokers", section, key));
+    note_pem_file(state, node[key], fmt::format("{}.{}", section, key), use, *file);
+  }
+  if (s.certificate.empty() != s.key.empty())
+    yaml.fail(node, fmt::format("{0}.certificate and {0}.key go together (the client's certificate and its key)", section));
+  if (!s.key.empty()) state.config.host_paths.back().certificate = fmt::format("{}.certificate", section);
+  if (node["version"]) {
+    const auto version = yaml.text(node["version"]);
+    if (version == "3.1.1") s.version = 4;
+    else if (version == "5") s.version = 5;
+    else yaml.fail(node["version"], fmt::format("{}.version must be 3.1.1 or 5", section));
+  }
+}
+
+// An MQTT client id: 1..64 characters, `fallback` when the section names none.
+std::string parse_client_id(const YamlReader& yaml, const YAML::Node& node, std::string_view section, std::string fallback) {
+  auto id = node["client_id"] ? yaml.text(node["client_id"]) : std::move(fallback);
+  if (id.empty() || id.size() > 64)
+    yaml.fail(node["client_id"] ? node["client_id"] : node, fmt::format("{}.client_id must be 1..64 characters", section));
+  return id;
+}
+
+// A Sparkplug id (group, edge node, host) is one level of a topic (Sparkplug 3.0 §4.1.1):
+// no separator, no wildcard.
+std::string parse_sparkplug_id(const YamlReader& yaml, const YAML::Node& node, std::string_view key) {
+  auto id = yaml.text(node);
+  if (id.empty() || id.find_first_of("/#+") != std::string::npos)
+    yaml.fail(node, fmt::format("sparkplug.{} must be a name without / # or +", key));
+  return id;
+}
+
 }  // namespace
 
 void parse_mqtt(ParseState& state, const YAML::Node& node) {
   const auto& yaml = state.yaml;
-  yaml.expect_keys(node, "mqtt", {"broker", "client_id", "topic", "username", "password_file", "ca", "certificate",
-                                  "key", "version", "publish", "commands", "discovery", "buffer"});
+  yaml.expect_keys(node, "mqtt", keys_with_broker({"client_id", "topic", "publish", "commands", "discovery", "buffer"}));
   MqttConfig m;
   m.origin = yaml.position(node);
-  if (!node["broker"]) yaml.fail(node, "mqtt needs 'broker', e.g. mqtt://127.0.0.1:1883 or mqtts://broker.example:8883");
-  m.broker = yaml.text(node["broker"]);
-  auto broker = parse_mqtt_broker(m.broker);
-  if (auto* error = std::get_if<std::string>(&broker)) yaml.fail(node["broker"], fmt::format("mqtt.broker: {}", *error));
-  m.tls = std::get<MqttBroker>(broker).tls;
-  m.endpoint = std::get<MqttBroker>(broker).endpoint;
+  parse_broker_connection(state, node, "mqtt", m);
   m.host_name = state.host.name;
   m.machine_id = state.host.machine_id;
-  if (node["client_id"]) {
-    m.client_id = yaml.text(node["client_id"]);
-  } else {
-    m.client_id = default_client_id(m.host_name, m.machine_id);
-    if (m.machine_id.empty())
-      yaml.warn(node, fmt::format("mqtt.client_id: this machine has no {} (machine-id(5)), so the default client id is {} "
-                                  "without one: bridges of one cloned image would share it and take the broker's session "
-                                  "from each other; set mqtt.client_id",
-                                  machine_id_file, m.client_id));
-  }
-  if (m.client_id.empty() || m.client_id.size() > 64)
-    yaml.fail(node["client_id"] ? node["client_id"] : node, "mqtt.client_id must be 1..64 characters");
+  m.client_id = parse_client_id(yaml, node, "mqtt", default_client_id(m.host_name, m.machine_id));
+  if (!node["client_id"] && m.machine_id.empty())
+    yaml.warn(node, fmt::format("mqtt.client_id: this machine has no {} (machine-id(5)), so the default client id is {} "
+                                "without one: bridges of one cloned image would share it and take the broker's session "
+                                "from each other; set mqtt.client_id",
+                                machine_id_file, m.client_id));
   m.topic = node["topic"] ? yaml.text(node["topic"]) : "unima/" + m.client_id;
   if (m.topic.empty() || m.topic.back() == '/' || m.topic.find_first_of("#+") != std::string::npos)
     yaml.fail(node["topic"] ? node["topic"] : node, "mqtt.topic must be a topic prefix without wildcards (# +) or a trailing /");
-  if (node["username"]) m.username = yaml.text(node["username"]);
-  if (node["password_file"]) m.password_file = yaml.text(node["password_file"]);
-  if (!m.password_file.empty() && m.username.empty())
-    yaml.fail(node["password_file"], "mqtt.password_file needs mqtt.username");
-  using Use = HostPath::Use;
-  for (const auto& [key, use, file] : {std::tuple{"ca", Use::ca_certificates, &m.ca},
-                                       std::tuple{"certificate", Use::certificate, &m.certificate},
-                                       std::tuple{"key", Use::private_key, &m.key}}) {
-    if (!node[key]) continue;
-    if (!m.tls) yaml.fail(node[key], fmt::format("mqtt.{} is for mqtts:// brokers", key));
-    note_pem_file(state, node[key], fmt::format("mqtt.{}", key), use, *file);
-  }
-  if (m.certificate.empty() != m.key.empty())
-    yaml.fail(node, "mqtt.certificate and mqtt.key go together (the client's certificate and its key)");
-  if (!m.key.empty()) state.config.host_paths.back().certificate = "mqtt.certificate";
-  if (node["version"]) {
-    const auto version = yaml.text(node["version"]);
-    if (version == "3.1.1") m.version = 4;
-    else if (version == "5") m.version = 5;
-    else yaml.fail(node["version"], "mqtt.version must be 3.1.1 or 5");
-  }
   if (const auto publish = node["publish"]) {
     yaml.expect_keys(publish, "mqtt.publish", {"period", "on_change"});
     if (publish["period"]) {
@@ -292,6 +321,23 @@ void parse_mqtt(ParseState& state, const YAML::Node& node) {
   }
   parse_mqtt_buffer(state, node, m.buffer);
   state.config.mqtt = m;
+}
+
+void parse_sparkplug(ParseState& state, const YAML::Node& node) {
+  const auto& yaml = state.yaml;
+  yaml.expect_keys(node, "sparkplug", keys_with_broker({"client_id", "group_id", "edge_node_id", "primary_host", "commands"}));
+  SparkplugConfig s;
+  s.origin = yaml.position(node);
+  parse_broker_connection(state, node, "sparkplug", s);
+  if (!node["group_id"]) yaml.fail(node, "sparkplug needs 'group_id', the Sparkplug group of this edge node, e.g. plant-7");
+  s.group_id = parse_sparkplug_id(yaml, node["group_id"], "group_id");
+  if (node["edge_node_id"]) s.edge_node_id = parse_sparkplug_id(yaml, node["edge_node_id"], "edge_node_id");
+  else s.edge_node_id = state.host.name.empty() || state.host.name.find_first_of("/#+") != std::string::npos
+                            ? std::string("unima-bridge") : state.host.name;
+  if (node["primary_host"]) s.primary_host = parse_sparkplug_id(yaml, node["primary_host"], "primary_host");
+  s.client_id = parse_client_id(yaml, node, "sparkplug", fmt::format("unima-bridge-{}-{}", s.group_id, s.edge_node_id).substr(0, 64));
+  if (node["commands"]) s.commands = yaml.boolean(node["commands"]);
+  state.config.sparkplug = s;
 }
 
 }  // namespace unima::config::sections

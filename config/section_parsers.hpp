@@ -66,6 +66,7 @@ PeerAllowList parse_allow_list(const YamlReader& yaml, const YAML::Node& node, s
 void resolve_tls_roles(ParseState& state);
 void parse_http(ParseState& state, const YAML::Node& node);
 void parse_mqtt(ParseState& state, const YAML::Node& node);
+void parse_sparkplug(ParseState& state, const YAML::Node& node);
 
 // layout_sections.cpp: where the banks are and what they hold.
 void parse_bank_bases(ParseState& state, const YAML::Node& node);

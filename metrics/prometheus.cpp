@@ -200,6 +200,23 @@ std::string prometheus_text(const nlohmann::json& status) {
           .sample(field(buffer, "failures"));
     }
   }
+  if (const auto& sparkplug = field(status, "sparkplug"); sparkplug.is_object()) {
+    out.family("sparkplug_connected", "gauge", "1 while the Sparkplug B edge node is connected to its broker.")
+        .sample(field(sparkplug, "connected"));
+    out.family("sparkplug_born", "gauge", "1 while the edge node's NBIRTH stands (connected, and its primary host online).")
+        .sample(field(sparkplug, "born"));
+    out.family("sparkplug_bd_seq", "gauge", "The bdSeq of the edge node's present MQTT connection (0-255).")
+        .sample(field(sparkplug, "bdSeq"));
+    out.family("sparkplug_connections_total", "counter", "Connections made to the Sparkplug broker.")
+        .sample(field(sparkplug, "connections"));
+    out.family("sparkplug_births_total", "counter", "NBIRTH and DBIRTH messages published.").sample(field(sparkplug, "births"));
+    out.family("sparkplug_data_total", "counter", "DDATA messages published.").sample(field(sparkplug, "data"));
+    out.family("sparkplug_device_deaths_total", "counter", "DDEATH messages published.").sample(field(sparkplug, "deaths"));
+    out.family("sparkplug_commands_total", "counter",
+               "NCMD/DCMD metrics taken (a rebirth, a write) or refused, and command messages malformed.");
+    for (const auto* outcome : {"taken", "refused", "malformed"})
+      out.sample(field(field(sparkplug, "commands"), outcome), {{"outcome", outcome}});
+  }
   if (const auto& logins = field(field(status, "http"), "logins"); logins.is_object()) {
     out.family("http_password_checks_total", "counter", "Password hashes of http.users computed (on the worker, not the loop).")
         .sample(field(logins, "checked"));

@@ -59,7 +59,8 @@ mosquitto* MqttClient::make_handle() {
   // shows as a socket that wants writing (backlogged()), not as a queue inside the library.
   mosquitto_max_inflight_messages_set(mosq, 0);
   const std::string offline = "offline";
-  mosquitto_will_set(mosq, options_.status_topic.c_str(), static_cast<int>(offline.size()), offline.data(), 1, true);
+  if (!options_.status_topic.empty())
+    mosquitto_will_set(mosq, options_.status_topic.c_str(), static_cast<int>(offline.size()), offline.data(), 1, true);
   if (!options_.username.empty())
     mosquitto_username_pw_set(mosq, options_.username.c_str(), options_.password.empty() ? nullptr : options_.password.c_str());
   if (options_.tls) {
@@ -129,7 +130,7 @@ void MqttClient::stop() {
   retry_timer_.cancel();
   resolver_.cancel();
   if (connected_) {
-    send(options_.status_topic, "offline", true);
+    if (!options_.status_topic.empty()) send(options_.status_topic, "offline", true);
     mosquitto_disconnect(mosq_);  // written at once: the broker forgets the will
     connected_ = false;
     spdlog::info("mqtt: disconnected from {}:{}", options_.host, options_.port);
@@ -168,6 +169,15 @@ bool MqttClient::publish_response(const std::string& topic, std::string_view pay
   return true;
 }
 
+bool MqttClient::publish_at_most_once(const std::string& topic, std::string_view payload) {
+  if (!connected_) return false;
+  const int rc = mosquitto_publish(mosq_, nullptr, topic.c_str(), static_cast<int>(payload.size()), payload.data(), 0, false);
+  if (rc != MOSQ_ERR_SUCCESS) return false;
+  ++counters_.published;
+  watch();
+  return true;
+}
+
 std::optional<int> MqttClient::publish_acknowledged(const std::string& topic, std::string_view payload) {
   if (!connected_) return std::nullopt;
   int mid = 0;
@@ -195,6 +205,10 @@ void MqttClient::connect(const std::string& address) {
   // name (libmosquitto looks it up again, a moment after the resolver did); plain MQTT
   // gets the address, and nothing on the loop waits for DNS.
   const auto& host = options_.tls ? options_.host : address;
+  if (make_will_) {
+    const auto will = make_will_();
+    mosquitto_will_set(mosq_, will.topic.c_str(), static_cast<int>(will.payload.size()), will.payload.data(), will.qos, will.retain);
+  }
   const int rc = mosquitto_connect_async(mosq_, host.c_str(), options_.port, static_cast<int>(options_.keepalive.count()));
   const int fd = mosquitto_socket(mosq_);
   if (rc != MOSQ_ERR_SUCCESS || fd < 0) return lost(reason(rc));
@@ -287,7 +301,7 @@ void MqttClient::handle_connack(int rc) {
   // The birth, then `online`, before anything else (publish() takes nothing until
   // connected_): whoever sees `online` finds the birth of this connection already there.
   if (birth_ && !options_.birth_topic.empty()) send(options_.birth_topic, birth_(), true);
-  send(options_.status_topic, "online", true);
+  if (!options_.status_topic.empty()) send(options_.status_topic, "online", true);
   connected_ = true;
   for (const auto& subscription : subscriptions_) mosquitto_subscribe(mosq_, nullptr, subscription.pattern.c_str(), 1);
   if (on_connected_) on_connected_();

@@ -40,7 +40,7 @@ struct MqttClientOptions {
   std::string username;  // empty: none
   std::string password;
   int version = 4;  // 4: MQTT 3.1.1; 5: MQTT 5
-  std::string status_topic;  // <prefix>/status
+  std::string status_topic;  // <prefix>/status; empty: no status messages and no will of its own (Sparkplug's is the NDEATH)
   std::string birth_topic;   // <prefix>/birth; empty: no birth
   std::chrono::seconds keepalive{30};
 };
@@ -86,6 +86,18 @@ class MqttClient {
   void subscribe(std::string pattern, std::function<void(const MqttMessage&)> handler) {
     subscriptions_.push_back({std::move(pattern), std::move(handler)});
   }
+  /// A will for each CONNECT, asked for just before it (Sparkplug: the NDEATH of the coming
+  /// session, whose bdSeq each CONNECT counts); it takes the place of the status topic's.
+  struct Will {
+    std::string topic;
+    std::string payload;
+    int qos = 1;
+    bool retain = false;
+  };
+  void will_for_each_connect(std::function<Will()> make) { make_will_ = std::move(make); }
+  /// QoS 0, never retained (Sparkplug's births and data, §4.1 of its specification); false
+  /// while not connected.
+  bool publish_at_most_once(const std::string& topic, std::string_view payload);
 
   struct Counters {
     std::uint64_t connections = 0;
@@ -145,6 +157,7 @@ class MqttClient {
     std::function<void(const MqttMessage&)> handler;
   };
   std::vector<Subscription> subscriptions_;
+  std::function<Will()> make_will_;
   std::shared_ptr<bool> alive_ = std::make_shared<bool>(true);
 };
 

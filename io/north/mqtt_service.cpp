@@ -1,9 +1,8 @@
 #include "io/north/mqtt_service.hpp"
 
-#include <fstream>
-
 #include <spdlog/spdlog.h>
 
+#include "io/north/broker_options.hpp"
 #include "monitor/monitor_line.hpp"
 #include "mqtt/birth.hpp"
 #include "mqtt/command.hpp"
@@ -14,15 +13,6 @@
 namespace unima::io {
 
 namespace {
-
-std::string first_line_of(const std::string& path) {
-  std::ifstream file(path);
-  if (!file) throw std::runtime_error(fmt::format("mqtt.password_file {}: cannot be read", path));
-  std::string line;
-  std::getline(file, line);
-  if (!line.empty() && line.back() == '\r') line.pop_back();
-  return line;
-}
 
 bool same_client(const config::Config& a, const config::Config& b) {
   return a.mqtt.has_value() == b.mqtt.has_value() && (!a.mqtt || a.mqtt->same_client(*b.mqtt));
@@ -42,17 +32,7 @@ MqttService::MqttService(Runtime& runtime) : runtime_(runtime), timer_(runtime.i
 std::unique_ptr<MqttClient> MqttService::make_client(const config::Config& config) {
   if (!config.mqtt) return nullptr;
   const auto& m = *config.mqtt;
-  MqttClientOptions options;
-  options.host = m.endpoint.host;
-  options.port = m.endpoint.port;
-  options.tls = m.tls;
-  options.ca = m.ca;
-  options.certificate = m.certificate;
-  options.key = m.key;
-  options.client_id = m.client_id;
-  options.username = m.username;
-  if (!m.password_file.empty()) options.password = first_line_of(m.password_file);
-  options.version = m.version;
+  auto options = broker_options(m, "mqtt");
   options.status_topic = m.topic + "/status";
   options.birth_topic = m.topic + "/birth";
   auto client = std::make_unique<MqttClient>(runtime_.io, options);

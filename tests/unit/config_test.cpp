@@ -610,5 +610,44 @@ TEST(ConfigLoad, MqttBrokerClientTopicAndTheirDefaults) {
   EXPECT_EQ(load_error("mqtt: { broker: 'mqtt://x:0' }\n").substr(0, 28), "cfg.yaml:1:17: mqtt.broker: ");
 }
 
+TEST(ConfigLoad, SparkplugIdsBrokerAsMqttsAndDefaults) {
+  Host host;
+  host.name = "box-3";
+  const auto c = parse_text("sparkplug:\n  broker: mqtts://broker.example\n  username: bridge\n  password_file: /etc/p\n"
+                            "  ca: /etc/ca.pem\n  version: 5\n  group_id: plant-7\n  edge_node_id: bridge-17\n"
+                            "  primary_host: scada-1\n  commands: true\n", "s.yaml", host);
+  ASSERT_TRUE(c.sparkplug);
+  EXPECT_TRUE(c.sparkplug->tls);
+  EXPECT_EQ(c.sparkplug->endpoint, (HostPort{"broker.example", 8883}));
+  EXPECT_EQ(c.sparkplug->username, "bridge");
+  EXPECT_EQ(c.sparkplug->ca, "/etc/ca.pem");
+  EXPECT_EQ(c.sparkplug->version, 5);
+  EXPECT_EQ(c.sparkplug->group_id, "plant-7");
+  EXPECT_EQ(c.sparkplug->edge_node_id, "bridge-17");
+  EXPECT_EQ(c.sparkplug->primary_host, "scada-1");
+  EXPECT_EQ(c.sparkplug->client_id, "unima-bridge-plant-7-bridge-17");
+  EXPECT_TRUE(c.sparkplug->commands);
+  const auto plain = parse_text("sparkplug: { broker: 'mqtt://127.0.0.1', group_id: g }\n", "s.yaml", host);
+  EXPECT_EQ(plain.sparkplug->endpoint, (HostPort{"127.0.0.1", 1883}));
+  EXPECT_EQ(plain.sparkplug->edge_node_id, "box-3");
+  EXPECT_TRUE(plain.sparkplug->primary_host.empty());
+  EXPECT_FALSE(plain.sparkplug->commands);
+
+  EXPECT_EQ(load_error("sparkplug: { group_id: g }\n"),
+            "cfg.yaml:1:12: sparkplug needs 'broker', e.g. mqtt://127.0.0.1:1883 or mqtts://broker.example:8883");
+  EXPECT_EQ(load_error("sparkplug: { broker: 'mqtt://x' }\n"),
+            "cfg.yaml:1:12: sparkplug needs 'group_id', the Sparkplug group of this edge node, e.g. plant-7");
+  EXPECT_EQ(load_error("sparkplug: { broker: 'mqtt://x', group_id: 'a/b' }\n"),
+            "cfg.yaml:1:44: sparkplug.group_id must be a name without / # or +");
+  EXPECT_EQ(load_error("sparkplug: { broker: 'mqtt://x', group_id: g, primary_host: 'h+' }\n"),
+            "cfg.yaml:1:61: sparkplug.primary_host must be a name without / # or +");
+  EXPECT_EQ(load_error("sparkplug: { broker: 'mqtt://x', group_id: g, ca: c.pem }\n"),
+            "cfg.yaml:1:51: sparkplug.ca is for mqtts:// brokers");
+  EXPECT_EQ(load_error("sparkplug: { broker: 'mqtt://x', group_id: g, password_file: p }\n"),
+            "cfg.yaml:1:62: sparkplug.password_file needs sparkplug.username");
+  EXPECT_EQ(load_error("sparkplug: { broker: 'mqtt://x', group_id: g, topic: t }\n").substr(0, 56),
+            "cfg.yaml:1:47: unknown key 'topic' in sparkplug (known: ");
+}
+
 }  // namespace
 }  // namespace unima::config

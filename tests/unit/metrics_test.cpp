@@ -32,6 +32,8 @@ const auto status = nlohmann::json::parse(R"({
   "mqtt": {"broker": "mqtt://b", "connected": true, "connections": 3, "drops": 2, "published": 120, "session_takeovers": 1,
            "buffer": {"file": "/var/lib/unima-bridge/mqtt-buffer", "bytes": 4096, "messages": 3, "dropped": 5,
                       "history_sent": 40, "syncs": 9, "failures": 0}},
+  "sparkplug": {"connected": true, "born": false, "bdSeq": 7, "connections": 2, "births": 30, "data": 400, "deaths": 3,
+                "commands": {"taken": 4, "refused": 5, "malformed": 6}},
   "http": {"logins": {"checked": 9, "wrong": 7, "peer_limited": 30, "busy": 1, "in_flight": 2}}
 })");
 
@@ -49,6 +51,16 @@ TEST(Prometheus, EveryFamilyHasHelpAndTypeAndTheStatusValues) {
   EXPECT_TRUE(has_line(text, "unima_bridge_mqtt_buffer_messages 3")) << text;
   EXPECT_TRUE(has_line(text, "unima_bridge_mqtt_buffer_history_sent_total 40")) << text;
   EXPECT_TRUE(has_line(text, "unima_bridge_mqtt_buffer_syncs_total 9")) << text;
+  EXPECT_TRUE(has_line(text, "unima_bridge_sparkplug_connected 1")) << text;
+  EXPECT_TRUE(has_line(text, "unima_bridge_sparkplug_born 0")) << text;
+  EXPECT_TRUE(has_line(text, "unima_bridge_sparkplug_bd_seq 7")) << text;
+  EXPECT_TRUE(has_line(text, "# TYPE unima_bridge_sparkplug_births_total counter")) << text;
+  EXPECT_TRUE(has_line(text, "unima_bridge_sparkplug_births_total 30")) << text;
+  EXPECT_TRUE(has_line(text, "unima_bridge_sparkplug_data_total 400")) << text;
+  EXPECT_TRUE(has_line(text, "unima_bridge_sparkplug_device_deaths_total 3")) << text;
+  EXPECT_TRUE(has_line(text, R"(unima_bridge_sparkplug_commands_total{outcome="taken"} 4)")) << text;
+  EXPECT_TRUE(has_line(text, R"(unima_bridge_sparkplug_commands_total{outcome="refused"} 5)")) << text;
+  EXPECT_TRUE(has_line(text, R"(unima_bridge_sparkplug_commands_total{outcome="malformed"} 6)")) << text;
   EXPECT_TRUE(has_line(text, "# HELP unima_bridge_uptime_seconds Seconds since the daemon started.")) << text;
   EXPECT_TRUE(has_line(text, "# TYPE unima_bridge_uptime_seconds gauge")) << text;
   EXPECT_TRUE(has_line(text, "unima_bridge_uptime_seconds 42")) << text;

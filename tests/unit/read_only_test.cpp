@@ -82,5 +82,17 @@ TEST(ReadOnly, MqttCommandsWithReadOnlyAreWarnedOf) {
   EXPECT_FALSE(warned(config_of("modbus:\n  tcp: { read_only: true }\nmqtt: { broker: 'mqtt://127.0.0.1:1883' }\n")));
 }
 
+TEST(ReadOnly, SparkplugCommandsWithReadOnlyAreWarnedOf) {
+  const std::string sparkplug = "sparkplug: { broker: 'mqtt://127.0.0.1:1883', group_id: g, commands: true }\n";
+  const auto warned = [](const config::Config& c) {
+    for (const auto& w : config::warnings(c))
+      if (w.find("sparkplug.commands is true, but modbus.tcp.read_only is on: every DCMD is refused") != std::string::npos)
+        return true;
+    return false;
+  };
+  EXPECT_TRUE(warned(config_of("modbus:\n  tcp: { read_only: true }\n" + sparkplug)));
+  EXPECT_FALSE(warned(config_of("modbus:\n  tcp: { read_only: false }\n" + sparkplug)));
+}
+
 }  // namespace
 }  // namespace unima

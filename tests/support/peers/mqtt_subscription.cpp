@@ -11,14 +11,15 @@
 
 namespace unima::test_support {
 
-Subscription::Subscription(const Broker& broker, const std::filesystem::path& file, const std::string& topic) : file_(file) {
+Subscription::Subscription(const Broker& broker, const std::filesystem::path& file, const std::string& topic, bool hex)
+    : file_(file) {
   const auto probe = "probe/" + file.filename().string();
-  const auto started = run("mosquitto_sub -p " + std::to_string(broker.port()) + " -t '" + topic + "' -t '" + probe + "' -v > " +
-                           file.string() + " 2>&1 & echo $!");
+  const auto started = run("mosquitto_sub -p " + std::to_string(broker.port()) + " -t '" + topic + "' -t '" + probe + "' " +
+                           (hex ? "-F '%t %x'" : "-v") + " > " + file.string() + " 2>&1 & echo $!");
   pid_ = std::stoi(started.output);
   const bool subscribed = eventually([&] {
     publish(broker, probe, "ready");
-    return lines().find(probe + " ready") != std::string::npos;
+    return lines().find(probe + (hex ? " 7265616479" : " ready")) != std::string::npos;
   });
   EXPECT_TRUE(subscribed) << "mosquitto_sub did not subscribe to " << topic << ": " << lines();
 }

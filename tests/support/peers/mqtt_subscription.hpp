@@ -15,7 +15,8 @@ namespace unima::test_support {
 /// listens on a probe topic of its own, published to until the probe comes back.
 class Subscription {
  public:
-  Subscription(const Broker& broker, const std::filesystem::path& file, const std::string& topic);
+  /// `hex`: each payload as hex digits (binary payloads: Sparkplug's), not as it is.
+  Subscription(const Broker& broker, const std::filesystem::path& file, const std::string& topic, bool hex = false);
   ~Subscription();
   Subscription(const Subscription&) = delete;
   Subscription& operator=(const Subscription&) = delete;

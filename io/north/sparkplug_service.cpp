@@ -1,0 +1,282 @@
+#include "io/north/sparkplug_service.hpp"
+
+#include <charconv>
+
+#include <spdlog/spdlog.h>
+
+#include "io/durable_file.hpp"
+#include "io/north/broker_options.hpp"
+#include "monitor/monitor_line.hpp"
+#include "platform/log_text.hpp"
+#include "platform/peer_warnings.hpp"
+#include "values/store_snapshot.hpp"
+
+namespace unima::io {
+
+namespace {
+
+using namespace std::chrono_literals;
+constexpr auto step_interval = 100ms;  // the least time between two DDATA of a device
+
+bool same_client(const config::Config& a, const config::Config& b) {
+  return a.sparkplug.has_value() == b.sparkplug.has_value() && (!a.sparkplug || a.sparkplug->same_client(*b.sparkplug));
+}
+
+std::uint64_t now_ms() {
+  return static_cast<std::uint64_t>(
+      std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::system_clock::now().time_since_epoch()).count());
+}
+
+std::filesystem::path bd_seq_file_of(const config::Config& config) {
+  if (config.state.file.empty()) return {};
+  return config.state.file + ".sparkplug-bdseq";
+}
+
+// The last bdSeq kept, as its decimal number and a line end; a file that holds anything
+// else is logged and counts from 0, as a first start does.
+std::optional<std::uint64_t> read_bd_seq(const std::filesystem::path& file) {
+  if (file.empty()) return std::nullopt;
+  try {
+    const auto text = read_if_present(file);
+    if (!text) return std::nullopt;
+    std::uint64_t value = 256;
+    const auto* end = text->data() + text->size();
+    const auto [rest, ec] = std::from_chars(text->data(), end, value);
+    if (ec == std::errc() && value < 256 && (rest == end || *rest == '\n')) return value;
+    spdlog::warn("sparkplug: {} holds no bdSeq (0..255); counting from 0", file.string());
+  } catch (const std::exception& e) {
+    spdlog::warn("sparkplug: {} {}; counting bdSeq from 0", file.string(), e.what());
+  }
+  return std::nullopt;
+}
+
+sparkplug::EdgeSession session_of(const config::SparkplugConfig& config, std::optional<std::uint64_t> last_bd_seq) {
+  return sparkplug::EdgeSession({config.group_id, config.edge_node_id, !config.primary_host.empty()}, last_bd_seq);
+}
+
+}  // namespace
+
+SparkplugService::SparkplugService(Runtime& runtime) : runtime_(runtime), timer_(runtime.io) {
+  const auto& config = runtime.config();
+  if (!config.sparkplug) return;
+  bd_seq_file_ = bd_seq_file_of(config);
+  session_.emplace(session_of(*config.sparkplug, read_bd_seq(bd_seq_file_)));
+  client_ = make_client(config);
+}
+
+std::unique_ptr<MqttClient> SparkplugService::make_client(const config::Config& config) {
+  if (!config.sparkplug) return nullptr;
+  const auto& s = *config.sparkplug;
+  auto client = std::make_unique<MqttClient>(runtime_.io, broker_options(s, "sparkplug"));
+  client->will_for_each_connect([this] { return will_of_next_connect(); });
+  client->on_connected([this] {
+    session_->connected();
+    publish_due();
+  });
+  const auto ncmd = fmt::format("spBv1.0/{}/NCMD/{}", s.group_id, s.edge_node_id);
+  const auto take = [this](const MqttMessage& message) { take_message(message.topic, message.payload); };
+  client->subscribe(ncmd, take);
+  client->subscribe(fmt::format("spBv1.0/{}/DCMD/{}/+", s.group_id, s.edge_node_id), take);
+  if (!s.primary_host.empty()) client->subscribe(sparkplug::EdgeSession::host_state_topic(s.primary_host), take);
+  return client;
+}
+
+// Each CONNECT counts a bdSeq, kept before the CONNECT goes: the NDEATH the broker may send
+// for this connection names it, and so does the next start's first NBIRTH + 1.
+MqttClient::Will SparkplugService::will_of_next_connect() {
+  const auto bd_seq = session_->begin_connect();
+  if (!bd_seq_file_.empty()) {
+    try {
+      replace_file(bd_seq_file_, std::to_string(bd_seq) + "\n");
+    } catch (const std::exception& e) {
+      spdlog::warn("sparkplug: cannot keep bdSeq {} in {}: {}", bd_seq, bd_seq_file_.string(), e.what());
+    }
+  }
+  auto death = session_->death(now_ms());
+  return {std::move(death.topic), std::move(death.payload), 1, false};
+}
+
+void SparkplugService::take_message(std::string_view topic, std::string_view payload) {
+  const auto& config = *runtime_.config().sparkplug;
+  if (!config.primary_host.empty() && topic == sparkplug::EdgeSession::host_state_topic(config.primary_host)) {
+    switch (session_->host_state(payload)) {
+      case sparkplug::HostVerdict::birth:
+        spdlog::info("sparkplug: primary host {} is online: births", platform::log_safe(config.primary_host));
+        publish_due();
+        break;
+      case sparkplug::HostVerdict::death:
+        spdlog::info("sparkplug: primary host {} went offline: NDEATH, and connecting again to wait for it",
+                     platform::log_safe(config.primary_host));
+        // Not inside libmosquitto's callback: the connection is closed from the loop.
+        asio::post(runtime_.io, [this, alive = alive_] {
+          if (*alive) die_and_reconnect();
+        });
+        break;
+      case sparkplug::HostVerdict::none: break;
+    }
+    return;
+  }
+  const auto ncmd = fmt::format("spBv1.0/{}/NCMD/{}", config.group_id, config.edge_node_id);
+  const auto dcmd = fmt::format("spBv1.0/{}/DCMD/{}/", config.group_id, config.edge_node_id);
+  if (topic == ncmd) take_command("", topic, payload);
+  else if (topic.starts_with(dcmd)) take_command(topic.substr(dcmd.size()), topic, payload);
+}
+
+// A DCMD write is a Modbus write by other means: the one write path (read_only, the
+// register space, the state file first, then UnimaBUS). Nothing is answered: Sparkplug's
+// answer is the DDATA of the value once it changed.
+void SparkplugService::take_command(std::string_view device, std::string_view topic, std::string_view payload) {
+  const auto& running = *runtime_.banks;
+  const auto& config = *running.config.sparkplug;
+  const auto command = session_->command(device, payload, running.value_model, config.commands);
+  if (!command.malformed.empty()) {
+    platform::warn_from_peer("sparkplug: malformed commands", fmt::format("{}:{}", config.endpoint.host, config.endpoint.port),
+                             "sparkplug: a malformed command on {}, ignored: {}", topic, command.malformed);
+    return;
+  }
+  if (command.rebirth) {
+    spdlog::info("sparkplug: rebirth requested");
+    session_->rebirth();
+    publish_due();
+  }
+  auto& writes = *running.writes;
+  for (const auto& write : command.writes) {
+    const auto address = static_cast<std::uint16_t>(running.config.bank_bases[banks::index_of(write.bank)] + write.offset);
+    const auto result = writes.write_registers(address, std::span(&write.raw, 1), nullptr);
+    if (result.status != modbus::WriteResult::Status::written) {
+      session_->refused_by_write_path();
+      continue;
+    }
+    spdlog::info("sparkplug: DCMD {}/{} = {}", banks::bank_name(write.bank), platform::log_safe(write.metric), write.raw);
+  }
+}
+
+void SparkplugService::tick() {
+  timer_.expires_after(step_interval);
+  timer_.async_wait([this](const boost::system::error_code& ec) {
+    if (ec || !started_ || !client_) return;
+    publish_due();
+    tick();
+  });
+}
+
+void SparkplugService::publish_due() {
+  if (!client_ || !session_) return;
+  if (session_->connected_now() && !client_->connected()) session_->disconnected();
+  // A broker that does not keep up gets the latest values once it does, not a queue.
+  if (!client_->connected() || client_->backlogged()) return;
+  const auto& running = *runtime_.banks;
+  const auto snapshot = values::snapshot_of(*running.store);
+  std::vector<sparkplug::DeviceReading> devices;
+  for (const auto& layout : running.value_model.banks())
+    devices.push_back({&layout, running.value_model.evaluate(layout.bank, snapshot), snapshot[banks::index_of(layout.bank)].online});
+  for (const auto& message : session_->step(devices, now_ms())) client_->publish_at_most_once(message.topic, message.payload);
+}
+
+void SparkplugService::publish_death() {
+  if (!client_ || !client_->connected() || !session_->born()) return;
+  const auto death = session_->death(now_ms());
+  client_->publish(death.topic, death.payload, false);
+}
+
+void SparkplugService::die_and_reconnect() {
+  if (!client_ || !started_) return;
+  publish_death();
+  client_->stop();
+  session_->disconnected();
+  client_->start();
+}
+
+void SparkplugService::start() {
+  started_ = true;
+  if (!client_) return;
+  client_->start();
+  tick();
+}
+
+// A clean goodbye is a death said, not left to the will (which the DISCONNECT cancels).
+void SparkplugService::stop() {
+  started_ = false;
+  if (client_) {
+    publish_death();
+    client_->stop();
+  }
+  timer_.cancel();
+}
+
+void SparkplugService::stage(const Banks& next) {
+  new_client_ = !same_client(runtime_.config(), next.config);
+  if (new_client_) next_client_ = make_client(next.config);
+}
+
+void SparkplugService::abandon() {
+  next_client_.reset();
+  new_client_ = false;
+}
+
+void SparkplugService::commit(const Banks&) {
+  const auto& config = runtime_.config();
+  bd_seq_file_ = bd_seq_file_of(config);
+  if (new_client_) {
+    if (client_) {
+      publish_death();
+      client_->stop();
+    }
+    const auto last = session_ ? session_->bd_seq() : read_bd_seq(bd_seq_file_);
+    if (config.sparkplug) session_.emplace(session_of(*config.sparkplug, last));
+    else session_.reset();
+    client_ = std::move(next_client_);
+    new_client_ = false;
+    if (client_ && started_) {
+      client_->start();
+      tick();
+    }
+    return;
+  }
+  // The same broker and node: the banks may have changed, the births say what they are.
+  if (session_) {
+    session_->rebirth();
+    publish_due();
+  }
+}
+
+void SparkplugService::describe(nlohmann::json& status) const {
+  if (!client_ || !session_) return;
+  const auto& config = *runtime_.config().sparkplug;
+  const auto& c = session_->counters();
+  const auto& m = client_->counters();
+  nlohmann::json s{{"broker", config.broker},
+                   {"client_id", config.client_id},
+                   {"group_id", config.group_id},
+                   {"edge_node_id", config.edge_node_id},
+                   {"connected", client_->connected()},
+                   {"born", session_->born()},
+                   {"connections", m.connections},
+                   {"drops", m.drops},
+                   {"published", m.published},
+                   {"births", c.births},
+                   {"data", c.data},
+                   {"deaths", c.deaths},
+                   {"commands", {{"taken", c.taken}, {"refused", c.refused}, {"malformed", c.malformed}}}};
+  s["bdSeq"] = session_->bd_seq() ? nlohmann::json(*session_->bd_seq()) : nlohmann::json(nullptr);
+  s["seq"] = session_->next_seq();
+  if (const auto since = client_->connected_since()) {
+    std::string time;
+    monitor::append_utc_time(time, *since);
+    s["since"] = time;
+  } else {
+    s["since"] = nullptr;
+  }
+  if (config.primary_host.empty()) {
+    s["primary_host"] = nullptr;
+  } else {
+    using Host = sparkplug::EdgeSession::HostState;
+    const auto host = session_->host();
+    s["primary_host"] = {{"name", config.primary_host},
+                         {"state", host == Host::online ? "online" : host == Host::offline ? "offline" : "unknown"}};
+  }
+  s["last_error"] = client_->last_error().empty() ? nlohmann::json(nullptr) : nlohmann::json(client_->last_error());
+  status["sparkplug"] = s;
+}
+
+}  // namespace unima::io

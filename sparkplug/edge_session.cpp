@@ -1,0 +1,244 @@
+#include "sparkplug/edge_session.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "sparkplug/metric_value.hpp"
+#include "sparkplug/payload_codec.hpp"
+#include "sparkplug/value_metrics.hpp"
+
+namespace unima::sparkplug {
+
+namespace {
+
+constexpr std::string_view name_space = "spBv1.0";
+
+std::string encoded(const Payload& payload) {
+  const auto bytes = encode_payload(payload);
+  return std::string(bytes.begin(), bytes.end());
+}
+
+Metric bd_seq_metric(std::uint64_t bd_seq, std::uint64_t now_ms) {
+  Metric metric;
+  metric.name = "bdSeq";
+  metric.timestamp = now_ms;
+  metric.datatype = DataType::Int64;
+  metric.value = integer_value(DataType::Int64, static_cast<std::int64_t>(bd_seq));
+  return metric;
+}
+
+// A D_N or S_N follows a device on the line; the bridge's own banks are always there.
+bool may_die(banks::BankId bank) { return banks::is_device_bank(bank) || banks::is_module_bank(bank); }
+
+}  // namespace
+
+EdgeSession::EdgeSession(Settings settings, std::optional<std::uint64_t> last_bd_seq)
+    : settings_(std::move(settings)), last_bd_seq_(last_bd_seq) {}
+
+std::string EdgeSession::node_topic(std::string_view type) const {
+  return fmt::format("{}/{}/{}/{}", name_space, settings_.group_id, type, settings_.edge_node_id);
+}
+
+std::string EdgeSession::device_topic(std::string_view type, std::string_view device) const {
+  return fmt::format("{}/{}/{}/{}/{}", name_space, settings_.group_id, type, settings_.edge_node_id, device);
+}
+
+std::string EdgeSession::host_state_topic(std::string_view host) { return fmt::format("{}/STATE/{}", name_space, host); }
+
+std::uint64_t EdgeSession::begin_connect() {
+  bd_seq_ = last_bd_seq_ ? (*last_bd_seq_ + 1) % 256 : 0;
+  last_bd_seq_ = bd_seq_;
+  return *bd_seq_;
+}
+
+Message EdgeSession::death(std::uint64_t now_ms) const {
+  Payload payload;
+  payload.timestamp = now_ms;
+  payload.metrics.push_back(bd_seq_metric(bd_seq_.value_or(0), now_ms));
+  return {node_topic("NDEATH"), encoded(payload)};
+}
+
+void EdgeSession::connected() {
+  connected_ = true;
+  births_due_ = true;
+  // The retained STATE comes again with the subscription; until it does, the host is
+  // not known to be online.
+  host_ = HostState::unknown;
+}
+
+void EdgeSession::disconnected() {
+  connected_ = false;
+  node_born_ = false;
+  births_due_ = true;
+  for (auto& device : devices_) device.born = false;
+}
+
+HostVerdict EdgeSession::host_state(std::string_view payload) {
+  const auto json = nlohmann::json::parse(payload, nullptr, false);
+  if (!json.is_object() || !json.contains("online") || !json["online"].is_boolean()) return HostVerdict::none;
+  std::optional<std::uint64_t> timestamp;
+  if (json.contains("timestamp") && json["timestamp"].is_number_unsigned()) timestamp = json["timestamp"].get<std::uint64_t>();
+  // A STATE older than one seen is a host's stale message (its will, delivered late).
+  if (timestamp && host_timestamp_ && *timestamp < *host_timestamp_) return HostVerdict::none;
+  if (timestamp) host_timestamp_ = timestamp;
+  const bool online = json["online"].get<bool>();
+  host_ = online ? HostState::online : HostState::offline;
+  if (online) {
+    births_due_ = births_due_ || !node_born_;
+    return connected_ && !node_born_ ? HostVerdict::birth : HostVerdict::none;
+  }
+  return node_born_ ? HostVerdict::death : HostVerdict::none;
+}
+
+bool EdgeSession::may_publish() const {
+  return connected_ && (!settings_.primary_host || host_ == HostState::online);
+}
+
+std::uint64_t EdgeSession::take_seq() { return seq_++; }  // uint8_t: 255 is followed by 0
+
+EdgeSession::Device& EdgeSession::state_of(banks::BankId bank) {
+  const auto found = std::find_if(devices_.begin(), devices_.end(), [&](const Device& d) { return d.bank == bank; });
+  if (found != devices_.end()) return *found;
+  return devices_.emplace_back(Device{bank, false, {}});
+}
+
+Message EdgeSession::birth_of(const DeviceReading& device, Device& state, std::uint64_t now_ms) {
+  Payload payload;
+  payload.timestamp = now_ms;
+  payload.metrics = metrics_of(*device.layout, device.values, now_ms);
+  payload.seq = take_seq();
+  state.born = true;
+  state.sent = device.values;
+  ++counters_.births;
+  return {device_topic("DBIRTH", banks::bank_name(state.bank)), encoded(payload)};
+}
+
+Message EdgeSession::device_death(banks::BankId bank, std::uint64_t now_ms) {
+  Payload payload;
+  payload.timestamp = now_ms;
+  payload.seq = take_seq();
+  state_of(bank).born = false;
+  ++counters_.deaths;
+  return {device_topic("DDEATH", banks::bank_name(bank)), encoded(payload)};
+}
+
+std::vector<Message> EdgeSession::step(std::span<const DeviceReading> devices, std::uint64_t now_ms) {
+  std::vector<Message> due;
+  if (!may_publish()) return due;
+  if (births_due_) {
+    births_due_ = false;
+    node_born_ = true;
+    devices_.clear();
+    seq_ = 0;
+    Payload payload;
+    payload.timestamp = now_ms;
+    payload.metrics.push_back(bd_seq_metric(bd_seq_.value_or(0), now_ms));
+    Metric rebirth;
+    rebirth.name = std::string(rebirth_metric);
+    rebirth.timestamp = now_ms;
+    rebirth.datatype = DataType::Boolean;
+    rebirth.value = false;
+    payload.metrics.push_back(std::move(rebirth));
+    payload.seq = take_seq();
+    ++counters_.births;
+    due.push_back({node_topic("NBIRTH"), encoded(payload)});
+    for (const auto& device : devices) {
+      due.push_back(birth_of(device, state_of(device.layout->bank), now_ms));
+      if (may_die(device.layout->bank) && !device.online) due.push_back(device_death(device.layout->bank, now_ms));
+    }
+    return due;
+  }
+  for (const auto& device : devices) {
+    const auto bank = device.layout->bank;
+    auto& state = state_of(bank);
+    const bool alive = device.online || !may_die(bank);
+    if (state.born && !alive) {
+      due.push_back(device_death(bank, now_ms));
+    } else if (!state.born && alive) {
+      due.push_back(birth_of(device, state, now_ms));
+    } else if (state.born) {
+      auto changed = changed_metrics_of(*device.layout, state.sent, device.values, now_ms);
+      if (changed.empty()) continue;
+      Payload payload;
+      payload.timestamp = now_ms;
+      payload.metrics = std::move(changed);
+      payload.seq = take_seq();
+      state.sent = device.values;
+      ++counters_.data;
+      due.push_back({device_topic("DDATA", banks::bank_name(bank)), encoded(payload)});
+    }
+  }
+  return due;
+}
+
+Command EdgeSession::command(std::string_view device, std::string_view bytes, const values::ValueModel& model, bool commands) {
+  Command command;
+  if (bytes.size() > max_command_bytes) {
+    command.malformed = fmt::format("{} bytes, more than the {} a command may have", bytes.size(), max_command_bytes);
+  } else if (auto decoded = decode_payload(bytes); !decoded.payload) {
+    command.malformed = describe(*decoded.error);
+  } else if (device.empty()) {
+    for (const auto& metric : decoded.payload->metrics) {
+      if (metric.name != rebirth_metric) {
+        ++command.refused;
+        continue;
+      }
+      const auto flag = boolean_of(metric.value, metric.datatype.value_or(DataType::Boolean));
+      if (!flag) {
+        command.malformed = "Node Control/Rebirth is not a Boolean";
+        break;
+      }
+      if (*flag) command.rebirth = true;
+      else ++command.refused;
+    }
+  } else {
+    const auto bank = banks::parse_bank_name(device);
+    const auto* layout = bank && banks::is_write_bank(*bank) ? model.bank(*bank) : nullptr;
+    if (layout == nullptr) command.refused = static_cast<unsigned>(decoded.payload->metrics.size());
+    else command = dcmd(*layout, *decoded.payload, commands);
+  }
+  if (!command.malformed.empty()) {
+    command.rebirth = false;
+    command.writes.clear();
+    command.refused = 0;
+    ++counters_.malformed;
+  } else {
+    counters_.taken += command.writes.size() + (command.rebirth ? 1 : 0);
+    counters_.refused += command.refused;
+  }
+  return command;
+}
+
+// A metric of W or X by its birth's name, its value in the metric's unit: the register's
+// raw value is value ÷ scale (W's tenths), within what the register takes (SPEC §12: a W
+// from −32768 to 65535, an X word 0..65535).
+Command EdgeSession::dcmd(const values::BankValues& layout, const Payload& payload, bool commands) {
+  Command command;
+  for (const auto& metric : payload.metrics) {
+    const auto def = std::find_if(layout.values.begin(), layout.values.end(),
+                                  [&](const values::ValueDef& d) { return metric.name == d.name; });
+    if (!commands || def == layout.values.end() || def->offsets.empty()) {
+      ++command.refused;
+      continue;
+    }
+    const auto number = number_of(metric.value, metric.datatype.value_or(data_type_of(*def)));
+    if (!number) {
+      command.malformed = fmt::format("{} is not a number", def->name);
+      return command;
+    }
+    const double raw = std::round(*number / def->scale);
+    const double lowest = def->is_signed ? -32768.0 : 0.0;
+    if (!std::isfinite(raw) || raw < lowest || raw > 65535.0) {
+      ++command.refused;
+      continue;
+    }
+    const auto as_int = static_cast<std::int64_t>(raw);
+    command.writes.push_back({layout.bank, def->offsets.front(), static_cast<std::uint16_t>(as_int & 0xFFFF), def->name});
+  }
+  return command;
+}
+
+}  // namespace unima::sparkplug

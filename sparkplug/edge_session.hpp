@@ -1,0 +1,164 @@
+#pragma once
+// The bridge as a Sparkplug B edge node (SPEC §16), its decisions without I/O: which
+// messages are due and what they carry, the sequence numbers, the primary host's state,
+// what a command means. The service (io/north/sparkplug_service) owns the connection,
+// the clock, the bdSeq file and the one write path, and asks this class at each turn.
+//
+// Sparkplug 3.0, as followed here:
+//   - bdSeq counts MQTT CONNECTs (0–255, then 0 again): each CONNECT's will is an NDEATH
+//     carrying the next bdSeq, and the NBIRTH of that connection carries the same number
+//     (§6.4.19 "bdSeq"; an Int64 metric, as the specification's PR #317 settled).
+//   - seq (0–255, then 0) runs across NBIRTH, DBIRTH, DDATA and DDEATH; an NBIRTH is always
+//     0 (§6.4.2), a rebirth too. NDEATH has none.
+//   - Every device is born after the NBIRTH of its connection. A D_N or S_N that is off-line
+//     is born (its birth names its metrics, null) and dies at once: a host learns the
+//     device and that it is gone. It gets DDEATH when it goes off-line, a new DBIRTH when
+//     it is back. A, B, C, W and X are the bridge's own banks and never die.
+//   - With a primary host: births wait until `spBv1.0/STATE/<host>` says
+//     {"online":true,"timestamp":…}; an offline STATE while the node is born means the node
+//     publishes its NDEATH and disconnects (§5.9 "Edge Node Session Establishment" / the
+//     Primary Host Application's STATE, §7 of the specification); a STATE older than one
+//     seen before is ignored.
+//   - NCMD `Node Control/Rebirth` = true: every birth again, the same bdSeq.
+//   - DCMD to a metric of W or X, when commands are taken: a write of its register in
+//     the value's unit (W in tenths) — the service takes it through the one write path.
+// NCMD and DCMD come from whoever may publish on the broker: payloads over 64 KiB, that do
+// not decode, or whose value is not of a type the metric can take are malformed; anything
+// else the bridge does not do is refused. Both are counted, nothing is answered.
+
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "banks/bank_id.hpp"
+#include "sparkplug/payload.hpp"
+#include "values/value_model.hpp"
+
+namespace unima::sparkplug {
+
+inline constexpr std::string_view rebirth_metric = "Node Control/Rebirth";
+inline constexpr std::size_t max_command_bytes = 64 * 1024;
+
+struct Message {
+  std::string topic;
+  std::string payload;  // the encoded Payload
+};
+
+/// One device (a bank of the value model) as it is now.
+struct DeviceReading {
+  const values::BankValues* layout = nullptr;
+  std::vector<values::Value> values;  // ValueModel::evaluate's
+  bool online = true;
+};
+
+/// A write a DCMD asks for: a register of W or X and its raw value.
+struct CommandWrite {
+  banks::BankId bank = banks::BankId::W;
+  std::uint16_t offset = 0;
+  std::uint16_t raw = 0;
+  std::string metric;  // its name, for the log
+};
+
+/// What an NCMD or DCMD means.
+struct Command {
+  bool rebirth = false;
+  std::vector<CommandWrite> writes;
+  unsigned refused = 0;         // metrics the bridge does not take (counted, not answered)
+  std::string malformed;        // why the whole message is malformed; empty when it is not
+};
+
+enum class HostVerdict {
+  none,    // nothing to do: the same state, an older STATE, or not our host's
+  birth,   // the host is online: births are due (when connected)
+  death,   // the host went offline while the node was born: NDEATH and disconnect
+};
+
+class EdgeSession {
+ public:
+  struct Settings {
+    std::string group_id;
+    std::string edge_node_id;
+    bool primary_host = false;  // births wait for the host's STATE
+  };
+  struct Counters {
+    std::uint64_t births = 0;     // NBIRTH and DBIRTH
+    std::uint64_t data = 0;       // DDATA
+    std::uint64_t deaths = 0;     // DDEATH
+    std::uint64_t taken = 0;      // command metrics acted on (rebirths and writes)
+    std::uint64_t refused = 0;    // command metrics not acted on
+    std::uint64_t malformed = 0;  // command messages that were not understood
+  };
+  enum class HostState { unknown, online, offline };
+
+  /// `last_bd_seq`: the bdSeq of the last CONNECT before this process (nullopt: none kept).
+  EdgeSession(Settings settings, std::optional<std::uint64_t> last_bd_seq);
+
+  std::string node_topic(std::string_view type) const;
+  std::string device_topic(std::string_view type, std::string_view device) const;
+  /// spBv1.0/STATE/<host>, spBv1.0/<group>/NCMD/<node>, spBv1.0/<group>/DCMD/<node>/+
+  static std::string host_state_topic(std::string_view host);
+
+  /// A CONNECT is about to go: its bdSeq (the last one's + 1, modulo 256), kept as the
+  /// session's; the caller stores it before the will goes.
+  std::uint64_t begin_connect();
+  /// NDEATH with the session's bdSeq: the will, and what a clean goodbye publishes.
+  Message death(std::uint64_t now_ms) const;
+
+  void connected();
+  void disconnected();
+  /// The primary host's STATE payload.
+  HostVerdict host_state(std::string_view payload);
+  /// Every birth again at the next step (a rebirth request, a new value model).
+  void rebirth() { births_due_ = true; }
+
+  /// The messages due now, in order, for the devices as they are now (in the model's
+  /// order); their seq numbers taken.
+  std::vector<Message> step(std::span<const DeviceReading> devices, std::uint64_t now_ms);
+
+  /// What an NCMD (`device` empty) or a DCMD to `device` means; `commands`: DCMD writes
+  /// are taken. `model` names the metrics. Counts it (a write the write path then refuses
+  /// is counted by refused_by_write_path()).
+  Command command(std::string_view device, std::string_view payload, const values::ValueModel& model, bool commands);
+  void refused_by_write_path() {
+    --counters_.taken;
+    ++counters_.refused;
+  }
+
+  bool born() const { return node_born_; }
+  bool connected_now() const { return connected_; }
+  std::optional<std::uint64_t> bd_seq() const { return bd_seq_; }
+  std::uint8_t next_seq() const { return seq_; }
+  HostState host() const { return host_; }
+  const Counters& counters() const { return counters_; }
+
+ private:
+  struct Device {
+    banks::BankId bank;
+    bool born = false;
+    std::vector<values::Value> sent;
+  };
+
+  std::uint64_t take_seq();
+  Message birth_of(const DeviceReading& device, Device& state, std::uint64_t now_ms);
+  Message device_death(banks::BankId bank, std::uint64_t now_ms);
+  Device& state_of(banks::BankId bank);
+  bool may_publish() const;
+  Command dcmd(const values::BankValues& layout, const Payload& payload, bool commands);
+
+  Settings settings_;
+  std::optional<std::uint64_t> last_bd_seq_;
+  std::optional<std::uint64_t> bd_seq_;
+  std::uint8_t seq_ = 0;
+  bool connected_ = false;
+  bool node_born_ = false;
+  bool births_due_ = true;
+  HostState host_ = HostState::unknown;
+  std::optional<std::uint64_t> host_timestamp_;  // the newest STATE's
+  std::vector<Device> devices_;
+  Counters counters_;
+};
+
+}  // namespace unima::sparkplug

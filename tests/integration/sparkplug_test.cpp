@@ -1,0 +1,456 @@
+// Sparkplug B (SPEC §16) against a real broker: Debian's `mosquitto`, one per test, its
+// `mosquitto_sub` taking every message under spBv1.0/ as hex, and
+// tests/support/sparkplug_decode.py — a decoder written from the specification, not the
+// bridge's own — reading them. Commands are encoded here by hand from protobuf's encoding
+// guide and the specification's field numbers. Births and their metrics, DDATA of a fed
+// change, seq across messages and its wrap, NDEATH by the will and bdSeq across restarts,
+// devices dying and coming back, the primary host, rebirth, DCMD writes and malformed ones.
+
+#include <csignal>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <thread>
+
+#include <nlohmann/json.hpp>
+
+#include "tests/integration/bridge_fixture.hpp"
+#include "tests/support/peers/http_exchange.hpp"
+#include "tests/support/peers/mqtt_broker.hpp"
+#include "tests/support/peers/mqtt_subscription.hpp"
+
+namespace unima::test {
+namespace {
+
+using namespace std::chrono_literals;
+using nlohmann::json;
+using test_support::Broker;
+using test_support::Subscription;
+
+struct Message {
+  std::string topic;
+  json payload;  // sparkplug_decode.py's JSON; {"error": ...} when it refused the bytes
+};
+
+// Protobuf by hand (the "Encoding" guide): a varint, a tag, a length-delimited field.
+std::string varint(std::uint64_t value) {
+  std::string out;
+  do {
+    std::uint8_t byte = value & 0x7F;
+    value >>= 7;
+    if (value) byte |= 0x80;
+    out += static_cast<char>(byte);
+  } while (value);
+  return out;
+}
+std::string tag(unsigned field, unsigned wire) { return varint((field << 3) | wire); }
+std::string length_delimited(unsigned field, const std::string& bytes) { return tag(field, 2) + varint(bytes.size()) + bytes; }
+
+// A Payload of one Metric (Sparkplug 3.0 §6.4: Payload.metrics = 2; Metric.name = 1,
+// datatype = 4, int_value = 10, float_value = 12, boolean_value = 14).
+std::string one_metric(const std::string& name, unsigned datatype, const std::string& value_field) {
+  return length_delimited(2, length_delimited(1, name) + tag(4, 0) + varint(datatype) + value_field);
+}
+std::string boolean_metric(const std::string& name, bool value) { return one_metric(name, 11, tag(14, 0) + varint(value)); }
+std::string float_metric(const std::string& name, float value) {
+  std::string bits(4, '\0');
+  std::memcpy(bits.data(), &value, 4);  // little-endian on the machines the tests run on
+  return one_metric(name, 9, tag(12, 5) + bits);
+}
+
+class Sparkplug : public BridgeTest {
+ protected:
+  void SetUp() override {
+    BridgeTest::SetUp();
+    broker = std::make_unique<Broker>(dir.path());
+    ASSERT_TRUE(broker->start());
+  }
+
+  std::string section(const std::string& more = "") const {
+    return "sparkplug: { broker: 'mqtt://127.0.0.1:" + std::to_string(broker->port()) +
+           "', group_id: plant-7, edge_node_id: bridge-17" + more + " }\n";
+  }
+  void start_with(const std::string& more = "") {
+    config.extra += section(more);
+    start();
+  }
+
+  /// Everything under spBv1.0/ from now on.
+  std::unique_ptr<Subscription> tap() {
+    return std::make_unique<Subscription>(*broker, dir.path() / ("tap-" + std::to_string(++taps_)), "spBv1.0/#", true);
+  }
+
+  /// What `subscription` took so far, decoded by the independent decoder (one run for all).
+  std::vector<Message> messages(const Subscription& subscription) const {
+    const auto lines = dir.path() / "lines";
+    {
+      std::ofstream out(lines);
+      std::istringstream in(subscription.lines());
+      for (std::string line; std::getline(in, line);)
+        if (line.starts_with("spBv1.0/")) out << line << "\n";
+    }
+    const auto script =
+        "import json, sys\n"
+        "sys.path.insert(0, '" UNIMA_SOURCE_DIR "/tests/support')\n"
+        "import sparkplug_decode as d\n"
+        "for line in open(sys.argv[1]):\n"
+        "    topic, _, hexed = line.rstrip('\\n').partition(' ')\n"
+        "    try:\n"
+        "        payload = d.payload(bytes.fromhex(hexed))\n"
+        "    except Exception as e:\n"
+        "        payload = {'error': str(e)}\n"
+        "    print(json.dumps({'topic': topic, 'payload': payload}))\n";
+    std::ofstream(dir.path() / "decode.py") << script;
+    const auto decoded = run("python3 " + (dir.path() / "decode.py").string() + " " + lines.string());
+    EXPECT_EQ(decoded.status, 0) << decoded.output;
+    std::vector<Message> found;
+    std::istringstream in(decoded.output);
+    for (std::string line; std::getline(in, line);) {
+      const auto object = json::parse(line);
+      found.push_back({object["topic"], object["payload"]});
+    }
+    return found;
+  }
+
+  /// The first message on `topic` that `holds`, waiting for it.
+  std::optional<Message> wait_for(const Subscription& subscription, const std::string& topic,
+                                  const std::function<bool(const json&)>& holds = [](const json&) { return true; },
+                                  std::chrono::milliseconds timeout = 6000ms) const {
+    std::optional<Message> found;
+    eventually([&] {
+      for (const auto& m : messages(subscription))
+        if (m.topic == topic && holds(m.payload)) {
+          found = m;
+          return true;
+        }
+      return false;
+    }, timeout);
+    return found;
+  }
+
+  std::size_t count_of(const Subscription& subscription, const std::string& topic) const {
+    std::size_t n = 0;
+    for (const auto& m : messages(subscription)) n += m.topic == topic;
+    return n;
+  }
+
+  static const json* metric(const json& payload, const std::string& name) {
+    for (const auto& m : payload["metrics"])
+      if (m["name"] == name) return &m;
+    return nullptr;
+  }
+
+  void publish_bytes(const std::string& topic, const std::string& bytes, bool retain = false) const {
+    const auto file = dir.path() / "publish.bin";
+    std::ofstream(file, std::ios::binary) << bytes;
+    const auto r = run("mosquitto_pub -p " + std::to_string(broker->port()) + " -q 1 " + (retain ? "-r " : "") + "-t '" + topic +
+                       "' -f " + file.string());
+    EXPECT_EQ(r.status, 0) << r.output;
+  }
+
+  json status() const {
+    const auto r = run(std::string(UNIMA_BRIDGE_CLI) + " status --json --socket " + config.status_socket);
+    EXPECT_EQ(r.status, 0) << r.output;
+    return json::parse(r.output)["sparkplug"];
+  }
+
+  std::unique_ptr<Broker> broker;
+  int taps_ = 0;
+};
+
+const std::string nbirth = "spBv1.0/plant-7/NBIRTH/bridge-17";
+const std::string ndeath = "spBv1.0/plant-7/NDEATH/bridge-17";
+const std::string ncmd = "spBv1.0/plant-7/NCMD/bridge-17";
+std::string device(const std::string& type, const std::string& name) { return "spBv1.0/plant-7/" + type + "/bridge-17/" + name; }
+
+TEST_F(Sparkplug, BirthsNameEveryMetricWithItsTypeUnitAndNullsAndSeqRunsAcrossThem) {
+  const auto t = tap();
+  start_with();
+  const auto node = wait_for(*t, nbirth);
+  ASSERT_TRUE(node) << daemon->log();
+  EXPECT_EQ(node->payload["seq"], 0);
+  const auto* bd_seq = metric(node->payload, "bdSeq");
+  ASSERT_TRUE(bd_seq) << node->payload.dump();
+  EXPECT_EQ((*bd_seq)["datatype"], "Int64");
+  EXPECT_EQ((*bd_seq)["value"], 0);
+  const auto* rebirth = metric(node->payload, "Node Control/Rebirth");
+  ASSERT_TRUE(rebirth);
+  EXPECT_EQ((*rebirth)["datatype"], "Boolean");
+  EXPECT_EQ((*rebirth)["value"], false);
+
+  const auto d1 = wait_for(*t, device("DBIRTH", "D1"));
+  ASSERT_TRUE(d1);
+  const auto* speed = metric(d1->payload, "engine_speed");
+  ASSERT_TRUE(speed) << d1->payload.dump();
+  EXPECT_EQ((*speed)["datatype"], "UInt16");
+  EXPECT_EQ((*speed)["properties"]["engUnit"]["value"], "min-1");
+  EXPECT_EQ((*speed)["is_null"], true) << "never measured";
+  const auto* oil = metric(d1->payload, "oil_temperature");
+  ASSERT_TRUE(oil);
+  EXPECT_EQ((*oil)["datatype"], "Float");
+  EXPECT_EQ((*oil)["properties"]["engUnit"]["value"], "°C");
+  const auto w = wait_for(*t, device("DBIRTH", "W"));
+  ASSERT_TRUE(w);
+  const auto* w0 = metric(w->payload, "w_00");
+  ASSERT_TRUE(w0);
+  EXPECT_EQ((*w0)["datatype"], "Float");
+  EXPECT_EQ((*w0)["is_null"], true) << "never written";
+  for (const auto* bank : {"C", "X"}) EXPECT_TRUE(wait_for(*t, device("DBIRTH", bank))) << bank;
+
+  // seq: 0 at the NBIRTH, then one more with each message after it.
+  int expected = 0;
+  for (const auto& m : messages(*t)) {
+    ASSERT_FALSE(m.payload.contains("error")) << m.topic << ": " << m.payload.dump();
+    EXPECT_EQ(m.payload["seq"], expected) << m.topic;
+    ++expected;
+  }
+}
+
+TEST_F(Sparkplug, AFedChangeIsDdataAndSeqWrapsFrom255To0) {
+  config.banks = "{ D1: 0x0011, D2: 0x0200, W: 0x0100 }";
+  config.devices = "{ D1: { type: unigen-chp, address: 5 }, D2: { type: unigen-chp, address: 6 } }\n"
+                   "mapping:\n  A: [ D1.engine_speed, D2.engine_speed ]";
+  const auto t = tap();
+  start_with();
+  ASSERT_TRUE(wait_for(*t, nbirth)) << daemon->log();
+  auto feed = feed_client();
+  // D1 was off-line until this telegram: it is born with it, its next change is DDATA.
+  feed_and_wait(feed, R"({"addr":5,"slot":0,"offset":1,"values":[1234]})", 0x0012, 1234);
+  ASSERT_TRUE(wait_for(*t, device("DBIRTH", "D1"), [](const json& p) {
+    const auto* speed = metric(p, "engine_speed");
+    return speed && (*speed)["value"] == 1234;
+  })) << daemon->log();
+  feed_and_wait(feed, R"({"addr":5,"slot":0,"offset":1,"values":[1300]})", 0x0012, 1300);
+  const auto data = wait_for(*t, device("DDATA", "D1"), [](const json& p) {
+    const auto* speed = metric(p, "engine_speed");
+    return speed && (*speed)["value"] == 1300;
+  });
+  ASSERT_TRUE(data) << daemon->log();
+  EXPECT_EQ((*metric(data->payload, "engine_speed"))["datatype"], "UInt16");
+
+  // Three devices change with each telegram pair (D1, D2 and A that maps both): DDATA
+  // until past 256 messages, bounded.
+  const auto lines = [&] { return messages(*t).size(); };
+  for (int round = 0; round < 400 && lines() < 280; ++round) {
+    for (int i = 0; i < 10; ++i) {
+      const auto value = std::to_string(2000 + round * 10 + i);
+      feed.send(R"({"addr":5,"slot":0,"offset":1,"values":[)" + value + "]}\n" + R"({"addr":6,"slot":0,"offset":1,"values":[)" +
+                value + "]}\n");
+      std::this_thread::sleep_for(110ms);  // one DDATA per device per 100 ms at most
+    }
+  }
+  const auto all = messages(*t);
+  ASSERT_GE(all.size(), 258u) << daemon->log();
+  bool wrapped = false;
+  for (std::size_t i = 1; i < all.size(); ++i) {
+    const auto seq = all[i].payload["seq"].get<int>();
+    EXPECT_EQ(seq, (all[i - 1].payload["seq"].get<int>() + 1) % 256) << all[i].topic << " at " << i;
+    wrapped = wrapped || (seq == 0 && all[i].topic != nbirth);
+  }
+  EXPECT_TRUE(wrapped);
+}
+
+TEST_F(Sparkplug, AKilledBridgesWillIsItsNdeathWithTheBirthsBdSeqWhichGrowsAcrossRestarts) {
+  const auto t = tap();
+  start_with();
+  const auto first = wait_for(*t, nbirth);
+  ASSERT_TRUE(first) << daemon->log();
+  EXPECT_EQ((*metric(first->payload, "bdSeq"))["value"], 0);
+  daemon->signal(SIGKILL);
+  const auto death = wait_for(*t, ndeath, [](const json&) { return true; }, 10000ms);  // keep-alive × 1.5 at most
+  ASSERT_TRUE(death);
+  EXPECT_EQ((*metric(death->payload, "bdSeq"))["value"], 0);
+  EXPECT_EQ((*metric(death->payload, "bdSeq"))["datatype"], "Int64");
+  EXPECT_FALSE(death->payload.contains("seq"));
+
+  daemon = std::make_unique<Daemon>(dir, config.yaml());
+  const auto second = wait_for(*t, nbirth, [](const json& p) { return (*metric(p, "bdSeq"))["value"] == 1; });
+  ASSERT_TRUE(second) << daemon->log();
+  EXPECT_EQ(read_file(dir.path() / "bridge.state.sparkplug-bdseq"), "1\n");
+  // A clean stop says its death itself, with the same bdSeq.
+  daemon->signal(SIGTERM);
+  EXPECT_TRUE(wait_for(*t, ndeath, [](const json& p) { return (*metric(p, "bdSeq"))["value"] == 1; }));
+}
+
+TEST_F(Sparkplug, ADeviceGoingOffLineDiesAndIsBornAgainWhenItIsBack) {
+  config.unimabus_extra = "  offline_after: 1s\n";
+  const auto t = tap();
+  start_with();
+  ASSERT_TRUE(wait_for(*t, nbirth)) << daemon->log();
+  // Off-line from the start: born (its metrics named), then dead.
+  ASSERT_TRUE(wait_for(*t, device("DDEATH", "D1")));
+  auto feed = feed_client();
+  feed_and_wait(feed, R"({"addr":5,"slot":0,"offset":1,"values":[1500]})", 0x0012, 1500);
+  ASSERT_TRUE(wait_for(*t, device("DBIRTH", "D1"), [](const json& p) {
+    const auto* speed = metric(p, "engine_speed");
+    return speed && (*speed)["value"] == 1500;
+  })) << daemon->log();
+  // Nothing heard for offline_after: DDEATH again.
+  EXPECT_TRUE(eventually([&] { return count_of(*t, device("DDEATH", "D1")) == 2; }, 6000ms));
+}
+
+TEST_F(Sparkplug, BirthsWaitForThePrimaryHostAndItsOfflineIsTheNodesDeathAndReconnect) {
+  const auto state_topic = "spBv1.0/STATE/scada-1";
+  publish_bytes(state_topic, R"({"online":false,"timestamp":1000})", true);
+  const auto t = tap();
+  start_with(", primary_host: scada-1");
+  ASSERT_TRUE(daemon->wait_for_log("as unima-bridge-plant-7-bridge-17")) << daemon->log();
+  ASSERT_TRUE(eventually([&] { return status()["primary_host"]["state"] == "offline"; })) << status().dump();
+  EXPECT_EQ(count_of(*t, nbirth), 0u);
+  EXPECT_EQ(status()["born"], false);
+
+  publish_bytes(state_topic, R"({"online":true,"timestamp":2000})", true);
+  const auto birth = wait_for(*t, nbirth);
+  ASSERT_TRUE(birth) << daemon->log();
+  EXPECT_EQ((*metric(birth->payload, "bdSeq"))["value"], 0);
+  EXPECT_TRUE(wait_for(*t, device("DBIRTH", "D1")));
+
+  publish_bytes(state_topic, R"({"online":false,"timestamp":3000})", true);
+  const auto death = wait_for(*t, ndeath);
+  ASSERT_TRUE(death) << daemon->log();
+  EXPECT_EQ((*metric(death->payload, "bdSeq"))["value"], 0);
+  // Connected again, waiting for the host: the next CONNECT's bdSeq, no birth.
+  ASSERT_TRUE(eventually([&] { return status()["connected"] == true && status()["bdSeq"] == 1; }, 6000ms)) << status().dump();
+  EXPECT_EQ(count_of(*t, nbirth), 1u);
+  publish_bytes(state_topic, R"({"online":true,"timestamp":4000})", true);
+  EXPECT_TRUE(wait_for(*t, nbirth, [](const json& p) { return (*metric(p, "bdSeq"))["value"] == 1; })) << daemon->log();
+}
+
+TEST_F(Sparkplug, NcmdRebirthRepublishesEveryBirthWithTheSameBdSeq) {
+  const auto t = tap();
+  start_with();
+  ASSERT_TRUE(wait_for(*t, device("DBIRTH", "X"))) << daemon->log();
+  const auto births = count_of(*t, device("DBIRTH", "D1"));
+  publish_bytes(ncmd, boolean_metric("Node Control/Rebirth", true));
+  ASSERT_TRUE(eventually([&] { return count_of(*t, nbirth) == 2 && count_of(*t, device("DBIRTH", "X")) == 2; }, 6000ms))
+      << daemon->log();
+  EXPECT_EQ(count_of(*t, device("DBIRTH", "D1")), births + 1);
+  std::vector<Message> nbirths;
+  for (const auto& m : messages(*t))
+    if (m.topic == nbirth) nbirths.push_back(m);
+  EXPECT_EQ(nbirths[1].payload["seq"], 0);
+  EXPECT_EQ((*metric(nbirths[1].payload, "bdSeq"))["value"], (*metric(nbirths[0].payload, "bdSeq"))["value"]);
+  EXPECT_EQ(status()["commands"]["taken"], 1);
+}
+
+TEST_F(Sparkplug, DcmdWritesWOnlyWithCommandsTrue) {
+  const auto t = tap();
+  start_with();
+  ASSERT_TRUE(wait_for(*t, device("DBIRTH", "W"))) << daemon->log();
+  publish_bytes(device("DCMD", "W"), float_metric("w_03", 12.5f));
+  ASSERT_TRUE(eventually([&] { return status()["commands"]["refused"] == 1; })) << status().dump();
+  ModbusClient client(config.modbus_port);
+  const auto unset = client.read_holding(0x0103, 1);
+  EXPECT_FALSE(unset && (*unset)[0] == 125);
+}
+
+TEST_F(Sparkplug, DcmdWritesWThroughTheOneWritePathReadBackOverModbus) {
+  const auto t = tap();
+  start_with(", commands: true");
+  ASSERT_TRUE(wait_for(*t, device("DBIRTH", "W"))) << daemon->log();
+  publish_bytes(device("DCMD", "W"), float_metric("w_03", 12.5f));
+  ModbusClient client(config.modbus_port);
+  EXPECT_TRUE(eventually([&] {
+    const auto w3 = client.read_holding(0x0103, 1);
+    return w3 && (*w3)[0] == 125;
+  })) << daemon->log();
+  EXPECT_EQ(status()["commands"]["taken"], 1);
+  // Its new value comes back as DDATA, in the metric's unit.
+  EXPECT_TRUE(wait_for(*t, device("DDATA", "W"), [](const json& p) {
+    const auto* w3 = metric(p, "w_03");
+    return w3 && (*w3)["value"] == 12.5;
+  }));
+  // Persisted first: the state file holds it.
+  EXPECT_NE(read_file(dir.path() / "bridge.state").find("W 3 125"), std::string::npos);
+}
+
+// modbus.tcp.read_only freezes every way a write comes in: a DCMD too, counted as refused.
+TEST_F(Sparkplug, ReadOnlyRefusesADcmd) {
+  config.tcp_extra = ", read_only: true";
+  const auto t = tap();
+  start_with(", commands: true");
+  ASSERT_TRUE(wait_for(*t, device("DBIRTH", "W"))) << daemon->log();
+  publish_bytes(device("DCMD", "W"), float_metric("w_03", 12.5f));
+  ASSERT_TRUE(eventually([&] { return status()["commands"]["refused"] == 1; })) << status().dump();
+  EXPECT_EQ(status()["commands"]["taken"], 0);
+  ModbusClient client(config.modbus_port);
+  const auto w3 = client.read_holding(0x0103, 1);
+  EXPECT_FALSE(w3 && (*w3)[0] == 125);
+}
+
+TEST_F(Sparkplug, AMalformedDcmdIsOnlyCountedAndLogged) {
+  const auto t = tap();
+  start_with(", commands: true");
+  ASSERT_TRUE(wait_for(*t, device("DBIRTH", "W"))) << daemon->log();
+  // What the bridge publishes: all but the commands the test sends.
+  const auto published = [&] {
+    std::size_t n = 0;
+    for (const auto& m : messages(*t)) n += m.topic.find("/DCMD/") == std::string::npos;
+    return n;
+  };
+  const auto before = published();
+  publish_bytes(device("DCMD", "W"), std::string("\x12\x05\x0a\x01", 4));  // a metric cut short
+  publish_bytes(device("DCMD", "W"), one_metric("w_03", 12, length_delimited(15, "12")));  // a String for a number
+  ASSERT_TRUE(eventually([&] { return status()["commands"]["malformed"] == 2; })) << status().dump();
+  EXPECT_TRUE(daemon->wait_for_log("sparkplug: a malformed command on spBv1.0/plant-7/DCMD/bridge-17/W")) << daemon->log();
+  EXPECT_EQ(status()["commands"]["taken"], 0);
+  ModbusClient client(config.modbus_port);
+  const auto w3 = client.read_holding(0x0103, 1);
+  EXPECT_FALSE(w3 && (*w3)[0] == 120);
+  EXPECT_EQ(published(), before) << "nothing is answered";
+}
+
+// A reload that keeps the section keeps the connection and sends every birth again; one
+// that changes it says the old node's death and connects anew with the next bdSeq.
+TEST_F(Sparkplug, AReloadRebirthsOrReconnects) {
+  const auto t = tap();
+  start_with();
+  ASSERT_TRUE(wait_for(*t, device("DBIRTH", "X"))) << daemon->log();
+  daemon->signal(SIGHUP);
+  ASSERT_TRUE(eventually([&] { return count_of(*t, nbirth) == 2 && count_of(*t, device("DBIRTH", "X")) == 2; }, 6000ms))
+      << daemon->log();
+  EXPECT_EQ(count_of(*t, ndeath), 0u);
+  EXPECT_EQ(status()["connections"], 1);
+
+  const auto at = config.extra.find("bridge-17");
+  ASSERT_NE(at, std::string::npos);
+  config.extra.replace(at, 9, "bridge-18");
+  daemon->rewrite_config(config.yaml());
+  daemon->signal(SIGHUP);
+  EXPECT_TRUE(wait_for(*t, ndeath, [](const json& p) { return (*metric(p, "bdSeq"))["value"] == 0; })) << daemon->log();
+  EXPECT_TRUE(wait_for(*t, "spBv1.0/plant-7/NBIRTH/bridge-18", [](const json& p) { return (*metric(p, "bdSeq"))["value"] == 1; }))
+      << daemon->log();
+}
+
+TEST_F(Sparkplug, TheSessionIsSeenInStatusAndMetrics) {
+  const auto http_port = free_port();
+  config.extra += "http: { listen: 127.0.0.1, port: " + std::to_string(http_port) + " }\n";
+  const auto t = tap();
+  start_with();
+  ASSERT_TRUE(wait_for(*t, device("DBIRTH", "X"))) << daemon->log();
+  const auto s = status();
+  EXPECT_EQ(s["connected"], true);
+  EXPECT_EQ(s["born"], true);
+  EXPECT_EQ(s["bdSeq"], 0);
+  EXPECT_EQ(s["group_id"], "plant-7");
+  std::size_t births = 0;
+  for (const auto& m : messages(*t)) births += m.topic.find("BIRTH/") != std::string::npos;
+  EXPECT_EQ(s["births"].get<std::size_t>(), births);
+  EXPECT_TRUE(s["primary_host"].is_null());
+  const auto text = run(std::string(UNIMA_BRIDGE_CLI) + " status --socket " + config.status_socket);
+  EXPECT_NE(text.output.find("Sparkplug   plant-7/bridge-17 connected to mqtt://127.0.0.1:"), std::string::npos) << text.output;
+  EXPECT_NE(text.output.find("commands 0 taken, 0 refused, 0 malformed"), std::string::npos) << text.output;
+
+  ASSERT_TRUE(wait_for_port(http_port));
+  const auto metrics = test_support::http_get(http_port, "/metrics");
+  ASSERT_EQ(metrics.status, 200);
+  const auto file = dir.path() / "metrics.txt";
+  test_support::write_file(file, metrics.body);
+  const auto checked = run("promtool check metrics < " + file.string());
+  EXPECT_EQ(checked.status, 0) << checked.output << metrics.body;
+  EXPECT_NE(metrics.body.find("\nunima_bridge_sparkplug_connected 1\n"), std::string::npos) << metrics.body;
+  EXPECT_NE(metrics.body.find("\nunima_bridge_sparkplug_bd_seq 0\n"), std::string::npos) << metrics.body;
+}
+
+}  // namespace
+}  // namespace unima::test

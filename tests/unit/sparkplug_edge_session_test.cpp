@@ -1,0 +1,246 @@
+// sparkplug/edge_session (SPEC §16): the edge node's decisions — bdSeq per CONNECT, seq
+// across births, data and deaths, births per device, DDEATH/DBIRTH with presence, the
+// primary host's STATE, rebirth, and what an NCMD or DCMD means.
+
+#include <gtest/gtest.h>
+
+#include "config/config.hpp"
+#include "sparkplug/edge_session.hpp"
+#include "sparkplug/metric_value.hpp"
+#include "sparkplug/payload_codec.hpp"
+#include "values/store_snapshot.hpp"
+
+namespace unima::sparkplug {
+namespace {
+
+using banks::BankId;
+
+constexpr std::uint64_t now_ms = 1700000000000;
+
+Payload decoded(const Message& message) {
+  auto result = decode_payload(message.payload);
+  if (!result.payload) throw std::runtime_error("undecodable " + message.topic);
+  return *result.payload;
+}
+
+const Metric* find(const Payload& payload, std::string_view name) {
+  for (const auto& m : payload.metrics)
+    if (m.name == name) return &m;
+  return nullptr;
+}
+
+std::string encoded(const Payload& payload) {
+  const auto bytes = encode_payload(payload);
+  return std::string(bytes.begin(), bytes.end());
+}
+
+std::string command_of(std::string name, DataType type, MetricValue value) {
+  Metric metric;
+  metric.name = std::move(name);
+  metric.datatype = type;
+  metric.value = std::move(value);
+  Payload payload;
+  payload.metrics.push_back(std::move(metric));
+  return encoded(payload);
+}
+
+class SparkplugEdgeSession : public ::testing::Test {
+ protected:
+  SparkplugEdgeSession()
+      : config(config::load_text("devices:\n  D1: { type: unigen-chp, address: 5 }\n", "edge.yaml")),
+        model(config),
+        store(config::bank_shapes(config)) {
+    store.set_mapping(config.mapping);
+    store.set_online(BankId::D1, true);
+    for (unsigned n = 1; n <= 7; ++n) store.set_online(banks::module_bank(n), true);
+  }
+
+  std::vector<DeviceReading> devices() const {
+    const auto snapshot = values::snapshot_of(store);
+    std::vector<DeviceReading> all;
+    for (const auto& layout : model.banks())
+      all.push_back({&layout, model.evaluate(layout.bank, snapshot), snapshot[banks::index_of(layout.bank)].online});
+    return all;
+  }
+
+  EdgeSession connected_session(bool primary_host = false, std::optional<std::uint64_t> last = std::nullopt) {
+    EdgeSession session({"plant-7", "bridge-17", primary_host}, last);
+    session.begin_connect();
+    session.connected();
+    return session;
+  }
+
+  config::Config config;
+  values::ValueModel model;
+  banks::RegisterStore store;
+};
+
+TEST_F(SparkplugEdgeSession, BdSeqCountsConnectsModulo256AndTheDeathCarriesItAsInt64) {
+  EdgeSession first({"g", "n", false}, std::nullopt);
+  EXPECT_EQ(first.begin_connect(), 0u);
+  EXPECT_EQ(first.begin_connect(), 1u);
+  EdgeSession kept({"g", "n", false}, 254);
+  EXPECT_EQ(kept.begin_connect(), 255u);
+  EXPECT_EQ(kept.begin_connect(), 0u);
+  const auto death = kept.death(now_ms);
+  EXPECT_EQ(death.topic, "spBv1.0/g/NDEATH/n");
+  const auto payload = decoded(death);
+  EXPECT_FALSE(payload.seq);
+  const auto* bd_seq = find(payload, "bdSeq");
+  ASSERT_NE(bd_seq, nullptr);
+  EXPECT_EQ(bd_seq->datatype, DataType::Int64);
+  EXPECT_EQ(std::get<std::uint64_t>(bd_seq->value), 0u);
+}
+
+TEST_F(SparkplugEdgeSession, BirthsOnConnectNodeFirstThenEveryDeviceWithSeqFromZero) {
+  EdgeSession idle({"plant-7", "bridge-17", false}, 4);
+  EXPECT_TRUE(idle.step(devices(), now_ms).empty());  // not connected: nothing
+
+  auto session = connected_session(false, 4);
+  const auto births = session.step(devices(), now_ms);
+  ASSERT_EQ(births.size(), 1 + model.banks().size());
+  EXPECT_EQ(births[0].topic, "spBv1.0/plant-7/NBIRTH/bridge-17");
+  const auto nbirth = decoded(births[0]);
+  EXPECT_EQ(nbirth.seq, 0u);
+  ASSERT_NE(find(nbirth, "bdSeq"), nullptr);
+  EXPECT_EQ(std::get<std::uint64_t>(find(nbirth, "bdSeq")->value), 5u);
+  const auto* rebirth = find(nbirth, "Node Control/Rebirth");
+  ASSERT_NE(rebirth, nullptr);
+  EXPECT_EQ(rebirth->datatype, DataType::Boolean);
+  EXPECT_EQ(std::get<bool>(rebirth->value), false);
+  for (std::size_t i = 1; i < births.size(); ++i) {
+    EXPECT_EQ(births[i].topic, "spBv1.0/plant-7/DBIRTH/bridge-17/" + std::string(banks::bank_name(model.banks()[i - 1].bank)));
+    EXPECT_EQ(decoded(births[i]).seq, i);
+  }
+  EXPECT_TRUE(session.step(devices(), now_ms).empty());  // nothing changed
+  EXPECT_EQ(session.counters().births, births.size());
+}
+
+TEST_F(SparkplugEdgeSession, DataOnChangeOnlyAndSeqWrapsAfter255) {
+  auto session = connected_session();
+  const auto births = session.step(devices(), now_ms);
+  std::uint64_t expected = births.size();  // the next seq
+  for (int i = 0; i < 300; ++i) {
+    store.write(BankId::W, 0, static_cast<std::uint16_t>(1000 + i));
+    const auto data = session.step(devices(), now_ms);
+    ASSERT_EQ(data.size(), 1u);
+    EXPECT_EQ(data[0].topic, "spBv1.0/plant-7/DDATA/bridge-17/W");
+    const auto payload = decoded(data[0]);
+    EXPECT_EQ(payload.seq, expected % 256);
+    ++expected;
+    ASSERT_EQ(payload.metrics.size(), 1u);
+    EXPECT_EQ(payload.metrics[0].name, "w_00");
+  }
+  EXPECT_EQ(session.counters().data, 300u);
+}
+
+TEST_F(SparkplugEdgeSession, AnOfflineDeviceDiesAndIsBornAgainWhenBack) {
+  store.set_online(BankId::D1, false);
+  auto session = connected_session();
+  const auto births = session.step(devices(), now_ms);
+  // D1's birth names its metrics, then its death says it is gone.
+  std::size_t d1 = 0;
+  for (std::size_t i = 0; i < births.size(); ++i)
+    if (births[i].topic.ends_with("DBIRTH/bridge-17/D1")) d1 = i;
+  ASSERT_GT(d1, 0u);
+  ASSERT_LT(d1 + 1, births.size());
+  EXPECT_EQ(births[d1 + 1].topic, "spBv1.0/plant-7/DDEATH/bridge-17/D1");
+
+  // C's on-line bits change with D1: its DDATA comes too.
+  const auto of_d1 = [](const std::vector<Message>& messages) {
+    std::vector<Message> d1;
+    for (const auto& m : messages)
+      if (m.topic.ends_with("/D1")) d1.push_back(m);
+    return d1;
+  };
+  store.set_online(BankId::D1, true);
+  auto back = of_d1(session.step(devices(), now_ms));
+  ASSERT_EQ(back.size(), 1u);
+  EXPECT_EQ(back[0].topic, "spBv1.0/plant-7/DBIRTH/bridge-17/D1");
+  store.set_online(BankId::D1, false);
+  auto gone = of_d1(session.step(devices(), now_ms));
+  ASSERT_EQ(gone.size(), 1u);
+  EXPECT_EQ(gone[0].topic, "spBv1.0/plant-7/DDEATH/bridge-17/D1");
+  EXPECT_TRUE(decoded(gone[0]).metrics.empty());
+  EXPECT_TRUE(session.step(devices(), now_ms).empty());  // dead: no data
+}
+
+TEST_F(SparkplugEdgeSession, APrimaryHostHoldsBirthsUntilOnlineAndItsOfflineIsTheNodesDeath) {
+  auto session = connected_session(true);
+  EXPECT_TRUE(session.step(devices(), now_ms).empty());
+  EXPECT_EQ(session.host_state("not json"), HostVerdict::none);
+  EXPECT_EQ(session.host_state(R"({"online":false,"timestamp":10})"), HostVerdict::none);
+  EXPECT_TRUE(session.step(devices(), now_ms).empty());
+  EXPECT_EQ(session.host_state(R"({"online":true,"timestamp":20})"), HostVerdict::birth);
+  EXPECT_FALSE(session.step(devices(), now_ms).empty());
+  EXPECT_EQ(session.host_state(R"({"online":false,"timestamp":15})"), HostVerdict::none);  // older: ignored
+  EXPECT_EQ(session.host()  , EdgeSession::HostState::online);
+  EXPECT_EQ(session.host_state(R"({"online":false,"timestamp":30})"), HostVerdict::death);
+  session.disconnected();
+  EXPECT_FALSE(session.born());
+  // Connected again: the node waits for the host again, the next bdSeq.
+  EXPECT_EQ(session.begin_connect(), 1u);
+  session.connected();
+  EXPECT_EQ(session.host_state(R"({"online":false,"timestamp":30})"), HostVerdict::none);
+  EXPECT_TRUE(session.step(devices(), now_ms).empty());
+  EXPECT_EQ(session.host_state(R"({"online":true,"timestamp":40})"), HostVerdict::birth);
+  const auto births = session.step(devices(), now_ms);
+  ASSERT_FALSE(births.empty());
+  EXPECT_EQ(std::get<std::uint64_t>(find(decoded(births[0]), "bdSeq")->value), 1u);
+}
+
+TEST_F(SparkplugEdgeSession, RebirthByNcmdRepeatsEveryBirthWithTheSameBdSeqAndSeqFromZero) {
+  auto session = connected_session(false, 9);
+  const auto first = session.step(devices(), now_ms);
+  const auto rebirth = session.command("", command_of("Node Control/Rebirth", DataType::Boolean, true), model, false);
+  EXPECT_TRUE(rebirth.rebirth);
+  EXPECT_TRUE(rebirth.malformed.empty());
+  session.rebirth();
+  const auto again = session.step(devices(), now_ms);
+  ASSERT_EQ(again.size(), first.size());
+  EXPECT_EQ(decoded(again[0]).seq, 0u);
+  EXPECT_EQ(std::get<std::uint64_t>(find(decoded(again[0]), "bdSeq")->value), 10u);
+  EXPECT_EQ(session.counters().taken, 1u);
+
+  EXPECT_FALSE(session.command("", command_of("Node Control/Rebirth", DataType::Boolean, false), model, false).rebirth);
+  EXPECT_FALSE(session.command("", command_of("Node Control/Next Server", DataType::Boolean, true), model, false).rebirth);
+  EXPECT_EQ(session.counters().refused, 2u);
+  const auto wrong_type = session.command("", command_of("Node Control/Rebirth", DataType::String, std::string("yes")), model, false);
+  EXPECT_FALSE(wrong_type.rebirth);
+  EXPECT_EQ(wrong_type.malformed, "Node Control/Rebirth is not a Boolean");
+  EXPECT_EQ(session.counters().malformed, 1u);
+}
+
+TEST_F(SparkplugEdgeSession, DcmdToWOrXIsAWriteInTheMetricsUnitOnlyWhenCommandsAreTaken) {
+  auto session = connected_session();
+  const auto w = session.command("W", command_of("w_03", DataType::Float, 12.3f), model, true);
+  ASSERT_EQ(w.writes.size(), 1u);
+  EXPECT_EQ(w.writes[0].bank, BankId::W);
+  EXPECT_EQ(w.writes[0].offset, 3u);
+  EXPECT_EQ(w.writes[0].raw, 123u);
+  const auto negative = session.command("W", command_of("w_00", DataType::Double, -1.5), model, true);
+  ASSERT_EQ(negative.writes.size(), 1u);
+  EXPECT_EQ(negative.writes[0].raw, 0xFFF1u);  // −15 tenths
+  const auto x = session.command("X", command_of("x", DataType::UInt16, integer_value(DataType::UInt16, 5)), model, true);
+  ASSERT_EQ(x.writes.size(), 1u);
+  EXPECT_EQ(x.writes[0].bank, BankId::X);
+  EXPECT_EQ(x.writes[0].raw, 5u);
+  EXPECT_EQ(session.counters().taken, 3u);
+
+  EXPECT_TRUE(session.command("W", command_of("w_03", DataType::Float, 1.0f), model, false).writes.empty());
+  EXPECT_TRUE(session.command("D1", command_of("engine_speed", DataType::UInt16, 1u), model, true).writes.empty());
+  EXPECT_TRUE(session.command("W", command_of("w_99", DataType::Float, 1.0f), model, true).writes.empty());
+  EXPECT_TRUE(session.command("W", command_of("w_01", DataType::Float, 99999.0f), model, true).writes.empty());
+  EXPECT_EQ(session.counters().refused, 4u);
+
+  EXPECT_EQ(session.command("W", command_of("w_03", DataType::String, std::string("1")), model, true).malformed,
+            "w_03 is not a number");
+  EXPECT_FALSE(session.command("W", std::string("\x0a\x05", 2), model, true).malformed.empty());  // truncated
+  const auto huge = session.command("W", std::string(max_command_bytes + 1, '\0'), model, true);
+  EXPECT_EQ(huge.malformed, "65537 bytes, more than the 65536 a command may have");
+  EXPECT_EQ(session.counters().malformed, 3u);
+  EXPECT_EQ(session.counters().taken, 3u);
+}
+
+}  // namespace
+}  // namespace unima::sparkplug
