@@ -193,8 +193,8 @@ std::string render_status_panel(const nlohmann::json& s) {
       out += fmt::format("MQTT        connected to {} since {} as {}, topic {}/…\n", q["broker"].get<std::string>(),
                          q["since"].get<std::string>(), q["client_id"].get<std::string>(), q["topic"].get<std::string>());
     else
-      out += fmt::format("MQTT        not connected to {}: {}\n", q["broker"].get<std::string>(),
-                         q["last_error"].is_string() ? q["last_error"].get<std::string>() : std::string("connecting"));
+      out += fmt::format("MQTT        not connected to {} since {}: {}\n", q["broker"].get<std::string>(),
+                         q["since"].get<std::string>(), q["last_error"].is_string() ? q["last_error"].get<std::string>() : std::string("connecting"));
     out += fmt::format("            {} messages published, {} connections, {} dropped\n", q["published"].get<std::uint64_t>(),
                        q["connections"].get<std::uint64_t>(), q["drops"].get<std::uint64_t>());
     if (q.contains("last_takeover") && q["last_takeover"].is_string())
@@ -214,8 +214,8 @@ std::string render_status_panel(const nlohmann::json& s) {
       out += fmt::format("Sparkplug   {} connected to {} since {}, bdSeq {}, next seq {}\n", node, p["broker"].get<std::string>(),
                          p["since"].get<std::string>(), p["bdSeq"].dump(), p["seq"].get<unsigned>());
     else
-      out += fmt::format("Sparkplug   {} not connected to {}: {}\n", node, p["broker"].get<std::string>(),
-                         p["last_error"].is_string() ? p["last_error"].get<std::string>() : std::string("connecting"));
+      out += fmt::format("Sparkplug   {} not connected to {} since {}: {}\n", node, p["broker"].get<std::string>(),
+                         p["since"].get<std::string>(), p["last_error"].is_string() ? p["last_error"].get<std::string>() : std::string("connecting"));
     if (p["primary_host"].is_object())
       out += fmt::format("            primary host {} {}{}\n", p["primary_host"]["name"].get<std::string>(),
                          p["primary_host"]["state"].get<std::string>(), p["born"].get<bool>() ? "" : ": births wait for it online");

@@ -1,5 +1,6 @@
 #include "metrics/prometheus.hpp"
 
+#include <chrono>
 #include <initializer_list>
 #include <string>
 #include <utility>
@@ -7,6 +8,8 @@
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
+
+#include "monitor/monitor_line.hpp"
 
 namespace unima::metrics {
 
@@ -64,6 +67,15 @@ const nlohmann::json& field(const nlohmann::json& object, const char* key) {
 }
 
 std::string text(const nlohmann::json& value) { return value.is_string() ? value.get<std::string>() : value.dump(); }
+
+// A time of the status document ("2026-11-27T10:35:19.501234Z") as Prometheus keeps times:
+// Unix seconds; none (null): absent, and the sample left out.
+nlohmann::json unix_seconds(const nlohmann::json& time) {
+  if (!time.is_string()) return {};
+  const auto parsed = monitor::parse_utc_time(time.get<std::string>());
+  if (!parsed) return {};
+  return std::chrono::duration<double>(parsed->time_since_epoch()).count();
+}
 
 }  // namespace
 
@@ -185,6 +197,12 @@ std::string prometheus_text(const nlohmann::json& status) {
     out.family("mqtt_session_takeovers_total", "counter",
                "Times the MQTT broker gave the bridge's session to another client with its client id.")
         .sample(field(mqtt, "session_takeovers"));
+    out.family("mqtt_state_since_timestamp_seconds", "gauge",
+               "When the MQTT client's present state (mqtt_connected 1 or 0) began, in Unix seconds.")
+        .sample(unix_seconds(field(mqtt, "since")));
+    out.family("mqtt_last_session_takeover_timestamp_seconds", "gauge",
+               "When the MQTT broker last gave the bridge's session to another client, in Unix seconds (none yet: absent).")
+        .sample(unix_seconds(field(mqtt, "last_takeover")));
     if (const auto& buffer = field(mqtt, "buffer"); buffer.is_object()) {
       out.family("mqtt_buffer_bytes", "gauge", "Bytes of history in the MQTT buffer not yet acknowledged by the broker.")
           .sample(field(buffer, "bytes"));
@@ -207,6 +225,10 @@ std::string prometheus_text(const nlohmann::json& status) {
         .sample(field(sparkplug, "born"));
     out.family("sparkplug_bd_seq", "gauge", "The bdSeq of the edge node's present MQTT connection (0-255).")
         .sample(field(sparkplug, "bdSeq"));
+    out.family("sparkplug_seq", "gauge", "The seq the edge node's next message carries (0-255).").sample(field(sparkplug, "seq"));
+    out.family("sparkplug_state_since_timestamp_seconds", "gauge",
+               "When the edge node's present state (sparkplug_connected 1 or 0) began, in Unix seconds.")
+        .sample(unix_seconds(field(sparkplug, "since")));
     out.family("sparkplug_connections_total", "counter", "Connections made to the Sparkplug broker.")
         .sample(field(sparkplug, "connections"));
     out.family("sparkplug_births_total", "counter", "NBIRTH and DBIRTH messages published.").sample(field(sparkplug, "births"));

@@ -104,6 +104,7 @@ MqttClient::~MqttClient() {
 
 void MqttClient::start() {
   running_ = true;
+  state_since_ = std::chrono::system_clock::now();
   spdlog::info("mqtt: connecting to {}:{} as {}", options_.host, options_.port, options_.client_id);
   resolve();
   tick();
@@ -295,7 +296,7 @@ void MqttClient::handle_connack(int rc) {
   last_error_.clear();
   backoff_ = 1s;
   ++counters_.connections;
-  connected_since_ = std::chrono::system_clock::now();
+  state_since_ = std::chrono::system_clock::now();
   takeover_.connected(std::chrono::steady_clock::now());
   spdlog::info("mqtt: connected to {}:{} as {}", options_.host, options_.port, options_.client_id);
   // The birth, then `online`, before anything else (publish() takes nothing until
@@ -311,7 +312,7 @@ void MqttClient::handle_connack(int rc) {
 void MqttClient::handle_disconnect(int rc) {
   if (!connected_) return;
   connected_ = false;
-  connected_since_.reset();
+  state_since_ = std::chrono::system_clock::now();
   ++counters_.drops;
   using mqtt::ConnectionEnd;
   const auto end = options_.version == 5 && rc == MQTT_RC_SESSION_TAKEN_OVER ? ConnectionEnd::taken_over

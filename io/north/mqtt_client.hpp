@@ -109,7 +109,9 @@ class MqttClient {
   const MqttClientOptions& options() const { return options_; }
   /// Why the last attempt or connection failed; empty while connected.
   const std::string& last_error() const { return last_error_; }
-  std::optional<std::chrono::system_clock::time_point> connected_since() const { return connected_since_; }
+  /// When the present state began: this connection, or (not connected) the start or the
+  /// last drop — an operator asks how long the bridge has been cut off, not only whether.
+  std::chrono::system_clock::time_point state_since() const { return state_since_; }
   /// When a broker last gave the session to another client; none yet: nullopt.
   std::optional<std::chrono::system_clock::time_point> last_takeover() const { return last_takeover_; }
 
@@ -142,7 +144,7 @@ class MqttClient {
   bool running_ = false;
   bool connected_ = false;
   bool drop_logged_ = false;  // the log says a drop once until the next connection
-  std::optional<std::chrono::system_clock::time_point> connected_since_;
+  std::chrono::system_clock::time_point state_since_ = std::chrono::system_clock::now();
   std::string last_error_;
   std::string refusal_;  // why the broker refused the last CONNECT, for lost()
   mqtt::SessionTakeover takeover_;

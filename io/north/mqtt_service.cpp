@@ -217,13 +217,9 @@ void MqttService::describe(nlohmann::json& status) const {
   nlohmann::json mqtt{{"broker", config.broker},      {"client_id", config.client_id}, {"topic", config.topic},
                       {"connected", client_->connected()}, {"connections", c.connections},  {"drops", c.drops},
                       {"published", c.published}, {"session_takeovers", c.session_takeovers}};
-  if (const auto since = client_->connected_since()) {
-    std::string time;
-    monitor::append_utc_time(time, *since);
-    mqtt["since"] = time;
-  } else {
-    mqtt["since"] = nullptr;
-  }
+  std::string since;  // connected since, or not connected since
+  monitor::append_utc_time(since, client_->state_since());
+  mqtt["since"] = since;
   if (const auto taken = client_->last_takeover()) {
     std::string time;
     monitor::append_utc_time(time, *taken);

@@ -260,13 +260,9 @@ void SparkplugService::describe(nlohmann::json& status) const {
                    {"commands", {{"taken", c.taken}, {"refused", c.refused}, {"malformed", c.malformed}}}};
   s["bdSeq"] = session_->bd_seq() ? nlohmann::json(*session_->bd_seq()) : nlohmann::json(nullptr);
   s["seq"] = session_->next_seq();
-  if (const auto since = client_->connected_since()) {
-    std::string time;
-    monitor::append_utc_time(time, *since);
-    s["since"] = time;
-  } else {
-    s["since"] = nullptr;
-  }
+  std::string since;  // connected since, or not connected since
+  monitor::append_utc_time(since, client_->state_since());
+  s["since"] = since;
   if (config.primary_host.empty()) {
     s["primary_host"] = nullptr;
   } else {

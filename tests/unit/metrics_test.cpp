@@ -30,9 +30,11 @@ const auto status = nlohmann::json::parse(R"({
   "monitor": {"written": 100, "dropped": 4},
   "state": {"file": "/var/lib/unima-bridge/state", "records": 6, "syncs": 2, "failures": 0},
   "mqtt": {"broker": "mqtt://b", "connected": true, "connections": 3, "drops": 2, "published": 120, "session_takeovers": 1,
+           "since": "2026-11-27T10:35:19.500000Z", "last_takeover": "2026-11-26T22:00:00.000000Z",
            "buffer": {"file": "/var/lib/unima-bridge/mqtt-buffer", "bytes": 4096, "messages": 3, "dropped": 5,
                       "history_sent": 40, "syncs": 9, "failures": 0}},
-  "sparkplug": {"connected": true, "born": false, "bdSeq": 7, "connections": 2, "births": 30, "data": 400, "deaths": 3,
+  "sparkplug": {"connected": true, "born": false, "bdSeq": 7, "seq": 37, "since": "2026-11-27T10:35:19.500000Z",
+                "connections": 2, "births": 30, "data": 400, "deaths": 3,
                 "commands": {"taken": 4, "refused": 5, "malformed": 6}},
   "http": {"logins": {"checked": 9, "wrong": 7, "peer_limited": 30, "busy": 1, "in_flight": 2}}
 })");
@@ -58,6 +60,11 @@ TEST(Prometheus, EveryFamilyHasHelpAndTypeAndTheStatusValues) {
   EXPECT_TRUE(has_line(text, "unima_bridge_sparkplug_births_total 30")) << text;
   EXPECT_TRUE(has_line(text, "unima_bridge_sparkplug_data_total 400")) << text;
   EXPECT_TRUE(has_line(text, "unima_bridge_sparkplug_device_deaths_total 3")) << text;
+  EXPECT_TRUE(has_line(text, "# TYPE unima_bridge_mqtt_state_since_timestamp_seconds gauge")) << text;
+  EXPECT_TRUE(has_line(text, "unima_bridge_mqtt_state_since_timestamp_seconds 1795775719.5")) << text;
+  EXPECT_TRUE(has_line(text, "unima_bridge_mqtt_last_session_takeover_timestamp_seconds 1795730400.0")) << text;
+  EXPECT_TRUE(has_line(text, "unima_bridge_sparkplug_seq 37")) << text;
+  EXPECT_TRUE(has_line(text, "unima_bridge_sparkplug_state_since_timestamp_seconds 1795775719.5")) << text;
   EXPECT_TRUE(has_line(text, R"(unima_bridge_sparkplug_commands_total{outcome="taken"} 4)")) << text;
   EXPECT_TRUE(has_line(text, R"(unima_bridge_sparkplug_commands_total{outcome="refused"} 5)")) << text;
   EXPECT_TRUE(has_line(text, R"(unima_bridge_sparkplug_commands_total{outcome="malformed"} 6)")) << text;
@@ -101,6 +108,16 @@ TEST(Prometheus, LabelValuesAreEscaped) {
   odd["devices"][0]["type"] = "a\"b\\c\nd";
   const auto text = prometheus_text(odd);
   EXPECT_TRUE(has_line(text, R"(unima_bridge_device_online{bank="D1",type="a\"b\\c\nd"} 1)")) << text;
+}
+
+// No session taken over yet (null): no takeover time, rather than the epoch.
+TEST(Prometheus, NoSessionTakeoverYetLeavesItsTimeOut) {
+  auto quiet = status;
+  quiet["mqtt"]["last_takeover"] = nullptr;
+  const auto text = prometheus_text(quiet);
+  EXPECT_TRUE(has_line(text, "# TYPE unima_bridge_mqtt_last_session_takeover_timestamp_seconds gauge")) << text;
+  EXPECT_EQ(text.find("\nunima_bridge_mqtt_last_session_takeover_timestamp_seconds "), std::string::npos) << text;
+  EXPECT_TRUE(has_line(text, "unima_bridge_mqtt_state_since_timestamp_seconds 1795775719.5")) << text;
 }
 
 // modbus.gateway (SPEC §14): each unit's counters with a unit label, its queue depth and
