@@ -172,6 +172,64 @@ function showGateway(gateway) {
   box.replaceChildren(title, gateway.units.length ? gatewayTable(gateway.units) : element('p', {}, 'no client has asked for a unit yet'));
 }
 
+// A time of the status document ("2026-11-27T10:35:19.501234Z") as an operator reads it.
+const when = time => time.slice(0, 19).replace('T', ' ') + ' UTC';
+const TAKEOVER_RECENT_MS = 3600 * 1000;  // a takeover within the hour still needs looking at
+
+// One line of the northbound box; `problem` marks it in the error colour.
+const northLine = (text, problem = false) => element('p', problem ? { class: 'problem' } : {}, text);
+
+// MQTT (SPEC §15): connected or not since when, the history buffer, the last takeover.
+function mqttSection(m) {
+  const section = element('div', { 'data-section': 'mqtt', 'data-connected': String(m.connected) });
+  section.append(element('h4', {}, 'MQTT'));
+  section.append(m.connected
+    ? northLine(`connected to ${m.broker} as ${m.client_id} since ${when(m.since)}`)
+    : northLine(`not connected to ${m.broker} (as ${m.client_id}) since ${when(m.since)}` + (m.last_error ? `: ${m.last_error}` : ''), true));
+  if (m.buffer) {
+    const b = m.buffer;
+    section.append(northLine(`history buffer: ${b.messages} message${b.messages === 1 ? '' : 's'} (${b.bytes} bytes) waiting, ` +
+                             `${b.history_sent} sent as history`, b.messages > 0 && !m.connected));
+    section.append(northLine(`${b.dropped} dropped because the buffer was full`, b.dropped > 0));
+  } else {
+    section.append(northLine('no history buffer: an outage keeps only the present values'));
+  }
+  const recent = m.last_takeover && Date.now() - Date.parse(m.last_takeover) < TAKEOVER_RECENT_MS;
+  section.append(m.last_takeover
+    ? northLine(`last session takeover: ${when(m.last_takeover)} (${m.session_takeovers} in all) — another client uses this client id`, recent)
+    : northLine('last session takeover: none'));
+  return section;
+}
+
+// Sparkplug B (SPEC §16): the edge node's session, what it sent, the commands it took.
+function sparkplugSection(p) {
+  const section = element('div', { 'data-section': 'sparkplug', 'data-connected': String(p.connected), 'data-born': String(p.born) });
+  section.append(element('h4', {}, `Sparkplug: ${p.group_id}/${p.edge_node_id}`));
+  const host = p.primary_host;
+  if (!p.connected)
+    section.append(northLine(`not connected to ${p.broker} since ${when(p.since)}` + (p.last_error ? `: ${p.last_error}` : ''), true));
+  else if (p.born)
+    section.append(northLine(`connected to ${p.broker} and born since ${when(p.since)}`));
+  else
+    section.append(northLine(`connected to ${p.broker} since ${when(p.since)}, not born` +
+                             (host ? `: the births wait for the primary host ${host.name}` : ''), true));
+  section.append(northLine(`bdSeq ${p.bdSeq === null ? 'none' : p.bdSeq}, next seq ${p.seq}; ${p.births} births, ${p.data} data sent`));
+  const c = p.commands;
+  section.append(northLine(`commands: ${c.taken} taken, ${c.refused} refused, ${c.malformed} malformed`, c.refused + c.malformed > 0));
+  if (host) section.append(northLine(`primary host ${host.name}: ${host.state}`, host.state !== 'online'));
+  return section;
+}
+
+// The northbound box: only the sections the config has.
+function showNorth(panel) {
+  const box = document.getElementById('north');
+  const sections = [];
+  if (panel.mqtt) sections.push(mqttSection(panel.mqtt));
+  if (panel.sparkplug) sections.push(sparkplugSection(panel.sparkplug));
+  box.hidden = sections.length === 0;
+  box.replaceChildren(element('h3', {}, 'Northbound'), ...sections);
+}
+
 function showPanel(panel) {
   document.getElementById('mode').textContent = `${panel.mode} mode`;
   showLed('led-modbus', panel.modbus);
@@ -181,6 +239,7 @@ function showPanel(panel) {
   document.getElementById('modules').replaceChildren(...panel.modules.map(m => chip(m.bank, null, m.online)));
   document.getElementById('indicators').replaceChildren(...panel.indicators.map(indicatorBox));
   showGateway(panel.gateway);
+  showNorth(panel);
 }
 
 function showLines(event) {

@@ -64,6 +64,36 @@ nlohmann::json gateway_panel(const nlohmann::json& gateway) {
   return {{"routes", gateway["routes"]}, {"units", units}};
 }
 
+// The northbound box: what an operator reads of the MQTT link (SPEC §15) — not the
+// published count, which grows with every document and would resend the panel with it.
+nlohmann::json mqtt_panel(const nlohmann::json& mqtt) {
+  nlohmann::json panel{{"broker", mqtt["broker"]},         {"client_id", mqtt["client_id"]},
+                       {"connected", mqtt["connected"]},   {"since", mqtt["since"]},
+                       {"last_error", mqtt["last_error"]}, {"session_takeovers", mqtt["session_takeovers"]},
+                       {"last_takeover", mqtt["last_takeover"]}};
+  panel["buffer"] = nullptr;
+  if (const auto& b = mqtt["buffer"]; b.is_object())
+    panel["buffer"] = {{"messages", b["messages"]}, {"bytes", b["bytes"]}, {"dropped", b["dropped"]}, {"history_sent", b["history_sent"]}};
+  return panel;
+}
+
+// The Sparkplug session (SPEC §16) as the northbound box shows it.
+nlohmann::json sparkplug_panel(const nlohmann::json& sparkplug) {
+  return {{"broker", sparkplug["broker"]},
+          {"group_id", sparkplug["group_id"]},
+          {"edge_node_id", sparkplug["edge_node_id"]},
+          {"connected", sparkplug["connected"]},
+          {"born", sparkplug["born"]},
+          {"since", sparkplug["since"]},
+          {"last_error", sparkplug["last_error"]},
+          {"bdSeq", sparkplug["bdSeq"]},
+          {"seq", sparkplug["seq"]},
+          {"births", sparkplug["births"]},
+          {"data", sparkplug["data"]},
+          {"commands", sparkplug["commands"]},
+          {"primary_host", sparkplug["primary_host"]}};
+}
+
 // The front panel of seed 004: its LEDs, the D_N and S_N on-line, the capture indicators.
 nlohmann::json panel_of(const nlohmann::json& status) {
   nlohmann::json panel;
@@ -78,6 +108,8 @@ nlohmann::json panel_of(const nlohmann::json& status) {
   for (const auto& module : status["modules"]) panel["modules"].push_back({{"bank", module["bank"]}, {"online", module["online"]}});
   panel["indicators"] = status["indicators"];
   if (status.contains("gateway")) panel["gateway"] = gateway_panel(status["gateway"]);
+  if (status.contains("mqtt")) panel["mqtt"] = mqtt_panel(status["mqtt"]);
+  if (status.contains("sparkplug")) panel["sparkplug"] = sparkplug_panel(status["sparkplug"]);
   return panel;
 }
 

@@ -7,12 +7,15 @@ screenshot in docs/.
 
   page_in_chromium.py --url http://127.0.0.1:8080/ [--expect 0x0012=1234 ...] [--online D1 ...]
                       [--indicator 1=write ...] [--ready-file F --then 0x0012=4321 ...]
-                      [--gateway 7="not answering" ...]
+                      [--gateway 7="not answering" ...] [--north mqtt="not connected" ...]
                       [--every-value] [--screenshot out.png [--window 1200,1500]] [--timeout 20]
 
 --indicator N=read|write: capture indicator N shows a value of that access.
 --gateway UNIT=STATE: the gateway table's row of that unit is in that state ("answering",
 "not answering"); the JSON line then holds every row (state, text, colour).
+
+--north SECTION=TEXT: the northbound box's section ("mqtt", "sparkplug") shows TEXT; the
+JSON line then holds every section (its text, and each line's text and colour).
 
 --ready-file: written once the first expectations hold; the --then expectations are
 awaited after it (the test feeds them a moment after the page showed the first ones).
@@ -56,6 +59,11 @@ result.gateway = {};
 for (const row of document.querySelectorAll('#gateway tr[data-unit]'))
   result.gateway[row.dataset.unit] = { state: row.dataset.state, text: row.textContent,
                                        colour: getComputedStyle(row.querySelector('td.state')).color };
+result.north = {};
+for (const section of document.querySelectorAll('#north:not([hidden]) [data-section]'))
+  result.north[section.dataset.section] = {
+    text: section.textContent, connected: section.dataset.connected,
+    lines: [...section.querySelectorAll('p')].map(p => ({ text: p.textContent, colour: getComputedStyle(p).color })) };
 return result;
 """
 
@@ -90,13 +98,15 @@ def parse_gateway(items):
     return dict(item.split("=", 1) for item in items)
 
 
-def holds(page, values, online, indicators={}, gateway={}):
+def holds(page, values, online, indicators={}, gateway={}, north=[]):
     shown = page.get("indicators", [])
     rows = page.get("gateway", {})
+    sections = page.get("north", {})
     return (all(page["values"].get(a, {}).get("raw") == v for a, v in values.items())
             and all(page["online"].get(bank) for bank in online)
             and all(n <= len(shown) and shown[n - 1]["access"] == access for n, access in indicators.items())
-            and all(rows.get(unit, {}).get("state") == state for unit, state in gateway.items()))
+            and all(rows.get(unit, {}).get("state") == state for unit, state in gateway.items())
+            and all(text in sections.get(section, {}).get("text", "") for section, text in north))
 
 
 def main():
@@ -108,6 +118,7 @@ def main():
     parser.add_argument("--then", action="append", default=[])
     parser.add_argument("--indicator", action="append", default=[])
     parser.add_argument("--gateway", action="append", default=[])
+    parser.add_argument("--north", action="append", default=[])
     parser.add_argument("--every-value", action="store_true")
     parser.add_argument("--screenshot")
     parser.add_argument("--window", default="1200,1500", help="width,height of the window")
@@ -135,19 +146,19 @@ def main():
         session = call(base, "POST", "/session", capabilities)["sessionId"]
         call(base, "POST", f"/session/{session}/url", {"url": args.url})
 
-        def wait_for(values, online, indicators={}, gateway={}):
+        def wait_for(values, online, indicators={}, gateway={}, north=[]):
             nonlocal page
             deadline = time.monotonic() + args.timeout
             while True:
                 page = call(base, "POST", f"/session/{session}/execute/sync", {"script": READ_PAGE, "args": []})
-                if holds(page, values, online, indicators, gateway):
+                if holds(page, values, online, indicators, gateway, north):
                     return True
                 if time.monotonic() > deadline:
                     return False
                 time.sleep(0.1)
 
         ok = wait_for(parse_expectations(args.expect), args.online, parse_indicators(args.indicator),
-                      parse_gateway(args.gateway))
+                      parse_gateway(args.gateway), [tuple(item.split("=", 1)) for item in args.north])
         if ok and args.ready_file:
             with open(args.ready_file, "w") as f:
                 f.write("ready\n")
@@ -163,6 +174,8 @@ def main():
                   "cells": len(page.get("values", {}))}
         if args.gateway:
             report.update(gateway=page.get("gateway", {}))
+        if args.north:
+            report.update(north=page.get("north", {}))
         if args.every_value:
             report.update(keys=page.get("keys", {}), indicators=page.get("indicators", []),
                           addresses=sorted(page.get("values", {})))
