@@ -159,10 +159,7 @@ void HttpService::send_values() {
 
 void HttpService::heartbeat() {
   health_.beat(LoopHealth::Clock::now());
-  if (live_.listened()) {
-    live_.update(answers_.live_snapshot(), runtime_.monitor->recent());
-    values_edge_.went(values::LeadingEdge::Clock::now());
-  }
+  if (live_.listened()) live_.update(answers_.live_snapshot(), runtime_.monitor->recent());
   heartbeat_timer_.expires_after(LoopHealth::beat_interval);
   heartbeat_timer_.async_wait([this](const boost::system::error_code& ec) {
     if (!ec && started_) heartbeat();

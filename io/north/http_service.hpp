@@ -81,7 +81,8 @@ class HttpService final : public Service {
   std::shared_ptr<tls::HandshakeLimiter> handshakes_ = std::make_shared<tls::HandshakeLimiter>();
   MovableListener<HttpServer> server_{nullptr};
   asio::steady_timer heartbeat_timer_;
-  values::LeadingEdge values_edge_;  // of the values sent to the pages, by the heartbeat too
+  // Of the values sent alone: the heartbeat's own update does not hold a change back.
+  values::LeadingEdge values_edge_;
   asio::steady_timer values_timer_;  // a change within the 100 ms: when they are up
   bool values_timer_armed_ = false;
   bool started_ = false;
