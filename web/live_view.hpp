@@ -1,6 +1,6 @@
 #pragma once
 // The front page's live feed (SPEC §13, /api/events): server-sent events that carry only
-// what changed. The Bridge takes a snapshot on each heartbeat while a page listens, and
+// what changed. HttpService takes a snapshot on each heartbeat while a page listens, and
 // of the values alone when the banks change (on the leading edge, values/leading_edge);
 // this compares it with the last one and sends each page
 //   event: registers  {"0x1100": 1234, "0x1101": null, ...}  the raw registers that changed
