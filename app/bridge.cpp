@@ -72,6 +72,7 @@ void Bridge::reload(config::Config config) {
   // Nothing below can fail: the values carry over, the banks swap, the services switch.
   next->store->take_state_from(*runtime_.banks->store);
   const auto previous = std::exchange(runtime_.banks, std::move(next));
+  runtime_.changes.attach(*runtime_.banks->store);
   for (auto& service : services_) service->commit(*previous);
   for (const auto& warning : config::warnings(runtime_.config())) spdlog::warn("{}", warning);
   spdlog::info("bridge: reloaded {}", runtime_.config().file);

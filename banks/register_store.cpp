@@ -88,7 +88,29 @@ void RegisterStore::set_mapping(const Mapping& mapping) {
     const auto* reg = table && source->offset < table->length() ? &table->registers[source->offset] : nullptr;
     analog_conversions_[n] = tenths_conversion(reg, mapping_.analog_raw[n]);
   }
+  mapping_banks_ = 0;
+  for (const auto* sources : {&mapping_.analog, &mapping_.bits, &mapping_.user_inputs, &mapping_.user_outputs})
+    for (const auto& source : *sources)
+      if (source) mapping_banks_ |= 1u << index_of(source->bank);
   publish_mapped_bits();
+  changed_all();
+}
+
+void RegisterStore::changed(BankId bank) {
+  ++changes_[index_of(bank)];
+  if (mapping_banks_ >> index_of(bank) & 1u) {
+    ++changes_[index_of(BankId::A)];
+    ++changes_[index_of(BankId::B)];
+    ++changes_[index_of(BankId::C)];
+  }
+  if (change_signal_armed_ && change_signal_) {
+    change_signal_armed_ = false;
+    change_signal_();
+  }
+}
+
+void RegisterStore::changed_all() {
+  for (BankId id : all_banks) changed(id);
 }
 
 std::uint16_t RegisterStore::read_source(const SourceRef& source) const {
@@ -113,10 +135,16 @@ std::uint16_t RegisterStore::read(BankId bank, std::uint16_t offset) const {
 bool RegisterStore::store_telegram(BankId id, std::uint16_t offset, std::span<const std::uint16_t> values) {
   auto& bank = bank_(id);
   if (std::size_t{offset} + values.size() > bank.filled_length) return false;
+  const auto begin = bank.raw.begin() + offset;
+  const auto carried = bank.carried.begin() + offset;
+  const bool same = std::equal(values.begin(), values.end(), begin) &&
+                    std::all_of(carried, carried + static_cast<std::ptrdiff_t>(values.size()), [](std::uint8_t c) { return c != 0; });
+  if (same) return true;
   std::copy(values.begin(), values.end(), bank.raw.begin() + offset);
   std::fill_n(bank.carried.begin() + offset, values.size(), std::uint8_t{1});
   refresh_served(bank, offset, values.size());
   publish_mapped_bits();
+  changed(id);
   return true;
 }
 
@@ -126,6 +154,8 @@ void RegisterStore::set_online(BankId id, bool online) {
   bank.online = online;
   refresh_served(bank, 0, bank.length);
   publish_mapped_bits();
+  changed(id);
+  changed(BankId::C);  // its on-line bits
 }
 
 void RegisterStore::write(BankId id, std::uint16_t offset, std::uint16_t value) {
@@ -133,6 +163,7 @@ void RegisterStore::write(BankId id, std::uint16_t offset, std::uint16_t value) 
   bank_(id).carried[offset] = 1;
   notify(id, offset, value);
   publish_mapped_bits();
+  changed(id);
 }
 
 void RegisterStore::publish_mapped_bits() {
@@ -152,9 +183,14 @@ void RegisterStore::set_user_output(unsigned n, std::uint16_t value) {
   const auto offset = static_cast<std::uint16_t>(c_bank::user_analog_outputs + n - 1);
   bank_(BankId::C).raw[offset] = value;
   notify(BankId::C, offset, value);
+  changed(BankId::C);
 }
 
-void RegisterStore::set_modbus_error(bool error) { modbus_error_ = error; }
+void RegisterStore::set_modbus_error(bool error) {
+  if (modbus_error_ == error) return;
+  modbus_error_ = error;
+  changed(BankId::C);
+}
 
 std::uint16_t RegisterStore::online_bits() const {
   std::uint16_t bits = 0;
@@ -176,6 +212,7 @@ void RegisterStore::take_state_from(const RegisterStore& old) {
   }
   modbus_error_ = old.modbus_error_;
   publish_mapped_bits();
+  changed_all();
 }
 
 }  // namespace unima::banks

@@ -96,6 +96,17 @@ class RegisterStore {
 
   void set_change_listener(ChangeListener listener) { listener_ = std::move(listener); }
 
+  /// How many times what the bank shows changed (a value, its on-line state): who sends
+  /// values north compares these counts instead of the values (SPEC §12's leading edge).
+  /// A change of a bank the mapping reads counts for A, B and C too; a telegram that
+  /// repeats what the bank holds is no change.
+  std::uint64_t changes(BankId bank) const { return changes_[index_of(bank)]; }
+  /// `signal` is called at the first change after each arm_change_signal(), once however
+  /// many follow: a telegram costs a flag, and the signal's receiver (io/store_changes)
+  /// wakes the loop once.
+  void set_change_signal(std::function<void()> signal) { change_signal_ = std::move(signal); }
+  void arm_change_signal() { change_signal_armed_ = true; }
+
   /// Carries over what the old config's store held: W, X, the user outputs, and the
   /// D_N/S_N values of banks whose table did not change (for a SIGHUP reload).
   void take_state_from(const RegisterStore& old);
@@ -133,6 +144,13 @@ class RegisterStore {
   Mapping mapping_;
   std::array<TenthsConversion, Mapping::entries> analog_conversions_{};  // of mapping_.analog
   ChangeListener listener_;
+
+  void changed(BankId bank);
+  void changed_all();
+  std::array<std::uint64_t, bank_count> changes_{};
+  std::uint32_t mapping_banks_ = 0;  // a bit per bank (index_of) that a mapping entry reads
+  std::function<void()> change_signal_;
+  bool change_signal_armed_ = false;
 };
 
 }  // namespace unima::banks

@@ -10,6 +10,7 @@ import json
 import socket
 import statistics
 import subprocess
+import tempfile
 import time
 
 
@@ -24,8 +25,11 @@ def main():
 
     listener = None
     if args.broker:
+        # To a file, not a pipe: a document is a few kB, and a subscriber blocked on a full
+        # pipe that is read only at the end takes no more (the count was ~9 documents).
+        received = tempfile.TemporaryFile("w+")
         listener = subprocess.Popen(["mosquitto_sub", "-p", str(args.broker), "-t", args.topic, "-F", "%U %p"],
-                                    stdout=subprocess.PIPE, text=True)
+                                    stdout=received, text=True)
         time.sleep(0.3)
     feed = socket.create_connection(("127.0.0.1", args.feed_port))
     feed.setblocking(False)
@@ -62,7 +66,9 @@ def main():
     if listener:
         time.sleep(0.5)
         listener.terminate()
-        output, _ = listener.communicate()
+        listener.wait()
+        received.seek(0)
+        output = received.read()
         latencies = []
         for line in output.splitlines():
             stamp, _, payload = line.partition(" ")

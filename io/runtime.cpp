@@ -45,7 +45,9 @@ Runtime::Runtime(asio::io_context& io_context, std::unique_ptr<Banks> first)
       banks(std::move(first)),
       monitor(std::make_unique<monitor::Monitor>(banks->config.monitor)),
       // The error hold outlives every port that reports a fault to it.
-      error_hold(io_context, [this](bool error) { banks->store->set_modbus_error(error); }) {
+      error_hold(io_context, [this](bool error) { banks->store->set_modbus_error(error); }),
+      changes(io_context) {
+  changes.attach(*banks->store);
   if (!banks->config.state.file.empty()) {
     state = std::make_unique<StateFile>(io, banks->config.state.file);
     banks->writes->set_journal(state.get());

@@ -18,6 +18,7 @@
 #include "io/error_hold.hpp"
 #include "io/gateway_request.hpp"
 #include "io/state_file.hpp"
+#include "io/store_changes.hpp"
 #include "modbus/capture.hpp"
 #include "monitor/monitor.hpp"
 #include "platform/asio.hpp"
@@ -54,6 +55,7 @@ struct Runtime {
   std::unique_ptr<StateFile> state;  // null without `state.file`
   ErrorHold error_hold;              // C+0x13 bit 15, held 2 s after the last fault
   unimabus::Publisher publisher;     // W, X and the user outputs to the running transport
+  StoreChanges changes;              // the running store's changes, for who sends values north
   std::chrono::steady_clock::time_point started_at = std::chrono::steady_clock::now();
   std::chrono::system_clock::time_point started_utc = std::chrono::system_clock::now();  // the birth's `started`
   /// The whole status document (`unima-bridge status --json`), for who shows it.

@@ -1,5 +1,7 @@
 #include "mqtt/bank_documents.hpp"
 
+#include <algorithm>
+
 #include "monitor/monitor_line.hpp"
 #include "values/value_json.hpp"
 
@@ -31,23 +33,37 @@ nlohmann::ordered_json bank_document(const values::BankValues& layout, std::span
 }
 
 PublishSchedule::PublishSchedule(std::size_t banks, std::chrono::milliseconds period, bool on_change)
-    : period_(period), on_change_(on_change), published_(banks), published_at_(banks) {}
+    : period_(period), on_change_(on_change), banks_(banks) {}
 
-std::vector<std::size_t> PublishSchedule::due(const std::vector<std::string>& states, Clock::time_point now) {
+std::vector<std::size_t> PublishSchedule::due(std::span<const std::uint64_t> changes, Clock::time_point now,
+                                              const StateOf& state_of) {
   const bool full = all_due_ || now - last_full_ >= period_;
   if (full) {
     all_due_ = false;
     last_full_ = now;
   }
-  std::vector<std::size_t> banks;
-  for (std::size_t i = 0; i < states.size() && i < published_.size(); ++i) {
-    const bool changed = on_change_ && states[i] != published_[i] && now - published_at_[i] >= min_interval;
+  next_due_ = last_full_ + period_;
+  std::vector<std::size_t> due;
+  for (std::size_t i = 0; i < changes.size() && i < banks_.size(); ++i) {
+    auto& bank = banks_[i];
+    bank.latest = changes[i];
+    const bool changed = on_change_ && bank.latest != bank.examined;
     if (!full && !changed) continue;
-    banks.push_back(i);
-    published_[i] = states[i];
-    published_at_[i] = now;
+    if (!full) {
+      const auto when = bank.edge.when(now);
+      if (when > now) {  // within its 100 ms: it goes then, with the state it has then
+        next_due_ = std::min(next_due_, when);
+        continue;
+      }
+    }
+    bank.examined = bank.latest;
+    auto state = state_of(i);
+    if (!full && state == bank.published) continue;  // a change the document does not show
+    due.push_back(i);
+    bank.published = std::move(state);
+    bank.edge.went(now);
   }
-  return banks;
+  return due;
 }
 
 }  // namespace unima::mqtt

@@ -5,17 +5,20 @@
 // keys ("knock_rank_1.level", "status.state"), A and B by their mapping sources
 // ("D1.oil_temperature") — with `null` for a value not measured or of an off-line device,
 // and "online" and "time". Unmapped entries and reserves are left out. And when a bank is
-// due: on change, at most every 100 ms, and all of them every `period` and after a
-// reconnect. Pure: values and time points are passed in.
+// due: on change on the leading edge (at once after a quiet 100 ms, else when its 100 ms
+// are up), and all of them every `period` and after a reconnect. Pure: values, change
+// counts and time points are passed in.
 
 #include <chrono>
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "values/leading_edge.hpp"
 #include "values/value_model.hpp"
 
 namespace unima::mqtt {
@@ -31,27 +34,42 @@ nlohmann::ordered_json bank_values(const values::BankValues& layout, std::span<c
 nlohmann::ordered_json bank_document(const values::BankValues& layout, std::span<const values::Value> values, bool online,
                                      std::chrono::system_clock::time_point now);
 
-/// Which banks are due, from their values and the clock.
+/// Which banks are due, from their change counts and the clock: each bank on the leading
+/// edge (values/leading_edge.hpp) when it changes, all of them every `period` and after a
+/// reconnect. Its owner asks due() when the store changed and again at next_due().
 class PublishSchedule {
  public:
-  using Clock = std::chrono::steady_clock;
-  static constexpr std::chrono::milliseconds min_interval{100};
+  using Clock = values::LeadingEdge::Clock;
+  static constexpr std::chrono::milliseconds min_interval = values::LeadingEdge::cap;
+  /// Bank i's state: its values and on-line state, in a form compared as a whole.
+  using StateOf = std::function<std::string(std::size_t bank)>;
 
   PublishSchedule(std::size_t banks, std::chrono::milliseconds period, bool on_change);
 
   /// Everything again at the next call (a new connection: retained documents are refreshed).
   void publish_all() { all_due_ = true; }
-  /// The banks to publish now, given each bank's current state (its values and on-line
-  /// state, in a form compared as a whole); their states are remembered as published.
-  std::vector<std::size_t> due(const std::vector<std::string>& states, Clock::time_point now);
+  /// The banks to publish now; `changes[i]` counts bank i's changes
+  /// (banks::RegisterStore::changes). A bank whose count moved goes when its leading edge
+  /// allows, if its state then differs from the one last published; `state_of` is asked
+  /// only of banks that may go now, and what it says of a bank that goes is remembered as
+  /// published.
+  std::vector<std::size_t> due(std::span<const std::uint64_t> changes, Clock::time_point now, const StateOf& state_of);
+  /// When due() has work without a new change: a changed bank's 100 ms are up, or the period.
+  Clock::time_point next_due() const { return next_due_; }
 
  private:
+  struct Bank {
+    std::string published;        // the state last published
+    values::LeadingEdge edge;
+    std::uint64_t examined = 0;   // the change count when its state was last compared
+    std::uint64_t latest = 0;     // the change count due() saw last
+  };
   std::chrono::milliseconds period_;
   bool on_change_;
   bool all_due_ = true;
   Clock::time_point last_full_{};
-  std::vector<std::string> published_;
-  std::vector<Clock::time_point> published_at_;
+  Clock::time_point next_due_{};
+  std::vector<Bank> banks_;
 };
 
 }  // namespace unima::mqtt

@@ -96,4 +96,17 @@ void LiveView::update(LiveSnapshot now, const monitor::RecentTransactions& recen
   if (pages_.empty()) last_.reset();  // the next page starts from a fresh snapshot
 }
 
+void LiveView::update_values(LiveSnapshot now) {
+  if (!last_ || !same_layout(*last_, now)) return;
+  std::string shared;
+  if (auto changes = changed_values(*last_, now); !changes.empty()) shared += sse_event("registers", changes);
+  if (auto changes = changed_named(*last_, now); !changes.empty()) shared += sse_event("values", changes);
+  now.panel = std::move(last_->panel);
+  last_ = std::move(now);
+  if (shared.empty()) return;
+  for (auto& page : pages_) page.sink->send(shared);
+  std::erase_if(pages_, [](const Page& page) { return page.sink->closed(); });
+  if (pages_.empty()) last_.reset();
+}
+
 }  // namespace unima::web

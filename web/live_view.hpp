@@ -1,7 +1,8 @@
 #pragma once
 // The front page's live feed (SPEC §13, /api/events): server-sent events that carry only
-// what changed. The Bridge takes a snapshot on each heartbeat while a page listens; this
-// compares it with the last one and sends each page
+// what changed. HttpService takes a snapshot on each heartbeat while a page listens, and
+// of the values alone when the banks change (on the leading edge, values/leading_edge);
+// this compares it with the last one and sends each page
 //   event: registers  {"0x1100": 1234, "0x1101": null, ...}  the raw registers that changed
 //   event: values     {"D1/engine_speed": {"value": 1234, "state": "ok"}, ...}
 //                                                          the values (values/) that changed
@@ -47,6 +48,10 @@ class LiveView {
                  const monitor::RecentTransactions& recent);
   /// Sends every page what changed since the last snapshot; forgets closed pages.
   void update(LiveSnapshot now, const monitor::RecentTransactions& recent);
+  /// The same for the registers and values alone (`now.panel` is not looked at): a value's
+  /// change goes out at once, the panel and the monitor lines keep the heartbeat's pace.
+  /// A changed layout waits for the heartbeat's update, which says so.
+  void update_values(LiveSnapshot now);
   bool listened() const { return !pages_.empty(); }
   std::size_t pages() const { return pages_.size(); }
 

@@ -164,9 +164,14 @@ nlohmann::json live_value(const values::ValueDef& def, const values::Value& valu
 }  // namespace
 
 web::LiveSnapshot HttpAnswers::live_snapshot() const {
+  auto snapshot = live_values();
+  snapshot.panel = panel_of(runtime_.status());
+  return snapshot;
+}
+
+web::LiveSnapshot HttpAnswers::live_values() const {
   const auto& running = *runtime_.banks;
   web::LiveSnapshot snapshot;
-  snapshot.panel = panel_of(runtime_.status());
   for (const auto& row : running.register_rows) {
     std::uint16_t value = 0;
     snapshot.addresses.push_back(row.address);

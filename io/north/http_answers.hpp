@@ -21,6 +21,8 @@ class HttpAnswers {
   HttpResponse answer(std::string_view target);
   /// What the front page shows now.
   web::LiveSnapshot live_snapshot() const;
+  /// The same without the panel (which costs the status document): the registers and values.
+  web::LiveSnapshot live_values() const;
 
  private:
   HttpResponse registers() const;

@@ -20,9 +20,12 @@ std::optional<std::tuple<std::string, std::uint16_t, bool>> endpoint(const confi
 
 }  // namespace
 
-HttpService::HttpService(Runtime& runtime) : runtime_(runtime), heartbeat_timer_(runtime.io) {
+HttpService::HttpService(Runtime& runtime) : runtime_(runtime), heartbeat_timer_(runtime.io), values_timer_(runtime.io) {
   users_ = read_users(runtime.config());
   server_ = MovableListener<HttpServer>(make_server(runtime.config()));
+  runtime.changes.listen([this] {
+    if (started_ && live_.listened()) values_changed();
+  });
 }
 
 std::unique_ptr<HttpServer> HttpService::make_server(const config::Config& config) {
@@ -136,6 +139,24 @@ HttpResponse HttpService::unauthorized(const std::string& peer, bool gave_creden
                       {{"WWW-Authenticate", "Basic realm=\"unima-bridge\", charset=\"UTF-8\""}}, {}};
 }
 
+void HttpService::values_changed() {
+  const auto now = values::LeadingEdge::Clock::now();
+  const auto when = values_edge_.when(now);
+  if (when <= now) return send_values();
+  if (std::exchange(values_timer_armed_, true)) return;
+  values_timer_.expires_at(when);
+  values_timer_.async_wait([this](const boost::system::error_code& ec) {
+    if (ec) return;
+    values_timer_armed_ = false;
+    if (started_ && live_.listened()) send_values();
+  });
+}
+
+void HttpService::send_values() {
+  live_.update_values(answers_.live_values());
+  values_edge_.went(values::LeadingEdge::Clock::now());
+}
+
 void HttpService::heartbeat() {
   health_.beat(LoopHealth::Clock::now());
   if (live_.listened()) live_.update(answers_.live_snapshot(), runtime_.monitor->recent());
@@ -155,6 +176,8 @@ void HttpService::stop() {
   started_ = false;
   server_.stop();
   heartbeat_timer_.cancel();
+  values_timer_.cancel();
+  values_timer_armed_ = false;
 }
 
 void HttpService::stage(const Banks& next) {

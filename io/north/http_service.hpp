@@ -2,7 +2,8 @@
 // HTTP (`http`, SPEC §13) as a service: the server (plain or TLS), who may ask
 // (`http.users`: the hashes computed by a PasswordWorker, within web::LoginLimits), the
 // loop's heartbeat that /healthz reports and that feeds the front pages listening to
-// /api/events. A reload keeps the listener when its address, port and
+// /api/events their panel and monitor lines; their values go when the banks change, on
+// the leading edge (values/leading_edge: at once after a quiet 100 ms). A reload keeps the listener when its address, port and
 // TLS did not change (renewed certificates and users apply at once); a users file that
 // can no longer be read keeps the users read before.
 
@@ -18,6 +19,7 @@
 #include "io/north/password_worker.hpp"
 #include "io/movable_listener.hpp"
 #include "io/service.hpp"
+#include "values/leading_edge.hpp"
 #include "web/basic_auth.hpp"
 #include "web/live_view.hpp"
 #include "web/login_limits.hpp"
@@ -45,6 +47,9 @@ class HttpService final : public Service {
   void checked(const std::string& authorization, bool hash_matched);
   HttpResponse unauthorized(const std::string& peer, bool gave_credentials);
   void heartbeat();
+  /// The banks changed: the pages get the values now, or when their 100 ms are up.
+  void values_changed();
+  void send_values();
 
   Runtime& runtime_;
   web::LiveView live_;  // the front pages listening to /api/events
@@ -76,6 +81,10 @@ class HttpService final : public Service {
   std::shared_ptr<tls::HandshakeLimiter> handshakes_ = std::make_shared<tls::HandshakeLimiter>();
   MovableListener<HttpServer> server_{nullptr};
   asio::steady_timer heartbeat_timer_;
+  // Of the values sent alone: the heartbeat's own update does not hold a change back.
+  values::LeadingEdge values_edge_;
+  asio::steady_timer values_timer_;  // a change within the 100 ms: when they are up
+  bool values_timer_armed_ = false;
   bool started_ = false;
   // Staged by a reload:
   std::shared_ptr<asio::ssl::context> next_tls_;  // same endpoint: http.tls read again

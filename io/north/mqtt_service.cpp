@@ -27,6 +27,9 @@ MqttService::MqttService(Runtime& runtime) : runtime_(runtime), timer_(runtime.i
   }
   client_ = make_client(runtime.config());
   lay_out();
+  runtime.changes.listen([this] {
+    if (started_ && client_) publish();
+  });
 }
 
 std::unique_ptr<MqttClient> MqttService::make_client(const config::Config& config) {
@@ -121,12 +124,16 @@ void MqttService::take_command(const MqttMessage& message) {
   });
 }
 
-void MqttService::tick() {
-  timer_.expires_after(mqtt::PublishSchedule::min_interval);
+// Armed only when nothing sooner is: a change that may go at once does not wait for it,
+// and a wake-up too early finds nothing due and arms again.
+void MqttService::wake_at(mqtt::PublishSchedule::Clock::time_point when) {
+  if (timer_due_ && *timer_due_ <= when) return;
+  timer_due_ = when;
+  timer_.expires_at(when);
   timer_.async_wait([this](const boost::system::error_code& ec) {
-    if (ec || !started_ || !client_) return;
-    publish();
-    tick();
+    if (ec) return;
+    timer_due_.reset();
+    if (started_ && client_) publish();
   });
 }
 
@@ -138,42 +145,55 @@ void MqttService::publish() {
   if (!client_ || !schedule_) return;
   const bool live = client_->connected();
   // A broker that does not keep up gets the latest state once it does, not a queue of states.
-  if (live ? client_->backlogged() : !buffering()) return;
-  const auto& running = *runtime_.banks;
-  const auto snapshot = values::snapshot_of(*running.store);
-  // Each bank's state as the text of its values and on-line flag: compared whole.
-  std::vector<std::vector<values::Value>> bank_values;
-  std::vector<std::string> states;
-  for (const auto bank : banks_) {
-    bank_values.push_back(running.value_model.evaluate(bank, snapshot));
-    const auto state =
-        mqtt::bank_values(*running.value_model.bank(bank), bank_values.back(), snapshot[banks::index_of(bank)].online);
-    states.push_back(state.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace));
+  if (live && client_->backlogged()) return wake_at(mqtt::PublishSchedule::Clock::now() + mqtt::PublishSchedule::min_interval);
+  if (!live && !buffering()) {
+    // The connection publishes everything when it comes; until then, only the buffer's
+    // start (an attempt that fails) is looked for, as often as a document could go.
+    if (buffer_) wake_at(mqtt::PublishSchedule::Clock::now() + mqtt::PublishSchedule::min_interval);
+    return;
   }
+  const auto& running = *runtime_.banks;
+  std::vector<std::uint64_t> changes;
+  changes.reserve(banks_.size());
+  for (const auto bank : banks_) changes.push_back(running.store->changes(bank));
+  // Read and evaluated only for the banks that may go now.
+  std::optional<values::Snapshot> snapshot;
+  std::vector<std::vector<values::Value>> bank_values(banks_.size());
+  const auto state_of = [&](std::size_t index) {
+    if (!snapshot) snapshot = values::snapshot_of(*running.store);
+    const auto bank = banks_[index];
+    bank_values[index] = running.value_model.evaluate(bank, *snapshot);
+    const auto state =
+        mqtt::bank_values(*running.value_model.bank(bank), bank_values[index], (*snapshot)[banks::index_of(bank)].online);
+    return state.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+  };
+  const auto due = schedule_->due(changes, mqtt::PublishSchedule::Clock::now(), state_of);
   const auto now = std::chrono::system_clock::now();
   const auto& prefix = running.config.mqtt->topic;
-  for (const auto index : schedule_->due(states, mqtt::PublishSchedule::Clock::now())) {
+  for (const auto index : due) {
     const auto bank = banks_[index];
-    const auto document =
-        mqtt::bank_document(*running.value_model.bank(bank), bank_values[index], snapshot[banks::index_of(bank)].online, now);
+    const auto document = mqtt::bank_document(*running.value_model.bank(bank), bank_values[index],
+                                              (*snapshot)[banks::index_of(bank)].online, now);
     auto text = document.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
     if (live) client_->publish(prefix + "/" + std::string(banks::bank_name(bank)), text, true);
     else buffer_->append(banks::bank_name(bank), std::move(text));
   }
   if (live && std::exchange(history_waits_, false)) history_->begin(*client_, prefix);
+  wake_at(schedule_->next_due());
 }
 
 void MqttService::start() {
   started_ = true;
   if (!client_) return;
   client_->start();
-  tick();
+  publish();
 }
 
 void MqttService::stop() {
   started_ = false;
   if (client_) client_->stop();
   timer_.cancel();
+  timer_due_.reset();
 }
 
 void MqttService::stage(const Banks& next) {
@@ -201,13 +221,11 @@ void MqttService::commit(const Banks& previous) {
     if (history_) history_->end();
     client_ = std::move(next_client_);
     new_client_ = false;
-    if (client_ && started_) {
-      client_->start();
-      tick();
-    }
+    if (client_ && started_) client_->start();
   }
   lay_out();
   if (client_) discovery_.announce(*client_);  // a new client announces when it connects
+  if (started_) publish();  // the new layout's documents, all of them
 }
 
 void MqttService::describe(nlohmann::json& status) const {

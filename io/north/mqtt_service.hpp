@@ -1,8 +1,10 @@
 #pragma once
-// MQTT (`mqtt`, SPEC §12) as a service: the client, what it publishes — every 100 ms the
-// banks whose values or on-line state changed, every `period` and after each
-// (re)connection all of them, from the value model (values/) over the register store
-// that Modbus reads, so a document and a Modbus read never disagree — and the commands
+// MQTT (`mqtt`, SPEC §12) as a service: the client, what it publishes — a bank whose
+// values or on-line state changed on the leading edge (at once when its last document is
+// 100 ms old, else when its 100 ms are up: mqtt::PublishSchedule), woken by the store's
+// changes (io/store_changes) and by a timer for the next due time only; every `period`
+// and after each (re)connection all of them — from the value model (values/) over the
+// register store that Modbus reads, so a document and a Modbus read never disagree — and the commands
 // it takes (`<prefix>/set/W/<n>`, `set/X/<bit>`), written through the one write path and
 // answered on `<prefix>/set/result` or, for an MQTT 5 request that names one, on its
 // Response Topic (SPEC §15). Before all of it on each connection, the birth
@@ -42,8 +44,9 @@ class MqttService final : public Service {
   std::unique_ptr<MqttClient> make_client(const config::Config& config);
   /// What the running config publishes, and a schedule that publishes it all first.
   void lay_out();
-  void tick();
+  /// Publishes what is due now and arms the timer for what is due next.
   void publish();
+  void wake_at(mqtt::PublishSchedule::Clock::time_point when);
   void take_command(const MqttMessage& message);
   std::string birth() const;
   /// Documents go to the history buffer instead of the broker.
@@ -57,7 +60,8 @@ class MqttService final : public Service {
   std::unique_ptr<HistoryBuffer> buffer_;  // null: mqtt.buffer.file none, or no mqtt at the start
   std::unique_ptr<HistorySender> history_;
   bool history_waits_ = false;  // a new connection's history goes once its live documents are out
-  asio::steady_timer timer_;
+  asio::steady_timer timer_;  // the next due time: a capped change, the period, a backlog's retry
+  std::optional<mqtt::PublishSchedule::Clock::time_point> timer_due_;  // none: not armed
   bool started_ = false;
   // Staged by a reload:
   bool new_client_ = false;

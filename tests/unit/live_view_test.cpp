@@ -127,6 +127,33 @@ TEST(LiveView, AClosedPageIsForgottenAndALayoutChangeSendsEverything) {
   EXPECT_NE(events.find("event: registers\ndata: {\"0x2000\":7}\n\n"), std::string::npos) << events;
 }
 
+// Between heartbeats the values go alone (HttpService, on the leading edge): registers and
+// named values that changed, no panel, no monitor lines; a new layout waits for the
+// heartbeat's full update.
+TEST(LiveView, ValuesAloneCarryTheChangedRegistersAndKeepThePanelForTheHeartbeat) {
+  LiveView view;
+  monitor::RecentTransactions recent;
+  auto page = std::make_shared<RecordingSink>();
+  view.subscribe(page, {}, snapshot(1, 1), recent);
+  page->take();
+  push(recent, fc4(0x1100, 1), 1);
+  view.update_values(snapshot(1, 2, true));
+  EXPECT_EQ(page->take(), "event: registers\ndata: {\"0x1101\":2}\n\n") << "no panel, no monitor line";
+  view.update_values(snapshot(1, 2, true));
+  EXPECT_EQ(page->take(), "");
+  view.update(snapshot(1, 2, true), recent);
+  const auto beat = page->take();
+  EXPECT_NE(beat.find("event: panel\ndata: {\"devices\":[{\"bank\":\"D1\",\"online\":true}]}"), std::string::npos)
+      << "the heartbeat still sends the panel that changed: " << beat;
+  EXPECT_EQ(beat.find("event: registers"), std::string::npos) << "the register went already";
+  EXPECT_NE(beat.find("event: monitor"), std::string::npos);
+
+  view.update_values(LiveSnapshot{nlohmann::json::object(), {0x2000}, {7}, {}});
+  EXPECT_EQ(page->take(), "") << "a new layout is the heartbeat's";
+  view.update(LiveSnapshot{nlohmann::json::object(), {0x2000}, {7}, {}}, recent);
+  EXPECT_TRUE(page->take().starts_with("event: layout"));
+}
+
 TEST(LiveView, MonitorLinesGoThroughEachPagesOwnFilter) {
   LiveView view;
   monitor::RecentTransactions recent;

@@ -223,6 +223,65 @@ TEST(RegisterStore, OnlineBits) {
   EXPECT_EQ(out[1], 0xC205);
 }
 
+// What senders north compare (SPEC §12's leading edge): a count per bank that moves when
+// what the bank shows does, and a signal once per arming.
+TEST(RegisterStore, ChangeCountsMoveWithWhatTheBankShows) {
+  RegisterStore store(shapes_with({&chp(), nullptr, nullptr, nullptr}));
+  const std::array<std::uint16_t, 2> values{7, 8};
+  const auto d1 = store.changes(BankId::D1);
+  const auto c = store.changes(BankId::C);
+  const auto s1 = store.changes(BankId::S1);
+  ASSERT_TRUE(store.store_telegram(BankId::D1, 0, values));
+  EXPECT_EQ(store.changes(BankId::D1), d1 + 1);
+  EXPECT_EQ(store.changes(BankId::S1), s1) << "another bank";
+  ASSERT_TRUE(store.store_telegram(BankId::D1, 0, values));
+  EXPECT_EQ(store.changes(BankId::D1), d1 + 1) << "the same values again are no change";
+  store.set_online(BankId::D1, true);
+  EXPECT_EQ(store.changes(BankId::D1), d1 + 2);
+  EXPECT_GT(store.changes(BankId::C), c) << "C's on-line bits";
+  const auto c_before_error = store.changes(BankId::C);
+  store.set_modbus_error(true);
+  store.set_modbus_error(true);
+  EXPECT_EQ(store.changes(BankId::C), c_before_error + 1);
+  store.set_user_output(1, 5);
+  EXPECT_EQ(store.changes(BankId::C), c_before_error + 2);
+  store.write(BankId::W, 0, 1);
+  EXPECT_GT(store.changes(BankId::W), 0u);
+}
+
+TEST(RegisterStore, ABankTheMappingReadsCountsForAAndB) {
+  RegisterStore store(shapes_with({&chp(), &chp(), nullptr, nullptr}));
+  Mapping mapping;
+  mapping.analog[0] = SourceRef{BankId::D1, 1, std::nullopt, "D1+0x01"};
+  store.set_mapping(mapping);
+  const auto a = store.changes(BankId::A);
+  const auto b = store.changes(BankId::B);
+  const std::array<std::uint16_t, 1> value{1500};
+  ASSERT_TRUE(store.store_telegram(BankId::D1, 1, value));
+  EXPECT_EQ(store.changes(BankId::A), a + 1);
+  EXPECT_EQ(store.changes(BankId::B), b + 1);
+  ASSERT_TRUE(store.store_telegram(BankId::D2, 1, value));
+  EXPECT_EQ(store.changes(BankId::A), a + 1) << "D2 feeds no mapping entry";
+}
+
+TEST(RegisterStore, TheChangeSignalComesOncePerArming) {
+  RegisterStore store(shapes_with({&chp(), nullptr, nullptr, nullptr}));
+  int signals = 0;
+  store.set_change_signal([&] { ++signals; });
+  const std::array<std::uint16_t, 1> one{1}, two{2}, three{3};
+  store.store_telegram(BankId::D1, 0, one);
+  EXPECT_EQ(signals, 0) << "not armed";
+  store.arm_change_signal();
+  store.store_telegram(BankId::D1, 0, two);
+  store.store_telegram(BankId::D1, 0, three);
+  EXPECT_EQ(signals, 1);
+  store.arm_change_signal();
+  store.store_telegram(BankId::D1, 0, three);
+  EXPECT_EQ(signals, 1) << "no change, no signal";
+  store.set_online(BankId::D1, true);
+  EXPECT_EQ(signals, 2);
+}
+
 TEST(RegisterStore, TakeStateFromCarriesPublishedValuesAndSameTableDevices) {
   const DeviceTable* uvr = find_device_type("uvr");
   ASSERT_NE(uvr, nullptr);
