@@ -26,7 +26,13 @@ Subscription::Subscription(const Broker& broker, const std::filesystem::path& fi
 
 Subscription::~Subscription() { ::kill(pid_, SIGTERM); }
 
-std::string Subscription::lines() const { return read_file(file_); }
+// mosquitto_sub writes a message's line as it comes: a line without its end may still be
+// being written, and is left for the next look.
+std::string Subscription::lines() const {
+  auto text = read_file(file_);
+  text.erase(text.find_last_of('\n') == std::string::npos ? 0 : text.find_last_of('\n') + 1);
+  return text;
+}
 
 std::vector<std::string> payloads(const std::string& lines, const std::string& topic) {
   std::vector<std::string> found;

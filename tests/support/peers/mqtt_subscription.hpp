@@ -21,7 +21,7 @@ class Subscription {
   Subscription(const Subscription&) = delete;
   Subscription& operator=(const Subscription&) = delete;
 
-  /// What came so far: "topic payload" lines.
+  /// What came so far: "topic payload" lines, whole ones only.
   std::string lines() const;
 
  private:
