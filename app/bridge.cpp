@@ -71,6 +71,7 @@ void Bridge::reload(config::Config config) {
   }
   // Nothing below can fail: the values carry over, the banks swap, the services switch.
   next->store->take_state_from(*runtime_.banks->store);
+  runtime_.watch_changes(*next->store);
   const auto previous = std::exchange(runtime_.banks, std::move(next));
   for (auto& service : services_) service->commit(*previous);
   for (const auto& warning : config::warnings(runtime_.config())) spdlog::warn("{}", warning);

@@ -1,6 +1,7 @@
 #include "banks/register_store.hpp"
 
 #include <algorithm>
+#include <utility>
 
 namespace unima::banks {
 
@@ -117,6 +118,7 @@ bool RegisterStore::store_telegram(BankId id, std::uint16_t offset, std::span<co
   std::fill_n(bank.carried.begin() + offset, values.size(), std::uint8_t{1});
   refresh_served(bank, offset, values.size());
   publish_mapped_bits();
+  content_changed();
   return true;
 }
 
@@ -126,6 +128,7 @@ void RegisterStore::set_online(BankId id, bool online) {
   bank.online = online;
   refresh_served(bank, 0, bank.length);
   publish_mapped_bits();
+  content_changed();
 }
 
 void RegisterStore::write(BankId id, std::uint16_t offset, std::uint16_t value) {
@@ -133,6 +136,7 @@ void RegisterStore::write(BankId id, std::uint16_t offset, std::uint16_t value) 
   bank_(id).carried[offset] = 1;
   notify(id, offset, value);
   publish_mapped_bits();
+  content_changed();
 }
 
 void RegisterStore::publish_mapped_bits() {
@@ -152,9 +156,12 @@ void RegisterStore::set_user_output(unsigned n, std::uint16_t value) {
   const auto offset = static_cast<std::uint16_t>(c_bank::user_analog_outputs + n - 1);
   bank_(BankId::C).raw[offset] = value;
   notify(BankId::C, offset, value);
+  content_changed();
 }
 
-void RegisterStore::set_modbus_error(bool error) { modbus_error_ = error; }
+void RegisterStore::set_modbus_error(bool error) {
+  if (std::exchange(modbus_error_, error) != error) content_changed();
+}
 
 std::uint16_t RegisterStore::online_bits() const {
   std::uint16_t bits = 0;

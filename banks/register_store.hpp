@@ -1,6 +1,7 @@
 #pragma once
 // The values of all banks, by bank and offset. Knows what an off-line device reads
-// (SPEC §1) and tells a listener about every value the bridge publishes to UnimaBUS.
+// (SPEC §1) and tells a listener about every value the bridge publishes to UnimaBUS, and
+// another that something a read returns may have changed (who publishes northbound).
 // Pure: no clock, no I/O. Presence time-outs are decided outside and set here.
 
 #include <algorithm>
@@ -95,6 +96,10 @@ class RegisterStore {
   std::uint16_t online_bits() const;
 
   void set_change_listener(ChangeListener listener) { listener_ = std::move(listener); }
+  /// Called after anything a read may return differently changed: a telegram, presence, a
+  /// write, a user output, the Modbus error bit. Which bank is not said: A, B and C read
+  /// their sources in the others, so whoever listens reads again what it publishes.
+  void set_content_listener(std::function<void()> listener) { content_listener_ = std::move(listener); }
 
   /// Carries over what the old config's store held: W, X, the user outputs, and the
   /// D_N/S_N values of banks whose table did not change (for a SIGHUP reload).
@@ -119,6 +124,9 @@ class RegisterStore {
   void notify(BankId bank, std::uint16_t offset, std::uint16_t value) const {
     if (listener_) listener_(bank, offset, value);
   }
+  void content_changed() const {
+    if (content_listener_) content_listener_();
+  }
 
   BankShapes shapes_;
   std::array<Bank, bank_count> banks_;
@@ -133,6 +141,7 @@ class RegisterStore {
   Mapping mapping_;
   std::array<TenthsConversion, Mapping::entries> analog_conversions_{};  // of mapping_.analog
   ChangeListener listener_;
+  std::function<void()> content_listener_;
 };
 
 }  // namespace unima::banks

@@ -46,6 +46,7 @@ Runtime::Runtime(asio::io_context& io_context, std::unique_ptr<Banks> first)
       monitor(std::make_unique<monitor::Monitor>(banks->config.monitor)),
       // The error hold outlives every port that reports a fault to it.
       error_hold(io_context, [this](bool error) { banks->store->set_modbus_error(error); }) {
+  watch_changes(*banks->store);
   if (!banks->config.state.file.empty()) {
     state = std::make_unique<StateFile>(io, banks->config.state.file);
     banks->writes->set_journal(state.get());
@@ -54,6 +55,12 @@ Runtime::Runtime(asio::io_context& io_context, std::unique_ptr<Banks> first)
     state->set_outcome({[this](std::span<const banks::WrittenValue> write) { banks->writes->commit(write); },
                         [this] { error_hold.fault(); }});
   }
+}
+
+void Runtime::watch_changes(banks::RegisterStore& store) {
+  store.set_content_listener([this] {
+    for (const auto& listener : banks_changed_) listener();
+  });
 }
 
 }  // namespace unima::io

@@ -65,7 +65,18 @@ struct Runtime {
   /// requests still queued for the line leave the queue. Set beside forward_to_line.
   std::function<void(std::uint64_t client)> client_gone_from_line;
 
+  /// `listener` is called, on the loop, after anything the banks read changed (the running
+  /// store's content listener, banks::RegisterStore): who publishes northbound learns of a
+  /// change when it happens instead of looking every so often. For as long as the runtime.
+  void on_banks_changed(std::function<void()> listener) { banks_changed_.push_back(std::move(listener)); }
+  /// Points `store`'s content listener at on_banks_changed's listeners (the first banks, and
+  /// each reload's before they run).
+  void watch_changes(banks::RegisterStore& store);
+
   const config::Config& config() const { return banks->config; }
+
+ private:
+  std::vector<std::function<void()>> banks_changed_;
 };
 
 }  // namespace unima::io

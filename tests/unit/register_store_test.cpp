@@ -174,6 +174,29 @@ TEST(RegisterStore, WriteNotifiesTheListener) {
   EXPECT_EQ(changes, expected);
 }
 
+// Who publishes northbound hears of every change a read would see, and of nothing else.
+TEST(RegisterStore, ContentListenerHearsWhatAReadWouldSee) {
+  RegisterStore store(shapes_with({&chp(), nullptr, nullptr, nullptr}));
+  int heard = 0;
+  store.set_content_listener([&] { ++heard; });
+  const std::array<std::uint16_t, 2> values{1, 2};
+  EXPECT_TRUE(store.store_telegram(BankId::D1, 0, values));
+  EXPECT_EQ(heard, 1);
+  EXPECT_FALSE(store.store_telegram(BankId::D2, 0, values));  // not stored: nothing changed
+  EXPECT_EQ(heard, 1);
+  store.set_online(BankId::D1, true);
+  store.set_online(BankId::D1, true);  // already on-line
+  EXPECT_EQ(heard, 2);
+  store.write(BankId::W, 0, 7);
+  store.set_user_output(1, 9);
+  EXPECT_EQ(heard, 4);
+  store.set_modbus_error(true);
+  store.set_modbus_error(true);
+  EXPECT_EQ(heard, 5);
+  (void)store.read(BankId::D1, 0);
+  EXPECT_EQ(heard, 5);
+}
+
 TEST(RegisterStore, UserOutputNIsCPlusNMinusOne) {
   RegisterStore store(shapes_with({nullptr, nullptr, nullptr, nullptr}));
   std::vector<Change> changes;
