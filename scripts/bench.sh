@@ -5,7 +5,8 @@
 # Then Modbus/TCP Security against plain TCP (bench/tls.sh) and against stunnel4 in front of
 # the libmodbus server (bench/tls_reference.sh), plain Modbus latency under a
 # handshake flood (bench/tls_flood.sh), the cost of the HTTP server with its page open
-# (bench/http.sh), MQTT's (bench/mqtt.sh), Modbus latency while a peer guesses HTTP
+# (bench/http.sh), MQTT's (bench/mqtt.sh), Sparkplug B's latency, cost and births
+# (bench/sparkplug.sh), Modbus latency while a peer guesses HTTP
 # passwords (bench/auth_guess.sh), and the gateway's use of an RTU line (bench/gateway;
 # MBUSD=/path/to/mbusd runs mbusd beside it).
 set -euo pipefail
@@ -18,6 +19,7 @@ bench/tls_reference.sh "${BUILD_DIR:-build-release}"
 bench/tls_flood.sh "${BUILD_DIR:-build-release}"
 bench/http.sh "${BUILD_DIR:-build-release}"
 bench/mqtt.sh "${BUILD_DIR:-build-release}"
+bench/sparkplug.sh "${BUILD_DIR:-build-release}"
 bench/auth_guess.sh "${BUILD_DIR:-build-release}"
 gateway_args=(--load "${BUILD_DIR:-build-release}/bench/unima-bench-load")
 if [[ -n "${MBUSD:-}" ]]; then gateway_args+=(--mbusd "$MBUSD"); fi
