@@ -278,7 +278,9 @@ void SparkplugService::describe(nlohmann::json& status) const {
                    {"group_id", config.group_id},
                    {"edge_node_id", config.edge_node_id},
                    {"connected", client_->connected()},
-                   {"born", session_->born()},
+                   // The session hears of a lost connection at its next look, which waits
+                   // for a change; the status says it now.
+                   {"born", session_->born() && client_->connected()},
                    {"connections", m.connections},
                    {"drops", m.drops},
                    {"published", m.published},
