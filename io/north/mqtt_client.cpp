@@ -127,6 +127,7 @@ void MqttClient::tick() {
 void MqttClient::stop() {
   if (!running_) return;
   running_ = false;
+  ++attempts_;
   misc_timer_.cancel();
   retry_timer_.cancel();
   resolver_.cancel();
@@ -206,10 +207,15 @@ void MqttClient::connect(const std::string& address) {
   // name (libmosquitto looks it up again, a moment after the resolver did); plain MQTT
   // gets the address, and nothing on the loop waits for DNS.
   const auto& host = options_.tls ? options_.host : address;
-  if (make_will_) {
-    const auto will = make_will_();
+  if (!make_will_) return connect_now(host);
+  make_will_([this, alive = alive_, attempt = ++attempts_, host](const Will& will) {
+    if (!*alive || !running_ || attempt != attempts_) return;
     mosquitto_will_set(mosq_, will.topic.c_str(), static_cast<int>(will.payload.size()), will.payload.data(), will.qos, will.retain);
-  }
+    connect_now(host);
+  });
+}
+
+void MqttClient::connect_now(const std::string& host) {
   const int rc = mosquitto_connect_async(mosq_, host.c_str(), options_.port, static_cast<int>(options_.keepalive.count()));
   const int fd = mosquitto_socket(mosq_);
   if (rc != MOSQ_ERR_SUCCESS || fd < 0) return lost(reason(rc));

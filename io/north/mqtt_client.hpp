@@ -88,13 +88,17 @@ class MqttClient {
   }
   /// A will for each CONNECT, asked for just before it (Sparkplug: the NDEATH of the coming
   /// session, whose bdSeq each CONNECT counts); it takes the place of the status topic's.
+  /// `make` hands the will to the callback it is given, on the loop, when it is ready — the
+  /// CONNECT goes then (Sparkplug first makes the bdSeq durable, off the loop). A will
+  /// handed over after stop() or a later attempt is dropped.
   struct Will {
     std::string topic;
     std::string payload;
     int qos = 1;
     bool retain = false;
   };
-  void will_for_each_connect(std::function<Will()> make) { make_will_ = std::move(make); }
+  using WillReady = std::function<void(Will)>;
+  void will_for_each_connect(std::function<void(WillReady)> make) { make_will_ = std::move(make); }
   /// QoS 0, never retained (Sparkplug's births and data, §4.1 of its specification); false
   /// while not connected.
   bool publish_at_most_once(const std::string& topic, std::string_view payload);
@@ -120,6 +124,7 @@ class MqttClient {
   void tick();
   void resolve();
   void connect(const std::string& address);
+  void connect_now(const std::string& host);
   void watch();
   void after_io(int rc);
   void lost(const std::string& why);
@@ -159,7 +164,8 @@ class MqttClient {
     std::function<void(const MqttMessage&)> handler;
   };
   std::vector<Subscription> subscriptions_;
-  std::function<Will()> make_will_;
+  std::function<void(WillReady)> make_will_;
+  std::uint64_t attempts_ = 0;  // a will handed over for an older attempt is dropped
   std::shared_ptr<bool> alive_ = std::make_shared<bool>(true);
 };
 

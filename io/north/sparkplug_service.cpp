@@ -15,8 +15,9 @@ namespace unima::io {
 
 namespace {
 
-using namespace std::chrono_literals;
-constexpr auto step_interval = 100ms;  // the least time between two DDATA of a device
+// Writes of the bdSeq file waiting for the worker: one per CONNECT, and CONNECTs are a
+// second apart at least (MqttClient's back-off).
+constexpr std::size_t bd_seq_writes_queued = 4;
 
 bool same_client(const config::Config& a, const config::Config& b) {
   return a.sparkplug.has_value() == b.sparkplug.has_value() && (!a.sparkplug || a.sparkplug->same_client(*b.sparkplug));
@@ -56,7 +57,11 @@ sparkplug::EdgeSession session_of(const config::SparkplugConfig& config, std::op
 
 }  // namespace
 
-SparkplugService::SparkplugService(Runtime& runtime) : runtime_(runtime), timer_(runtime.io) {
+SparkplugService::SparkplugService(Runtime& runtime)
+    : runtime_(runtime), look_timer_(runtime.io), bd_seq_writer_(runtime.io, bd_seq_writes_queued) {
+  runtime.changes.listen([this, alive = alive_] {
+    if (*alive) banks_changed();
+  });
   const auto& config = runtime.config();
   if (!config.sparkplug) return;
   bd_seq_file_ = bd_seq_file_of(config);
@@ -68,7 +73,7 @@ std::unique_ptr<MqttClient> SparkplugService::make_client(const config::Config& 
   if (!config.sparkplug) return nullptr;
   const auto& s = *config.sparkplug;
   auto client = std::make_unique<MqttClient>(runtime_.io, broker_options(s, "sparkplug"));
-  client->will_for_each_connect([this] { return will_of_next_connect(); });
+  client->will_for_each_connect([this](MqttClient::WillReady ready) { will_of_next_connect(std::move(ready)); });
   client->on_connected([this] {
     session_->connected();
     publish_due();
@@ -82,18 +87,31 @@ std::unique_ptr<MqttClient> SparkplugService::make_client(const config::Config& 
 }
 
 // Each CONNECT counts a bdSeq, kept before the CONNECT goes: the NDEATH the broker may send
-// for this connection names it, and so does the next start's first NBIRTH + 1.
-MqttClient::Will SparkplugService::will_of_next_connect() {
+// for this connection names it, and so does the next start's first NBIRTH + 1. The write
+// and its fdatasync run on the worker; the CONNECT waits for them, the loop does not. The
+// worker takes jobs in order, so the file ends with the newest bdSeq.
+void SparkplugService::will_of_next_connect(MqttClient::WillReady ready) {
   const auto bd_seq = session_->begin_connect();
-  if (!bd_seq_file_.empty()) {
-    try {
-      replace_file(bd_seq_file_, std::to_string(bd_seq) + "\n");
-    } catch (const std::exception& e) {
-      spdlog::warn("sparkplug: cannot keep bdSeq {} in {}: {}", bd_seq, bd_seq_file_.string(), e.what());
-    }
-  }
   auto death = session_->death(now_ms());
-  return {std::move(death.topic), std::move(death.payload), 1, false};
+  MqttClient::Will will{std::move(death.topic), std::move(death.payload), 1, false};
+  if (bd_seq_file_.empty()) return ready(std::move(will));
+  auto failure = std::make_shared<std::string>();
+  auto write = [file = bd_seq_file_, bd_seq, failure] {
+    try {
+      replace_file(file, std::to_string(bd_seq) + "\n");
+    } catch (const std::exception& e) {
+      *failure = e.what();
+    }
+  };
+  auto done = [file = bd_seq_file_, bd_seq, failure, ready, will] {
+    if (!failure->empty()) spdlog::warn("sparkplug: cannot keep bdSeq {} in {}: {}", bd_seq, file.string(), *failure);
+    ready(will);
+  };
+  if (!bd_seq_writer_.submit(write, done)) {
+    // Never with CONNECTs a second apart; were it full, the rule holds on the loop.
+    write();
+    done();
+  }
 }
 
 void SparkplugService::take_message(std::string_view topic, std::string_view payload) {
@@ -151,20 +169,34 @@ void SparkplugService::take_command(std::string_view device, std::string_view to
   }
 }
 
-void SparkplugService::tick() {
-  timer_.expires_after(step_interval);
-  timer_.async_wait([this](const boost::system::error_code& ec) {
-    if (ec || !started_ || !client_) return;
-    publish_due();
-    tick();
+void SparkplugService::banks_changed() {
+  if (!started_ || !client_ || !session_ || !session_->born()) return;
+  if (const auto when = pacing_.changed(sparkplug::DataPacing::Clock::now())) look_at(*when);
+}
+
+void SparkplugService::look_at(sparkplug::DataPacing::Clock::time_point when) {
+  if (when <= sparkplug::DataPacing::Clock::now()) {
+    // The loop's next turn: the rest of what came with this change (a feed's batch of
+    // telegrams) joins the same look.
+    asio::post(runtime_.io, [this, alive = alive_] {
+      if (*alive && started_) publish_due();
+    });
+    return;
+  }
+  look_timer_.expires_at(when);
+  look_timer_.async_wait([this](const boost::system::error_code& ec) {
+    if (!ec && started_) publish_due();
   });
 }
 
 void SparkplugService::publish_due() {
   if (!client_ || !session_) return;
   if (session_->connected_now() && !client_->connected()) session_->disconnected();
+  if (!client_->connected()) return;  // the connection's births take it all
+  const auto now = sparkplug::DataPacing::Clock::now();
   // A broker that does not keep up gets the latest values once it does, not a queue.
-  if (!client_->connected() || client_->backlogged()) return;
+  if (client_->backlogged()) return look_at(pacing_.retry(now));
+  pacing_.looked(now);
   const auto& running = *runtime_.banks;
   const auto snapshot = values::snapshot_of(*running.store);
   std::vector<sparkplug::DeviceReading> devices;
@@ -191,7 +223,6 @@ void SparkplugService::start() {
   started_ = true;
   if (!client_) return;
   client_->start();
-  tick();
 }
 
 // A clean goodbye is a death said, not left to the will (which the DISCONNECT cancels).
@@ -201,7 +232,7 @@ void SparkplugService::stop() {
     publish_death();
     client_->stop();
   }
-  timer_.cancel();
+  look_timer_.cancel();
 }
 
 void SparkplugService::stage(const Banks& next) {
@@ -227,10 +258,7 @@ void SparkplugService::commit(const Banks&) {
     else session_.reset();
     client_ = std::move(next_client_);
     new_client_ = false;
-    if (client_ && started_) {
-      client_->start();
-      tick();
-    }
+    if (client_ && started_) client_->start();
     return;
   }
   // The same broker and node: the banks may have changed, the births say what they are.
@@ -250,7 +278,9 @@ void SparkplugService::describe(nlohmann::json& status) const {
                    {"group_id", config.group_id},
                    {"edge_node_id", config.edge_node_id},
                    {"connected", client_->connected()},
-                   {"born", session_->born()},
+                   // The session hears of a lost connection at its next look, which waits
+                   // for a change; the status says it now.
+                   {"born", session_->born() && client_->connected()},
                    {"connections", m.connections},
                    {"drops", m.drops},
                    {"published", m.published},

@@ -2,11 +2,14 @@
 // Sparkplug B (`sparkplug`, SPEC §16) as a service: an MQTT connection of its own
 // (io/north/mqtt_client) to the section's broker, and the edge node's session
 // (sparkplug/edge_session, which decides) over the value model (values/) that Modbus, the
-// page and MQTT read too. Every 100 ms it asks the session what is due — births, DDATA
-// of what changed, DDEATH/DBIRTH of a device that went or came — and publishes it (QoS 0,
-// as Sparkplug has births and data). The will of each CONNECT is the NDEATH with that
-// connection's bdSeq, which a small file beside the state file keeps across restarts
-// (`<state file>.sparkplug-bdseq`). NCMD rebirth, DCMD writes through the one write path
+// page and MQTT read too. When the banks change (io/store_changes, Runtime::changes) it asks the
+// session what is due — DDATA of what changed, DDEATH/DBIRTH of a device that went or
+// came — at once after a quiet while, else at most every 10 ms (sparkplug/data_pacing),
+// and publishes it (QoS 0, as Sparkplug has births and data); births go the moment they
+// are due. The will of each CONNECT is the NDEATH with that connection's bdSeq, which a
+// small file beside the state file keeps across restarts (`<state file>.sparkplug-bdseq`),
+// written and fdatasync'ed on a worker thread (io/cpu_worker) before the CONNECT goes.
+// NCMD rebirth, DCMD writes through the one write path
 // (as MQTT commands and Modbus writes), the primary host's STATE: all read here, decided
 // by the session. A reload keeps the connection when the section did not change, and
 // sends every birth again (the value model may have changed).
@@ -16,8 +19,10 @@
 #include <optional>
 #include <string_view>
 
+#include "io/cpu_worker.hpp"
 #include "io/north/mqtt_client.hpp"
 #include "io/service.hpp"
+#include "sparkplug/data_pacing.hpp"
 #include "sparkplug/edge_session.hpp"
 
 namespace unima::io {
@@ -36,7 +41,9 @@ class SparkplugService final : public Service {
 
  private:
   std::unique_ptr<MqttClient> make_client(const config::Config& config);
-  void tick();
+  /// The banks changed: a look at once, or when the pacing says.
+  void banks_changed();
+  void look_at(sparkplug::DataPacing::Clock::time_point when);
   void publish_due();
   void take_message(std::string_view topic, std::string_view payload);
   void take_command(std::string_view device, std::string_view topic, std::string_view payload);
@@ -44,13 +51,15 @@ class SparkplugService final : public Service {
   /// wait for the host (outside libmosquitto's callback that told it).
   void die_and_reconnect();
   void publish_death();
-  MqttClient::Will will_of_next_connect();
+  void will_of_next_connect(MqttClient::WillReady ready);
 
   Runtime& runtime_;
   std::unique_ptr<MqttClient> client_;
   std::optional<sparkplug::EdgeSession> session_;
   std::filesystem::path bd_seq_file_;  // empty: no state file, bdSeq counts from 0 at each start
-  asio::steady_timer timer_;
+  sparkplug::DataPacing pacing_;
+  asio::steady_timer look_timer_;
+  CpuWorker bd_seq_writer_;  // the bdSeq file's fdatasync, off the loop
   bool started_ = false;
   std::string dcmd_prefix_;  // spBv1.0/<group>/DCMD/<node>/
   // Staged by a reload:

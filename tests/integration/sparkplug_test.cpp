@@ -85,7 +85,10 @@ class Sparkplug : public BridgeTest {
     const auto lines = dir.path() / "lines";
     {
       std::ofstream out(lines);
-      std::istringstream in(subscription.lines());
+      // Whole lines only: the subscriber may be writing the last one (a birth's hex is long).
+      auto taken = subscription.lines();
+      taken.erase(taken.find_last_of('\n') == std::string::npos ? 0 : taken.find_last_of('\n') + 1);
+      std::istringstream in(taken);
       for (std::string line; std::getline(in, line);)
         if (line.starts_with("spBv1.0/")) out << line << "\n";
     }
@@ -135,6 +138,7 @@ class Sparkplug : public BridgeTest {
   }
 
   static const json* metric(const json& payload, const std::string& name) {
+    if (!payload.contains("metrics")) return nullptr;
     for (const auto& m : payload["metrics"])
       if (m["name"] == name) return &m;
     return nullptr;

@@ -174,6 +174,7 @@ TEST(RegisterStore, WriteNotifiesTheListener) {
   EXPECT_EQ(changes, expected);
 }
 
+// Who publishes northbound hears of every change a read would see, and of nothing else.
 TEST(RegisterStore, UserOutputNIsCPlusNMinusOne) {
   RegisterStore store(shapes_with({nullptr, nullptr, nullptr, nullptr}));
   std::vector<Change> changes;
