@@ -146,10 +146,10 @@ for _ in $(seq 100); do [ "$(wc -l < "$work/history")" -ge $((history_lines + re
 
 python3 - "$work/history" "$rounds" "${#ratios[@]}" "$(median "${a_all[@]}")" "$(median "${b_all[@]}")" "$(median "${ratios[@]}")" \
   "$outage" "$outage_start" "$outage_end" "$rss_before" "$rss_end" "$syncs_before" "$syncs_end" "$(python3 -c "print($syncs_end_at - $syncs_before_at)")" "$buffered" \
-  "$restart" "$reconnected" "$delivered" "$sent" "$cpu_restart" "$cpu_delivered" "$(getconf CLK_TCK)" <<'PY'
+  "$restart" "$reconnected" "$delivered" "$sent" "$cpu_restart" "$cpu_delivered" "$(getconf CLK_TCK)" "${ratios[*]}" <<'PY'
 import sys
 (path, rounds, done_rounds, with_rps, without_rps, ratio, outage, outage_start, outage_end, rss_before, rss_end,
- syncs_before, syncs_end, syncs_seconds, buffered, restart, reconnected, delivered, sent, cpu_restart, cpu_delivered, ticks) = sys.argv[1:23]
+ syncs_before, syncs_end, syncs_seconds, buffered, restart, reconnected, delivered, sent, cpu_restart, cpu_delivered, ticks, round_ratios) = sys.argv[1:24]
 history, reference = [], []
 for line in open(path):
     stamp, _, topic = line.strip().partition(" ")
@@ -176,7 +176,7 @@ cpu = (int(cpu_delivered) - int(cpu_restart)) / int(ticks)
 print(f"| measure (feed changing all of D1 1,000 times a second, broker killed for {float(outage):g} s) | figure |")
 print("|---|---|")
 print(f"| FC4 × 64, 64 connections, requests/s during the outage: MQTT + buffer / no mqtt (median of {done_rounds} paired rounds) "
-      f"| {float(with_rps):,.0f} / {float(without_rps):,.0f} = {ratio} |")
+      f"| {float(with_rps):,.0f} / {float(without_rps):,.0f} = {ratio} (rounds: {', '.join(f'{float(r):.2f}' for r in round_ratios.split())}) |")
 print(f"| MQTT daemon's VmRSS, MiB: before the outage → at its end (growth) | {int(rss_before) / 1024:.1f} → "
       f"{int(rss_end) / 1024:.1f} ({(int(rss_end) - int(rss_before)) / 1024:+.1f}) |")
 print(f"| buffer syncs (fdatasync) per second, counter read before the broker's kill and at the outage's end "
