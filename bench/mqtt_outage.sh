@@ -16,7 +16,8 @@ cd "$(dirname "$0")/.."
 source bench/paired_rounds.sh
 outage=${4:-60}
 # shellcheck disable=SC2016  # expanded at exit
-at_exit+=('[ -f "$work/broker.pid" ] && kill "$(cat "$work/broker.pid")" 2>/dev/null')
+# stop_broker waits for its exit: it writes its sessions into $work, which goes next.
+at_exit+=('[ -f "$work/broker.pid" ] && stop_broker')
 broker=$(free_port)
 # The broker keeps sessions over its restart, so the history subscriber misses nothing the
 # daemon publishes the moment it is back; room for every queued message of a long history.
