@@ -6,8 +6,9 @@
 # the libmodbus server (bench/tls_reference.sh), plain Modbus latency under a
 # handshake flood (bench/tls_flood.sh), the cost of the HTTP server with its page open
 # (bench/http.sh), MQTT's (bench/mqtt.sh), how soon a single change reaches MQTT and the
-# page (bench/north_latency.py), Sparkplug B's latency, cost and births
-# (bench/sparkplug.sh), Modbus latency while a peer guesses HTTP
+# page (bench/north_latency.py), MQTT history through a 60 s broker outage
+# (bench/mqtt_outage.sh), Sparkplug B's latency, cost and births (bench/sparkplug.sh),
+# Modbus latency while a peer guesses HTTP
 # passwords (bench/auth_guess.sh), and the gateway's use of an RTU line (bench/gateway;
 # MBUSD=/path/to/mbusd runs mbusd beside it).
 set -euo pipefail
@@ -20,6 +21,7 @@ bench/tls_reference.sh "${BUILD_DIR:-build-release}"
 bench/tls_flood.sh "${BUILD_DIR:-build-release}"
 bench/http.sh "${BUILD_DIR:-build-release}"
 bench/mqtt.sh "${BUILD_DIR:-build-release}"
+bench/mqtt_outage.sh "${BUILD_DIR:-build-release}"
 python3 bench/north_latency.py --bridged "${BUILD_DIR:-build-release}/bin/unima-bridged" --rounds 3
 bench/sparkplug.sh "${BUILD_DIR:-build-release}"
 bench/auth_guess.sh "${BUILD_DIR:-build-release}"

@@ -6,7 +6,9 @@
 // leaves the rest, and what was in flight, to the next one (at least once: a subscriber may
 // get an entry twice, never miss one). On the loop; the buffer reads on its own thread.
 
+#include <cstddef>
 #include <cstdint>
+#include <deque>
 #include <memory>
 #include <string>
 
@@ -34,6 +36,9 @@ class HistorySender {
   std::uint64_t sent() const { return window_.acknowledged_total(); }
 
  private:
+  // Entries held read ahead of the window: a read is asked for when fewer than half are
+  // left, so the next ones are here before the window has sent these (io/north/history_sender.cpp).
+  static constexpr std::size_t read_ahead = 4 * mqtt::HistoryWindow::max_unacknowledged;
   void fill();
 
   HistoryBuffer& buffer_;
@@ -41,7 +46,9 @@ class HistorySender {
   MqttClient* client_ = nullptr;
   std::string prefix_;
   std::uint64_t connection_ = 0;  // which begin() a read belongs to
+  std::deque<mqtt::HistoryEntry> ready_;  // read, not yet published, oldest first
   bool reading_ = false;
+  bool exhausted_ = false;  // the last read found nothing more (the buffer grows only while disconnected)
   std::shared_ptr<bool> alive_ = std::make_shared<bool>(true);
 };
 

@@ -2,7 +2,8 @@
 // and started to make the outage: the documents made meanwhile come after the reconnect on
 // <prefix>/history/<bank>, oldest first with their own times, after the live documents and
 // never in their place; kill -9 of the daemon mid-outage loses at most the last second;
-// a tiny buffer drops its oldest and counts them; a corrupt buffer is set aside.
+// a tiny buffer drops its oldest and counts them; a corrupt buffer is set aside; a history
+// longer than the sender reads ahead comes whole and in order.
 //
 // The subscriber that reads the history has a persistent session (mosquitto_sub -c, QoS 1)
 // on a broker that keeps its sessions over a restart: what the bridge publishes the moment
@@ -15,6 +16,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "mqtt/history_journal.hpp"
 #include "tests/integration/bridge_fixture.hpp"
 #include "tests/support/peers/mqtt_broker.hpp"
 #include "tests/support/peers/mqtt_subscription.hpp"
@@ -229,6 +231,27 @@ TEST_F(MqttHistory, AFullBufferDropsTheOldestAndCountsThem) {
   // /metrics says the same (its text from the status, metrics_test).
   const auto text = test_support::run(std::string(UNIMA_BRIDGE_CLI) + " status --socket " + config.status_socket).output;
   EXPECT_NE(text.find("dropped when full"), std::string::npos) << text;
+}
+
+// A history longer than the sender holds read ahead (400 entries), as a restart after a
+// long outage finds it, comes whole on one connection: every entry once, oldest first.
+TEST_F(MqttHistory, AHistoryLongerThanTheReadAheadComesWholeAndInOrder) {
+  constexpr int entries = 1000;
+  std::string journal(mqtt::history_header);
+  for (int i = 1; i <= entries; ++i)
+    journal += mqtt::encode_history_entry({static_cast<std::uint64_t>(i), "D1", R"({"engine_speed":)" + std::to_string(i) + "}"});
+  test_support::write_file(buffer_file(), journal);
+  DurableReader reader(*broker, dir.path() / "reader");
+  start();
+  ASSERT_TRUE(eventually([&] {
+    const auto s = status();
+    return s.is_object() && s["mqtt"]["buffer"]["messages"] == 0 && s["mqtt"]["buffer"]["history_sent"] == entries;
+  }, 15000ms)) << status().dump() << daemon->log();
+  ASSERT_TRUE(eventually([&] { return documents(reader.lines(), history_topic).size() >= entries; }))
+      << documents(reader.lines(), history_topic).size();
+  const auto history = documents(reader.lines(), history_topic);
+  ASSERT_EQ(history.size(), static_cast<std::size_t>(entries));
+  for (int i = 0; i < entries; ++i) ASSERT_EQ(history[static_cast<std::size_t>(i)]["engine_speed"], i + 1) << "at " << i;
 }
 
 TEST_F(MqttHistory, ACorruptBufferIsSetAsideAndANewOneBegun) {
