@@ -26,11 +26,13 @@ Subscription::Subscription(const Broker& broker, const std::filesystem::path& fi
 
 Subscription::~Subscription() { ::kill(pid_, SIGTERM); }
 
+std::string Subscription::lines() const { return whole_lines(read_file(file_)); }
+
 // mosquitto_sub writes a message's line as it comes: a line without its end may still be
 // being written, and is left for the next look.
-std::string Subscription::lines() const {
-  auto text = read_file(file_);
-  text.erase(text.find_last_of('\n') == std::string::npos ? 0 : text.find_last_of('\n') + 1);
+std::string whole_lines(std::string text) {
+  const auto last_end = text.find_last_of('\n');
+  text.erase(last_end == std::string::npos ? 0 : last_end + 1);
   return text;
 }
 

@@ -29,6 +29,8 @@ class Subscription {
   int pid_ = 0;
 };
 
+/// `text` up to its last line end: what a writer still busy with its last line has done.
+std::string whole_lines(std::string text);
 /// The payloads of "topic payload" lines whose topic is `topic`.
 std::vector<std::string> payloads(const std::string& lines, const std::string& topic);
 
