@@ -21,28 +21,10 @@ start_broker() {
 }
 stop_broker() { kill "$(cat "$work/broker.pid")"; rm -f "$work/broker.pid"; sleep 0.3; }
 
-start_daemon() {  # name, modbus port, feed port, mqtt (yes/no)
-  local name=$1 modbus=$2 feed=$3 mqtt=$4
-  {
-    echo "unimabus: { transport: feed, listen: 127.0.0.1:$feed }"
-    echo "modbus: { tcp: { listen: 127.0.0.1, port: $modbus, max_clients: 256 } }"
-    echo "banks: { D1: 0x1100 }"
-    echo "devices: { D1: { type: unigen-chp, address: 5 } }"
-    echo "log: { level: warn }"
-    echo "status: { socket: $work/$name.sock }"
-    echo "state: { file: none }"
-    if [ "$mqtt" = yes ]; then echo "mqtt: { broker: 'mqtt://127.0.0.1:$broker', client_id: bench, topic: bench/site }"; fi
-  } > "$work/$name.yaml"
-  "$bridged" --config "$work/$name.yaml" > "$work/$name.log" 2>&1 &
-  pids+=($!)
-  for _ in $(seq 100); do (exec 3<>/dev/tcp/127.0.0.1/"$modbus") 2>/dev/null && return; sleep 0.05; done
-  echo "the daemon did not start:"; cat "$work/$name.log"; exit 1
-}
-
 start_broker
 with=$(free_port); without=$(free_port); feed_with=$(free_port); feed_without=$(free_port)
-start_daemon with "$with" "$feed_with" yes
-start_daemon without "$without" "$feed_without" no
+start_fed_daemon with "$with" "$feed_with" "mqtt: { broker: 'mqtt://127.0.0.1:$broker', client_id: bench, topic: bench/site }"
+start_fed_daemon without "$without" "$feed_without"
 total=$(python3 -c "print(int(2 * $rounds * ($seconds + 0.5) * 2 + 10))")
 python3 bench/mqtt_feeder.py --feed-port "$feed_with" --seconds "$total" > "$work/feed-with.json" &
 feeders=($!)

@@ -35,26 +35,6 @@ stop_broker() {  # SIGTERM: the connections close at once (and the sessions are 
   rm -f "$work/broker.pid"
 }
 
-start_daemon() {  # name, modbus port, feed port, mqtt (yes/no)
-  local name=$1 modbus=$2 feed=$3 mqtt=$4
-  {
-    echo "unimabus: { transport: feed, listen: 127.0.0.1:$feed }"
-    echo "modbus: { tcp: { listen: 127.0.0.1, port: $modbus, max_clients: 256 } }"
-    echo "banks: { D1: 0x1100 }"
-    echo "devices: { D1: { type: unigen-chp, address: 5 } }"
-    echo "log: { level: warn }"
-    echo "status: { socket: $work/$name.sock }"
-    echo "state: { file: none }"
-    if [ "$mqtt" = yes ]; then
-      echo "mqtt: { broker: 'mqtt://127.0.0.1:$broker', client_id: bench, topic: bench/site, buffer: { file: $work/mqtt-buffer } }"
-    fi
-  } > "$work/$name.yaml"
-  "$bridged" --config "$work/$name.yaml" > "$work/$name.log" 2>&1 &
-  pids+=($!)
-  for _ in $(seq 100); do (exec 3<>/dev/tcp/127.0.0.1/"$modbus") 2>/dev/null && return; sleep 0.05; done
-  echo "the daemon did not start:"; cat "$work/$name.log"; exit 1
-}
-
 # One value of the MQTT daemon's status document, e.g. mqtt.buffer.syncs.
 status() {
   python3 - "$work/with.sock" "$1" <<'PY'
@@ -82,9 +62,10 @@ now() { date +%s.%N; }
 
 start_broker
 with=$(free_port); without=$(free_port); feed_with=$(free_port); feed_without=$(free_port)
-start_daemon with "$with" "$feed_with" yes
+start_fed_daemon with "$with" "$feed_with" \
+  "mqtt: { broker: 'mqtt://127.0.0.1:$broker', client_id: bench, topic: bench/site, buffer: { file: $work/mqtt-buffer } }"
 with_pid=${pids[-1]}
-start_daemon without "$without" "$feed_without" no
+start_fed_daemon without "$without" "$feed_without"
 wait_status mqtt.connected true 10 || { echo "the daemon did not connect:"; cat "$work/with.log"; exit 1; }
 mosquitto_sub -c -i obench-history -q 1 -p "$broker" -t 'bench/site/history/#' -F '%U %t' > "$work/history" 2>&1 &
 subscriber=$!

@@ -20,30 +20,9 @@ mosquitto -d -c "$work/broker.conf" 2>/dev/null
 for _ in $(seq 100); do (exec 3<>/dev/tcp/127.0.0.1/"$broker") 2>/dev/null && break; sleep 0.05; done
 sparkplug_section="sparkplug: { broker: 'mqtt://127.0.0.1:$broker', client_id: bench-sp, group_id: bench, edge_node_id: edge }"
 
-wait_for_port() {  # port, name
-  for _ in $(seq 100); do (exec 3<>/dev/tcp/127.0.0.1/"$1") 2>/dev/null && return; sleep 0.05; done
-  echo "the daemon did not start:"; cat "$work/$2.log"; exit 1
-}
-start_daemon() {  # name, modbus port, feed port, sparkplug (yes/no)
-  local name=$1 modbus=$2 feed=$3 sparkplug=$4
-  {
-    echo "unimabus: { transport: feed, listen: 127.0.0.1:$feed }"
-    echo "modbus: { tcp: { listen: 127.0.0.1, port: $modbus, max_clients: 256 } }"
-    echo "banks: { D1: 0x1100 }"
-    echo "devices: { D1: { type: unigen-chp, address: 5 } }"
-    echo "log: { level: warn }"
-    echo "status: { socket: $work/$name.sock }"
-    echo "state: { file: none }"
-    if [ "$sparkplug" = yes ]; then echo "$sparkplug_section"; fi
-  } > "$work/$name.yaml"
-  "$bridged" --config "$work/$name.yaml" > "$work/$name.log" 2>&1 &
-  pids+=($!)
-  wait_for_port "$modbus" "$name"
-}
-
 with=$(free_port); without=$(free_port); feed_with=$(free_port); feed_without=$(free_port)
-start_daemon with "$with" "$feed_with" yes
-start_daemon without "$without" "$feed_without" no
+start_fed_daemon with "$with" "$feed_with" "$sparkplug_section"
+start_fed_daemon without "$without" "$feed_without"
 sleep 1
 
 # (a) first, the host alone on the feed.
