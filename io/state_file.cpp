@@ -6,18 +6,16 @@
 
 #include <cerrno>
 #include <chrono>
-#include <condition_variable>
 #include <ctime>
-#include <mutex>
 #include <optional>
 #include <system_error>
-#include <thread>
 #include <utility>
 #include <vector>
 
 #include <spdlog/spdlog.h>
 
 #include "io/durable_file.hpp"
+#include "platform/journal_thread.hpp"
 #include "monitor/write_outage.hpp"
 #include "state/state_journal.hpp"
 
@@ -74,17 +72,12 @@ struct QueuedRecord {
 
 }  // namespace
 
-// Two threads share the work of a write. The loop queues the write's records under one lock
-// (so they are always taken into one batch together) and, when the thread sleeps, wakes it
-// at once: a lone write does not wait for the end of the loop's turn. The thread takes
-// everything queued, appends it, fdatasyncs, and posts one completion to the loop; then it
-// takes what was queued during that sync, so the disk is never idle while writes wait
-// (pipelining), and all the writes of one sync share it (group commit). The loop keeps the
-// writes' values until their completion: committed when durable, dropped when refused.
-//
-// The thread exists because fdatasync blocks for as long as the disk takes, and the loop
-// must never wait for it; the loop's side never waits for the thread either: the mutex
-// only guards the queue, held for a push or a swap.
+// Two threads share the work of a write (io/journal_thread). The loop hands the write's
+// records over as one (so they are always taken into one batch together), urgently: a lone
+// write does not wait for the end of the loop's turn. A turn of the thread takes everything
+// queued, appends it, fdatasyncs, and posts one completion to the loop; the next takes what
+// was queued during that sync (group commit). The loop keeps the writes' values until
+// their completion: committed when durable, dropped when refused.
 struct StateFile::Shared {
   Shared(asio::io_context& io, std::filesystem::path path, StateImage image, Descriptor fd, std::size_t size)
       : io(io), path(std::move(path)), fd(std::move(fd)), size(size), image(std::move(image)) {}
@@ -105,38 +98,35 @@ struct StateFile::Shared {
   monitor::WriteOutage outage;
   Counters counters;
 
-  // Under the mutex.
-  std::mutex mutex;
-  std::condition_variable wake;
+  // Under the thread's lock.
   std::vector<QueuedRecord> queued;  // kept, not yet taken by the thread
   std::uint64_t queued_up_to = 0;    // the number of the last write among them
-  bool sleeping = false;               // the thread waits for `wake`: a record must notify it
-  bool stopping = false;
 
   // The thread's side.
   Descriptor fd;
   std::size_t size;
   StateImage image;      // what the file holds, for a rewrite: never a refused write's values
   bool rewrite = false;  // after a failed append, whose bytes may be on the disk in part
-  std::thread thread;
+  std::vector<QueuedRecord> batch;  // swapped with `queued`: both keep their capacity
+  std::string records;
+  platform::JournalThread thread;
 
   std::uint64_t queue(std::span<const banks::WrittenValue> write);
   void synced(std::uint64_t sequence, const std::string& error);
-  void run(const std::weak_ptr<Shared>& self);
+  void turn(const std::weak_ptr<Shared>& self);
   std::string write_batch(const std::string& records, const StateImage& next);
 };
 
 std::uint64_t StateFile::Shared::queue(std::span<const banks::WrittenValue> write) {
-  bool notify = false;
-  {
-    const std::lock_guard lock(mutex);
-    for (std::size_t i = 0; i < write.size(); ++i) queued.push_back({persisted(write[i]), i + 1 < write.size()});
-    queued_up_to = ++kept;
-    notify = std::exchange(sleeping, false);
-  }
+  ++kept;
+  thread.hand_over(
+      [&] {
+        for (std::size_t i = 0; i < write.size(); ++i) queued.push_back({persisted(write[i]), i + 1 < write.size()});
+        queued_up_to = kept;
+      },
+      true);
   uncommitted.push_back({kept, std::vector(write.begin(), write.end())});
   counters.records += write.size();
-  if (notify) wake.notify_one();
   return kept;
 }
 
@@ -199,37 +189,27 @@ std::string StateFile::Shared::write_batch(const std::string& records, const Sta
   }
 }
 
-// Stops once stopping and nothing is queued: what was recorded before the destructor is
-// written and synced first.
-void StateFile::Shared::run(const std::weak_ptr<Shared>& self) {
-  std::vector<QueuedRecord> batch;  // swapped with `queued`: both keep their capacity
-  std::string records;
-  while (true) {
-    std::uint64_t sequence = 0;
-    {
-      std::unique_lock lock(mutex);
-      while (queued.empty() && !stopping) {
-        sleeping = true;
-        wake.wait(lock);
-      }
-      sleeping = false;
-      if (queued.empty()) return;
-      batch.swap(queued);
-      sequence = queued_up_to;
-    }
-    records.clear();
-    auto next = image;
-    for (const auto& record : batch) {
-      next.apply(record.value);
-      records += state::encode_record(record.value, record.continued);
-    }
-    batch.clear();
-    auto error = write_batch(records, next);
-    if (error.empty()) image = next;
-    asio::post(io, [self, sequence, error = std::move(error)] {
-      if (const auto shared = self.lock()) shared->synced(sequence, error);
-    });
+// Everything queued, in one batch; the last turn writes what is left, so a clean stop
+// loses nothing.
+void StateFile::Shared::turn(const std::weak_ptr<Shared>& self) {
+  std::uint64_t sequence = 0;
+  thread.take([&] {
+    batch.swap(queued);
+    sequence = queued_up_to;
+  });
+  if (batch.empty()) return;
+  records.clear();
+  auto next = image;
+  for (const auto& record : batch) {
+    next.apply(record.value);
+    records += state::encode_record(record.value, record.continued);
   }
+  batch.clear();
+  auto error = write_batch(records, next);
+  if (error.empty()) image = next;
+  asio::post(io, [self, sequence, error = std::move(error)] {
+    if (const auto shared = self.lock()) shared->synced(sequence, error);
+  });
 }
 
 StateFile::StateFile(asio::io_context& io, std::filesystem::path path) : path_(std::move(path)) {
@@ -241,18 +221,14 @@ StateFile::StateFile(asio::io_context& io, std::filesystem::path path) : path_(s
   } catch (const std::exception& e) {
     throw std::runtime_error("state file " + path_.string() + ": " + e.what());
   }
-  shared_->thread = std::thread([shared = shared_.get(), weak = std::weak_ptr<Shared>(shared_)] { shared->run(weak); });
+  shared_->thread.start([shared = shared_.get(), weak = std::weak_ptr<Shared>(shared_)](bool) {
+    shared->turn(weak);
+    return std::optional<platform::JournalThread::Clock::time_point>();  // woken by each write
+  });
   spdlog::info("state: {} holds {} values", path_.string(), restored_.values().size());
 }
 
-StateFile::~StateFile() {
-  {
-    const std::lock_guard lock(shared_->mutex);
-    shared_->stopping = true;
-  }
-  shared_->wake.notify_one();
-  shared_->thread.join();
-}
+StateFile::~StateFile() { shared_->thread.stop(); }
 
 void StateFile::set_outcome(Outcome outcome) { shared_->outcome = std::move(outcome); }
 

@@ -1,8 +1,8 @@
 #pragma once
 // The MQTT history buffer's format (SPEC §15): while the broker is unreachable, each bank
 // document that would have been published is appended to a journal of text lines,
-// readable with `cat`, each line checked by its own CRC-32 (state/crc32, as the state
-// file's records):
+// readable with `cat`, each line checked by its own CRC-32 (state/checked_lines, the
+// state file's format):
 //
 //   unima-bridge mqtt history 1
 //   E 1 D1 {"time":"2026-11-24T20:48:09.927231Z","online":true,…} 5d1c02e4
@@ -24,6 +24,8 @@
 #include <string>
 #include <string_view>
 #include <vector>
+
+#include "state/checked_lines.hpp"
 
 namespace unima::mqtt {
 
@@ -52,12 +54,10 @@ struct HistoryPlace {
 };
 
 struct LoadedHistory {
-  enum class Status {
-    ok,         // every line good (an empty file too)
-    torn_tail,  // the last line cut short by a crash: dropped, the lines before it kept
-    damaged,    // a bad line that is not the last: nothing is kept
-    foreign,    // not a history buffer (another file, another version): nothing is kept
-  };
+  /// ok: every line good (an empty file too); torn_tail: the last line cut short by a
+  /// crash, dropped, the lines before it kept; damaged: a bad line that is not the last,
+  /// nothing kept; foreign: not a history buffer, nothing kept.
+  using Status = state::JournalStatus;
   Status status = Status::ok;
   std::vector<HistoryPlace> pending;  // the entries after the last acknowledged, oldest first
   std::uint64_t last_sequence = 0;    // of the last entry read (acknowledged or not)

@@ -6,7 +6,7 @@
 
 #include <fmt/format.h>
 
-#include "state/crc32.hpp"
+#include "state/checked_lines.hpp"
 
 namespace unima::state {
 namespace {
@@ -30,20 +30,8 @@ bool parse_number(std::string_view text, T& out, int base = 10) {
   return ec == std::errc() && end == text.data() + text.size();
 }
 
-// "W 3 1234 8c7f0b1e" or "W 3 1234 + 5d1c02e4" (without its newline) -> the record, or why not.
-std::optional<Record> parse_record(std::string_view line, std::string& why) {
-  const auto last_space = line.rfind(' ');
-  std::uint32_t crc = 0;
-  if (last_space == std::string_view::npos || line.size() - last_space - 1 != 8 ||
-      !parse_number(line.substr(last_space + 1), crc, 16)) {
-    why = "no checksum";
-    return std::nullopt;
-  }
-  auto body = line.substr(0, last_space);
-  if (crc32(body) != crc) {
-    why = "checksum mismatch";
-    return std::nullopt;
-  }
+// "W 3 1234" or "W 3 1234 +" (a checked line's body) -> the record, or why not.
+std::optional<Record> parse_record(std::string_view body, std::string& why) {
   Record record;
   record.continued = body.ends_with(continuation_mark);
   if (record.continued) body.remove_suffix(continuation_mark.size());
@@ -71,8 +59,7 @@ std::optional<Record> parse_record(std::string_view line, std::string& why) {
 }  // namespace
 
 std::string encode_record(const PersistedValue& value, bool continued) {
-  const auto body = record_body(value, continued);
-  return fmt::format("{} {:08x}\n", body, crc32(body));
+  return checked_line(record_body(value, continued));
 }
 
 std::string encode_image(const StateImage& image) {
@@ -83,56 +70,35 @@ std::string encode_image(const StateImage& image) {
 
 LoadedJournal parse_journal(std::string_view bytes) {
   LoadedJournal loaded;
-  if (bytes.empty()) return loaded;
-  if (!bytes.starts_with(journal_header)) {
-    // A crash while the header of a new file was written leaves a part of it: nothing was
-    // ever recorded there.
-    if (journal_header.starts_with(bytes)) {
-      loaded.status = LoadedJournal::Status::torn_tail;
-      loaded.problem = "line 1: a torn header";
-      return loaded;
-    }
-    loaded.status = LoadedJournal::Status::foreign;
-    loaded.problem = bytes.starts_with("unima-bridge state ") ? "line 1: another version of the state file"
-                                                             : "line 1: not a unima-bridge state file";
-    return loaded;
-  }
   // A write's values are applied once its last record is read: a write cut short by a
   // crash adds nothing.
   std::vector<PersistedValue> write;
-  std::size_t at = journal_header.size();
-  loaded.good_bytes = at;
-  std::size_t line_number = 1;
-  while (at < bytes.size()) {
-    ++line_number;
-    const auto newline = bytes.find('\n', at);
-    const bool last = newline == std::string_view::npos || newline + 1 == bytes.size();
-    std::string why = "no end of line";
-    std::optional<Record> record;
-    if (newline != std::string_view::npos) record = parse_record(bytes.substr(at, newline - at), why);
-    if (!record) {
-      loaded.status = last ? LoadedJournal::Status::torn_tail : LoadedJournal::Status::damaged;
-      loaded.problem = fmt::format("line {}: {}", line_number, why);
-      break;
-    }
-    write.push_back(record->value);
-    at = newline + 1;
-    if (record->continued) continue;
-    for (const auto& value : write) loaded.image.apply(value);
-    loaded.records += write.size();
-    loaded.good_bytes = at;
-    write.clear();
-  }
-  if (loaded.status == LoadedJournal::Status::ok && !write.empty()) {
-    loaded.status = LoadedJournal::Status::torn_tail;
-    loaded.problem = fmt::format("line {}: the last record of its write is missing", line_number);
-  }
-  if (loaded.status == LoadedJournal::Status::damaged) {
+  const auto walk = walk_journal(bytes, journal_header, "state file", "the last record of its write is missing",
+                                 [&](std::string_view body, std::size_t, std::size_t) {
+                                   LineVerdict verdict;
+                                   const auto record = parse_record(body, verdict.why);
+                                   if (!record) {
+                                     verdict.kind = LineVerdict::Kind::bad;
+                                     return verdict;
+                                   }
+                                   write.push_back(record->value);
+                                   if (record->continued) {
+                                     verdict.kind = LineVerdict::Kind::continued;
+                                     return verdict;
+                                   }
+                                   for (const auto& value : write) loaded.image.apply(value);
+                                   loaded.records += write.size();
+                                   write.clear();
+                                   return verdict;
+                                 });
+  loaded.status = walk.status;
+  loaded.good_bytes = walk.good_bytes;
+  loaded.problem = walk.problem;
+  if (walk.status == JournalStatus::damaged || walk.status == JournalStatus::foreign) {
     // SPEC §10: a damaged file gives nothing. The records before the damage may hold an
     // older value than the one last acknowledged, which a record after it replaced.
     loaded.image = {};
     loaded.records = 0;
-    loaded.good_bytes = 0;
   }
   return loaded;
 }

@@ -23,6 +23,7 @@
 #include <string>
 #include <string_view>
 
+#include "state/checked_lines.hpp"
 #include "state/state_image.hpp"
 
 namespace unima::state {
@@ -35,13 +36,11 @@ std::string encode_record(const PersistedValue& value, bool continued = false);
 std::string encode_image(const StateImage& image);
 
 struct LoadedJournal {
-  enum class Status {
-    ok,         // every line a record of a whole write (an empty file too)
-    torn_tail,  // a crash cut the last write short (its last line, or its last records):
-                // never acknowledged, dropped whole; the writes before it are kept
-    damaged,    // a bad record that is not the last line: nothing is kept
-    foreign,    // not a state journal (another file, another version): nothing is kept
-  };
+  /// ok: every line a record of a whole write (an empty file too); torn_tail: a crash cut
+  /// the last write short (its last line, or its last records), never acknowledged,
+  /// dropped whole, the writes before it kept; damaged: a bad record that is not the last
+  /// line, nothing kept; foreign: not a state journal, nothing kept.
+  using Status = JournalStatus;
   Status status = Status::ok;
   StateImage image;           // from the whole writes read; empty unless ok or torn_tail
   std::size_t good_bytes = 0; // the length of the file's part whose writes are in `image`

@@ -7,16 +7,14 @@
 #include <atomic>
 #include <cerrno>
 #include <chrono>
-#include <condition_variable>
 #include <deque>
-#include <mutex>
 #include <system_error>
-#include <thread>
 #include <utility>
 
 #include <spdlog/spdlog.h>
 
 #include "io/durable_file.hpp"
+#include "platform/journal_thread.hpp"
 
 namespace unima::io {
 namespace {
@@ -97,18 +95,15 @@ Loaded load(const std::filesystem::path& path) {
 
 }  // namespace
 
-// Two threads share the buffer. The loop hands entries, read requests and acknowledgements
-// over under one lock, held for a push; it never waits for the disk. The thread wakes once
-// a second: it appends everything handed over since in one write, marks what was
+// Two threads share the buffer (io/journal_thread; a rewrite of a full buffer copies
+// max_size bytes, longer still than a sync). The loop hands entries, read requests and
+// acknowledgements over; it never waits for the disk. The thread's turn comes once a
+// second: it appends everything handed over since in one write, marks what was
 // acknowledged, and fdatasyncs — one sync per second however many entries came, and none
-// when nothing did. A read request wakes it at once (history is sent as fast as the broker
-// acknowledges it): it writes what was handed over, without a sync, and reads the entries
-// back from the file. What the loop sees of the thread's work comes back as posts to the
-// loop, or in the atomic counters.
-//
-// The thread exists because write and fdatasync block for as long as the disk takes (a
-// rewrite of a full buffer copies max_size bytes), and the loop, which serves Modbus, must
-// never wait for them.
+// when nothing did. A read request is urgent (history is sent as fast as the broker
+// acknowledges it): its turn writes what was handed over, without a sync, and reads the
+// entries back from the file. What the loop sees of the thread's work comes back as posts
+// to the loop, or in the atomic counters.
 struct HistoryBuffer::Shared {
   Shared(asio::io_context& io, std::filesystem::path path, std::uint64_t max_size, Loaded loaded)
       : io(io), path(std::move(path)), max_size(max_size), fd(std::move(loaded.fd)), size(loaded.size),
@@ -121,18 +116,15 @@ struct HistoryBuffer::Shared {
   const std::filesystem::path path;
   const std::uint64_t max_size;
 
-  // Under the mutex.
+  // Under the thread's lock.
   struct Request {
     std::uint64_t after;
     std::size_t count;
     Entries done;
   };
-  std::mutex mutex;
-  std::condition_variable wake;
   std::vector<std::pair<std::string, std::string>> queued;  // bank, document
   std::vector<Request> requests;
   std::uint64_t acknowledged = 0;
-  bool stopping = false;
 
   // Counters, written by the thread.
   std::atomic<std::uint64_t> bytes{0}, messages{0}, dropped{0}, syncs{0}, failures{0};
@@ -147,9 +139,13 @@ struct HistoryBuffer::Shared {
   bool dirty = false;        // written since the last sync
   bool drop_logged = false;  // once per filling: until the buffer empties again
   bool failure_logged = false;
-  std::thread thread;
+  std::vector<std::pair<std::string, std::string>> batch;  // swapped with `queued`
+  std::vector<Request> reading;                            // swapped with `requests`
+  std::chrono::steady_clock::time_point next_sync;
+  platform::JournalThread thread;
 
-  void run(const std::weak_ptr<Shared>& self);
+  /// One turn of the thread (`last`: the stop's); when the next is due.
+  std::chrono::steady_clock::time_point turn(bool last, const std::weak_ptr<Shared>& self);
   void write_queued(std::vector<std::pair<std::string, std::string>>& batch);
   void mark(std::uint64_t sequence);
   void append(const std::string& records, std::vector<HistoryPlace> added);
@@ -303,34 +299,25 @@ void HistoryBuffer::Shared::serve(Request& request, const std::weak_ptr<Shared>&
   });
 }
 
-// Stops once stopping: what was handed over before the destructor is written and synced.
-void HistoryBuffer::Shared::run(const std::weak_ptr<Shared>& self) {
-  std::vector<std::pair<std::string, std::string>> batch;
-  std::vector<Request> reading;
-  auto next_sync = std::chrono::steady_clock::now() + sync_interval;
-  while (true) {
-    std::uint64_t acknowledge = 0;
-    bool stop = false;
-    {
-      std::unique_lock lock(mutex);
-      wake.wait_until(lock, next_sync, [&] { return stopping || !requests.empty(); });
-      batch.swap(queued);
-      reading.swap(requests);
-      acknowledge = acknowledged;
-      stop = stopping;
-    }
-    write_queued(batch);
-    mark(acknowledge);
-    const auto now = std::chrono::steady_clock::now();
-    if (now >= next_sync || stop) {
-      sync();
-      next_sync = now + sync_interval;
-    }
-    for (auto& request : reading) serve(request, self);
-    reading.clear();
-    publish_counters();
-    if (stop) return;
+// The last turn writes and syncs what was handed over before the destructor.
+std::chrono::steady_clock::time_point HistoryBuffer::Shared::turn(bool last, const std::weak_ptr<Shared>& self) {
+  std::uint64_t acknowledge = 0;
+  thread.take([&] {
+    batch.swap(queued);
+    reading.swap(requests);
+    acknowledge = acknowledged;
+  });
+  write_queued(batch);
+  mark(acknowledge);
+  const auto now = std::chrono::steady_clock::now();
+  if (now >= next_sync || last) {
+    sync();
+    next_sync = now + sync_interval;
   }
+  for (auto& request : reading) serve(request, self);
+  reading.clear();
+  publish_counters();
+  return next_sync;
 }
 
 HistoryBuffer::HistoryBuffer(asio::io_context& io, std::filesystem::path path, std::uint64_t max_size) : path_(std::move(path)) {
@@ -342,35 +329,27 @@ HistoryBuffer::HistoryBuffer(asio::io_context& io, std::filesystem::path path, s
   } catch (const std::exception& e) {
     throw std::runtime_error("mqtt.buffer.file " + path_.string() + ": " + e.what());
   }
-  shared_->thread = std::thread([shared = shared_.get(), weak = std::weak_ptr<Shared>(shared_)] { shared->run(weak); });
+  shared_->next_sync = std::chrono::steady_clock::now() + sync_interval;
+  shared_->thread.start(
+      [shared = shared_.get(), weak = std::weak_ptr<Shared>(shared_)](bool last) {
+        return std::optional(shared->turn(last, weak));
+      },
+      shared_->next_sync);
   spdlog::info("mqtt: history buffer {} holds {} documents not yet sent", path_.string(), shared_->pending.size());
 }
 
-HistoryBuffer::~HistoryBuffer() {
-  {
-    const std::lock_guard lock(shared_->mutex);
-    shared_->stopping = true;
-  }
-  shared_->wake.notify_one();
-  shared_->thread.join();
-}
+HistoryBuffer::~HistoryBuffer() { shared_->thread.stop(); }
 
 void HistoryBuffer::append(std::string_view bank, std::string document) {
-  const std::lock_guard lock(shared_->mutex);
-  shared_->queued.emplace_back(std::string(bank), std::move(document));
+  shared_->thread.hand_over([&] { shared_->queued.emplace_back(std::string(bank), std::move(document)); }, false);
 }
 
 void HistoryBuffer::read(std::uint64_t after, std::size_t count, Entries done) {
-  {
-    const std::lock_guard lock(shared_->mutex);
-    shared_->requests.push_back({after, count, std::move(done)});
-  }
-  shared_->wake.notify_one();
+  shared_->thread.hand_over([&] { shared_->requests.push_back({after, count, std::move(done)}); }, true);
 }
 
 void HistoryBuffer::acknowledge(std::uint64_t sequence) {
-  const std::lock_guard lock(shared_->mutex);
-  shared_->acknowledged = std::max(shared_->acknowledged, sequence);
+  shared_->thread.hand_over([&] { shared_->acknowledged = std::max(shared_->acknowledged, sequence); }, false);
 }
 
 HistoryBuffer::Counters HistoryBuffer::counters() const {
