@@ -40,8 +40,11 @@ void wait_for_signals(unima::asio::signal_set& signals, unima::app::Bridge& brid
       std::string status = "STATUS=running; reloaded " + config_path;
       try {
         auto config = unima::config::load_file(config_path);
-        unima::platform::set_log_level(config.log.level);
+        // The level is part of the config: it changes only when the whole reload commits,
+        // so a refused config leaves the running level as well.
+        const auto level = config.log.level;
         bridge.reload(std::move(config));
+        unima::platform::set_log_level(level);
         release_parser_memory();
       } catch (const std::exception& e) {
         spdlog::error("reload failed, the running config stays: {}", e.what());

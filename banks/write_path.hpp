@@ -67,6 +67,9 @@ class WritePath final : public modbus::RegisterModel {
   void set_journal(WriteJournal* journal) { journal_ = journal; }
   /// While frozen, every write is refused with Status::read_only and changes nothing.
   void freeze(bool frozen) { frozen_ = frozen; }
+  /// The freeze's one home: the ports ask it for what passes no write path (a write
+  /// forwarded to the line of foreign slaves).
+  bool frozen() const { return frozen_; }
 
  private:
   void apply(const WrittenValue& value);

@@ -2,7 +2,7 @@
 // daemon's start and a reload read a file: config::load_text. A config it refuses is a
 // ConfigError naming file:line:column; any other exception escapes and is a finding. A
 // config it accepts must start: the banks are built and every served register read (as
-// app::Bridge::build_core and a Modbus read do), its warnings, its register map and, in
+// io::build_banks and a Modbus read do), its warnings, its register map and, in
 // master mode, the master's plan are made.
 //
 // The replay transport reads the recording its config names. Inputs that could name a

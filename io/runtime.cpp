@@ -36,6 +36,7 @@ std::unique_ptr<Banks> build_banks(config::Config config, banks::WriteJournal* j
   b->capture_rules = capture_rules(config);
   b->register_rows = config::register_map(config);
   b->value_model = values::ValueModel(config);
+  b->values = std::make_unique<values::CurrentValues>(*b->store, b->value_model);
   b->config = std::move(config);
   return b;
 }

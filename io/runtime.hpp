@@ -16,7 +16,7 @@
 #include "config/config.hpp"
 #include "config/register_map.hpp"
 #include "io/error_hold.hpp"
-#include "io/gateway_request.hpp"
+#include "io/gateway_line.hpp"
 #include "io/state_file.hpp"
 #include "io/store_changes.hpp"
 #include "modbus/capture.hpp"
@@ -24,6 +24,7 @@
 #include "platform/asio.hpp"
 #include "unimabus/publisher.hpp"
 #include "unimabus/telegram_intake.hpp"
+#include "values/current_values.hpp"
 #include "values/value_model.hpp"
 
 namespace unima::io {
@@ -40,6 +41,8 @@ struct Banks {
   std::vector<modbus::CaptureRule> capture_rules;
   std::vector<config::MapRow> register_rows;  // in address order: the page, /api/registers
   values::ValueModel value_model;
+  /// The values now, evaluated once per change for all who show or publish them.
+  std::unique_ptr<values::CurrentValues> values;
 };
 
 /// `config`'s banks; the writes go to `journal` (null: kept nowhere).
@@ -60,12 +63,9 @@ struct Runtime {
   std::chrono::system_clock::time_point started_utc = std::chrono::system_clock::now();  // the birth's `started`
   /// The whole status document (`unima-bridge status --json`), for who shows it.
   std::function<nlohmann::json()> status;
-  /// A TCP client's request for a foreign slave (modbus.gateway, SPEC §14), to the running
-  /// master's line; the master service sets it.
-  std::function<void(GatewayRequest, GatewayAnswer)> forward_to_line;
-  /// A client whose requests went through forward_to_line closed its connection: its
-  /// requests still queued for the line leave the queue. Set beside forward_to_line.
-  std::function<void(std::uint64_t client)> client_gone_from_line;
+  /// The TCP and TLS ports' way to the running master's line (modbus.gateway, SPEC §14);
+  /// the master service attaches its master.
+  GatewayLine gateway_line{io};
 
   const config::Config& config() const { return banks->config; }
 };

@@ -22,6 +22,12 @@ bool reads_registers(std::uint8_t fn) {
   return fn == modbus::function::read_holding_registers || fn == modbus::function::read_input_registers;
 }
 
+// 5, 6, 15 and 16: the answer repeats the request's address and value or count.
+bool writes_and_echoes(std::uint8_t fn) {
+  return fn == modbus::function::write_single_coil || fn == modbus::function::write_single_register ||
+         fn == modbus::function::write_multiple_coils || fn == modbus::function::write_multiple_registers;
+}
+
 MasterResponse status_only(ResponseStatus status) {
   MasterResponse r;
   r.status = status;
@@ -158,7 +164,8 @@ MasterResponse check_rtu_response(std::span<const std::uint8_t> frame, std::uint
   return check_response_pdu(body.subspan(1), request_pdu);
 }
 
-MasterResponse check_forwarded_rtu_answer(std::span<const std::uint8_t> frame, std::uint8_t address) {
+MasterResponse check_forwarded_rtu_answer(std::span<const std::uint8_t> frame, std::uint8_t address,
+                                          std::span<const std::uint8_t> request_pdu) {
   if (frame.empty()) return status_only(ResponseStatus::timeout);
   if (frame.size() < 4) return status_only(ResponseStatus::too_short);
   const auto body = frame.first(frame.size() - 2);
@@ -167,11 +174,17 @@ MasterResponse check_forwarded_rtu_answer(std::span<const std::uint8_t> frame, s
   if (frame[0] != address) return status_only(ResponseStatus::wrong_address);
   const auto pdu = body.subspan(1);
   if (pdu.size() > modbus::max_pdu_size) return status_only(ResponseStatus::bad_length);
-  if (pdu[0] & modbus::function::exception_flag) {
+  const auto fn = request_pdu[0];
+  if (pdu[0] == (fn | modbus::function::exception_flag)) {
     if (pdu.size() != 2) return status_only(ResponseStatus::bad_length);
     return MasterResponse{ResponseStatus::exception, static_cast<modbus::ExceptionCode>(pdu[1]), pdu};
   }
-  return MasterResponse{ResponseStatus::ok, modbus::ExceptionCode::none, pdu};
+  if (pdu[0] != fn) return status_only(ResponseStatus::wrong_function);
+  if (!reads_bits(fn) && !reads_registers(fn) && !writes_and_echoes(fn))
+    return MasterResponse{ResponseStatus::ok, modbus::ExceptionCode::none, pdu};
+  // Data to a request too short to say its address and quantity answers no such request.
+  if (request_pdu.size() < 5) return status_only(ResponseStatus::bad_frame);
+  return check_response_pdu(pdu, request_pdu);
 }
 
 MasterResponse check_tcp_response(std::span<const std::uint8_t> adu, std::uint8_t unit,

@@ -69,10 +69,15 @@ std::optional<std::size_t> expected_response_length(std::span<const std::uint8_t
 /// Checks an RTU response frame (as ended by its length or by silence) against the request.
 MasterResponse check_rtu_response(std::span<const std::uint8_t> frame, std::uint8_t address,
                                   std::span<const std::uint8_t> request_pdu);
-/// Checks the answer to a forwarded request (SPEC §14): only the frame — its length, CRC
-/// and address — whatever the function. ok or exception with `pdu` the slave's answer PDU
-/// as it came; else timeout, too_short, bad_crc or wrong_address.
-MasterResponse check_forwarded_rtu_answer(std::span<const std::uint8_t> frame, std::uint8_t address);
+/// Checks the answer to a forwarded request (SPEC §14) against the request, as a poll's
+/// is: its frame (length, CRC, address), then its function or its exception; for the
+/// functions the master knows (1–6, 15, 16) as check_response_pdu does — for 1–4 a byte
+/// count that fits the quantity asked, for 5, 6, 15 and 16 the echo. Another function's
+/// answer is taken as it came. ok or exception with `pdu` the slave's answer PDU; else
+/// timeout, too_short, bad_crc, wrong_address, wrong_function, bad_length or wrong_echo:
+/// a late answer to an earlier request is never handed to this one's client.
+MasterResponse check_forwarded_rtu_answer(std::span<const std::uint8_t> frame, std::uint8_t address,
+                                          std::span<const std::uint8_t> request_pdu);
 /// Checks a TCP response ADU (MBAP + PDU) against the request's unit and PDU. The
 /// transaction id is matched by the link, which skips late answers to older requests.
 MasterResponse check_tcp_response(std::span<const std::uint8_t> adu, std::uint8_t unit,

@@ -245,6 +245,10 @@ MasterScheduler::TimePoint MasterScheduler::ready_for(std::uint8_t unit) const {
   return it == devices_.end() ? line_free_ : device_ready(it->second);
 }
 
+void MasterScheduler::timed_out(TimePoint now, Duration waited) {
+  line_free_ = std::max(line_free_, now + std::min(waited, longest_quiet));
+}
+
 void MasterScheduler::line_used(std::uint8_t unit, TimePoint start, TimePoint end) {
   line_free_ = end + options_.frame_gap;
   if (const auto it = devices_.find(unit); it != devices_.end()) it->second.last_start = start;

@@ -23,6 +23,11 @@
 //   in doubt that found no gap for one backoff interval (a probe: one probe interval) goes
 //   anyway, with the whole time-out: a dead slave is never starved of its recovery.
 //   One answer makes the device live again; it resumes its grid without a burst.
+// - After a time-out the line stays quiet for as long again as the wait that ended, at
+//   most `longest_quiet` (timed_out): a slave later than its time-out answers into
+//   silence, and the link discards what came before the next frame, so that a late answer
+//   is never taken for the next request's (issue 43: a 420 ms slave behind a 300 ms
+//   time-out). The bound keeps a long time-out from holding the line twice as long.
 // - The first transaction of a device that fails (nobody could know the slave was dead)
 //   moves the live devices' schedule past it, by whole multiples of the periods' greatest
 //   common divisor so that the phases keep their distances: one longer first interval
@@ -104,6 +109,10 @@ class MasterScheduler {
   /// A transaction that is not the scheduler's (a forwarded one) held the line from
   /// `start` to `end`.
   void line_used(std::uint8_t unit, TimePoint start, TimePoint end);
+  static constexpr Duration longest_quiet = std::chrono::milliseconds(500);
+  /// A transaction, the scheduler's or a forwarded one, got no answer within `waited`,
+  /// ending at `now`: the line is quiet until now + min(waited, longest_quiet) (at the least).
+  void timed_out(TimePoint now, Duration waited);
   /// Whether `unit` is a device the master polls (its profile's timing applies).
   bool knows(std::uint8_t unit) const { return devices_.contains(unit); }
 

@@ -9,6 +9,12 @@ Recipient recipient_of(Link link, std::uint8_t address, std::uint8_t own_address
   return address == broadcast_address ? Recipient::broadcast : Recipient::another_slave;
 }
 
+Verdict route(Recipient recipient, std::uint8_t unit, std::uint8_t function,
+              const std::array<bool, 256>* routed_units, const WriteRights* rights) {
+  if (recipient != Recipient::another_slave || !routed_units || !(*routed_units)[unit]) return Verdict::serve;
+  return !rights || rights->may_forward(unit, function) ? Verdict::forward : Verdict::refuse_forward;
+}
+
 Served serve_request(Link link, Recipient recipient, std::span<const std::uint8_t> pdu, std::span<std::uint8_t> out,
                      RegisterModel& registers, const HandlerOptions& options, const WriteRights* rights,
                      bool gateway) {

@@ -4,6 +4,7 @@
 // the answer, the state the monitor logs and whether it counts as a fault (C+0x13 bit
 // 15). Pure: the ports frame the bytes and send what this says.
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -24,6 +25,20 @@ enum class Recipient : std::uint8_t {
 /// On TCP the own unit id, 0 and 255 are this slave's; on RTU only the own address, and
 /// 0 is a broadcast.
 Recipient recipient_of(Link link, std::uint8_t address, std::uint8_t own_address);
+
+/// What a TCP or TLS port does with one request (SPEC §3, §11, §14), decided once:
+enum class Verdict : std::uint8_t {
+  serve,           // serve_request: this slave's; another's that the gateway does not
+                   // route is answered there (0x0A behind a gateway, else 0x0B)
+  forward,         // to the line of foreign slaves, as it came
+  refuse_forward,  // a unit the gateway routes, but this client may not send it this
+                   // function (WriteRights::may_forward, the freeze included): 01
+};
+
+/// `routed_units`: by unit id, what the gateway forwards (nullptr: no gateway).
+/// `rights`: the client's (nullptr: everything), as the port's write_rights says.
+Verdict route(Recipient recipient, std::uint8_t unit, std::uint8_t function,
+              const std::array<bool, 256>* routed_units, const WriteRights* rights);
 
 struct Served {
   std::size_t length = 0;  // of the response PDU in `out`; 0: nothing to send

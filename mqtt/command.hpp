@@ -1,8 +1,8 @@
 #pragma once
 // The commands a fleet may send (SPEC §12, `commands: true`): `<prefix>/set/W/<offset>`
 // with the register's value, `<prefix>/set/X/<bit>` with 0 or 1. Each is checked here,
-// then applied by the bridge exactly like a Modbus write (app/bridge_mqtt.cpp), and
-// answered on `<prefix>/set/result`. Pure.
+// then applied by the bridge exactly like a Modbus write (io::MqttService::take_command),
+// and answered on `<prefix>/set/result`. Pure.
 
 #include <cstdint>
 #include <string>

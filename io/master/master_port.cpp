@@ -79,8 +79,7 @@ void MasterPort::start() {
     stale_limits.push_back(setup_.blocks[i].is_read() ? std::optional<Clock::duration>(setup_.stale_after[i]) : std::nullopt);
   staleness_.emplace(std::move(stale_limits), now);
   skip_warned_.assign(setup_.blocks.size(), false);
-  if (gateway_config_) gateway_.emplace(gateway_config_->wait);
-  if (gateway_config_ && gateway_config_->cache > config::Duration::zero()) cache_.emplace(gateway_config_->cache);
+  if (gateway_config_) gateway_.emplace(master::Gateway::Settings{gateway_config_->wait, gateway_config_->timeout, gateway_config_->cache});
   spdlog::info("modbus master: {}, {} requests for {} blocks", link_->describe(), scheduler_->request_count(),
                setup_.blocks.size());
   stale_timer_.watch();
@@ -100,7 +99,6 @@ void MasterPort::stop() {
   for (auto& [ticket, waiting] : waiting_) refuse(std::move(waiting), modbus::ExceptionCode::gateway_target_failed);
   waiting_.clear();
   gateway_.reset();
-  cache_.reset();
   for (const auto& [device, c] : counters_)
     spdlog::info("modbus master: device {}: {} requests, {} answered, {} time-outs, {} bad frames, {} exceptions, "
                  "{} retries, {} probes, {} sends skipped{}",
@@ -165,9 +163,11 @@ void MasterPort::send(const MasterScheduler::Choice& choice) {
   if (choice.attempt > 0) ++counters.retries;
   if (choice.probe) ++counters.probes;
   scheduler_->begin(choice, now);
-  if (gateway_) gateway_->poll_began();
-  // The master's own send changes the slave as a client's write would.
-  if (cache_ && !request.is_read()) cache_->written(request.device);
+  if (gateway_) {
+    gateway_->poll_began();
+    // The master's own send changes the slave as a client's write would.
+    if (!request.is_read()) gateway_->device_written(request.device);
+  }
   in_flight_ = true;
   const auto sent = std::chrono::system_clock::now();
   if (hooks_.on_query_sent) hooks_.on_query_sent(sent);
@@ -176,6 +176,7 @@ void MasterPort::send(const MasterScheduler::Choice& choice) {
   const auto wait = choice.timeout > MasterScheduler::Duration::zero() ? choice.timeout
                                                                        : scheduler_->timing(request.device).response_timeout;
   const auto timeout = std::chrono::duration_cast<std::chrono::milliseconds>(wait);
+  waiting_for_answer_ = timeout;
   link_->transact(request.device, pdu, timeout,
                   [weak = weak_from_this(), choice, pdu, sent](master::Bytes query, master::Bytes response) {
                     if (const auto self = weak.lock())
@@ -212,7 +213,11 @@ void MasterPort::finished(const MasterScheduler::Choice& choice, const master::B
     scheduler_->replace(choice.request, std::move(parts));
   }
   const auto outcome = master::slave_answered(result) ? MasterScheduler::Outcome::answered : MasterScheduler::Outcome::failed;
-  switch (scheduler_->end(choice, outcome, now)) {
+  const auto transition = scheduler_->end(choice, outcome, now);
+  const bool timed_out = result.status == ResponseStatus::timeout;
+  if (timed_out) scheduler_->timed_out(now, waiting_for_answer_);
+  if (gateway_) gateway_->poll_ended(timed_out);
+  switch (transition) {
     case MasterScheduler::Transition::degraded:
       counters.degraded = true;
       spdlog::warn("modbus master: device {} degraded: {} ({}); its requests stop, a probe goes every {} ms",
@@ -234,19 +239,10 @@ void MasterPort::finished(const MasterScheduler::Choice& choice, const master::B
 void MasterPort::forward(GatewayRequest request, GatewayAnswer answer) {
   if (!running_ || !gateway_) return refuse(Forwarded{std::move(request), std::move(answer)},
                                             modbus::ExceptionCode::gateway_target_failed);
-  auto& counters = gateway_units_[request.unit];
-  if (cache_) {
-    if (auto cached = cache_->answer(request.unit, request.pdu, Clock::now())) {
-      ++counters.cache_hits;
-      return answer_from_cache(Forwarded{std::move(request), std::move(answer)}, std::move(*cached));
-    }
-    // A write empties the unit's cache now, and again when it goes on the line: a read
-    // answered in between saw the slave before it.
-    if (!master::GatewayCache::is_read(request.pdu)) cache_->written(request.unit);
-  }
-  const auto ticket = gateway_->push(request.client, request.priority, request.unit, Clock::now());
-  waiting_.emplace(ticket, Forwarded{std::move(request), std::move(answer)});
-  if (gateway_->size() == 1) expire_waiting();  // the timer was idle: arm it
+  auto arrival = gateway_->arrive(request.client, request.priority, request.unit, request.pdu, Clock::now());
+  if (arrival.cached) return answer_from_cache(Forwarded{std::move(request), std::move(answer)}, std::move(*arrival.cached));
+  waiting_.emplace(arrival.ticket, Forwarded{std::move(request), std::move(answer)});
+  if (gateway_->waiting() == 1) expire_waiting();  // the timer was idle: arm it
   if (in_flight_) return;  // the line's next turn is decided when its transaction ends
   // Not from within the client's call: its answer must not come back into it.
   asio::post(executor_, [weak = weak_from_this()] {
@@ -256,8 +252,8 @@ void MasterPort::forward(GatewayRequest request, GatewayAnswer answer) {
 
 void MasterPort::client_gone(std::uint64_t client) {
   if (!gateway_) return;
-  const auto dropped = gateway_->drop_client(client);
-  for (const auto& request : dropped) waiting_.erase(request.ticket);
+  const auto dropped = gateway_->client_gone(client);
+  for (const auto ticket : dropped) waiting_.erase(ticket);
   if (!dropped.empty())
     spdlog::debug("modbus gateway: client {} went; {} of its requests left the queue", client, dropped.size());
 }
@@ -267,7 +263,6 @@ void MasterPort::expire_waiting() {
   for (const auto& expired : gateway_->expire(Clock::now())) {
     auto waiting = waiting_.extract(expired.ticket);
     if (waiting.empty()) continue;
-    ++gateway_units_[expired.unit].busy;
     refuse(std::move(waiting.mapped()), modbus::ExceptionCode::server_device_busy);
   }
   const auto next = gateway_->next_expiry();
@@ -281,19 +276,17 @@ void MasterPort::expire_waiting() {
 // A forwarded request is sent as it came and never retried: the client decides whether
 // to ask again (a write twice may not be what it wants).
 void MasterPort::forward_now(const master::GatewayQueue::Request& next, Clock::time_point now) {
-  gateway_->began(next.ticket);
   auto waiting = waiting_.extract(next.ticket);
+  gateway_->began(next, waiting.empty() ? std::span<const std::uint8_t>() : waiting.mapped().request.pdu, now);
   if (waiting.empty()) return;
   on_line_ = std::move(waiting.mapped());
-  auto& counters = gateway_units_[next.unit];
-  ++counters.requests;
-  counters.wait.took_line(now - next.queued);
   in_flight_ = true;
   const auto sent = std::chrono::system_clock::now();
   if (hooks_.on_query_sent) hooks_.on_query_sent(sent);
   const auto unit = on_line_->request.unit;
-  if (cache_ && !master::GatewayCache::is_read(on_line_->request.pdu)) cache_->written(unit);
-  link_->transact(unit, on_line_->request.pdu, gateway_timeout(unit),
+  const auto device_timeout = scheduler_->knows(unit) ? std::optional(scheduler_->timing(unit).response_timeout) : std::nullopt;
+  waiting_for_answer_ = gateway_->timeout(device_timeout);
+  link_->transact(unit, on_line_->request.pdu, waiting_for_answer_,
                   [weak = weak_from_this(), now, sent](master::Bytes query, master::Bytes response) {
                     const auto self = weak.lock();
                     if (!self || !self->on_line_) return;
@@ -307,47 +300,27 @@ void MasterPort::forwarded(const Forwarded& forwarded, Clock::time_point started
   if (!running_) return;
   in_flight_ = false;
   const auto& request = forwarded.request;
-  scheduler_->line_used(request.unit, started, Clock::now());
-  const auto result = master::check_forwarded_rtu_answer(response, request.unit);
-  const auto state = master::transaction_state(result);
+  const auto now = Clock::now();
+  scheduler_->line_used(request.unit, started, now);
+  auto outcome = gateway_->finished(request.unit, request.pdu, response, now, sent);
+  if (outcome.result.status == ResponseStatus::timeout) scheduler_->timed_out(now, waiting_for_answer_);
+  const auto state = master::transaction_state(outcome.result);
   if (hooks_.on_transaction)
     hooks_.on_transaction(modbus::Transaction{modbus::PortKind::gateway, request.peer, sent, state, query, response, false});
-  count_forwarded(request.unit, result, sent);
   if (is_fault(state) && hooks_.on_fault) hooks_.on_fault();
-  if (result.status == ResponseStatus::ok || result.status == ResponseStatus::exception) {
-    // Only the slave's data is kept (GatewayCache keeps no exception).
-    if (cache_) cache_->answered(request.unit, request.pdu, result.pdu, Clock::now());
-    forwarded.answer(result.pdu);
-  } else {
-    // No answer, a bad CRC, another slave's answer: the target failed to respond (SPEC §14).
-    std::array<std::uint8_t, 2> pdu{};
-    modbus::write_exception(request.pdu[0], modbus::ExceptionCode::gateway_target_failed, pdu);
-    forwarded.answer(pdu);
-  }
-  pump();
-}
-
-void MasterPort::count_forwarded(std::uint8_t unit, const master::MasterResponse& result,
-                                 std::chrono::system_clock::time_point sent) {
-  auto& counters = gateway_units_[unit];
-  switch (result.status) {
-    case ResponseStatus::ok: ++counters.answered; break;
-    case ResponseStatus::exception: ++counters.exceptions; break;
-    case ResponseStatus::timeout: ++counters.timeouts; break;
-    default: ++counters.bad_frames;
-  }
-  const auto transition = master::slave_answered(result) ? counters.answering.answered() : counters.answering.failed(sent);
-  switch (transition) {
+  switch (outcome.transition) {
     case master::UnitAnswering::Transition::stopped_answering:
       spdlog::warn("modbus gateway: unit {} is not answering: {} forwarded requests in a row got no good answer "
                    "(the last: {}); its clients get exception 0B, the others are served as before",
-                   unit, master::UnitAnswering::failures_to_silent, outcome_text(result));
+                   request.unit, master::UnitAnswering::failures_to_silent, outcome_text(outcome.result));
       break;
     case master::UnitAnswering::Transition::answers_again:
-      spdlog::info("modbus gateway: unit {} answers again", unit);
+      spdlog::info("modbus gateway: unit {} answers again", request.unit);
       break;
     case master::UnitAnswering::Transition::none: break;
   }
+  forwarded.answer(outcome.answer);
+  pump();
 }
 
 void MasterPort::answer_from_cache(Forwarded forwarded, master::Bytes answer) {
@@ -359,24 +332,21 @@ void MasterPort::answer_from_cache(Forwarded forwarded, master::Bytes answer) {
     hooks_.on_transaction(modbus::Transaction{modbus::PortKind::gateway, request.peer, std::chrono::system_clock::now(),
                                               TransactionState::cached, query, response, false});
   }
+  answer_later(std::move(forwarded), std::move(answer));
+}
+
+void MasterPort::answer_later(Forwarded forwarded, master::Bytes answer) {
   asio::post(executor_, [forwarded = std::move(forwarded), answer = std::move(answer)] { forwarded.answer(answer); });
 }
 
 void MasterPort::refuse(Forwarded forwarded, modbus::ExceptionCode code) {
-  asio::post(executor_, [forwarded = std::move(forwarded), code] {
-    std::array<std::uint8_t, 2> pdu{};
-    modbus::write_exception(forwarded.request.pdu.at(0), code, pdu);
-    forwarded.answer(pdu);
-  });
+  const auto function = forwarded.request.pdu.at(0);
+  answer_later(std::move(forwarded), master::gateway_exception(function, code));
 }
 
-// modbus.gateway.timeout; else the polled device's response time-out (its own, else the
-// master's); else 1 s (SPEC §14).
-std::chrono::milliseconds MasterPort::gateway_timeout(std::uint8_t unit) const {
-  if (gateway_config_ && gateway_config_->timeout) return *gateway_config_->timeout;
-  if (scheduler_->knows(unit))
-    return std::chrono::duration_cast<std::chrono::milliseconds>(scheduler_->timing(unit).response_timeout);
-  return std::chrono::seconds(1);
+const std::map<std::uint8_t, GatewayUnitCounters>& MasterPort::gateway_units() const {
+  static const std::map<std::uint8_t, GatewayUnitCounters> none;
+  return gateway_ ? gateway_->units() : none;
 }
 
 void MasterPort::take_values(const master::PlannedRequest& request, const master::MasterResponse& result,

@@ -9,12 +9,11 @@
 // last read until `stale_after` without a good read, then reads 0x7FFF.
 //
 // With modbus.gateway (SPEC §14, docs/gateway.md), TCP clients' requests for the foreign
-// slaves share the line with the polls: master/gateway_queue says whose turn it is, the
-// scheduler when the line is free. A forwarded request goes once (never retried), and each
-// is a monitor line of port `gw`. With modbus.gateway.cache, master/gateway_cache answers an
-// equal read again without the line (a monitor line of state Cached). Each unit a client
-// asks for is counted (GatewayUnitCounters; docs/gateway.md "Seen and counted"), and a
-// forwarded fault lights the Error LED as a poll's does.
+// slaves share the line with the polls: master/gateway decides (whose turn, the cache,
+// the time-out, the answer, what each unit's outcome counts as), the scheduler says when
+// the line is free, and this moves the bytes. A forwarded request goes once (never
+// retried), and each is a monitor line of port `gw` (state Cached when the cache answered
+// it); a forwarded fault lights the Error LED as a poll's does.
 
 #include <chrono>
 #include <functional>
@@ -31,12 +30,9 @@
 #include "io/gateway_request.hpp"
 #include "io/lazy_deadline.hpp"
 #include "io/master/master_link.hpp"
-#include "master/gateway_cache.hpp"
-#include "master/gateway_queue.hpp"
+#include "master/gateway.hpp"
 #include "master/staleness.hpp"
 #include "master/master_scheduler.hpp"
-#include "master/unit_answering.hpp"
-#include "master/wait_time.hpp"
 #include "modbus/transaction.hpp"
 
 namespace unima::io {
@@ -54,21 +50,10 @@ struct MasterDeviceCounters {
   bool degraded = false;
 };
 
-/// What the gateway has done for one unit id since a client first asked for it (SPEC §14,
-/// docs/gateway.md "Seen and counted"), for the status document and /metrics.
-struct GatewayUnitCounters {
-  std::uint64_t requests = 0;    // sent on the line (never retried)
-  std::uint64_t answered = 0;    // the slave's data
-  std::uint64_t exceptions = 0;  // the slave's own exception answers
-  std::uint64_t timeouts = 0;    // no answer: 0x0B
-  std::uint64_t bad_frames = 0;  // bad CRC, too short, another address: 0x0B
-  std::uint64_t busy = 0;        // not on the line within `wait`: 0x06
-  std::uint64_t cache_hits = 0;  // answered from modbus.gateway.cache
-  master::WaitTime wait;         // from forward() to the line
-  master::UnitAnswering answering;
-};
+/// Kept under its old name for the status document's readers.
+using GatewayUnitCounters = master::GatewayUnitCounters;
 
-class MasterPort : public std::enable_shared_from_this<MasterPort> {
+class MasterPort final : public LineGateway, public std::enable_shared_from_this<MasterPort> {
  public:
   struct Hooks {
     /// The value of a send's source now; nullopt while it is not measured (0x7FFF).
@@ -93,17 +78,17 @@ class MasterPort : public std::enable_shared_from_this<MasterPort> {
   /// A TCP client's request for a foreign slave (modbus.gateway): queued for the line and
   /// answered once; 0x06 when it could not start within `wait`, 0x0B when the slave did
   /// not answer well.
-  void forward(GatewayRequest request, GatewayAnswer answer);
+  void forward(GatewayRequest request, GatewayAnswer answer) override;
   /// A client's connection closed: its requests still queued leave the queue unanswered
   /// (nobody would read the answer). One already on the line runs to its end.
-  void client_gone(std::uint64_t client);
+  void client_gone(std::uint64_t client) override;
 
   std::string describe() const { return link_->describe(); }
   const std::map<std::uint8_t, MasterDeviceCounters>& counters() const { return counters_; }
   /// Each unit id a client has asked the gateway for; empty without modbus.gateway.
-  const std::map<std::uint8_t, GatewayUnitCounters>& gateway_units() const { return gateway_units_; }
+  const std::map<std::uint8_t, GatewayUnitCounters>& gateway_units() const;
   /// The requests for `unit` waiting for the line now.
-  std::size_t queue_depth(std::uint8_t unit) const { return gateway_ ? gateway_->waiting_for(unit) : 0; }
+  std::size_t queue_depth(std::uint8_t unit) const { return gateway_ ? gateway_->queue_depth(unit) : 0; }
   const std::optional<config::GatewayConfig>& gateway_config() const { return gateway_config_; }
 
   MasterPort(asio::io_context& io, config::MasterSetup setup, std::shared_ptr<MasterLink> link, Hooks hooks,
@@ -122,13 +107,12 @@ class MasterPort : public std::enable_shared_from_this<MasterPort> {
   void forward_now(const master::GatewayQueue::Request& next, Clock::time_point now);
   void forwarded(const Forwarded& forwarded, Clock::time_point started, std::chrono::system_clock::time_point sent,
                  const master::Bytes& query, const master::Bytes& response);
-  /// Counts a forwarded transaction's outcome, and logs when its unit stops or starts answering.
-  void count_forwarded(std::uint8_t unit, const master::MasterResponse& result, std::chrono::system_clock::time_point sent);
   /// Answers a read from the cache, after this call; the monitor sees it now.
   void answer_from_cache(Forwarded forwarded, master::Bytes answer);
+  /// Answers a forwarded request with `answer`, after this call.
+  void answer_later(Forwarded forwarded, master::Bytes answer);
   /// Answers a forwarded request with the gateway's own exception, after this call.
   void refuse(Forwarded forwarded, modbus::ExceptionCode code);
-  std::chrono::milliseconds gateway_timeout(std::uint8_t unit) const;
   /// Answers 0x06 to the requests that have waited `wait`, also while a transaction is
   /// under way, and arms the timer for the next.
   void expire_waiting();
@@ -147,15 +131,14 @@ class MasterPort : public std::enable_shared_from_this<MasterPort> {
   std::vector<bool> skip_warned_;
   std::map<std::uint8_t, MasterDeviceCounters> counters_;
   bool in_flight_ = false;
+  std::chrono::milliseconds waiting_for_answer_{0};  // the time-out of the transaction on the line
   bool running_ = false;
   asio::any_io_executor executor_;
   std::optional<config::GatewayConfig> gateway_config_;
-  std::optional<master::GatewayQueue> gateway_;
-  std::optional<master::GatewayCache> cache_;  // modbus.gateway.cache longer than 0
+  std::optional<master::Gateway> gateway_;
   asio::steady_timer expiry_timer_;
-  std::map<master::GatewayQueue::Ticket, Forwarded> waiting_;  // queued for the line
-  std::optional<Forwarded> on_line_;                            // the forwarded request under way
-  std::map<std::uint8_t, GatewayUnitCounters> gateway_units_;
+  std::map<master::Gateway::Ticket, Forwarded> waiting_;  // queued for the line
+  std::optional<Forwarded> on_line_;                       // the forwarded request under way
 };
 
 /// One line for the log: "Timeout rtu 01 03 04 24 00 02 85 30 -> -".

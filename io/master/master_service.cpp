@@ -73,18 +73,7 @@ nlohmann::json gateway_json(const config::GatewayConfig& config, const MasterPor
 }  // namespace
 
 MasterService::MasterService(Runtime& runtime) : runtime_(runtime), master_(make_master(runtime.config())) {
-  // To whichever master runs now: a reload swaps it.
-  runtime_.forward_to_line = [this](GatewayRequest request, GatewayAnswer answer) {
-    if (master_) return master_->forward(std::move(request), std::move(answer));
-    asio::post(runtime_.io, [fn = request.pdu.at(0), answer = std::move(answer)] {
-      std::array<std::uint8_t, 2> pdu{};
-      modbus::write_exception(fn, modbus::ExceptionCode::gateway_target_failed, pdu);
-      answer(pdu);
-    });
-  };
-  runtime_.client_gone_from_line = [this](std::uint64_t client) {
-    if (master_) master_->client_gone(client);
-  };
+  runtime_.gateway_line.attach(master_.get());
 }
 
 std::shared_ptr<MasterPort> MasterService::make_master(const config::Config& config) {
@@ -120,6 +109,7 @@ void MasterService::stage(const Banks& next) { next_ = make_master(next.config);
 void MasterService::commit(const Banks&) {
   if (master_) master_->stop();
   master_ = std::move(next_);
+  runtime_.gateway_line.attach(master_.get());  // the ports' requests go to the new line
   if (master_ && started_) master_->start();
 }
 

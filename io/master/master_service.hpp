@@ -14,10 +14,7 @@ namespace unima::io {
 class MasterService final : public Service {
  public:
   explicit MasterService(Runtime& runtime);
-  ~MasterService() override {
-    runtime_.forward_to_line = nullptr;
-    runtime_.client_gone_from_line = nullptr;
-  }
+  ~MasterService() override { runtime_.gateway_line.attach(nullptr); }
 
   void start() override;
   void stop() override;

@@ -10,7 +10,7 @@ SlaveContext slave_context(Runtime& runtime) {
   context.registers = runtime.banks->writes.get();
   context.state = runtime.state.get();
   context.unit_id = runtime.config().modbus.address;
-  context.writes_frozen = config::writes_frozen(runtime.config());
+  context.writes_frozen = runtime.banks->writes->frozen();
   const auto& ext = runtime.config().modbus.extensions;
   context.options.max_read_registers = modbus::max_read_registers_tcp;
   context.options.read_holding_registers = ext.function_3;
@@ -21,18 +21,7 @@ SlaveContext slave_context(Runtime& runtime) {
   context.on_transaction = [monitor = runtime.monitor.get()](const modbus::Transaction& t) { monitor->observe(t); };
   if (const auto& gateway = runtime.config().modbus.gateway) {
     context.gateway = std::make_shared<const config::GatewayConfig>(*gateway);
-    context.forward = [&runtime](GatewayRequest request, GatewayAnswer answer) {
-      if (runtime.forward_to_line) return runtime.forward_to_line(std::move(request), std::move(answer));
-      // No master runs (it could not open its line): nothing behind the gateway answers.
-      asio::post(runtime.io, [fn = request.pdu.at(0), answer = std::move(answer)] {
-        std::array<std::uint8_t, 2> pdu{};
-        modbus::write_exception(fn, modbus::ExceptionCode::gateway_target_failed, pdu);
-        answer(pdu);
-      });
-    };
-    context.client_gone = [&runtime](std::uint64_t client) {
-      if (runtime.client_gone_from_line) runtime.client_gone_from_line(client);
-    };
+    context.line = &runtime.gateway_line;  // lives as long as the runtime, which outlives the ports
   }
   return context;
 }

@@ -32,11 +32,9 @@ struct SlaveContext {
   /// modbus.gateway (SPEC §14), a copy that lives as long as this context: the unit ids
   /// the TCP and TLS ports forward to the master's line; null without a gateway.
   std::shared_ptr<const config::GatewayConfig> gateway;
-  /// The way to the line; answers 0x0B while no master runs.
-  std::function<void(GatewayRequest, GatewayAnswer)> forward;
-  /// A client that forwarded closed its connection (GatewayRequest::client): its queued
-  /// requests leave the line's queue.
-  std::function<void(std::uint64_t client)> client_gone;
+  /// The way to the line (io::GatewayLine: answers 0x0B while no master runs); null
+  /// without a gateway.
+  LineGateway* line = nullptr;
   /// config::writes_frozen: no port takes a write, forwarded ones included.
   bool writes_frozen = false;
 };

@@ -93,8 +93,8 @@ bool TcpSlaveServer::Connection::process() {
     const auto unit = adu.header.unit_id;
     const auto recipient = modbus::recipient_of(modbus::Link::tcp, unit, context.unit_id);
     const auto* rights = server_.write_rights(role_);
-    const bool routed = recipient == modbus::Recipient::another_slave && forwards(unit);
-    if (routed && (!rights || rights->may_forward(unit, adu.pdu[0]))) {
+    const auto verdict = modbus::route(recipient, unit, adu.pdu[0], routed_units(), rights);
+    if (verdict == modbus::Verdict::forward) {
       auto& forwarding = forwarding_.emplace();
       forwarding.header = adu.header;
       forwarding.request_size = adu.size;
@@ -103,7 +103,7 @@ bool TcpSlaveServer::Connection::process() {
       break;
     }
     const auto served =
-        routed ? modbus::refuse_forwarded_write(adu.pdu[0], pdu_out)
+        verdict == modbus::Verdict::refuse_forward ? modbus::refuse_forwarded_write(adu.pdu[0], pdu_out)
                : modbus::serve_request(modbus::Link::tcp, recipient, adu.pdu, pdu_out, *context.registers,
                                        context.options, rights, context.gateway != nullptr);
     const auto size = modbus::write_mbap_header(adu.header.transaction_id, unit, served.length, adu_out) + served.length;
@@ -185,11 +185,10 @@ void TcpSlaveServer::Connection::answer_waiting_write(bool durable) {
                                                adu_out.first(out_used_ - write.answer_at), served.length > 0});
 }
 
-// The plain and the TLS port forward alike; what a client may send is its write rights'
-// question (process()).
-bool TcpSlaveServer::Connection::forwards(std::uint8_t unit) const {
+// The plain and the TLS port forward alike (modbus::route decides, in process()).
+const std::array<bool, 256>* TcpSlaveServer::Connection::routed_units() const {
   const auto& context = server_.context_;
-  return context.gateway && context.gateway->routes(unit) && context.forward;
+  return context.gateway && context.line ? &context.gateway->units : nullptr;
 }
 
 void TcpSlaveServer::Connection::forward() {
@@ -200,7 +199,7 @@ void TcpSlaveServer::Connection::forward() {
   const auto& priority = context.gateway->priority;
   GatewayRequest request{client_id_, peer_, !priority.empty() && priority.allows(peer_address(address_)),
                          f.header.unit_id, std::vector<std::uint8_t>(pdu.begin(), pdu.end())};
-  context.forward(std::move(request), [this, self = shared_from_this()](std::span<const std::uint8_t> answer) {
+  context.line->forward(std::move(request), [this, self = shared_from_this()](std::span<const std::uint8_t> answer) {
     if (finished_) return;
     answer_forwarded(answer);
     send();
@@ -324,7 +323,7 @@ void TcpSlaveServer::Connection::finish(const std::string& why) {
   if (finished_) return;
   finished_ = true;
   spdlog::debug("{}: {} disconnected: {}", server_.name(), peer_, why);
-  if (forwarding_ && server_.context_.client_gone) server_.context_.client_gone(client_id_);
+  if (forwarding_ && server_.context_.line) server_.context_.line->client_gone(client_id_);
   close();
   server_.forget(this);
 }

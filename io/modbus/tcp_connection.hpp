@@ -123,7 +123,7 @@ class TcpSlaveServer::Connection : public std::enable_shared_from_this<Connectio
   std::optional<Forwarding> forwarding_;
   std::uint64_t client_id_;  // this connection's turn in the gateway's round
   std::uint64_t forwarded_count_ = 0;  // which forwarded request a watch of the socket belongs to
-  bool forwards(std::uint8_t unit) const;
+  const std::array<bool, 256>* routed_units() const;
   void forward();
   void answer_forwarded(std::span<const std::uint8_t> pdu);
 };

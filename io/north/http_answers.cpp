@@ -9,7 +9,6 @@
 #include "config/register_map_json.hpp"
 #include "metrics/prometheus.hpp"
 #include "monitor/command_filter.hpp"
-#include "values/store_snapshot.hpp"
 #include "values/value_json.hpp"
 #include "web/page_files.hpp"
 
@@ -114,9 +113,9 @@ nlohmann::json panel_of(const nlohmann::json& status) {
 }
 
 // Every bank's values now, by the bank's place in the model.
-std::vector<std::vector<values::Value>> all_values(const values::ValueModel& model, const values::Snapshot& snapshot) {
+std::vector<std::vector<values::Value>> all_values(const values::ValueModel& model, values::CurrentValues& current) {
   std::vector<std::vector<values::Value>> all;
-  for (const auto& layout : model.banks()) all.push_back(model.evaluate(layout.bank, snapshot));
+  for (const auto& layout : model.banks()) all.push_back(current.of(layout.bank));
   return all;
 }
 
@@ -177,9 +176,8 @@ web::LiveSnapshot HttpAnswers::live_values() const {
     snapshot.addresses.push_back(row.address);
     snapshot.values.push_back(running.space->read(row.address, std::span(&value, 1)) ? std::optional(value) : std::nullopt);
   }
-  const auto registers = values::snapshot_of(*running.store);
   for (const auto& layout : running.value_model.banks()) {
-    const auto values = running.value_model.evaluate(layout.bank, registers);
+    const auto& values = running.values->of(layout.bank);
     const auto bank = std::string(banks::bank_name(layout.bank)) + "/";
     for (std::size_t i = 0; i < values.size(); ++i)
       snapshot.named_values.emplace_back(bank + layout.values[i].name, live_value(layout.values[i], values[i]));
@@ -189,7 +187,7 @@ web::LiveSnapshot HttpAnswers::live_values() const {
 
 HttpResponse HttpAnswers::registers() const {
   const auto& running = *runtime_.banks;
-  const auto values_now = all_values(running.value_model, values::snapshot_of(*running.store));
+  const auto values_now = all_values(running.value_model, *running.values);
   auto registers = nlohmann::json::array();
   for (const auto& row : running.register_rows) {
     auto j = config::map_row_json(row);

@@ -8,7 +8,6 @@
 #include "mqtt/command.hpp"
 #include "platform/clock_sync.hpp"
 #include "platform/log_text.hpp"
-#include "values/store_snapshot.hpp"
 
 namespace unima::io {
 
@@ -156,15 +155,12 @@ void MqttService::publish() {
   std::vector<std::uint64_t> changes;
   changes.reserve(banks_.size());
   for (const auto bank : banks_) changes.push_back(running.store->changes(bank));
-  // Read and evaluated only for the banks that may go now.
-  std::optional<values::Snapshot> snapshot;
-  std::vector<std::vector<values::Value>> bank_values(banks_.size());
+  // Evaluated only for the banks that may go now, and once for every consumer.
+  auto& current = *running.values;
   const auto state_of = [&](std::size_t index) {
-    if (!snapshot) snapshot = values::snapshot_of(*running.store);
     const auto bank = banks_[index];
-    bank_values[index] = running.value_model.evaluate(bank, *snapshot);
-    const auto state =
-        mqtt::bank_values(*running.value_model.bank(bank), bank_values[index], (*snapshot)[banks::index_of(bank)].online);
+    const auto state = mqtt::bank_values(*running.value_model.bank(bank), current.of(bank),
+                                         current.snapshot()[banks::index_of(bank)].online);
     return state.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
   };
   const auto due = schedule_->due(changes, mqtt::PublishSchedule::Clock::now(), state_of);
@@ -172,8 +168,8 @@ void MqttService::publish() {
   const auto& prefix = running.config.mqtt->topic;
   for (const auto index : due) {
     const auto bank = banks_[index];
-    const auto document = mqtt::bank_document(*running.value_model.bank(bank), bank_values[index],
-                                              (*snapshot)[banks::index_of(bank)].online, now);
+    const auto document = mqtt::bank_document(*running.value_model.bank(bank), current.of(bank),
+                                              current.snapshot()[banks::index_of(bank)].online, now);
     auto text = document.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
     if (live) client_->publish(prefix + "/" + std::string(banks::bank_name(bank)), text, true);
     else buffer_->append(banks::bank_name(bank), std::move(text));

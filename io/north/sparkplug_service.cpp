@@ -6,10 +6,10 @@
 
 #include "io/durable_file.hpp"
 #include "io/north/broker_options.hpp"
+#include "io/state_file.hpp"
 #include "monitor/monitor_line.hpp"
 #include "platform/log_text.hpp"
 #include "platform/peer_warnings.hpp"
-#include "values/store_snapshot.hpp"
 
 namespace unima::io {
 
@@ -142,7 +142,9 @@ void SparkplugService::take_message(std::string_view topic, std::string_view pay
 
 // A DCMD write is a Modbus write by other means: the one write path (read_only, the
 // register space, the state file first, then UnimaBUS). Nothing is answered: Sparkplug's
-// answer is the DDATA of the value once it changed.
+// answer is the DDATA of the value once it changed. It is logged as taken once what it
+// kept is durable, as a Modbus write is answered; one the state file refuses changed
+// nothing, and is logged and counted as refused.
 void SparkplugService::take_command(std::string_view device, std::string_view topic, std::string_view payload) {
   const auto& running = *runtime_.banks;
   const auto& config = *running.config.sparkplug;
@@ -165,7 +167,19 @@ void SparkplugService::take_command(std::string_view device, std::string_view to
       session_->refused_by_write_path();
       continue;
     }
-    spdlog::info("sparkplug: DCMD {}/{} = {}", banks::bank_name(write.bank), platform::log_safe(write.metric), write.raw);
+    answer_once_durable(runtime_.state.get(), result.kept_as,
+                        [this, alive = alive_, bank = write.bank, metric = write.metric, raw = write.raw](bool durable) {
+                          if (!*alive) return;
+                          if (durable) {
+                            spdlog::info("sparkplug: DCMD {}/{} = {}", banks::bank_name(bank),
+                                         platform::log_safe(metric), raw);
+                            return;
+                          }
+                          if (session_) session_->refused_by_write_path();
+                          spdlog::warn("sparkplug: DCMD {}/{} = {} refused: the state file could not keep it; "
+                                       "nothing changed",
+                                       banks::bank_name(bank), platform::log_safe(metric), raw);
+                        });
   }
 }
 
@@ -198,10 +212,10 @@ void SparkplugService::publish_due() {
   if (client_->backlogged()) return look_at(pacing_.retry(now));
   pacing_.looked(now);
   const auto& running = *runtime_.banks;
-  const auto snapshot = values::snapshot_of(*running.store);
+  auto& current = *running.values;
   std::vector<sparkplug::DeviceReading> devices;
   for (const auto& layout : running.value_model.banks())
-    devices.push_back({&layout, running.value_model.evaluate(layout.bank, snapshot), snapshot[banks::index_of(layout.bank)].online});
+    devices.push_back({&layout, current.of(layout.bank), current.snapshot()[banks::index_of(layout.bank)].online});
   for (const auto& message : session_->step(devices, now_ms())) client_->publish_at_most_once(message.topic, message.payload);
 }
 

@@ -7,7 +7,10 @@
 #include <optional>
 #include <string>
 
+#include <nlohmann/json.hpp>
+
 #include "modbus/rtu/crc16.hpp"
+#include "tests/integration/cli_under_test.hpp"
 #include "tests/integration/master_fixture.hpp"
 
 namespace unima::test {
@@ -84,6 +87,17 @@ class GatewayTest : public MasterTest {
     return false;
   }
   std::size_t polls() const { return std::stoul(sim->control("count 6").substr(6)); }
+  nlohmann::json status() const {
+    return nlohmann::json::parse(run(bridge_cli() + " status --json --socket " + config.status_socket).output, nullptr, false);
+  }
+  /// The status document's row of `unit`, or null while it has none.
+  nlohmann::json unit_status(int unit) const {
+    const auto s = status();
+    if (!s.contains("gateway")) return nullptr;
+    for (const auto& u : s["gateway"]["units"])
+      if (u["unit"] == unit) return u;
+    return nullptr;
+  }
 };
 
 }  // namespace unima::test

@@ -40,17 +40,6 @@ std::optional<double> sample(const std::string& metrics, const std::string& seri
 
 class GatewayStatusTest : public GatewayTest {
  protected:
-  nlohmann::json status() const {
-    return nlohmann::json::parse(run(bridge_cli() + " status --json --socket " + config.status_socket).output, nullptr, false);
-  }
-  /// The status document's row of `unit`, or null while it has none.
-  nlohmann::json unit_status(int unit) const {
-    const auto s = status();
-    if (!s.contains("gateway")) return nullptr;
-    for (const auto& u : s["gateway"]["units"])
-      if (u["unit"] == unit) return u;
-    return nullptr;
-  }
   std::string status_text() const { return run(bridge_cli() + " status --socket " + config.status_socket).output; }
   bool error_led() {
     ModbusClient client(config.modbus_port);

@@ -72,6 +72,21 @@ TEST_F(Lifecycle, AReloadToATakenPortKeepsTheOldPort) {
   EXPECT_TRUE(client.read_input(0x0011, 1));
 }
 
+// The log level is staged with the rest of the config: a reload the bridge refuses (its
+// port is taken) leaves the running level, so the next SIGHUP's info line is still logged.
+TEST_F(Lifecycle, ARefusedReloadKeepsTheRunningLogLevel) {
+  start();
+  auto quiet = config;
+  quiet.modbus_port = config.feed_port;  // taken by the daemon's own feed listener
+  quiet.log_level = "error";
+  daemon->rewrite_config(quiet.yaml());
+  daemon->signal(SIGHUP);
+  ASSERT_TRUE(eventually([&] { return daemon->log_count("reload failed") == 1; })) << daemon->log();
+  daemon->signal(SIGHUP);
+  ASSERT_TRUE(eventually([&] { return daemon->log_count("reload failed") == 2; })) << daemon->log();
+  EXPECT_EQ(daemon->log_count("SIGHUP: reloading"), 2) << daemon->log();
+}
+
 TEST_F(Lifecycle, ABadConfigAtStartUpExitsNonZeroNamingThePosition) {
   const auto good = config.yaml();
   daemon = std::make_unique<Daemon>(dir, good + "banks2: {}\n");

@@ -299,16 +299,12 @@ TEST_F(MasterTest, ADeadSlaveIsDegradedAndDoesNotStarveTheOthers) {
   ASSERT_TRUE(output_becomes(3, 8)) << diagnostics();
   ASSERT_EQ(sim->control("reset"), "ok");
   const auto count = [&](int device) { return std::stoul(sim->control("count " + std::to_string(device)).substr(6)); };
-  // At least two seconds at 100 ms (a loaded machine may look a little later than 20):
-  // device 3 had nearly as many (a 50 ms probe finds room between the others' requests;
-  // a busy machine may delay a few), and device 2 only probes (≤ 1 s apart).
-  ASSERT_TRUE(eventually([&] { return count(1) >= 20; }, 10000ms)) << diagnostics();
-  const auto n3 = count(3);
-  const auto n1 = count(1);
-  const auto n2 = count(2);
-  EXPECT_GE(n3 * 10, n1 * 8) << n3 << " polls of device 3 beside " << n1 << " of device 1; " << diagnostics();
-  EXPECT_GE(n2, 1u);
-  EXPECT_LE(n2, 2 + n1 / 10) << diagnostics();
+  // The others keep being polled while device 2 only gets probes. How many of each, at
+  // what pace, is the scheduler's (MasterScheduler's unit tests with time points: a dead
+  // device degraded and probed with back-off, probes only where they delay nobody): a
+  // ratio of wall-clock counts here would measure the machine's load.
+  ASSERT_TRUE(eventually([&] { return count(1) >= 10 && count(3) >= 10; }, 10000ms)) << diagnostics();
+  EXPECT_TRUE(daemon->log().find("modbus master: device 2 answers again") == std::string::npos) << diagnostics();
   // Back from the dead: one answered probe makes it healthy again.
   ASSERT_EQ(sim->control("dead 2 off"), "ok");
   EXPECT_TRUE(daemon->wait_for_log("modbus master: device 2 answers again", 5000ms)) << diagnostics();

@@ -32,21 +32,11 @@ using test_support::payloads;
 constexpr auto history_topic = "fleet/site-17/history/D1";
 constexpr auto live_topic = "fleet/site-17/D1";
 
-/// mosquitto_sub with a persistent session on the history and the live D1, in the background.
-class DurableReader {
+/// The history's reader: a persistent session on the history and the live D1.
+class DurableReader : public test_support::DurableSubscription {
  public:
-  DurableReader(const Broker& broker, std::filesystem::path file) : file_(std::move(file)) {
-    const auto started = test_support::run("mosquitto_sub -c -i history-reader -q 1 -p " + std::to_string(broker.port()) + " -t '" +
-                                           history_topic + "' -t '" + live_topic + "' -v > " + file_.string() + " 2>&1 & echo $!");
-    pid_ = std::stoi(started.output);
-    EXPECT_TRUE(eventually([&] { return broker.subscriptions_to(history_topic) >= 1; })) << "mosquitto_sub did not subscribe";
-  }
-  ~DurableReader() { ::kill(pid_, SIGTERM); }
-  std::string lines() const { return test_support::whole_lines(test_support::read_file(file_)); }
-
- private:
-  std::filesystem::path file_;
-  int pid_ = 0;
+  DurableReader(const Broker& broker, const std::filesystem::path& file)
+      : DurableSubscription(broker, file, "history-reader", {history_topic, live_topic}) {}
 };
 
 class MqttHistory : public BridgeTest {

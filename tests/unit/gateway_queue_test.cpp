@@ -167,23 +167,47 @@ TEST(GatewayQueue, EachUnitsWaitingRequestsAreCounted) {
   EXPECT_EQ(queue.waiting_for(7), 0u);
 }
 
-// Only the frame is checked of a forwarded answer: any function, the slave's exception as it is.
-TEST(GatewayCodec, AForwardedAnswerIsCheckedForItsFrameOnly) {
-  const auto answer = rtu_frame(3, Bytes{0x2B, 0x0E, 0x01, 0x01});  // function 43, not checked further
-  auto r = check_forwarded_rtu_answer(answer, 3);
+// A forwarded answer is checked against its request: its frame, then its function or its
+// exception, and for the functions the master knows the byte count or the echo; another
+// function's answer (43) is taken as it came.
+TEST(GatewayCodec, AForwardedAnswerIsCheckedAgainstItsRequest) {
+  const Bytes identify{0x2B, 0x0E, 0x01, 0x00};
+  const auto answer = rtu_frame(3, Bytes{0x2B, 0x0E, 0x01, 0x01});
+  auto r = check_forwarded_rtu_answer(answer, 3, identify);
   EXPECT_EQ(r.status, ResponseStatus::ok);
   EXPECT_EQ(Bytes(r.pdu.begin(), r.pdu.end()), (Bytes{0x2B, 0x0E, 0x01, 0x01}));
+  const Bytes read_one{0x03, 0x00, 0xC8, 0x00, 0x01};
   const auto exception = rtu_frame(3, Bytes{0x83, 0x02});
-  r = check_forwarded_rtu_answer(exception, 3);
+  r = check_forwarded_rtu_answer(exception, 3, read_one);
   EXPECT_EQ(r.status, ResponseStatus::exception);
   EXPECT_EQ(r.exception, modbus::ExceptionCode::illegal_data_address);
   EXPECT_EQ(Bytes(r.pdu.begin(), r.pdu.end()), (Bytes{0x83, 0x02}));
-  EXPECT_EQ(check_forwarded_rtu_answer(answer, 4).status, ResponseStatus::wrong_address);
+  EXPECT_EQ(check_forwarded_rtu_answer(answer, 4, identify).status, ResponseStatus::wrong_address);
   auto corrupt = answer;
   corrupt.back() ^= 0x01;
-  EXPECT_EQ(check_forwarded_rtu_answer(corrupt, 3).status, ResponseStatus::bad_crc);
-  EXPECT_EQ(check_forwarded_rtu_answer({}, 3).status, ResponseStatus::timeout);
-  EXPECT_EQ(check_forwarded_rtu_answer(Bytes{0x03, 0x83, 0x02}, 3).status, ResponseStatus::too_short);
+  EXPECT_EQ(check_forwarded_rtu_answer(corrupt, 3, identify).status, ResponseStatus::bad_crc);
+  EXPECT_EQ(check_forwarded_rtu_answer({}, 3, identify).status, ResponseStatus::timeout);
+  EXPECT_EQ(check_forwarded_rtu_answer(Bytes{0x03, 0x83, 0x02}, 3, identify).status, ResponseStatus::too_short);
+}
+
+// Issue 43's late answers: a slave past its time-out answers the previous request while
+// the next is on the line. An answer of another function, of another length than the
+// quantity asked, or echoing another write is not this request's.
+TEST(GatewayCodec, AnAnswerToAnotherRequestIsRefused) {
+  const Bytes read_one{0x03, 0x00, 0xC8, 0x00, 0x01};
+  const Bytes read_ten{0x03, 0x00, 0xC8, 0x00, 0x0A};
+  const Bytes write_6{0x06, 0x00, 0xC8, 0x00, 0x06};
+  const auto one_register = rtu_frame(3, Bytes{0x03, 0x02, 0x00, 0x2A});
+  EXPECT_EQ(check_forwarded_rtu_answer(one_register, 3, read_one).status, ResponseStatus::ok);
+  EXPECT_EQ(check_forwarded_rtu_answer(one_register, 3, read_ten).status, ResponseStatus::bad_length);
+  EXPECT_EQ(check_forwarded_rtu_answer(one_register, 3, write_6).status, ResponseStatus::wrong_function);
+  const auto echo_of_7 = rtu_frame(3, Bytes{0x06, 0x00, 0xC8, 0x00, 0x07});
+  EXPECT_EQ(check_forwarded_rtu_answer(echo_of_7, 3, write_6).status, ResponseStatus::wrong_echo);
+  EXPECT_EQ(check_forwarded_rtu_answer(rtu_frame(3, write_6), 3, write_6).status, ResponseStatus::ok);
+  EXPECT_EQ(check_forwarded_rtu_answer(rtu_frame(3, Bytes{0x84, 0x02}), 3, read_one).status,
+            ResponseStatus::wrong_function);
+  // A request too short to say its quantity cannot be answered with data.
+  EXPECT_EQ(check_forwarded_rtu_answer(one_register, 3, Bytes{0x03, 0x00}).status, ResponseStatus::bad_frame);
 }
 
 }  // namespace

@@ -101,6 +101,23 @@ TEST(MasterScheduler, FrameGapAfterEveryTransaction) {
   EXPECT_EQ(sent[1].at, t0 + 7ms);
 }
 
+// Issue 43: after a time-out the line is quiet for as long again, for every device, so that
+// a slave later than its time-out answers into silence, not into the next transaction.
+TEST(MasterScheduler, AfterATimeOutTheLineIsQuietAsLongAgain) {
+  Scheduler::Options options;
+  options.frame_gap = 2ms;
+  Scheduler s({request(1, 0, 100ms), request(2, 0, 100ms)}, options, {}, t0);
+  s.line_used(9, t0, t0 + 300ms);
+  EXPECT_EQ(s.ready_for(2), t0 + 302ms);
+  s.timed_out(t0 + 300ms, 300ms);
+  EXPECT_EQ(s.ready_for(2), t0 + 600ms);
+  EXPECT_EQ(s.ready_for(9), t0 + 600ms);
+  s.timed_out(t0 + 300ms, 10ms);  // a shorter wait never shortens the quiet
+  EXPECT_EQ(s.ready_for(2), t0 + 600ms);
+  s.timed_out(t0 + 1s, 1500ms);  // a long time-out: quiet for longest_quiet
+  EXPECT_EQ(s.ready_for(2), t0 + 1s + Scheduler::longest_quiet);
+}
+
 TEST(MasterScheduler, MinimumGapPerDeviceLetsOtherDevicesGoMeanwhile) {
   // The stepper driver wants 35 ms between frames; device 2 has no such need.
   Scheduler s({request(1, 0, 100ms), request(1, 10, 100ms), request(2, 0, 100ms)}, {},

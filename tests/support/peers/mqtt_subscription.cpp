@@ -28,6 +28,22 @@ Subscription::~Subscription() { ::kill(pid_, SIGTERM); }
 
 std::string Subscription::lines() const { return whole_lines(read_file(file_)); }
 
+DurableSubscription::DurableSubscription(const Broker& broker, const std::filesystem::path& file,
+                                         const std::string& client_id, const std::vector<std::string>& topics)
+    : file_(file) {
+  std::string filters;
+  for (const auto& topic : topics) filters += " -t '" + topic + "'";
+  const auto started = run("mosquitto_sub -c -i " + client_id + " -q 1 -p " + std::to_string(broker.port()) + filters +
+                           " -v > " + file.string() + " 2>&1 & echo $!");
+  pid_ = std::stoi(started.output);
+  EXPECT_TRUE(eventually([&] { return broker.subscriptions_to(topics.front()) >= 1; }))
+      << "mosquitto_sub did not subscribe to " << topics.front();
+}
+
+DurableSubscription::~DurableSubscription() { ::kill(pid_, SIGTERM); }
+
+std::string DurableSubscription::lines() const { return whole_lines(read_file(file_)); }
+
 // mosquitto_sub writes a message's line as it comes: a line without its end may still be
 // being written, and is left for the next look.
 std::string whole_lines(std::string text) {

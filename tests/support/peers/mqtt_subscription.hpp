@@ -29,6 +29,25 @@ class Subscription {
   int pid_ = 0;
 };
 
+/// mosquitto_sub with a persistent session (-c, QoS 1, client id `client_id`) on `topics`
+/// into `file`: what is published while it is away is queued for it by a broker that
+/// keeps sessions. Subscribed when the constructor returns (the broker counts it).
+class DurableSubscription {
+ public:
+  DurableSubscription(const Broker& broker, const std::filesystem::path& file, const std::string& client_id,
+                      const std::vector<std::string>& topics);
+  ~DurableSubscription();
+  DurableSubscription(const DurableSubscription&) = delete;
+  DurableSubscription& operator=(const DurableSubscription&) = delete;
+
+  /// What came so far: "topic payload" lines, whole ones only.
+  std::string lines() const;
+
+ private:
+  std::filesystem::path file_;
+  int pid_ = 0;
+};
+
 /// `text` up to its last line end: what a writer still busy with its last line has done.
 std::string whole_lines(std::string text);
 /// The payloads of "topic payload" lines whose topic is `topic`.
