@@ -14,6 +14,8 @@
 #include "cli/log_follower.hpp"
 #include "monitor/command_filter.hpp"
 #include "monitor/monitor_line.hpp"
+#include "monitor/pcap_export.hpp"
+#include "monitor/pcap_writer.hpp"
 
 namespace unima::cli {
 
@@ -21,7 +23,7 @@ namespace {
 
 constexpr const char* default_log = "/var/log/unima-bridge/monitor.log";
 constexpr const char* usage =
-    "usage: unima-bridge monitor [-f|--follow] [-n|--lines N] [--filter EXPR] [--json] [--config FILE] [LOG]\n"
+    "usage: unima-bridge monitor [-f|--follow] [-n|--lines N] [--filter EXPR] [--json | --pcap OUT] [--config FILE] [LOG]\n"
     "\n"
     "  LOG            the monitor log (default: the config's monitor.file, else\n"
     "                 /var/log/unima-bridge/monitor.log)\n"
@@ -31,7 +33,10 @@ constexpr const char* usage =
     "  --config FILE  the daemon's config, for its monitor.file\n"
     "  --filter EXPR  only queries matching 'ad=3 fn=6 from=0x0200 to=0x0210'\n"
     "                 (any key may be left out; xx = any)\n"
-    "  --json         print JSON lines (default: text)\n";
+    "  --json         print JSON lines (default: text)\n"
+    "  --pcap OUT     write the transactions as a pcap file for Wireshark or tshark\n"
+    "                 (OUT a file, or - for standard output: with --follow,\n"
+    "                 ... --follow --pcap - | wireshark -k -i - shows them live)\n";
 
 // How often a follower looks for new lines; an operator does not notice 100 ms.
 constexpr auto follow_interval = std::chrono::milliseconds(100);
@@ -39,10 +44,18 @@ constexpr auto follow_interval = std::chrono::milliseconds(100);
 struct Options {
   bool follow = false;
   bool json = false;
+  std::string pcap;  // where the pcap goes ("-": standard output); empty: text or JSON lines
   std::size_t lines = 10;
   monitor::CommandFilter filter;
   std::string config;
   std::string log;
+};
+
+// What a log line becomes: bytes for the output, or a notice for the operator (in a pcap,
+// which has no place for it, a drop notice goes to standard error).
+struct Rendered {
+  std::string bytes;
+  bool is_notice = false;
 };
 
 class Printer {
@@ -50,7 +63,31 @@ class Printer {
   explicit Printer(const Options& options) : options_(options) {}
 
   /// The line as it will be printed, or nullopt when the filter hides it.
-  std::optional<std::string> render(std::string_view line) const {
+  std::optional<Rendered> render(std::string_view line) const {
+    if (!options_.pcap.empty()) return render_pcap(line);
+    auto text = render_text(line);
+    if (!text) return std::nullopt;
+    return Rendered{std::move(*text)};
+  }
+
+ private:
+  std::optional<Rendered> render_pcap(std::string_view line) const {
+    const auto parsed = monitor::parse_monitor_line(line);
+    if (!parsed) return std::nullopt;  // not a transaction: nothing Wireshark could show
+    Rendered rendered;
+    if (parsed->kind == monitor::MonitorLine::Kind::drop_notice) {
+      monitor::append_drop_notice(rendered.bytes, parsed->time, parsed->dropped, monitor::MonitorFormat::text);
+      rendered.is_notice = true;
+      return rendered;
+    }
+    const auto fields = parsed->fields();
+    if (!options_.filter.matches(fields.query.address, fields.query.pdu)) return std::nullopt;
+    monitor::append_pcap_records(rendered.bytes, *parsed);
+    if (rendered.bytes.empty()) return std::nullopt;
+    return rendered;
+  }
+
+  std::optional<std::string> render_text(std::string_view line) const {
     const auto parsed = monitor::parse_monitor_line(line);
     if (!parsed) {
       // Not a monitor line: shown as it is, unless the operator asked for some lines only.
@@ -72,12 +109,11 @@ class Printer {
     return out;
   }
 
- private:
   const Options& options_;
 };
 
-void print(const std::string& text) {
-  std::fwrite(text.data(), 1, text.size(), stdout);
+void print(std::FILE* out, const Rendered& rendered) {
+  std::fwrite(rendered.bytes.data(), 1, rendered.bytes.size(), rendered.is_notice && out != stderr ? stderr : out);
 }
 
 }  // namespace
@@ -92,6 +128,10 @@ int monitor_command(const std::vector<std::string>& args) {
         options.follow = true;
       } else if (arg == "--json") {
         options.json = true;
+      } else if (arg == "--pcap" && has_value) {
+        options.pcap = args[++i];
+      } else if (arg.starts_with("--pcap=")) {
+        options.pcap = arg.substr(7);
       } else if ((arg == "--filter") && has_value) {
         options.filter = monitor::parse_command_filter(args[++i]);
       } else if (arg.starts_with("--filter=")) {
@@ -118,6 +158,10 @@ int monitor_command(const std::vector<std::string>& args) {
       std::fprintf(stderr, "unima-bridge monitor: '%s' is not a number of lines\n", args[i].c_str());
       return 2;
     }
+  }
+  if (options.json && !options.pcap.empty()) {
+    std::fprintf(stderr, "unima-bridge monitor: --json and --pcap exclude each other\n%s", usage);
+    return 2;
   }
   // Why this path was read: an operator who gets "No such file" needs to know which key to set.
   std::string log_origin = "the path given on the command line";
@@ -160,31 +204,55 @@ int monitor_command(const std::vector<std::string>& args) {
                  log_origin.c_str());
   }
 
+  std::FILE* out = stdout;
+  if (!options.pcap.empty()) {
+    if (options.pcap != "-" && !(out = std::fopen(options.pcap.c_str(), "wb"))) {
+      std::fprintf(stderr, "unima-bridge monitor: cannot write %s: %s\n", options.pcap.c_str(), std::strerror(errno));
+      return 1;
+    }
+    std::string header;
+    monitor::append_pcap_header(header);
+    print(out, Rendered{std::move(header)});
+    std::fflush(out);  // a Wireshark reading a pipe starts once it has the header
+  }
+  const auto finish = [&] {
+    const bool flushed = std::fflush(out) == 0;
+    return (out == stdout || std::fclose(out) == 0) && flushed ? 0 : 1;
+  };
+
   if (!options.follow) {
     follower.poll([&](std::string_view line) {
-      if (auto text = printer.render(line)) print(*text);
+      if (auto rendered = printer.render(line)) print(out, *rendered);
     });
-    return std::fflush(stdout) == 0 ? 0 : 1;
+    return finish();
   }
 
   // What is there already: its last lines only, as tail does.
-  std::deque<std::string> tail;
+  std::deque<Rendered> tail;
   follower.poll([&](std::string_view line) {
     if (options.lines == 0) return;
-    if (auto text = printer.render(line)) {
-      tail.push_back(std::move(*text));
+    if (auto rendered = printer.render(line)) {
+      tail.push_back(std::move(*rendered));
       if (tail.size() > options.lines) tail.pop_front();
     }
   });
-  for (const auto& text : tail) print(text);
-  std::fflush(stdout);
-  while (true) {
+  for (const auto& rendered : tail) print(out, rendered);
+  std::fflush(out);
+  // A pcap goes to a reader record by record: Wireshark shows a frame once it has it whole.
+  const bool flush_each = !options.pcap.empty();
+  bool written = true;
+  while (written) {
     std::this_thread::sleep_for(follow_interval);
     follower.poll([&](std::string_view line) {
-      if (auto text = printer.render(line)) print(*text);
+      if (auto rendered = printer.render(line)) {
+        print(out, *rendered);
+        if (flush_each && std::fflush(out) != 0) written = false;
+      }
     });
-    if (std::fflush(stdout) != 0) return 1;  // the reader went away
+    if (std::fflush(out) != 0) written = false;  // the reader went away
   }
+  finish();
+  return 1;
 }
 
 }  // namespace unima::cli

@@ -41,8 +41,9 @@ constexpr Command commands[] = {
     {"status", "[-w|--watch] [--json] [--socket PATH | --config FILE]",
      "the front panel of the running daemon: mode, activity, Error, D_N/S_N on-line,\n"
      "capture indicators, counters"},
-    {"monitor", "[-f|--follow] [-n|--lines N] [--filter EXPR] [--json] [--config FILE] [LOG]",
-     "read, filter and follow the monitor log (one line per Modbus transaction)"},
+    {"monitor", "[-f|--follow] [-n|--lines N] [--filter EXPR] [--json | --pcap OUT] [--config FILE] [LOG]",
+     "read, filter and follow the monitor log (one line per Modbus transaction),\n"
+     "or turn it into a pcap file for Wireshark"},
     {"profiles", "[ID]", "the device profiles of foreign slaves for master mode; with ID, its points"},
 };
 

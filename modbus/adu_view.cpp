@@ -36,4 +36,25 @@ AduView view_adu(std::span<const std::uint8_t> frame, Framing framing) {
   return view;
 }
 
+std::vector<std::uint8_t> adu_bytes(const AduView& view) {
+  std::vector<std::uint8_t> frame;
+  if (view.mbap) {
+    frame.resize(mbap_header_size);
+    put_be16(frame, 0, view.mbap->transaction_id);
+    put_be16(frame, 2, view.mbap->protocol_id);
+    put_be16(frame, 4, view.mbap->length);
+    frame[6] = view.mbap->unit_id;
+  } else if (view.address) {
+    frame.push_back(*view.address);
+  } else {
+    return frame;
+  }
+  frame.insert(frame.end(), view.pdu.begin(), view.pdu.end());
+  if (view.crc_on_wire) {
+    frame.resize(frame.size() + 2);
+    put_be16(frame, frame.size() - 2, *view.crc_on_wire);
+  }
+  return frame;
+}
+
 }  // namespace unima::modbus

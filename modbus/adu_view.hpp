@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <optional>
 #include <span>
+#include <vector>
 
 #include "modbus/mbap.hpp"
 #include "modbus/transaction.hpp"
@@ -31,5 +32,11 @@ struct AduView {
 /// Splits `frame` without validating it: a tcp frame shorter than the header has no
 /// mbap and no PDU; an rtu frame shorter than 3 bytes has no CRC.
 AduView view_adu(std::span<const std::uint8_t> frame, Framing framing);
+
+/// The frame `view` was taken from, byte for byte (view_adu's inverse, for a frame read
+/// back from the monitor log): MBAP header + PDU, or address + PDU + CRC as far as the
+/// frame had them. Empty when the view holds no bytes of it (a TCP frame shorter than its
+/// header: the monitor keeps only its size).
+std::vector<std::uint8_t> adu_bytes(const AduView& view);
 
 }  // namespace unima::modbus

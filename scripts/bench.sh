@@ -9,8 +9,9 @@
 # page (bench/north_latency.py), MQTT history through a 60 s broker outage
 # (bench/mqtt_outage.sh), Sparkplug B's latency, cost and births (bench/sparkplug.sh),
 # Modbus latency while a peer guesses HTTP
-# passwords (bench/auth_guess.sh), and the gateway's use of an RTU line (bench/gateway;
-# MBUSD=/path/to/mbusd runs mbusd beside it).
+# passwords (bench/auth_guess.sh), the gateway's use of an RTU line (bench/gateway;
+# MBUSD=/path/to/mbusd runs mbusd beside it), and how fast the monitor log becomes a pcap
+# (bench/pcap.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh
@@ -28,3 +29,4 @@ bench/auth_guess.sh "${BUILD_DIR:-build-release}"
 gateway_args=(--load "${BUILD_DIR:-build-release}/bench/unima-bench-load")
 if [[ -n "${MBUSD:-}" ]]; then gateway_args+=(--mbusd "$MBUSD"); fi
 "${BUILD_DIR:-build-release}/bench/gateway/gateway_bench" "${gateway_args[@]}"
+bench/pcap.sh "${BUILD_DIR:-build-release}"

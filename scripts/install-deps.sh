@@ -16,6 +16,8 @@ packages=(
   # MQTT 5 request/response in the tests: paho-mqtt as the fleet's application (tests/integration/mqtt)
   python3-paho-mqtt
   mbpoll socat
+  # the monitor's pcap read back by Wireshark's own dissectors (SPEC §20)
+  tshark
   # packaging tests: systemd-analyze, systemd-sysusers/-tmpfiles, man, dpkg-shlibdeps, shellcheck
   systemd man-db groff-base dpkg-dev shellcheck
   # benchmarks: the runner, exact system-call and instruction counts
@@ -37,4 +39,7 @@ echo "installing: ${missing[*]}"
 sudo=""
 if [ "$(id -u)" -ne 0 ]; then sudo="sudo"; fi
 $sudo apt-get update -qq
+# tshark's wireshark-common asks whether non-root users may capture; they need not, and
+# the install must not stop to ask.
+echo "wireshark-common wireshark-common/install-setuid boolean false" | $sudo debconf-set-selections
 DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
