@@ -20,6 +20,12 @@ modbus::WriteResult WritePath::write_registers(std::uint16_t first, std::span<co
 }
 
 modbus::WriteResult WritePath::write_bit(std::uint16_t address, unsigned bit, bool on, const modbus::WriteRights* rights) {
+  const auto mask = static_cast<std::uint16_t>(1u << bit);
+  return write_field(address, mask, on ? mask : 0, rights);
+}
+
+modbus::WriteResult WritePath::write_field(std::uint16_t address, std::uint16_t mask, std::uint16_t bits,
+                                           const modbus::WriteRights* rights) {
   std::uint16_t value = 0;
   // A write-only register (W and X without readable_write_banks) still has its bits: the
   // store holds them whatever Modbus may read.
@@ -28,8 +34,7 @@ modbus::WriteResult WritePath::write_bit(std::uint16_t address, unsigned bit, bo
     const auto pending = journal_ ? journal_->pending(window->bank, offset) : std::nullopt;
     value = pending ? *pending : space_.store().read(window->bank, offset);
   }
-  const auto mask = static_cast<std::uint16_t>(1u << bit);
-  value = on ? static_cast<std::uint16_t>(value | mask) : static_cast<std::uint16_t>(value & ~mask);
+  value = static_cast<std::uint16_t>((value & ~mask) | (bits & mask));
   return write_registers(address, std::span(&value, 1), rights);
 }
 

@@ -60,6 +60,9 @@ class WritePath final : public modbus::RegisterModel {
   /// bits as the latest write left them (pending or not): the same checks, one register
   /// written.
   modbus::WriteResult write_bit(std::uint16_t address, unsigned bit, bool on, const modbus::WriteRights* rights);
+  /// The bits `mask` of the register at `address` set to those of `bits` (a value of a
+  /// register's bits by Sparkplug; 0xFFFF: the whole word), the others as write_bit keeps them.
+  modbus::WriteResult write_field(std::uint16_t address, std::uint16_t mask, std::uint16_t bits, const modbus::WriteRights* rights);
   /// Puts a write the journal kept into the store, which publishes it. A value for a bank
   /// this config does not have is left out.
   void commit(std::span<const WrittenValue> write);

@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "values/value_codec.hpp"
 
 namespace unima::mqtt {
 
@@ -103,16 +104,26 @@ void add_values(Context& context, const values::BankValues& layout, const Json& 
   }
 }
 
-// W holds tenths, signed (values/value_layout): Home Assistant sets the value, the
-// command topic takes the register (SPEC §12: a whole number).
+// Home Assistant sets a W value in its unit; the command topic takes the register (SPEC
+// §12: a whole number). The template is the way back of values/value_codec in Jinja: the
+// value ÷ the step when that is whole (within the codec's millionth of a step), else the
+// value as it is, which set/W refuses as no whole number — a finer fraction is refused,
+// not rounded. The range and step are the codec's, so Home Assistant refuses the rest.
+std::string register_template(double step) {
+  return fmt::format("{{% set raw = value / {} %}}{{{{ (raw | round | int) if (raw - raw | round) | abs < 0.000001 else value }}}}",
+                     step);
+}
+
 void add_setpoints(Context& context, const values::BankValues& layout, const Json& device) {
   for (const auto& def : layout.values) {
+    const auto range = values::accepted(def);
+    if (!range) continue;
     auto payload = common(context, "W", def.name, device);
     payload["command_topic"] = fmt::format("{}/set/W/{}", context.mqtt.topic, def.offsets.front());
-    payload["command_template"] = "{{ (value * 10) | round | int }}";
-    payload["min"] = -3276.8;
-    payload["max"] = 3276.7;
-    payload["step"] = 0.1;
+    payload["command_template"] = register_template(range->step);
+    payload["min"] = range->min;
+    payload["max"] = range->max;
+    payload["step"] = range->step;
     payload["mode"] = "box";
     payload["qos"] = 1;
     payload["retain"] = false;  // a retained command would be written again at every reconnect

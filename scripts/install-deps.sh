@@ -15,6 +15,8 @@ packages=(
   libmosquitto-dev mosquitto mosquitto-clients
   # MQTT 5 request/response in the tests: paho-mqtt as the fleet's application (tests/integration/mqtt)
   python3-paho-mqtt
+  # Home Assistant's command templates rendered by Jinja itself (tests/integration/mqtt_discovery_test)
+  python3-jinja2
   mbpoll socat
   # the monitor's pcap read back by Wireshark's own dissectors (SPEC §20)
   tshark

@@ -1,7 +1,6 @@
 #include "sparkplug/edge_session.hpp"
 
 #include <algorithm>
-#include <cmath>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -9,6 +8,7 @@
 #include "sparkplug/metric_value.hpp"
 #include "sparkplug/payload_codec.hpp"
 #include "sparkplug/value_metrics.hpp"
+#include "values/value_codec.hpp"
 
 namespace unima::sparkplug {
 
@@ -28,6 +28,20 @@ Metric bd_seq_metric(std::uint64_t bd_seq, std::uint64_t now_ms) {
   metric.datatype = DataType::Int64;
   metric.value = integer_value(DataType::Int64, static_cast<std::int64_t>(bd_seq));
   return metric;
+}
+
+// A metric's name as a log line shows it (a host may leave it out).
+std::string name_of(const Metric& metric) { return metric.name.value_or("(a metric without a name)"); }
+
+// The number a command's metric sets, in the metric's unit: a Boolean's as 1 or 0, when
+// its value is a bit.
+std::optional<double> commanded_number(const Metric& metric, const values::ValueDef& def) {
+  const auto type = metric.datatype.value_or(data_type_of(def));
+  if (type == DataType::Boolean && def.type == values::ValueType::boolean) {
+    const auto flag = boolean_of(metric.value, type);
+    return flag ? std::optional<double>(*flag ? 1.0 : 0.0) : std::nullopt;
+  }
+  return number_of(metric.value, type);
 }
 
 // A D_N or S_N follows a device on the line; the bridge's own banks are always there.
@@ -183,7 +197,7 @@ Command EdgeSession::command(std::string_view device, std::string_view bytes, co
   } else if (device.empty()) {
     for (const auto& metric : decoded.payload->metrics) {
       if (metric.name != rebirth_metric) {
-        ++command.refused;
+        command.refused.push_back(fmt::format("{}: not a node control the bridge has", name_of(metric)));
         continue;
       }
       const auto flag = boolean_of(metric.value, metric.datatype.value_or(DataType::Boolean));
@@ -192,51 +206,58 @@ Command EdgeSession::command(std::string_view device, std::string_view bytes, co
         break;
       }
       if (*flag) command.rebirth = true;
-      else ++command.refused;
+      else command.refused.push_back("Node Control/Rebirth = false asks nothing");
     }
   } else {
     const auto bank = banks::parse_bank_name(device);
     const auto* layout = bank && banks::is_write_bank(*bank) ? model.bank(*bank) : nullptr;
-    if (layout == nullptr) command.refused = static_cast<unsigned>(decoded.payload->metrics.size());
-    else command = dcmd(*layout, *decoded.payload, commands);
+    if (layout == nullptr) {
+      for (const auto& metric : decoded.payload->metrics)
+        command.refused.push_back(fmt::format("{}: the bridge takes commands to W and X only", name_of(metric)));
+    } else {
+      command = dcmd(*layout, *decoded.payload, commands);
+    }
   }
   if (!command.malformed.empty()) {
     command.rebirth = false;
     command.writes.clear();
-    command.refused = 0;
+    command.refused.clear();
     ++counters_.malformed;
   } else {
     counters_.taken += command.writes.size() + (command.rebirth ? 1 : 0);
-    counters_.refused += command.refused;
+    counters_.refused += command.refused.size();
   }
   return command;
 }
 
-// A metric of W or X by its birth's name, its value in the metric's unit: the register's
-// raw value is value ÷ scale (W's tenths), within what the register takes (SPEC §12: a W
-// from −32768 to 65535, an X word 0..65535).
+// A metric of W or X by its birth's name, its value in the metric's unit: the register is
+// the value model's way back (values::raw_of), which refuses what would not read back as
+// the value written (SPEC §17).
 Command EdgeSession::dcmd(const values::BankValues& layout, const Payload& payload, bool commands) {
   Command command;
   for (const auto& metric : payload.metrics) {
-    const auto def = std::find_if(layout.values.begin(), layout.values.end(),
-                                  [&](const values::ValueDef& d) { return metric.name == d.name; });
-    if (!commands || def == layout.values.end() || def->offsets.empty()) {
-      ++command.refused;
+    if (!commands) {
+      command.refused.push_back(fmt::format("{}: commands are off (sparkplug.commands)", name_of(metric)));
       continue;
     }
-    const auto number = number_of(metric.value, metric.datatype.value_or(data_type_of(*def)));
+    const auto def = std::find_if(layout.values.begin(), layout.values.end(),
+                                  [&](const values::ValueDef& d) { return metric.name == d.name; });
+    if (def == layout.values.end()) {
+      command.refused.push_back(fmt::format("{}: no metric of {}", name_of(metric), banks::bank_name(layout.bank)));
+      continue;
+    }
+    const auto number = commanded_number(metric, *def);
     if (!number) {
       command.malformed = fmt::format("{} is not a number", def->name);
       return command;
     }
-    const double raw = std::round(*number / def->scale);
-    const double lowest = def->is_signed ? -32768.0 : 0.0;
-    if (!std::isfinite(raw) || raw < lowest || raw > 65535.0) {
-      ++command.refused;
+    const auto encoded = values::raw_of(*def, *number);
+    if (const auto* reason = std::get_if<std::string>(&encoded)) {
+      command.refused.push_back(*reason);
       continue;
     }
-    const auto as_int = static_cast<std::int64_t>(raw);
-    command.writes.push_back({layout.bank, def->offsets.front(), static_cast<std::uint16_t>(as_int & 0xFFFF), def->name});
+    command.writes.push_back(
+        {layout.bank, def->offsets.front(), std::get<std::uint16_t>(encoded), values::word_mask(*def), def->name});
   }
   return command;
 }

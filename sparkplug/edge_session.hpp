@@ -21,7 +21,9 @@
 //     seen before is ignored.
 //   - NCMD `Node Control/Rebirth` = true: every birth again, the same bdSeq.
 //   - DCMD to a metric of W or X, when commands are taken: a write of its register in
-//     the value's unit (W in tenths) — the service takes it through the one write path.
+//     the value's unit (W in tenths), by the value model's own way back (values/value_codec):
+//     a value that would not read back as itself (3276.7 into W is 0x7FFF, "not measured")
+//     is refused with the reason — the service takes the rest through the one write path.
 // NCMD and DCMD come from whoever may publish on the broker: payloads over 64 KiB, that do
 // not decode, or whose value is not of a type the metric can take are malformed; anything
 // else the bridge does not do is refused. Both are counted, nothing is answered.
@@ -54,11 +56,13 @@ struct DeviceReading {
   bool online = true;
 };
 
-/// A write a DCMD asks for: a register of W or X and its raw value.
+/// A write a DCMD asks for: the bits `mask` of a register of W or X set to those of `raw`
+/// (the whole word, or one value's bits of it: the others are the register's own).
 struct CommandWrite {
   banks::BankId bank = banks::BankId::W;
   std::uint16_t offset = 0;
   std::uint16_t raw = 0;
+  std::uint16_t mask = 0xFFFF;
   std::string metric;  // its name, for the log
 };
 
@@ -66,8 +70,9 @@ struct CommandWrite {
 struct Command {
   bool rebirth = false;
   std::vector<CommandWrite> writes;
-  unsigned refused = 0;         // metrics the bridge does not take (counted, not answered)
-  std::string malformed;        // why the whole message is malformed; empty when it is not
+  std::vector<std::string> refused;  // why each metric the bridge does not take is not taken
+                                     // (counted and logged, not answered)
+  std::string malformed;             // why the whole message is malformed; empty when it is not
 };
 
 enum class HostVerdict {

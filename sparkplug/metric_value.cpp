@@ -1,5 +1,8 @@
 #include "sparkplug/metric_value.hpp"
 
+#include <array>
+#include <charconv>
+
 namespace unima::sparkplug {
 
 namespace {
@@ -45,6 +48,17 @@ std::optional<double> integer_of(std::uint64_t raw, unsigned field_bits, Integer
                   : static_cast<double>(low);
 }
 
+// The decimal a Float stands for: the shortest text that reads back as the same float. A
+// host that writes 12.3 into a Float sends 12.30000019…, which widened as it is would be
+// no value a register's tenths hold.
+double decimal_of(float number) {
+  std::array<char, 32> text{};
+  const auto written = std::to_chars(text.data(), text.data() + text.size(), number);
+  double decimal = number;
+  std::from_chars(text.data(), written.ptr, decimal);
+  return decimal;
+}
+
 }  // namespace
 
 bool is_integer(DataType type) { return shape_of(type).has_value(); }
@@ -65,7 +79,7 @@ std::optional<double> number_of(const MetricValue& value, DataType type) {
     return std::nullopt;
   }
   if (type != DataType::Float && type != DataType::Double) return std::nullopt;
-  if (const auto* number = std::get_if<float>(&value)) return *number;
+  if (const auto* number = std::get_if<float>(&value)) return decimal_of(*number);
   if (const auto* number = std::get_if<double>(&value)) return *number;
   return std::nullopt;
 }

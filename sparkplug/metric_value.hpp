@@ -27,7 +27,8 @@ MetricValue integer_value(DataType type, std::int64_t value);
 
 /// The number a value holds as `type` (the metric's datatype, or the one its birth gave
 /// when a command leaves it out): nullopt for a null value, a type that is no number, a
-/// field that is not the type's, or an integer outside the type's range.
+/// field that is not the type's, or an integer outside the type's range. A float is the
+/// decimal it was written as (12.3f is 12.3, not 12.300000190734863).
 std::optional<double> number_of(const MetricValue& value, DataType type);
 
 /// The value of a Boolean: nullopt for a null value, another type or another field.

@@ -52,7 +52,7 @@ Value decoded(const ValueDef& def, const BankReading& reading, BankId bank, cons
     case Decoding::mapped: {
       if (!def.source) return null(State::not_mapped);
       if (!raw || *raw == banks::not_measured) return null(source_state(*def.source, snapshot));
-      return number(def, def.is_signed ? static_cast<std::int16_t>(*raw) : *raw);
+      return read_word(def, *raw);
     }
     case Decoding::mapped_bit: {
       if (!def.source) return null(State::not_mapped);
@@ -61,40 +61,45 @@ Value decoded(const ValueDef& def, const BankReading& reading, BankId bank, cons
       if ((is_station(def.source->bank) && !source.online) || !register_of(source, def.source->offset))
         return null(source_state(*def.source, snapshot));
       if (!raw) return null(State::not_measured);
-      return Value{bits_of(*raw, def) != 0, State::ok};
+      return read_word(def, *raw);
     }
     default: break;
   }
   if (!raw) return null(unset_state(bank));
-  switch (def.decoding) {
-    case Decoding::analog:
-      if (*raw == banks::not_measured) return null(State::not_measured);
-      return number(def, def.is_signed ? static_cast<std::int16_t>(*raw) : *raw);
-    case Decoding::pair32: {
-      const Register high = register_of(reading, def.offsets.back());
-      if (!high || *raw == banks::not_measured || *high == banks::not_measured) return null(State::not_measured);
-      return number(def, static_cast<double>(std::uint32_t{*high} << 16 | *raw));
-    }
-    case Decoding::byte_field: {
-      const auto byte = bits_of(*raw, def);
-      if (byte == byte_not_measured) return null(State::not_measured);
-      return number(def, byte);
-    }
-    case Decoding::word: return Value{static_cast<double>(*raw), State::ok};
-    case Decoding::bit_field:
-      if (def.type == ValueType::boolean) return Value{bits_of(*raw, def) != 0, State::ok};
-      return Value{static_cast<double>(bits_of(*raw, def)), State::ok};
-    case Decoding::ascii: {
-      const auto low = printable(*raw & 0xFFu), high = printable(*raw >> 8);
-      return Value{def.first_bit == 0 ? std::string{low, high} : std::string{high, low}, State::ok};
-    }
-    case Decoding::mapped:
-    case Decoding::mapped_bit: break;  // above
+  if (def.decoding == Decoding::pair32) {
+    const Register high = register_of(reading, def.offsets.back());
+    if (!high || *raw == banks::not_measured || *high == banks::not_measured) return null(State::not_measured);
+    return number(def, static_cast<double>(std::uint32_t{*high} << 16 | *raw));
   }
-  return null(State::not_measured);
+  return read_word(def, *raw);
 }
 
 }  // namespace
+
+Value read_word(const ValueDef& def, std::uint16_t raw) {
+  switch (def.decoding) {
+    case Decoding::analog:
+    case Decoding::mapped:
+      if (raw == banks::not_measured) return null(State::not_measured);
+      return number(def, def.is_signed ? static_cast<std::int16_t>(raw) : raw);
+    case Decoding::byte_field: {
+      const auto byte = bits_of(raw, def);
+      if (byte == byte_not_measured) return null(State::not_measured);
+      return number(def, byte);
+    }
+    case Decoding::word: return Value{static_cast<double>(raw), State::ok};
+    case Decoding::bit_field:
+    case Decoding::mapped_bit:
+      if (def.type == ValueType::boolean) return Value{bits_of(raw, def) != 0, State::ok};
+      return Value{static_cast<double>(bits_of(raw, def)), State::ok};
+    case Decoding::ascii: {
+      const auto low = printable(raw & 0xFFu), high = printable(raw >> 8);
+      return Value{def.first_bit == 0 ? std::string{low, high} : std::string{high, low}, State::ok};
+    }
+    case Decoding::pair32: break;  // two words: decoded()
+  }
+  return null(State::not_measured);
+}
 
 std::vector<Value> ValueModel::evaluate(BankId bank, const Snapshot& snapshot) const {
   std::vector<Value> values;

@@ -76,6 +76,12 @@ struct Value {
   bool operator==(const Value&) const = default;
 };
 
+/// What one register word reads as for `def` — every decoding but a 32-bit pair, whose
+/// value takes two — whatever else the bank holds (a mapped entry's source is not asked).
+/// ValueModel::evaluate reads each register through it, and the way back
+/// (values/value_codec) reads its answer back through it.
+Value read_word(const ValueDef& def, std::uint16_t raw);
+
 class ValueModel {
  public:
   ValueModel() = default;

@@ -2,6 +2,7 @@
 
 #include <charconv>
 
+#include <fmt/ranges.h>
 #include <spdlog/spdlog.h>
 
 #include "io/durable_file.hpp"
@@ -149,11 +150,15 @@ void SparkplugService::take_command(std::string_view device, std::string_view to
   const auto& running = *runtime_.banks;
   const auto& config = *running.config.sparkplug;
   const auto command = session_->command(device, payload, running.value_model, config.commands);
+  const auto broker = fmt::format("{}:{}", config.endpoint.host, config.endpoint.port);
   if (!command.malformed.empty()) {
-    platform::warn_from_peer("sparkplug: malformed commands", fmt::format("{}:{}", config.endpoint.host, config.endpoint.port),
-                             "sparkplug: a malformed command on {}, ignored: {}", topic, command.malformed);
+    platform::warn_from_peer("sparkplug: malformed commands", broker, "sparkplug: a malformed command on {}, ignored: {}", topic,
+                             command.malformed);
     return;
   }
+  if (!command.refused.empty())
+    platform::warn_from_peer("sparkplug: refused commands", broker, "sparkplug: a command on {} refused: {}", topic,
+                             fmt::join(command.refused, "; "));
   if (command.rebirth) {
     spdlog::info("sparkplug: rebirth requested");
     session_->rebirth();
@@ -162,7 +167,7 @@ void SparkplugService::take_command(std::string_view device, std::string_view to
   auto& writes = *running.writes;
   for (const auto& write : command.writes) {
     const auto address = static_cast<std::uint16_t>(running.config.bank_bases[banks::index_of(write.bank)] + write.offset);
-    const auto result = writes.write_registers(address, std::span(&write.raw, 1), nullptr);
+    const auto result = writes.write_field(address, write.mask, write.raw, nullptr);
     if (result.status != modbus::WriteResult::Status::written) {
       session_->refused_by_write_path();
       continue;

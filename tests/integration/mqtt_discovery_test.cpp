@@ -5,11 +5,13 @@
 // devices), W/X entities only with commands and their commands taking effect, the configs
 // again when Home Assistant says `online`, and the entities of a D_N a reload drops removed.
 
+#include <cmath>
 #include <csignal>
 #include <map>
 #include <set>
 #include <sstream>
 
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include "tests/integration/bridge_fixture.hpp"
@@ -42,6 +44,17 @@ std::map<std::string, std::string> retained(const Broker& broker, const std::str
     if (space != std::string::npos) messages[line.substr(0, space)] = line.substr(space + 1);
   }
   return messages;
+}
+
+/// What Home Assistant sends for a number entity set to `value`: its `command_template`
+/// rendered by Jinja (Debian's python3-jinja2), with `value` an integer when it is whole,
+/// as Home Assistant's MQTT number passes it.
+std::string home_assistant_renders(const std::string& command_template, double value) {
+  const auto number = value == std::floor(value) ? std::to_string(static_cast<long>(value)) : fmt::format("{}", value);
+  const auto script = "import jinja2, sys; print(jinja2.Environment().from_string(sys.argv[1]).render(value=" + number + "), end='')";
+  const auto rendered = run("python3 -c \"" + script + "\" '" + command_template + "'");
+  EXPECT_EQ(rendered.status, 0) << rendered.output;
+  return rendered.output;
 }
 
 std::string with_key(std::string section, const std::string& key) {
@@ -156,17 +169,34 @@ TEST_F(MqttDiscovery, WAndXEntitiesWithCommandsAndTheirCommandsTakeEffect) {
   EXPECT_EQ(count_component(found, "switch"), 16u);
   const auto& w3 = found.at("homeassistant/number/site-17/W_w_03/config");
   EXPECT_EQ(w3["command_topic"], "fleet/site-17/set/W/3");
-  EXPECT_EQ(w3["command_template"], "{{ (value * 10) | round | int }}");
+  EXPECT_EQ(w3["min"], -3276.8);
+  EXPECT_EQ(w3["max"], 3276.6) << "3276.7 would be 0x7FFF, not measured";
+  EXPECT_EQ(w3["step"], 0.1);
   const auto& x2 = found.at("homeassistant/switch/site-17/X_x_2/config");
   EXPECT_EQ(x2["command_topic"], "fleet/site-17/set/X/2");
 
   auto feed = feed_client();
-  publish(*broker, w3["command_topic"].get<std::string>(), "125");  // 12.5 through the command template
+  Subscription results(*broker, dir.path() / "results", "fleet/site-17/set/result");
+  const auto w3_template = w3["command_template"].get<std::string>();
+  publish(*broker, w3["command_topic"].get<std::string>(), home_assistant_renders(w3_template, 12.5));
   EXPECT_TRUE(feed.wait_for_line(R"({"bank":"W","offset":3,"value":125})"));
   publish(*broker, x2["command_topic"].get<std::string>(), x2["payload_on"].get<std::string>());
   EXPECT_TRUE(feed.wait_for_line(R"({"bank":"X","offset":0,"value":4})"));
   ModbusClient client(config.modbus_port);
   EXPECT_EQ(client.read_holding(0x0103, 1), std::vector<std::uint16_t>{125});
+
+  // A finer fraction than the step is refused, not rounded, and W+3 stays as it was; the
+  // edges of the range are written.
+  ASSERT_TRUE(eventually([&] { return payloads(results.lines(), "fleet/site-17/set/result").size() == 2; })) << results.lines();
+  publish(*broker, w3["command_topic"].get<std::string>(), home_assistant_renders(w3_template, 12.34));
+  ASSERT_TRUE(eventually([&] { return payloads(results.lines(), "fleet/site-17/set/result").size() == 3; })) << results.lines();
+  EXPECT_EQ(Json::parse(payloads(results.lines(), "fleet/site-17/set/result")[2])["ok"], false) << results.lines();
+  EXPECT_EQ(client.read_holding(0x0103, 1), std::vector<std::uint16_t>{125});
+  publish(*broker, w3["command_topic"].get<std::string>(), home_assistant_renders(w3_template, w3["max"].get<double>()));
+  EXPECT_TRUE(feed.wait_for_line(R"({"bank":"W","offset":3,"value":32766})"));
+  publish(*broker, w3["command_topic"].get<std::string>(), home_assistant_renders(w3_template, w3["min"].get<double>()));
+  EXPECT_TRUE(feed.wait_for_line(R"({"bank":"W","offset":3,"value":32768})"));
+  EXPECT_EQ(client.read_holding(0x0103, 1), std::vector<std::uint16_t>{0x8000});
 }
 
 // Home Assistant restarted: its birth message `online` on homeassistant/status brings every

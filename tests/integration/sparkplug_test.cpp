@@ -6,6 +6,7 @@
 // change, seq across messages and its wrap, NDEATH by the will and bdSeq across restarts,
 // devices dying and coming back, the primary host, rebirth, DCMD writes and malformed ones.
 
+#include <cmath>
 #include <csignal>
 #include <cstring>
 #include <fstream>
@@ -366,6 +367,40 @@ TEST_F(Sparkplug, DcmdWritesWThroughTheOneWritePathReadBackOverModbus) {
   }));
   // Persisted first: the state file holds it.
   EXPECT_NE(read_file(dir.path() / "bridge.state").find("W 3 125"), std::string::npos);
+}
+
+// The way back is the value model's (SPEC §17): 3276.7 would be 0x7FFF, "not measured",
+// 6553.5 would be 0xFFFF, read as −0.1 — both refused with the reason, W+3 unchanged; the
+// top of the range is written and read back over Modbus and in the next DDATA.
+TEST_F(Sparkplug, DcmdRefusesAValueThatWouldNotReadBackAsItselfAndWritesTheEdge) {
+  const auto t = tap();
+  start_with(", commands: true");
+  ASSERT_TRUE(wait_for(*t, device("DBIRTH", "W"))) << daemon->log();
+  ModbusClient client(config.modbus_port);
+  publish_bytes(device("DCMD", "W"), float_metric("w_03", 12.5f));
+  ASSERT_TRUE(eventually([&] {
+    const auto w3 = client.read_holding(0x0103, 1);
+    return w3 && (*w3)[0] == 125;
+  })) << daemon->log();
+
+  publish_bytes(device("DCMD", "W"), float_metric("w_03", 3276.7f));
+  publish_bytes(device("DCMD", "W"), float_metric("w_03", 6553.5f));
+  ASSERT_TRUE(eventually([&] { return status()["commands"]["refused"] == 2; })) << status().dump();
+  EXPECT_TRUE(daemon->wait_for_log("sparkplug: a command on spBv1.0/plant-7/DCMD/bridge-17/W refused: "
+                                   "w_03 = 3276.7 would be the word 0x7FFF, which reads as not measured"))
+      << daemon->log();
+  EXPECT_EQ(client.read_holding(0x0103, 1), std::vector<std::uint16_t>{125});
+
+  publish_bytes(device("DCMD", "W"), float_metric("w_03", 3276.6f));
+  EXPECT_TRUE(eventually([&] {
+    const auto w3 = client.read_holding(0x0103, 1);
+    return w3 && (*w3)[0] == 0x7FFE;
+  })) << daemon->log();
+  EXPECT_TRUE(wait_for(*t, device("DDATA", "W"), [](const json& p) {
+    const auto* w3 = metric(p, "w_03");
+    return w3 && std::abs((*w3)["value"].get<double>() - 3276.6) < 1e-3;  // a Float's 24 bits
+  })) << daemon->log();
+  EXPECT_EQ(status()["commands"]["taken"], 2);
 }
 
 // modbus.tcp.read_only freezes every way a write comes in: a DCMD too, counted as refused.

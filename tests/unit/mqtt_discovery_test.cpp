@@ -160,10 +160,15 @@ TEST(MqttDiscovery, WNumbersAndXSwitchesOnlyWithCommands) {
   const auto& w3 = configs.at("homeassistant/number/site-17_b/W_w_03/config");
   EXPECT_EQ(w3["unique_id"], "site-17.b_W_w_03");
   EXPECT_EQ(w3["command_topic"], "fleet/site-17/set/W/3");
-  EXPECT_EQ(w3["command_template"], "{{ (value * 10) | round | int }}") << "W holds tenths; the topic takes the register";
-  EXPECT_DOUBLE_EQ(w3["min"].get<double>(), -3276.8);
-  EXPECT_DOUBLE_EQ(w3["max"].get<double>(), 3276.7);
-  EXPECT_DOUBLE_EQ(w3["step"].get<double>(), 0.1);
+  EXPECT_EQ(w3["command_template"],
+            "{% set raw = value / 0.1 %}{{ (raw | round | int) if (raw - raw | round) | abs < 0.000001 else value }}")
+      << "W holds tenths; the topic takes the register, and a finer fraction goes as it is, to be refused";
+  // The range and step of the value codec (values/value_codec): 3276.7 would be 0x7FFF.
+  EXPECT_EQ(w3["min"].get<double>(), -3276.8);
+  EXPECT_EQ(w3["max"].get<double>(), 3276.6);
+  EXPECT_EQ(w3["step"].get<double>(), 0.1);
+  EXPECT_EQ(w3["min"].dump(), "-3276.8") << "as a reading is written, not -3276.8000000000002";
+  EXPECT_EQ(w3["max"].dump(), "3276.6");
   EXPECT_EQ(w3["retain"], false);
   EXPECT_FALSE(w3.contains("state_topic")) << "W is not published: optimistic";
   EXPECT_EQ(w3["device"]["identifiers"], Json::array({"site-17.b"}));

@@ -242,5 +242,57 @@ TEST_F(SparkplugEdgeSession, DcmdToWOrXIsAWriteInTheMetricsUnitOnlyWhenCommandsA
   EXPECT_EQ(session.counters().taken, 3u);
 }
 
+// The way back is the value model's (values/value_codec): what would not read back as the
+// value written is refused with the reason, and the rest of the command is still taken.
+TEST_F(SparkplugEdgeSession, DcmdRefusesWhatWouldNotReadBackAsItselfWithTheReason) {
+  auto session = connected_session();
+  Payload payload;
+  for (const auto& [name, value] : std::vector<std::pair<std::string, double>>{
+           {"w_00", 3276.7}, {"w_01", 6553.5}, {"w_02", 12.34}, {"w_03", 3276.6}, {"w_04", -3276.8}, {"w_05", -3276.9}}) {
+    Metric metric;
+    metric.name = name;
+    metric.datatype = DataType::Double;
+    metric.value = value;
+    payload.metrics.push_back(std::move(metric));
+  }
+  const auto command = session.command("W", encoded(payload), model, true);
+  ASSERT_EQ(command.writes.size(), 2u);
+  EXPECT_EQ(command.writes[0].metric, "w_03");
+  EXPECT_EQ(command.writes[0].raw, 0x7FFEu);
+  EXPECT_EQ(command.writes[1].metric, "w_04");
+  EXPECT_EQ(command.writes[1].raw, 0x8000u);
+  EXPECT_EQ(command.refused, (std::vector<std::string>{"w_00 = 3276.7 would be the word 0x7FFF, which reads as not measured",
+                                                       "w_01 takes -3276.8…3276.6, not 6553.5",
+                                                       "w_02 takes steps of 0.1, and 12.34 is between two",
+                                                       "w_05 takes -3276.8…3276.6, not -3276.9"}));
+  EXPECT_EQ(session.counters().taken, 2u);
+  EXPECT_EQ(session.counters().refused, 4u);
+}
+
+TEST_F(SparkplugEdgeSession, AFloatIsTheDecimalTheHostWroteNotItsBinaryWidening) {
+  auto session = connected_session();
+  const auto top = session.command("W", command_of("w_03", DataType::Float, 3276.6f), model, true);
+  ASSERT_EQ(top.writes.size(), 1u) << (top.refused.empty() ? "" : top.refused.front());
+  EXPECT_EQ(top.writes[0].raw, 32766u);
+  const auto tenth = session.command("W", command_of("w_03", DataType::Float, 0.1f), model, true);
+  ASSERT_EQ(tenth.writes.size(), 1u);
+  EXPECT_EQ(tenth.writes[0].raw, 1u);
+  EXPECT_EQ(session.command("W", command_of("w_03", DataType::Float, 12.34f), model, true).refused,
+            std::vector<std::string>{"w_03 takes steps of 0.1, and 12.34 is between two"});
+}
+
+TEST_F(SparkplugEdgeSession, EveryRefusalSaysWhy) {
+  auto session = connected_session();
+  EXPECT_EQ(session.command("W", command_of("w_03", DataType::Float, 1.0f), model, false).refused,
+            std::vector<std::string>{"w_03: commands are off (sparkplug.commands)"});
+  EXPECT_EQ(session.command("W", command_of("w_99", DataType::Float, 1.0f), model, true).refused,
+            std::vector<std::string>{"w_99: no metric of W"});
+  EXPECT_EQ(session.command("D1", command_of("engine_speed", DataType::UInt16, 1u), model, true).refused,
+            std::vector<std::string>{"engine_speed: the bridge takes commands to W and X only"});
+  EXPECT_EQ(session.command("", command_of("Node Control/Next Server", DataType::Boolean, true), model, true).refused,
+            std::vector<std::string>{"Node Control/Next Server: not a node control the bridge has"});
+  EXPECT_EQ(session.counters().refused, 4u);
+}
+
 }  // namespace
 }  // namespace unima::sparkplug

@@ -42,6 +42,8 @@ TEST(SparkplugMetricValue, AnUnsignedValueMustFitItsType) {
 
 TEST(SparkplugMetricValue, FloatsBooleansAndMismatches) {
   EXPECT_EQ(number_of(1.5f, DataType::Float), 1.5);
+  EXPECT_EQ(number_of(12.3f, DataType::Float), 12.3) << "the decimal written, not 12.300000190734863";
+  EXPECT_EQ(number_of(3276.6f, DataType::Float), 3276.6);
   EXPECT_EQ(number_of(2.25, DataType::Double), 2.25);
   EXPECT_EQ(number_of(2.25, DataType::Float), 2.25) << "a host's double for a Float metric";
   EXPECT_EQ(number_of(std::uint32_t{1}, DataType::Float), std::nullopt) << "an integer field for a Float";
