@@ -16,6 +16,10 @@
 #include <nlohmann/json.hpp>
 
 #include "config/config.hpp"
+#include "master/gateway_status.hpp"
+#include "mqtt/mqtt_status.hpp"
+#include "sparkplug/edge_status.hpp"
+#include "state/state_status.hpp"
 
 namespace unima::cli {
 
@@ -90,27 +94,22 @@ std::string counter(const nlohmann::json& port, const char* key) {
 }
 
 // A wait in ms as the table shows it: whole ms from 10 up, tenths below.
-std::string wait_ms(const nlohmann::json& ms) {
-  const auto value = ms.get<double>();
-  return value >= 10 ? fmt::format("{:.0f}", value) : fmt::format("{:.1f}", value);
-}
+std::string wait_ms(double value) { return value >= 10 ? fmt::format("{:.0f}", value) : fmt::format("{:.1f}", value); }
 
 // modbus.gateway (SPEC §14): one row per unit a client has asked for, the silent ones
 // saying since when.
-std::string render_gateway(const nlohmann::json& g) {
-  std::string out = fmt::format("Gateway     units {}, wait {} ms, timeout {}, cache {}\n", g["routes"].get<std::string>(),
-                                g["wait_ms"].get<long>(),
-                                g["timeout_ms"].is_null() ? std::string("the device's") : fmt::format("{} ms", g["timeout_ms"].get<long>()),
-                                g["cache_ms"].get<long>() > 0 ? fmt::format("{} ms", g["cache_ms"].get<long>()) : std::string("off"));
-  if (g["units"].empty()) return out + "  no client has asked for a unit yet\n";
+std::string render_gateway(const master::GatewayStatus& g) {
+  std::string out = fmt::format("Gateway     units {}, wait {} ms, timeout {}, cache {}\n", g.routes, g.wait_ms,
+                                g.timeout_ms ? fmt::format("{} ms", *g.timeout_ms) : std::string("the device's"),
+                                g.cache_ms > 0 ? fmt::format("{} ms", g.cache_ms) : std::string("off"));
+  if (g.units.empty()) return out + "  no client has asked for a unit yet\n";
   out += "  unit  requests  answered  exceptions  timeouts  bad  busy  cached  queue  wait ms last/mean/max  state\n";
-  for (const auto& u : g["units"]) {
-    const auto& w = u["wait_ms"];
-    const auto state = u["since"].is_string() ? "not answering since " + u["since"].get<std::string>() : u["state"].get<std::string>();
-    out += fmt::format("  {:>4} {:>9} {:>9} {:>11} {:>9} {:>4} {:>5} {:>7} {:>6}  {:>20}  {}\n", u["unit"].get<int>(),
-                       counter(u, "requests"), counter(u, "answered"), counter(u, "exceptions"), counter(u, "timeouts"),
-                       counter(u, "bad_frames"), counter(u, "busy"), counter(u, "cache_hits"), counter(u, "queue_depth"),
-                       wait_ms(w["last"]) + "/" + wait_ms(w["mean"]) + "/" + wait_ms(w["max"]), state);
+  for (const auto& u : g.units) {
+    const auto& w = u.wait_ms;
+    const auto state = u.since ? "not answering since " + *u.since : u.state;
+    out += fmt::format("  {:>4} {:>9} {:>9} {:>11} {:>9} {:>4} {:>5} {:>7} {:>6}  {:>20}  {}\n", u.unit, u.requests, u.answered,
+                       u.exceptions, u.timeouts, u.bad_frames, u.busy, u.cache_hits, u.queue_depth,
+                       wait_ms(w.last) + "/" + wait_ms(w.mean) + "/" + wait_ms(w.max), state);
   }
   return out;
 }
@@ -165,7 +164,7 @@ std::string render_status_panel(const nlohmann::json& s) {
     out += "\n";
   }
 
-  if (s.contains("gateway")) out += render_gateway(s["gateway"]);
+  if (s.contains("gateway")) out += render_gateway(s["gateway"].get<master::GatewayStatus>());
 
   const auto& m = s["monitor"];
   std::string where;
@@ -180,49 +179,41 @@ std::string render_status_panel(const nlohmann::json& s) {
                        m["dropped"].get<std::uint64_t>());
   }
   if (s.contains("state")) {
-    const auto& st = s["state"];
-    if (st["file"].is_null()) out += "State       off (state.file: none): writes are not kept across a restart\n";
+    const auto st = s["state"].get<state::StateStatus>();
+    if (!st.file) out += "State       off (state.file: none): writes are not kept across a restart\n";
     else
-      out += fmt::format("State       {}: {} values recorded in {} syncs, {} failed\n", st["file"].get<std::string>(),
-                         st["records"].get<std::uint64_t>(), st["syncs"].get<std::uint64_t>(),
-                         st["failures"].get<std::uint64_t>());
+      out += fmt::format("State       {}: {} values recorded in {} syncs, {} failed\n", *st.file, st.records, st.syncs, st.failures);
   }
   if (s.contains("mqtt")) {
-    const auto& q = s["mqtt"];
-    if (q["connected"].get<bool>())
-      out += fmt::format("MQTT        connected to {} since {} as {}, topic {}/…\n", q["broker"].get<std::string>(),
-                         q["since"].get<std::string>(), q["client_id"].get<std::string>(), q["topic"].get<std::string>());
+    const auto q = s["mqtt"].get<mqtt::MqttStatus>();
+    if (q.connected)
+      out += fmt::format("MQTT        connected to {} since {} as {}, topic {}/…\n", q.broker, q.since, q.client_id, q.topic);
     else
-      out += fmt::format("MQTT        not connected to {} since {}: {}\n", q["broker"].get<std::string>(),
-                         q["since"].get<std::string>(), q["last_error"].is_string() ? q["last_error"].get<std::string>() : std::string("connecting"));
-    out += fmt::format("            {} messages published, {} connections, {} dropped\n", q["published"].get<std::uint64_t>(),
-                       q["connections"].get<std::uint64_t>(), q["drops"].get<std::uint64_t>());
-    if (q.contains("last_takeover") && q["last_takeover"].is_string())
+      out += fmt::format("MQTT        not connected to {} since {}: {}\n", q.broker, q.since, q.last_error.value_or("connecting"));
+    out += fmt::format("            {} messages published, {} connections, {} dropped\n", q.published, q.connections, q.drops);
+    if (q.last_takeover)
       out += fmt::format("            session taken over by another client with this id {} times, last at {}\n",
-                         q["session_takeovers"].get<std::uint64_t>(), q["last_takeover"].get<std::string>());
-    if (const auto& b = q.contains("buffer") ? q["buffer"] : nlohmann::json(); b.is_object())
+                         q.session_takeovers, *q.last_takeover);
+    if (const auto& b = q.buffer)
       out += fmt::format("            history buffer {}: {} documents ({} bytes) to send, {} dropped when full, {} sent\n",
-                         b["file"].get<std::string>(), b["messages"].get<std::uint64_t>(), b["bytes"].get<std::uint64_t>(),
-                         b["dropped"].get<std::uint64_t>(), b["history_sent"].get<std::uint64_t>());
-    else if (q.contains("buffer"))
+                         b->file, b->messages, b->bytes, b->dropped, b->history_sent);
+    else
       out += "            no history buffer (mqtt.buffer.file: none): an outage keeps only the present values\n";
   }
   if (s.contains("sparkplug")) {
-    const auto& p = s["sparkplug"];
-    const auto node = fmt::format("{}/{}", p["group_id"].get<std::string>(), p["edge_node_id"].get<std::string>());
-    if (p["connected"].get<bool>())
-      out += fmt::format("Sparkplug   {} connected to {} since {}, bdSeq {}, next seq {}\n", node, p["broker"].get<std::string>(),
-                         p["since"].get<std::string>(), p["bdSeq"].dump(), p["seq"].get<unsigned>());
+    const auto p = s["sparkplug"].get<sparkplug::EdgeStatus>();
+    const auto node = fmt::format("{}/{}", p.group_id, p.edge_node_id);
+    if (p.connected)
+      out += fmt::format("Sparkplug   {} connected to {} since {}, bdSeq {}, next seq {}\n", node, p.broker, p.since,
+                         p.bdSeq ? std::to_string(*p.bdSeq) : std::string("null"), p.seq);
     else
-      out += fmt::format("Sparkplug   {} not connected to {} since {}: {}\n", node, p["broker"].get<std::string>(),
-                         p["since"].get<std::string>(), p["last_error"].is_string() ? p["last_error"].get<std::string>() : std::string("connecting"));
-    if (p["primary_host"].is_object())
-      out += fmt::format("            primary host {} {}{}\n", p["primary_host"]["name"].get<std::string>(),
-                         p["primary_host"]["state"].get<std::string>(), p["born"].get<bool>() ? "" : ": births wait for it online");
-    const auto& c = p["commands"];
-    out += fmt::format("            {} births, {} data, {} device deaths; commands {} taken, {} refused, {} malformed\n",
-                       p["births"].get<std::uint64_t>(), p["data"].get<std::uint64_t>(), p["deaths"].get<std::uint64_t>(),
-                       c["taken"].get<std::uint64_t>(), c["refused"].get<std::uint64_t>(), c["malformed"].get<std::uint64_t>());
+      out += fmt::format("Sparkplug   {} not connected to {} since {}: {}\n", node, p.broker, p.since,
+                         p.last_error.value_or("connecting"));
+    if (const auto& host = p.primary_host)
+      out += fmt::format("            primary host {} {}{}\n", host->name, host->state, p.born ? "" : ": births wait for it online");
+    const auto& c = p.commands;
+    out += fmt::format("            {} births, {} data, {} device deaths; commands {} taken, {} refused, {} malformed\n", p.births,
+                       p.data, p.deaths, c.taken, c.refused, c.malformed);
   }
   return out;
 }

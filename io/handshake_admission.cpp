@@ -29,13 +29,13 @@ std::optional<tls::HandshakeSlot> admit_handshake(const std::shared_ptr<tls::Han
   return std::nullopt;
 }
 
-nlohmann::json handshake_counters(const tls::HandshakeLimiter& limiter) {
+status::HandshakeStatus handshake_counters(const tls::HandshakeLimiter& limiter) {
   using Verdict = tls::HandshakeLimiter::Verdict;
   const auto& c = limiter.counters();
-  nlohmann::json refused;
+  status::HandshakeStatus s{c.completed, c.failed, limiter.in_progress(), {}};
   for (const auto verdict : {Verdict::host_in_progress, Verdict::host_rate, Verdict::all_in_progress})
-    refused[tls::HandshakeLimiter::name(verdict)] = c.refused_of(verdict);
-  return {{"completed", c.completed}, {"failed", c.failed}, {"in_progress", limiter.in_progress()}, {"refused", refused}};
+    s.refused[tls::HandshakeLimiter::name(verdict)] = c.refused_of(verdict);
+  return s;
 }
 
 }  // namespace unima::io

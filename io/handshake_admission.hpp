@@ -9,9 +9,8 @@
 #include <string>
 #include <string_view>
 
-#include <nlohmann/json.hpp>
-
 #include "platform/asio.hpp"
+#include "status/port_status.hpp"
 #include "tls/handshake_limiter.hpp"
 
 namespace unima::io {
@@ -23,7 +22,7 @@ std::optional<tls::HandshakeSlot> admit_handshake(const std::shared_ptr<tls::Han
                                                   const asio::ip::address& address, const std::string& peer,
                                                   std::string_view port_name);
 
-/// {"completed", "failed", "in_progress", "refused": {limit: count}}.
-nlohmann::json handshake_counters(const tls::HandshakeLimiter& limiter);
+/// The limiter's counters as the status document's TLS port (and HTTPS) holds them.
+status::HandshakeStatus handshake_counters(const tls::HandshakeLimiter& limiter);
 
 }  // namespace unima::io

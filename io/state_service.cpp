@@ -2,6 +2,8 @@
 
 #include <spdlog/spdlog.h>
 
+#include "state/state_status.hpp"
+
 namespace unima::io {
 
 // The first feed snapshot must carry what the file brought back, so it goes into the
@@ -27,15 +29,10 @@ void StateService::stage(const Banks& next) {
 }
 
 void StateService::describe(nlohmann::json& status) const {
-  nlohmann::json state;
+  state::StateStatus state;
   if (const auto& file = runtime_.state) {
     const auto counters = file->counters();
-    state["file"] = file->path().string();
-    state["records"] = counters.records;
-    state["syncs"] = counters.syncs;
-    state["failures"] = counters.failures;
-  } else {
-    state["file"] = nullptr;
+    state = {file->path().string(), counters.records, counters.syncs, counters.failures};
   }
   status["state"] = state;
 }

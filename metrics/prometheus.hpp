@@ -1,8 +1,11 @@
 #pragma once
-// /metrics (SPEC §13): the status document (`unima-bridge status --json`, app/bridge_status)
-// in Prometheus' text exposition format, so the counters have one source and Prometheus,
-// the CLI and the browser page never disagree. Names start with `unima_bridge_`; every
-// family has its HELP and TYPE lines; counters end in `_total`.
+// /metrics (SPEC §13): the status document (`Bridge::status` in app/bridge and each
+// service's `describe`; `unima-bridge status --json`) in Prometheus' text exposition
+// format, so the counters have one source and Prometheus, the CLI and the browser page
+// never disagree. Each family's name, type and help are declared beside the typed part of
+// the document it reads (a `status::Statistic`, status/statistic.hpp); this is the list
+// of parts in the exposition's order. Names start with `unima_bridge_`; every family has
+// its HELP and TYPE lines; counters end in `_total`.
 //
 // Pure: a JSON document in, text out.
 

@@ -1,5 +1,5 @@
 // The front page (SPEC §13): the register map once from /api/registers, then everything
-// live from /api/events (app/live_view.hpp): a full picture on connecting, changes after.
+// live from /api/events (web/live_view.hpp): a full picture on connecting, changes after.
 'use strict';
 
 const MAX_LINES = 200;

@@ -3,9 +3,10 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
-#include "io/modbus/port_counters.hpp"
+#include "master/gateway_status.hpp"
 #include "modbus/request_handler.hpp"
 #include "monitor/monitor_line.hpp"
+#include "status/port_status.hpp"
 
 namespace unima::io {
 
@@ -29,44 +30,36 @@ double milliseconds(master::WaitTime::Duration duration) {
   return static_cast<double>(std::chrono::duration_cast<std::chrono::microseconds>(duration).count()) / 1000.0;
 }
 
-nlohmann::json gateway_unit_json(std::uint8_t unit, const GatewayUnitCounters& c, std::size_t queue_depth) {
-  nlohmann::json since = nullptr;
-  if (const auto silent = c.answering.silent_since()) {
-    std::string time;
-    monitor::append_utc_time(time, *silent);
-    since = time;
-  }
-  return {{"unit", unit},
-          {"state", c.answering.answering() ? "answering" : "not answering"},
-          {"since", since},
-          {"requests", c.requests},
-          {"answered", c.answered},
-          {"exceptions", c.exceptions},
-          {"timeouts", c.timeouts},
-          {"bad_frames", c.bad_frames},
-          {"busy", c.busy},
-          {"cache_hits", c.cache_hits},
-          {"queue_depth", queue_depth},
-          {"wait_ms",
-           {{"last", milliseconds(c.wait.last())},
-            {"mean", milliseconds(c.wait.mean())},
-            {"max", milliseconds(c.wait.max())},
-            {"count", c.wait.count()},
-            {"sum", milliseconds(c.wait.sum())}}}};
+master::GatewayUnitStatus gateway_unit_status(std::uint8_t unit, const GatewayUnitCounters& c, std::size_t queue_depth) {
+  master::GatewayUnitStatus s{.unit = unit,
+                              .state = c.answering.answering() ? "answering" : "not answering",
+                              .since = {},
+                              .requests = c.requests,
+                              .answered = c.answered,
+                              .exceptions = c.exceptions,
+                              .timeouts = c.timeouts,
+                              .bad_frames = c.bad_frames,
+                              .busy = c.busy,
+                              .cache_hits = c.cache_hits,
+                              .queue_depth = queue_depth,
+                              .wait_ms = {milliseconds(c.wait.last()), milliseconds(c.wait.mean()), milliseconds(c.wait.max()),
+                                          c.wait.count(), milliseconds(c.wait.sum())}};
+  if (const auto silent = c.answering.silent_since()) monitor::append_utc_time(s.since.emplace(), *silent);
+  return s;
 }
 
 // modbus.gateway as it runs, and each unit a client has asked for.
-nlohmann::json gateway_json(const config::GatewayConfig& config, const MasterPort& master) {
-  auto priority = nlohmann::json::array();
-  for (const auto& range : config.priority.ranges) priority.push_back(range.text);
-  nlohmann::json gateway{{"routes", unit_ranges(config)},
-                         {"priority", priority},
-                         {"wait_ms", config.wait.count()},
-                         {"timeout_ms", config.timeout ? nlohmann::json(config.timeout->count()) : nlohmann::json(nullptr)},
-                         {"cache_ms", config.cache.count()},
-                         {"units", nlohmann::json::array()}};
+master::GatewayStatus gateway_status(const config::GatewayConfig& config, const MasterPort& master) {
+  master::GatewayStatus gateway{.routes = unit_ranges(config),
+                                .priority = {},
+                                .wait_ms = config.wait.count(),
+                                .timeout_ms = {},
+                                .cache_ms = config.cache.count(),
+                                .units = {}};
+  for (const auto& range : config.priority.ranges) gateway.priority.push_back(range.text);
+  if (config.timeout) gateway.timeout_ms = config.timeout->count();
   for (const auto& [unit, counters] : master.gateway_units())
-    gateway["units"].push_back(gateway_unit_json(unit, counters, master.queue_depth(unit)));
+    gateway.units.push_back(gateway_unit_status(unit, counters, master.queue_depth(unit)));
   return gateway;
 }
 
@@ -115,14 +108,13 @@ void MasterService::commit(const Banks&) {
 
 void MasterService::describe(nlohmann::json& status) const {
   const auto& counters = runtime_.monitor->counters(modbus::PortKind::master);
-  if (counters.transactions > 0) status["ports"].push_back(port_counters("master", counters));
+  if (counters.transactions > 0) status["ports"].push_back(status::port_status("master", counters));
   if (!master_) return;
-  auto& devices = status["master"] = nlohmann::json::array();
+  std::vector<master::MasterDeviceStatus> devices;
   for (const auto& [device, c] : master_->counters())
-    devices.push_back({{"device", device},     {"requests", c.requests},     {"answered", c.answered},
-                       {"timeouts", c.timeouts}, {"exceptions", c.exceptions}, {"bad_frames", c.bad_frames},
-                       {"retries", c.retries}});
-  if (const auto& gateway = runtime_.config().modbus.gateway) status["gateway"] = gateway_json(*gateway, *master_);
+    devices.push_back({device, c.requests, c.answered, c.timeouts, c.exceptions, c.bad_frames, c.retries});
+  status["master"] = devices;
+  if (const auto& gateway = runtime_.config().modbus.gateway) status["gateway"] = gateway_status(*gateway, *master_);
 }
 
 }  // namespace unima::io

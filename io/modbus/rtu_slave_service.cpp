@@ -2,9 +2,9 @@
 
 #include <spdlog/spdlog.h>
 
-#include "io/modbus/port_counters.hpp"
 #include "io/modbus/slave_context.hpp"
 #include "modbus/capture.hpp"
+#include "status/port_status.hpp"
 
 namespace unima::io {
 
@@ -79,7 +79,7 @@ void RtuSlaveService::commit(const Banks&) {
 // Listed once it has seen traffic.
 void RtuSlaveService::describe(nlohmann::json& status) const {
   const auto& counters = runtime_.monitor->counters(modbus::PortKind::rtu);
-  if (counters.transactions > 0) status["ports"].push_back(port_counters("rtu", counters));
+  if (counters.transactions > 0) status["ports"].push_back(status::port_status("rtu", counters));
 }
 
 }  // namespace unima::io

@@ -6,7 +6,7 @@
 #include "io/handshake_admission.hpp"
 #include "io/listen_error.hpp"
 #include "io/tls_context.hpp"
-#include "io/modbus/port_counters.hpp"
+#include "status/port_status.hpp"
 
 namespace unima::io {
 
@@ -105,13 +105,13 @@ void TcpSlaveService::describe(nlohmann::json& status) const {
   const auto kind = security_ == Security::tls ? modbus::PortKind::tls : modbus::PortKind::tcp;
   const auto& counters = runtime_.monitor->counters(kind);
   if (!server_ && counters.transactions == 0) return;
-  auto j = port_counters(security_ == Security::tls ? "tls" : "tcp", counters);
+  auto port = status::port_status(security_ == Security::tls ? "tls" : "tcp", counters);
   if (server_) {
-    j["listen"] = server_->options().listen + ":" + std::to_string(server_->port());
-    j["clients"] = server_->client_count();
+    port.listen = server_->options().listen + ":" + std::to_string(server_->port());
+    port.clients = server_->client_count();
   }
-  if (security_ == Security::tls) j["handshakes"] = handshake_counters(*handshakes_);
-  status["ports"].push_back(j);
+  if (security_ == Security::tls) port.handshakes = handshake_counters(*handshakes_);
+  status["ports"].push_back(port);
 }
 
 }  // namespace unima::io

@@ -7,8 +7,11 @@
 #include <nlohmann/json.hpp>
 
 #include "config/register_map_json.hpp"
+#include "master/gateway_status.hpp"
 #include "metrics/prometheus.hpp"
 #include "monitor/command_filter.hpp"
+#include "mqtt/mqtt_status.hpp"
+#include "sparkplug/edge_status.hpp"
 #include "values/value_json.hpp"
 #include "web/page_files.hpp"
 
@@ -46,51 +49,51 @@ nlohmann::json led_of(const nlohmann::json& activity) {
 
 // The gateway's units as the page's table shows them: the counts a technician reads, the
 // mean wait rounded to 0.1 ms so that the panel does not change with every microsecond.
-nlohmann::json gateway_panel(const nlohmann::json& gateway) {
+nlohmann::json gateway_panel(const master::GatewayStatus& gateway) {
   auto units = nlohmann::json::array();
-  for (const auto& u : gateway["units"])
-    units.push_back({{"unit", u["unit"]},
-                     {"state", u["state"]},
-                     {"since", u["since"]},
-                     {"requests", u["requests"]},
-                     {"answered", u["answered"]},
-                     {"exceptions", u["exceptions"]},
-                     {"timeouts", u["timeouts"]},
-                     {"bad_frames", u["bad_frames"]},
-                     {"busy", u["busy"]},
-                     {"queue_depth", u["queue_depth"]},
-                     {"wait_ms_mean", std::round(u["wait_ms"]["mean"].get<double>() * 10) / 10}});
-  return {{"routes", gateway["routes"]}, {"units", units}};
+  for (const auto& u : gateway.units)
+    units.push_back({{"unit", u.unit},
+                     {"state", u.state},
+                     {"since", u.since},
+                     {"requests", u.requests},
+                     {"answered", u.answered},
+                     {"exceptions", u.exceptions},
+                     {"timeouts", u.timeouts},
+                     {"bad_frames", u.bad_frames},
+                     {"busy", u.busy},
+                     {"queue_depth", u.queue_depth},
+                     {"wait_ms_mean", std::round(u.wait_ms.mean * 10) / 10}});
+  return {{"routes", gateway.routes}, {"units", units}};
 }
 
 // The northbound box: what an operator reads of the MQTT link (SPEC §15) — not the
 // published count, which grows with every document and would resend the panel with it.
-nlohmann::json mqtt_panel(const nlohmann::json& mqtt) {
-  nlohmann::json panel{{"broker", mqtt["broker"]},         {"client_id", mqtt["client_id"]},
-                       {"connected", mqtt["connected"]},   {"since", mqtt["since"]},
-                       {"last_error", mqtt["last_error"]}, {"session_takeovers", mqtt["session_takeovers"]},
-                       {"last_takeover", mqtt["last_takeover"]}};
+nlohmann::json mqtt_panel(const mqtt::MqttStatus& mqtt) {
+  nlohmann::json panel{{"broker", mqtt.broker},         {"client_id", mqtt.client_id},
+                       {"connected", mqtt.connected},   {"since", mqtt.since},
+                       {"last_error", mqtt.last_error}, {"session_takeovers", mqtt.session_takeovers},
+                       {"last_takeover", mqtt.last_takeover}};
   panel["buffer"] = nullptr;
-  if (const auto& b = mqtt["buffer"]; b.is_object())
-    panel["buffer"] = {{"messages", b["messages"]}, {"bytes", b["bytes"]}, {"dropped", b["dropped"]}, {"history_sent", b["history_sent"]}};
+  if (const auto& b = mqtt.buffer)
+    panel["buffer"] = {{"messages", b->messages}, {"bytes", b->bytes}, {"dropped", b->dropped}, {"history_sent", b->history_sent}};
   return panel;
 }
 
 // The Sparkplug session (SPEC §16) as the northbound box shows it.
-nlohmann::json sparkplug_panel(const nlohmann::json& sparkplug) {
-  return {{"broker", sparkplug["broker"]},
-          {"group_id", sparkplug["group_id"]},
-          {"edge_node_id", sparkplug["edge_node_id"]},
-          {"connected", sparkplug["connected"]},
-          {"born", sparkplug["born"]},
-          {"since", sparkplug["since"]},
-          {"last_error", sparkplug["last_error"]},
-          {"bdSeq", sparkplug["bdSeq"]},
-          {"seq", sparkplug["seq"]},
-          {"births", sparkplug["births"]},
-          {"data", sparkplug["data"]},
-          {"commands", sparkplug["commands"]},
-          {"primary_host", sparkplug["primary_host"]}};
+nlohmann::json sparkplug_panel(const sparkplug::EdgeStatus& sparkplug) {
+  return {{"broker", sparkplug.broker},
+          {"group_id", sparkplug.group_id},
+          {"edge_node_id", sparkplug.edge_node_id},
+          {"connected", sparkplug.connected},
+          {"born", sparkplug.born},
+          {"since", sparkplug.since},
+          {"last_error", sparkplug.last_error},
+          {"bdSeq", sparkplug.bdSeq},
+          {"seq", sparkplug.seq},
+          {"births", sparkplug.births},
+          {"data", sparkplug.data},
+          {"commands", sparkplug.commands},
+          {"primary_host", sparkplug.primary_host}};
 }
 
 // The front panel of seed 004: its LEDs, the D_N and S_N on-line, the capture indicators.
@@ -106,9 +109,9 @@ nlohmann::json panel_of(const nlohmann::json& status) {
   panel["modules"] = nlohmann::json::array();
   for (const auto& module : status["modules"]) panel["modules"].push_back({{"bank", module["bank"]}, {"online", module["online"]}});
   panel["indicators"] = status["indicators"];
-  if (status.contains("gateway")) panel["gateway"] = gateway_panel(status["gateway"]);
-  if (status.contains("mqtt")) panel["mqtt"] = mqtt_panel(status["mqtt"]);
-  if (status.contains("sparkplug")) panel["sparkplug"] = sparkplug_panel(status["sparkplug"]);
+  if (status.contains("gateway")) panel["gateway"] = gateway_panel(status["gateway"].get<master::GatewayStatus>());
+  if (status.contains("mqtt")) panel["mqtt"] = mqtt_panel(status["mqtt"].get<mqtt::MqttStatus>());
+  if (status.contains("sparkplug")) panel["sparkplug"] = sparkplug_panel(status["sparkplug"].get<sparkplug::EdgeStatus>());
   return panel;
 }
 

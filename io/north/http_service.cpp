@@ -6,6 +6,7 @@
 #include "io/listen_error.hpp"
 #include "io/tls_context.hpp"
 #include "platform/peer_warnings.hpp"
+#include "web/login_status.hpp"
 
 namespace unima::io {
 
@@ -213,8 +214,7 @@ void HttpService::describe(nlohmann::json& status) const {
   if (server_ && server_->tls()) status["http"]["handshakes"] = handshake_counters(*handshakes_);
   if (!users_) return;
   const auto& c = login_counters_;
-  status["http"]["logins"] = {{"checked", c.checked}, {"wrong", c.wrong}, {"peer_limited", c.peer_limited},
-                              {"busy", c.busy},       {"in_flight", login_limits_.in_flight()}};
+  status["http"]["logins"] = web::LoginStatus{c.checked, c.wrong, c.peer_limited, c.busy, login_limits_.in_flight()};
 }
 
 }  // namespace unima::io

@@ -6,6 +6,7 @@
 #include "monitor/monitor_line.hpp"
 #include "mqtt/birth.hpp"
 #include "mqtt/command.hpp"
+#include "mqtt/mqtt_status.hpp"
 #include "platform/clock_sync.hpp"
 #include "platform/log_text.hpp"
 
@@ -228,25 +229,24 @@ void MqttService::describe(nlohmann::json& status) const {
   if (!client_) return;
   const auto& config = *runtime_.config().mqtt;
   const auto& c = client_->counters();
-  nlohmann::json mqtt{{"broker", config.broker},      {"client_id", config.client_id}, {"topic", config.topic},
-                      {"connected", client_->connected()}, {"connections", c.connections},  {"drops", c.drops},
-                      {"published", c.published}, {"session_takeovers", c.session_takeovers}};
-  std::string since;  // connected since, or not connected since
-  monitor::append_utc_time(since, client_->state_since());
-  mqtt["since"] = since;
-  if (const auto taken = client_->last_takeover()) {
-    std::string time;
-    monitor::append_utc_time(time, *taken);
-    mqtt["last_takeover"] = time;
-  } else {
-    mqtt["last_takeover"] = nullptr;
-  }
-  mqtt["last_error"] = client_->last_error().empty() ? nlohmann::json(nullptr) : nlohmann::json(client_->last_error());
-  mqtt["buffer"] = nullptr;
+  mqtt::MqttStatus mqtt{.broker = config.broker,
+                        .client_id = config.client_id,
+                        .topic = config.topic,
+                        .connected = client_->connected(),
+                        .connections = c.connections,
+                        .drops = c.drops,
+                        .published = c.published,
+                        .session_takeovers = c.session_takeovers,
+                        .since = {},
+                        .last_takeover = {},
+                        .last_error = {},
+                        .buffer = {}};
+  monitor::append_utc_time(mqtt.since, client_->state_since());  // connected since, or not connected since
+  if (const auto taken = client_->last_takeover()) monitor::append_utc_time(mqtt.last_takeover.emplace(), *taken);
+  if (!client_->last_error().empty()) mqtt.last_error = client_->last_error();
   if (buffer_) {
     const auto b = buffer_->counters();
-    mqtt["buffer"] = {{"file", buffer_->path().string()}, {"bytes", b.bytes},  {"messages", b.messages}, {"dropped", b.dropped},
-                      {"history_sent", history_->sent()},   {"syncs", b.syncs}, {"failures", b.failures}};
+    mqtt.buffer = mqtt::BufferStatus{buffer_->path().string(), b.bytes, b.messages, b.dropped, history_->sent(), b.syncs, b.failures};
   }
   status["mqtt"] = mqtt;
 }

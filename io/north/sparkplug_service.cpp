@@ -11,6 +11,7 @@
 #include "monitor/monitor_line.hpp"
 #include "platform/log_text.hpp"
 #include "platform/peer_warnings.hpp"
+#include "sparkplug/edge_status.hpp"
 
 namespace unima::io {
 
@@ -292,35 +293,33 @@ void SparkplugService::describe(nlohmann::json& status) const {
   const auto& config = *runtime_.config().sparkplug;
   const auto& c = session_->counters();
   const auto& m = client_->counters();
-  nlohmann::json s{{"broker", config.broker},
-                   {"client_id", config.client_id},
-                   {"group_id", config.group_id},
-                   {"edge_node_id", config.edge_node_id},
-                   {"connected", client_->connected()},
-                   // The session hears of a lost connection at its next look, which waits
-                   // for a change; the status says it now.
-                   {"born", session_->born() && client_->connected()},
-                   {"connections", m.connections},
-                   {"drops", m.drops},
-                   {"published", m.published},
-                   {"births", c.births},
-                   {"data", c.data},
-                   {"deaths", c.deaths},
-                   {"commands", {{"taken", c.taken}, {"refused", c.refused}, {"malformed", c.malformed}}}};
-  s["bdSeq"] = session_->bd_seq() ? nlohmann::json(*session_->bd_seq()) : nlohmann::json(nullptr);
-  s["seq"] = session_->next_seq();
-  std::string since;  // connected since, or not connected since
-  monitor::append_utc_time(since, client_->state_since());
-  s["since"] = since;
-  if (config.primary_host.empty()) {
-    s["primary_host"] = nullptr;
-  } else {
+  sparkplug::EdgeStatus s{.broker = config.broker,
+                          .client_id = config.client_id,
+                          .group_id = config.group_id,
+                          .edge_node_id = config.edge_node_id,
+                          .connected = client_->connected(),
+                          // The session hears of a lost connection at its next look, which waits
+                          // for a change; the status says it now.
+                          .born = session_->born() && client_->connected(),
+                          .connections = m.connections,
+                          .drops = m.drops,
+                          .published = m.published,
+                          .births = c.births,
+                          .data = c.data,
+                          .deaths = c.deaths,
+                          .commands = {c.taken, c.refused, c.malformed},
+                          .bdSeq = session_->bd_seq(),
+                          .seq = session_->next_seq(),
+                          .since = {},
+                          .primary_host = {},
+                          .last_error = {}};
+  monitor::append_utc_time(s.since, client_->state_since());  // connected since, or not connected since
+  if (!config.primary_host.empty()) {
     using Host = sparkplug::EdgeSession::HostState;
     const auto host = session_->host();
-    s["primary_host"] = {{"name", config.primary_host},
-                         {"state", host == Host::online ? "online" : host == Host::offline ? "offline" : "unknown"}};
+    s.primary_host = {config.primary_host, host == Host::online ? "online" : host == Host::offline ? "offline" : "unknown"};
   }
-  s["last_error"] = client_->last_error().empty() ? nlohmann::json(nullptr) : nlohmann::json(client_->last_error());
+  if (!client_->last_error().empty()) s.last_error = client_->last_error();
   status["sparkplug"] = s;
 }
 

@@ -4,9 +4,13 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdlib>
+#include <filesystem>
+
 #include <nlohmann/json.hpp>
 
 #include "metrics/prometheus.hpp"
+#include "tests/support/temp_files.hpp"
 
 namespace unima::metrics {
 namespace {
@@ -155,6 +159,20 @@ TEST(Prometheus, AnEmptyDocumentGivesOnlyHelpAndType) {
     const auto end = text.find('\n', at);
     EXPECT_EQ(text[at], '#') << text.substr(at, end - at);
     at = end + 1;
+  }
+}
+
+// The daemon's own documents (tests/golden/status_*.json, kept by the integration test
+// StatusKeys with every part on) give exactly the exposition they gave before the status
+// was typed: every family, label and value. UNIMA_UPDATE_GOLDEN=1 rewrites the text.
+TEST(Prometheus, TheDaemonsDocumentsGiveTheGoldenExposition) {
+  const auto golden = std::filesystem::path(UNIMA_SOURCE_DIR) / "tests" / "golden";
+  for (const std::string name : {"slave", "master"}) {
+    const auto document = nlohmann::json::parse(test_support::read_file(golden / ("status_" + name + ".json")));
+    const auto text = prometheus_text(document);
+    const auto file = golden / ("prometheus_" + name + ".txt");
+    if (const char* update = std::getenv("UNIMA_UPDATE_GOLDEN"); update && *update) test_support::write_file(file, text);
+    EXPECT_EQ(text, test_support::read_file(file)) << name;
   }
 }
 
