@@ -1,0 +1,7 @@
+// Asio's compiled part, once for the whole program: the project builds Asio with
+// BOOST_ASIO_SEPARATE_COMPILATION (platform/CMakeLists.txt), so its non-template functions
+// are compiled here instead of inline in every translation unit that includes Asio.
+
+#include "platform/asio.hpp"
+
+#include <boost/asio/impl/src.hpp>
