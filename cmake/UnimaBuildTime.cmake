@@ -1,0 +1,23 @@
+# What keeps the build within minutes (issue 41; measured in docs/performance.md, "Build
+# time"): the heavy headers precompiled once per family of targets, and ccache told how to
+# cache the translation units that use them. CMAKE_DISABLE_PRECOMPILE_HEADERS=ON builds
+# without them (clang-tidy, include-what-you-use).
+
+# The Asio side (io/, app/): Asio comes first through platform/asio.hpp, which includes
+# <utility> before it (Boost 1.74 with GCC 12 in C++20). unima_io precompiles them; the
+# other Asio targets reuse its header (REUSE_FROM), so it is compiled once.
+set(UNIMA_ASIO_PCH <platform/asio.hpp> <platform/asio_ssl.hpp> <spdlog/spdlog.h> <fmt/format.h>
+                   <nlohmann/json.hpp> <string> <vector> <map> <memory> <functional> <chrono>)
+
+# The test programs: GoogleTest and JSON, in every test file.
+set(UNIMA_TEST_PCH <gtest/gtest.h> <nlohmann/json.hpp> <fmt/format.h> <string> <vector> <map> <memory>
+                   <functional> <chrono> <filesystem>)
+
+# ccache caches a translation unit built with a precompiled header only when it may ignore
+# the header's __DATE__/__TIME__ and defines and trust a header written moments ago (ccache
+# manual, "Precompiled headers"); said here so that no developer's ccache.conf has to.
+if(CMAKE_CXX_COMPILER_LAUNCHER MATCHES "ccache" AND NOT CMAKE_CXX_COMPILER_LAUNCHER MATCHES "CCACHE_SLOPPINESS")
+  set(CMAKE_CXX_COMPILER_LAUNCHER
+      ${CMAKE_COMMAND} -E env "CCACHE_SLOPPINESS=pch_defines,time_macros,include_file_mtime,include_file_ctime"
+      ${CMAKE_CXX_COMPILER_LAUNCHER})
+endif()
