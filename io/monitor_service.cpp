@@ -2,6 +2,7 @@
 
 #include "io/activity.hpp"
 #include "monitor/monitor_line.hpp"
+#include "platform/utc_time.hpp"
 
 namespace unima::io {
 
@@ -24,7 +25,7 @@ void MonitorService::describe(nlohmann::json& status) const {
     j["register"] = indicators.spec(i).reg;
     if (const auto& reading = indicators.reading(i)) {
       std::string time;
-      monitor::append_utc_time(time, reading->time);
+      platform::append_utc_time(time, reading->time);
       j["value"] = reading->value;
       j["access"] = reading->access == modbus::CaptureAccess::write ? "write" : "read";
       j["time"] = time;

@@ -5,7 +5,7 @@
 
 #include "master/gateway_status.hpp"
 #include "modbus/request_handler.hpp"
-#include "monitor/monitor_line.hpp"
+#include "platform/utc_time.hpp"
 #include "status/port_status.hpp"
 
 namespace unima::io {
@@ -44,7 +44,7 @@ master::GatewayUnitStatus gateway_unit_status(std::uint8_t unit, const GatewayUn
                               .queue_depth = queue_depth,
                               .wait_ms = {milliseconds(c.wait.last()), milliseconds(c.wait.mean()), milliseconds(c.wait.max()),
                                           c.wait.count(), milliseconds(c.wait.sum())}};
-  if (const auto silent = c.answering.silent_since()) monitor::append_utc_time(s.since.emplace(), *silent);
+  if (const auto silent = c.answering.silent_since()) platform::append_utc_time(s.since.emplace(), *silent);
   return s;
 }
 

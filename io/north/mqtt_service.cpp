@@ -3,12 +3,12 @@
 #include <spdlog/spdlog.h>
 
 #include "io/north/broker_options.hpp"
-#include "monitor/monitor_line.hpp"
 #include "mqtt/birth.hpp"
 #include "mqtt/command.hpp"
 #include "mqtt/mqtt_status.hpp"
 #include "platform/clock_sync.hpp"
 #include "platform/log_text.hpp"
+#include "platform/utc_time.hpp"
 
 namespace unima::io {
 
@@ -241,8 +241,8 @@ void MqttService::describe(nlohmann::json& status) const {
                         .last_takeover = {},
                         .last_error = {},
                         .buffer = {}};
-  monitor::append_utc_time(mqtt.since, client_->state_since());  // connected since, or not connected since
-  if (const auto taken = client_->last_takeover()) monitor::append_utc_time(mqtt.last_takeover.emplace(), *taken);
+  platform::append_utc_time(mqtt.since, client_->state_since());  // connected since, or not connected since
+  if (const auto taken = client_->last_takeover()) platform::append_utc_time(mqtt.last_takeover.emplace(), *taken);
   if (!client_->last_error().empty()) mqtt.last_error = client_->last_error();
   if (buffer_) {
     const auto b = buffer_->counters();

@@ -8,9 +8,9 @@
 #include "io/durable_file.hpp"
 #include "io/north/broker_options.hpp"
 #include "io/state_file.hpp"
-#include "monitor/monitor_line.hpp"
 #include "platform/log_text.hpp"
 #include "platform/peer_warnings.hpp"
+#include "platform/utc_time.hpp"
 #include "sparkplug/edge_status.hpp"
 
 namespace unima::io {
@@ -313,7 +313,7 @@ void SparkplugService::describe(nlohmann::json& status) const {
                           .since = {},
                           .primary_host = {},
                           .last_error = {}};
-  monitor::append_utc_time(s.since, client_->state_since());  // connected since, or not connected since
+  platform::append_utc_time(s.since, client_->state_since());  // connected since, or not connected since
   if (!config.primary_host.empty()) {
     using Host = sparkplug::EdgeSession::HostState;
     const auto host = session_->host();

@@ -9,7 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "monitor/monitor_line.hpp"
+#include "platform/utc_time.hpp"
 #include "tests/integration/bridge_fixture.hpp"
 #include "tests/support/peers/mqtt_broker.hpp"
 #include "tests/support/peers/mqtt_subscription.hpp"
@@ -48,7 +48,7 @@ class MqttEdge : public BridgeTest {
     for (const auto& payload : payloads(subscription.lines(), d1_topic)) {
       const auto document = nlohmann::json::parse(payload);
       if (!document["engine_speed"].is_number() || document["engine_speed"].get<int>() < from) continue;
-      const auto time = monitor::parse_utc_time(document["time"].get<std::string>());
+      const auto time = platform::parse_utc_time(document["time"].get<std::string>());
       EXPECT_TRUE(time) << payload;
       found.push_back({document["engine_speed"].get<int>(), time.value_or(std::chrono::system_clock::time_point{})});
     }
