@@ -79,8 +79,10 @@ void EdgeSession::connected() {
   connected_ = true;
   births_due_ = true;
   // The retained STATE comes again with the subscription; until it does, the host is
-  // not known to be online.
+  // not known to be online, and what was the newest stamp is forgotten: whatever a
+  // message once claimed holds for one connection at most.
   host_ = HostState::unknown;
+  host_timestamp_.reset();
 }
 
 void EdgeSession::disconnected() {
@@ -90,11 +92,12 @@ void EdgeSession::disconnected() {
   for (auto& device : devices_) device.born = false;
 }
 
-HostVerdict EdgeSession::host_state(std::string_view payload) {
+HostVerdict EdgeSession::host_state(std::string_view payload, std::optional<std::uint64_t> trusted_now_ms) {
   const auto json = nlohmann::json::parse(payload, nullptr, false);
   if (!json.is_object() || !json.contains("online") || !json["online"].is_boolean()) return HostVerdict::none;
   std::optional<std::uint64_t> timestamp;
   if (json.contains("timestamp") && json["timestamp"].is_number_unsigned()) timestamp = json["timestamp"].get<std::uint64_t>();
+  if (timestamp && trusted_now_ms && *timestamp > *trusted_now_ms + max_host_clock_lead_ms) return HostVerdict::from_the_future;
   // A STATE older than one seen is a host's stale message (its will, delivered late).
   if (timestamp && host_timestamp_ && *timestamp < *host_timestamp_) return HostVerdict::none;
   if (timestamp) host_timestamp_ = timestamp;

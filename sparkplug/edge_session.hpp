@@ -18,7 +18,9 @@
 //     {"online":true,"timestamp":…}; an offline STATE while the node is born means the node
 //     publishes its NDEATH and disconnects (§5.9 "Edge Node Session Establishment" / the
 //     Primary Host Application's STATE, §7 of the specification); a STATE older than one
-//     seen before is ignored.
+//     seen before on this connection is ignored, and so is one stamped further ahead of the
+//     bridge's synchronised clock than max_host_clock_lead: a forged STATE stamped far in
+//     the future would otherwise make every real one look old (issue 43).
 //   - NCMD `Node Control/Rebirth` = true: every birth again, the same bdSeq.
 //   - DCMD to a metric of W or X, when commands are taken: a write of its register in
 //     the value's unit (W in tenths), by the value model's own way back (values/value_codec):
@@ -43,6 +45,9 @@ namespace unima::sparkplug {
 
 inline constexpr std::string_view rebirth_metric = "Node Control/Rebirth";
 inline constexpr std::size_t max_command_bytes = 64 * 1024;
+/// How far a primary host's STATE may be stamped ahead of the bridge's clock: hosts'
+/// clocks are synchronised too, so a minute is slack enough for any that is.
+inline constexpr std::uint64_t max_host_clock_lead_ms = 60'000;
 
 struct Message {
   std::string topic;
@@ -77,6 +82,7 @@ struct Command {
 
 enum class HostVerdict {
   none,    // nothing to do: the same state, an older STATE, or not our host's
+  from_the_future,  // ignored: stamped more than max_host_clock_lead_ms ahead of the clock
   birth,   // the host is online: births are due (when connected)
   death,   // the host went offline while the node was born: NDEATH and disconnect
 };
@@ -114,8 +120,9 @@ class EdgeSession {
 
   void connected();
   void disconnected();
-  /// The primary host's STATE payload.
-  HostVerdict host_state(std::string_view payload);
+  /// The primary host's STATE payload; `trusted_now_ms`: the bridge's clock when it is
+  /// synchronised (nullopt: it is not, and no STATE is judged by it).
+  HostVerdict host_state(std::string_view payload, std::optional<std::uint64_t> trusted_now_ms);
   /// Every birth again at the next step (a rebirth request, a new value model).
   void rebirth() { births_due_ = true; }
 
@@ -161,7 +168,7 @@ class EdgeSession {
   bool node_born_ = false;
   bool births_due_ = true;
   HostState host_ = HostState::unknown;
-  std::optional<std::uint64_t> host_timestamp_;  // the newest STATE's
+  std::optional<std::uint64_t> host_timestamp_;  // the newest STATE's on this connection
   std::vector<Device> devices_;
   Counters counters_;
 };

@@ -8,6 +8,7 @@
 #include "io/durable_file.hpp"
 #include "io/north/broker_options.hpp"
 #include "io/state_file.hpp"
+#include "platform/clock_sync.hpp"
 #include "platform/log_text.hpp"
 #include "platform/peer_warnings.hpp"
 #include "platform/utc_time.hpp"
@@ -119,7 +120,8 @@ void SparkplugService::will_of_next_connect(MqttClient::WillReady ready) {
 void SparkplugService::take_message(std::string_view topic, std::string_view payload) {
   const auto& config = *runtime_.config().sparkplug;
   if (!config.primary_host.empty() && topic == sparkplug::EdgeSession::host_state_topic(config.primary_host)) {
-    switch (session_->host_state(payload)) {
+    const auto trusted_now = platform::clock_synchronized() ? std::optional<std::uint64_t>(now_ms()) : std::nullopt;
+    switch (session_->host_state(payload, trusted_now)) {
       case sparkplug::HostVerdict::birth:
         spdlog::info("sparkplug: primary host {} is online: births", platform::log_safe(config.primary_host));
         publish_due();
@@ -131,6 +133,11 @@ void SparkplugService::take_message(std::string_view topic, std::string_view pay
         asio::post(runtime_.io, [this, alive = alive_] {
           if (*alive) die_and_reconnect();
         });
+        break;
+      case sparkplug::HostVerdict::from_the_future:
+        platform::warn_from_peer("sparkplug: STATE from the future", fmt::format("{}:{}", config.endpoint.host, config.endpoint.port), "sparkplug: a STATE of primary host {} "
+                                 "stamped more than {} s ahead of this clock, ignored", platform::log_safe(config.primary_host),
+                                 sparkplug::max_host_clock_lead_ms / 1000);
         break;
       case sparkplug::HostVerdict::none: break;
     }

@@ -321,6 +321,22 @@ TEST_F(Sparkplug, BirthsWaitForThePrimaryHostAndItsOfflineIsTheNodesDeathAndReco
   EXPECT_TRUE(wait_for(*t, nbirth, [](const json& p) { return (*metric(p, "bdSeq"))["value"] == 1; })) << daemon->log();
 }
 
+// A forged STATE stamped 2^64 - 1 (not retained: the host's own retained STATE stays on
+// the broker) kills the node; what it claimed is forgotten with its connection, so the
+// host's real, older-stamped online STATE brings the node back at once (issue 43,
+// finding 4; a stamp more than a minute ahead of a synchronised clock is not even taken:
+// the unit tests, since this machine's clock may not be synchronised).
+TEST_F(Sparkplug, AForgedStateFromTheFutureKillsTheNodeForOneConnectionAtMost) {
+  const auto state_topic = "spBv1.0/STATE/scada-1";
+  publish_bytes(state_topic, R"({"online":true,"timestamp":2000})", true);
+  const auto t = tap();
+  start_with(", primary_host: scada-1");
+  ASSERT_TRUE(wait_for(*t, nbirth)) << daemon->log();
+  publish_bytes(state_topic, R"({"online":false,"timestamp":18446744073709551615})", false);
+  ASSERT_TRUE(wait_for(*t, ndeath)) << daemon->log();
+  EXPECT_TRUE(wait_for(*t, nbirth, [](const json& p) { return (*metric(p, "bdSeq"))["value"] == 1; })) << daemon->log();
+}
+
 TEST_F(Sparkplug, NcmdRebirthRepublishesEveryBirthWithTheSameBdSeq) {
   const auto t = tap();
   start_with();

@@ -168,25 +168,48 @@ TEST_F(SparkplugEdgeSession, AnOfflineDeviceDiesAndIsBornAgainWhenBack) {
 TEST_F(SparkplugEdgeSession, APrimaryHostHoldsBirthsUntilOnlineAndItsOfflineIsTheNodesDeath) {
   auto session = connected_session(true);
   EXPECT_TRUE(session.step(devices(), now_ms).empty());
-  EXPECT_EQ(session.host_state("not json"), HostVerdict::none);
-  EXPECT_EQ(session.host_state(R"({"online":false,"timestamp":10})"), HostVerdict::none);
+  EXPECT_EQ(session.host_state("not json", std::nullopt), HostVerdict::none);
+  EXPECT_EQ(session.host_state(R"({"online":false,"timestamp":10})", std::nullopt), HostVerdict::none);
   EXPECT_TRUE(session.step(devices(), now_ms).empty());
-  EXPECT_EQ(session.host_state(R"({"online":true,"timestamp":20})"), HostVerdict::birth);
+  EXPECT_EQ(session.host_state(R"({"online":true,"timestamp":20})", std::nullopt), HostVerdict::birth);
   EXPECT_FALSE(session.step(devices(), now_ms).empty());
-  EXPECT_EQ(session.host_state(R"({"online":false,"timestamp":15})"), HostVerdict::none);  // older: ignored
+  EXPECT_EQ(session.host_state(R"({"online":false,"timestamp":15})", std::nullopt), HostVerdict::none);  // older: ignored
   EXPECT_EQ(session.host()  , EdgeSession::HostState::online);
-  EXPECT_EQ(session.host_state(R"({"online":false,"timestamp":30})"), HostVerdict::death);
+  EXPECT_EQ(session.host_state(R"({"online":false,"timestamp":30})", std::nullopt), HostVerdict::death);
   session.disconnected();
   EXPECT_FALSE(session.born());
   // Connected again: the node waits for the host again, the next bdSeq.
   EXPECT_EQ(session.begin_connect(), 1u);
   session.connected();
-  EXPECT_EQ(session.host_state(R"({"online":false,"timestamp":30})"), HostVerdict::none);
+  EXPECT_EQ(session.host_state(R"({"online":false,"timestamp":30})", std::nullopt), HostVerdict::none);
   EXPECT_TRUE(session.step(devices(), now_ms).empty());
-  EXPECT_EQ(session.host_state(R"({"online":true,"timestamp":40})"), HostVerdict::birth);
+  EXPECT_EQ(session.host_state(R"({"online":true,"timestamp":40})", std::nullopt), HostVerdict::birth);
   const auto births = session.step(devices(), now_ms);
   ASSERT_FALSE(births.empty());
   EXPECT_EQ(std::get<std::uint64_t>(find(decoded(births[0]), "bdSeq")->value), 1u);
+}
+
+// A forged STATE stamped far in the future (2^64 - 1) would make every real STATE look
+// old and keep the node dead: one more than a minute ahead of a synchronised clock is
+// ignored, and the newest stamp seen is forgotten at each connection (issue 43, finding 4).
+TEST_F(SparkplugEdgeSession, AStateFromTheFutureIsIgnoredAndNoStampOutlivesItsConnection) {
+  auto session = connected_session(true);
+  const std::uint64_t clock = 1'764'000'000'000;
+  EXPECT_EQ(session.host_state(R"({"online":true,"timestamp":18446744073709551615})", clock), HostVerdict::from_the_future);
+  EXPECT_EQ(session.host(), EdgeSession::HostState::unknown);
+  EXPECT_EQ(session.host_state(R"({"online":true,"timestamp":)" + std::to_string(clock + max_host_clock_lead_ms + 1) + "}", clock),
+            HostVerdict::from_the_future);
+  EXPECT_EQ(session.host_state(R"({"online":true,"timestamp":)" + std::to_string(clock + max_host_clock_lead_ms) + "}", clock),
+            HostVerdict::birth);
+  EXPECT_FALSE(session.step(devices(), now_ms).empty());
+  // A clock that never synchronised judges nothing: the forged stamp is taken, and holds
+  // until the connection ends.
+  EXPECT_EQ(session.host_state(R"({"online":false,"timestamp":18446744073709551615})", std::nullopt), HostVerdict::death);
+  EXPECT_EQ(session.host_state(R"({"online":true,"timestamp":)" + std::to_string(clock) + "}", std::nullopt), HostVerdict::none);
+  session.disconnected();
+  session.begin_connect();
+  session.connected();
+  EXPECT_EQ(session.host_state(R"({"online":true,"timestamp":)" + std::to_string(clock) + "}", std::nullopt), HostVerdict::birth);
 }
 
 TEST_F(SparkplugEdgeSession, RebirthByNcmdRepeatsEveryBirthWithTheSameBdSeqAndSeqFromZero) {
