@@ -25,11 +25,12 @@ const std::vector<status::Statistic<EdgeStatus>>& edge_statistics() {
       {"sparkplug_device_deaths_total", counter, "DDEATH messages published.",
        [](const EdgeStatus& s, Samples& out) { out.add(s.deaths); }},
       {"sparkplug_commands_total", counter,
-       "NCMD/DCMD metrics taken (a rebirth, a write) or refused, and command messages malformed.",
+       "NCMD/DCMD metrics taken (a rebirth, a write) or refused, and command messages malformed or retained (dropped).",
        [](const EdgeStatus& s, Samples& out) {
          out.add(s.commands.taken, {{"outcome", "taken"}})
              .add(s.commands.refused, {{"outcome", "refused"}})
-             .add(s.commands.malformed, {{"outcome", "malformed"}});
+             .add(s.commands.malformed, {{"outcome", "malformed"}})
+             .add(s.commands.retained, {{"outcome", "retained"}});
        }},
   };
   return all;

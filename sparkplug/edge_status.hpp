@@ -18,6 +18,7 @@ struct CommandCounts {
   std::uint64_t taken = 0;
   std::uint64_t refused = 0;
   std::uint64_t malformed = 0;
+  std::uint64_t retained = 0;  // NCMD/DCMD from the broker's store, dropped (Sparkplug 3.0: never retained)
 };
 
 /// `sparkplug.primary_host` and what its last STATE said ("online", "offline", "unknown").
@@ -47,7 +48,7 @@ struct EdgeStatus {
   std::optional<std::string> last_error;
 };
 
-NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(CommandCounts, taken, refused, malformed)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(CommandCounts, taken, refused, malformed, retained)
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(PrimaryHostStatus, name, state)
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(EdgeStatus, broker, client_id, group_id, edge_node_id, connected, born,
                                                 connections, drops, published, births, data, deaths, commands, bdSeq, seq,

@@ -11,6 +11,9 @@
 
 #include <spdlog/spdlog.h>
 
+#include "platform/log_text.hpp"
+#include "platform/peer_warnings.hpp"
+
 namespace unima::io {
 
 namespace {
@@ -85,12 +88,17 @@ mosquitto* MqttClient::make_handle() {
     if (message->topic == nullptr) return;
     MqttMessage received{message->topic, std::string_view(static_cast<const char*>(message->payload),
                                                           static_cast<std::size_t>(std::max(message->payloadlen, 0))),
-                         {}, {}};
+                         message->retain, {}, {}};
     read_response_request(properties, received);
     for (const auto& subscription : client.subscriptions_) {
       bool matches = false;
       mosquitto_topic_matches_sub(subscription.pattern.c_str(), message->topic, &matches);
-      if (matches) subscription.handler(received);
+      if (!matches) continue;
+      if (received.retained && subscription.retained == Retained::dropped) {
+        client.drop_retained_command(received.topic);
+        continue;
+      }
+      subscription.handler(received);
     }
   });
   return mosq;
@@ -258,6 +266,14 @@ void MqttClient::release_socket() {
   socket_.reset();
 }
 
+void MqttClient::drop_retained_command(std::string_view topic) {
+  ++counters_.retained_commands_dropped;
+  platform::warn_from_peer("mqtt: retained commands", fmt::format("{}:{}", options_.host, options_.port),
+                           "mqtt: a retained command on {} dropped: a command is carried out once, when it is published, "
+                           "never again from the broker's store (clear it: publish an empty retained message there)",
+                           platform::log_safe(topic));
+}
+
 void MqttClient::lost(const std::string& why) {
   release_socket();
   if (connected_) handle_disconnect(MOSQ_ERR_CONN_LOST);
@@ -310,7 +326,12 @@ void MqttClient::handle_connack(int rc) {
   if (birth_ && !options_.birth_topic.empty()) send(options_.birth_topic, birth_(), true);
   if (!options_.status_topic.empty()) send(options_.status_topic, "online", true);
   connected_ = true;
-  for (const auto& subscription : subscriptions_) mosquitto_subscribe(mosq_, nullptr, subscription.pattern.c_str(), 1);
+  for (const auto& subscription : subscriptions_) {
+    if (options_.version == 5 && subscription.retained == Retained::dropped)
+      mosquitto_subscribe_v5(mosq_, nullptr, subscription.pattern.c_str(), 1, MQTT_SUB_OPT_SEND_RETAIN_NEVER, nullptr);
+    else
+      mosquitto_subscribe(mosq_, nullptr, subscription.pattern.c_str(), 1);
+  }
   if (on_connected_) on_connected_();
 }
 

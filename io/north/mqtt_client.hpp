@@ -49,6 +49,7 @@ struct MqttClientOptions {
 struct MqttMessage {
   std::string_view topic;
   std::string_view payload;
+  bool retained = false;  // from the broker's store, not published while subscribed
   std::string response_topic;    // empty: none (always with MQTT 3.1.1)
   std::string correlation_data;  // bytes, given back as they came
 };
@@ -81,10 +82,16 @@ class MqttClient {
   void birth(std::function<std::string()> payload) { birth_ = std::move(payload); }
   /// Called on each (re)connection, after the birth and `online`.
   void on_connected(std::function<void()> handler) { on_connected_ = std::move(handler); }
+  /// What a subscription does with retained messages. A command's topic takes none: a
+  /// retained command would be carried out again at every start and reconnection, over
+  /// what a Modbus master wrote since (SPEC §15; Sparkplug 3.0 forbids retained commands).
+  /// With MQTT 5 the broker is asked not to send them (Retain Handling 2); any that comes
+  /// anyway (MQTT 3.1.1) is dropped here, counted and warned about.
+  enum class Retained { taken, dropped };
   /// Subscribes `pattern` (QoS 1) on each connection, beside the patterns subscribed
   /// before; a message goes to the handler of each pattern it matches.
-  void subscribe(std::string pattern, std::function<void(const MqttMessage&)> handler) {
-    subscriptions_.push_back({std::move(pattern), std::move(handler)});
+  void subscribe(std::string pattern, std::function<void(const MqttMessage&)> handler, Retained retained = Retained::taken) {
+    subscriptions_.push_back({std::move(pattern), std::move(handler), retained});
   }
   /// A will for each CONNECT, asked for just before it (Sparkplug: the NDEATH of the coming
   /// session, whose bdSeq each CONNECT counts); it takes the place of the status topic's.
@@ -108,6 +115,7 @@ class MqttClient {
     std::uint64_t drops = 0;
     std::uint64_t published = 0;
     std::uint64_t session_takeovers = 0;
+    std::uint64_t retained_commands_dropped = 0;
   };
   const Counters& counters() const { return counters_; }
   const MqttClientOptions& options() const { return options_; }
@@ -128,6 +136,7 @@ class MqttClient {
   void watch();
   void after_io(int rc);
   void lost(const std::string& why);
+  void drop_retained_command(std::string_view topic);
   void retry_later();
   void release_socket();
   void handle_connack(int rc);
@@ -162,6 +171,7 @@ class MqttClient {
   struct Subscription {
     std::string pattern;
     std::function<void(const MqttMessage&)> handler;
+    Retained retained = Retained::taken;
   };
   std::vector<Subscription> subscriptions_;
   std::function<void(WillReady)> make_will_;

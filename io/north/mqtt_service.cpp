@@ -53,7 +53,8 @@ std::unique_ptr<MqttClient> MqttService::make_client(const config::Config& confi
     if (history_) history_->acknowledged(mid);
   });
   if (m.commands)
-    client->subscribe(m.topic + "/set/#", [this](const MqttMessage& message) { take_command(message); });
+    client->subscribe(m.topic + "/set/#", [this](const MqttMessage& message) { take_command(message); },
+                      MqttClient::Retained::dropped);
   if (m.discovery)
     client->subscribe(mqtt::home_assistant_status_topic(config), [this, announcing = client.get()](const MqttMessage& message) {
       if (message.payload == "online") discovery_.announce(*announcing);
@@ -237,6 +238,7 @@ void MqttService::describe(nlohmann::json& status) const {
                         .drops = c.drops,
                         .published = c.published,
                         .session_takeovers = c.session_takeovers,
+                        .retained_commands_dropped = c.retained_commands_dropped,
                         .since = {},
                         .last_takeover = {},
                         .last_error = {},

@@ -83,8 +83,8 @@ std::unique_ptr<MqttClient> SparkplugService::make_client(const config::Config& 
   });
   const auto ncmd = fmt::format("spBv1.0/{}/NCMD/{}", s.group_id, s.edge_node_id);
   const auto take = [this](const MqttMessage& message) { take_message(message.topic, message.payload); };
-  client->subscribe(ncmd, take);
-  client->subscribe(fmt::format("spBv1.0/{}/DCMD/{}/+", s.group_id, s.edge_node_id), take);
+  client->subscribe(ncmd, take, MqttClient::Retained::dropped);
+  client->subscribe(fmt::format("spBv1.0/{}/DCMD/{}/+", s.group_id, s.edge_node_id), take, MqttClient::Retained::dropped);
   if (!s.primary_host.empty()) client->subscribe(sparkplug::EdgeSession::host_state_topic(s.primary_host), take);
   return client;
 }
@@ -314,7 +314,7 @@ void SparkplugService::describe(nlohmann::json& status) const {
                           .births = c.births,
                           .data = c.data,
                           .deaths = c.deaths,
-                          .commands = {c.taken, c.refused, c.malformed},
+                          .commands = {c.taken, c.refused, c.malformed, m.retained_commands_dropped},
                           .bdSeq = session_->bd_seq(),
                           .seq = session_->next_seq(),
                           .since = {},

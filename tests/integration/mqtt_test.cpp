@@ -13,6 +13,7 @@
 #include "tests/integration/state_outage.hpp"
 #include "tests/support/peers/mqtt_broker.hpp"
 #include "tests/support/peers/mqtt_subscription.hpp"
+#include "tests/support/shell_command.hpp"
 
 namespace unima::test {
 namespace {
@@ -346,6 +347,33 @@ TEST_F(Mqtt, CommandsWriteWAndXLikeModbusAndAnswerOnTheResultTopic) {
   start();
   ModbusClient after(config.modbus_port);
   EXPECT_EQ(after.read_holding(0x0103, 1), std::vector<std::uint16_t>{1234});
+}
+
+// A retained command sits in the broker's store and would be carried out at every start
+// and reconnection, over what a Modbus master wrote since (issue 43, finding 3): it is
+// dropped, counted and warned about; the same command published live is carried out.
+// With MQTT 5 the broker is asked not to send it at all (Retain Handling 2).
+TEST_F(Mqtt, ARetainedCommandIsNeverCarriedOutFromTheBrokersStore) {
+  const auto without_commands = config.extra;
+  for (const bool mqtt5 : {false, true}) {
+    SCOPED_TRACE(mqtt5 ? "MQTT 5" : "MQTT 3.1.1");
+    config.extra = replaced(without_commands, "publish:", std::string("commands: true, ") + (mqtt5 ? "version: 5, " : "") + "publish:");
+    publish(*broker, "fleet/site-17/set/W/3", "1234", true);
+    start();
+    ASSERT_TRUE(eventually([&] { return broker->subscribe("fleet/site-17/status", 1, 1) == "fleet/site-17/status online\n"; }));
+    auto feed = feed_client();
+    Subscription results(*broker, dir.path() / (mqtt5 ? "results5" : "results"), "fleet/site-17/set/result");
+    publish(*broker, "fleet/site-17/set/W/4", "77");  // live: carried out, and after the retained one had its chance
+    ASSERT_TRUE(eventually([&] { return payloads(results.lines(), "fleet/site-17/set/result").size() == 1; })) << results.lines();
+    EXPECT_EQ(payloads(results.lines(), "fleet/site-17/set/result")[0], R"({"topic":"fleet/site-17/set/W/4","ok":true,"error":null})");
+    ModbusClient client(config.modbus_port);
+    EXPECT_EQ(client.read_holding(0x0103, 2), (std::vector<std::uint16_t>{0x7FFF, 77}));  // W3 never written
+    const auto status = nlohmann::json::parse(
+        test_support::run(std::string(UNIMA_BRIDGE_CLI) + " status --json --socket " + config.status_socket).output)["mqtt"];
+    EXPECT_EQ(status["retained_commands_dropped"], mqtt5 ? 0 : 1) << status.dump();
+    EXPECT_EQ(daemon->log().find("a retained command on fleet/site-17/set/W/3 dropped") != std::string::npos, !mqtt5) << daemon->log();
+    daemon.reset();
+  }
 }
 
 // A command the state file's disk refuses (issue 29, row 2) changes nothing — not the

@@ -385,6 +385,27 @@ TEST_F(Sparkplug, DcmdWritesWThroughTheOneWritePathReadBackOverModbus) {
   EXPECT_NE(read_file(dir.path() / "bridge.state").find("W 3 125"), std::string::npos);
 }
 
+// Sparkplug 3.0 forbids retained commands; one left in the broker's store would be
+// carried out again at every start (issue 43, finding 3): dropped and counted, while the
+// same DCMD published live is taken.
+TEST_F(Sparkplug, ARetainedDcmdIsDroppedAndCountedNotWritten) {
+  publish_bytes(device("DCMD", "W"), float_metric("w_03", 12.5f), true);
+  const auto t = tap();
+  start_with(", commands: true");
+  ASSERT_TRUE(wait_for(*t, device("DBIRTH", "W"))) << daemon->log();
+  ASSERT_TRUE(eventually([&] { return status()["commands"]["retained"] == 1; })) << status().dump();
+  publish_bytes(device("DCMD", "W"), float_metric("w_04", 1.5f));
+  ModbusClient client(config.modbus_port);
+  EXPECT_TRUE(eventually([&] {
+    const auto w = client.read_holding(0x0103, 2);
+    return w && (*w)[1] == 15;
+  })) << daemon->log();
+  const auto w3 = client.read_holding(0x0103, 1);
+  EXPECT_TRUE(w3 && (*w3)[0] != 125) << daemon->log();
+  EXPECT_EQ(status()["commands"]["taken"], 1) << status().dump();
+  EXPECT_NE(daemon->log().find("a retained command on spBv1.0/plant-7/DCMD/bridge-17/W dropped"), std::string::npos) << daemon->log();
+}
+
 // The way back is the value model's (SPEC §17): 3276.7 would be 0x7FFF, "not measured",
 // 6553.5 would be 0xFFFF, read as −0.1 — both refused with the reason, W+3 unchanged; the
 // top of the range is written and read back over Modbus and in the next DDATA.
