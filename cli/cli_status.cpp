@@ -149,7 +149,8 @@ std::string render_status_panel(const nlohmann::json& s) {
     else out += fmt::format(" {} {} {}@{}  ", d.bank, led(d.online), *d.type, d.address.value_or(0));
   }
   out += "\n ";
-  for (const auto& m : part_of<std::vector<unimabus::ModuleStatus>>(s, "modules")) out += fmt::format(" {} {}", m.bank, led(m.online));
+  for (const auto& m : part_of<std::vector<unimabus::ModuleStatus>>(s, "modules"))
+    out += fmt::format(" {} {}", m.bank, led(m.online));
   out += "\n";
 
   out += "Capture indicators\n";
