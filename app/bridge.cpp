@@ -15,6 +15,7 @@
 #include "io/status_socket_service.hpp"
 #include "io/unimabus/unimabus_service.hpp"
 #include "platform/process_memory.hpp"
+#include "status/bridge_status.hpp"
 
 namespace unima::app {
 
@@ -83,17 +84,16 @@ void Bridge::reload(config::Config config) {
 nlohmann::json Bridge::status() const {
   const auto& config = runtime_.config();
   const auto online_bits = runtime_.banks->store->online_bits();
-  nlohmann::json doc;
-  doc["pid"] = ::getpid();
-  doc["config"] = config.file;
-  doc["uptime_s"] =
-      std::chrono::duration_cast<std::chrono::seconds>(std::chrono::steady_clock::now() - runtime_.started_at).count();
-  if (const auto rss = platform::resident_bytes()) doc["rss_bytes"] = *rss;
-  doc["mode"] = config.modbus.mode == config::ModbusMode::master ? "master" : "slave";
-  doc["modbus_address"] = config.modbus.address;
-  doc["unimabus_address"] = config.unimabus.address;
-  doc["error"] = (online_bits >> banks::c_bank::modbus_error_bit & 1) != 0;
-  doc["online_bits"] = online_bits;
+  nlohmann::json doc = status::BridgeStatus{
+      ::getpid(),
+      config.file,
+      std::chrono::duration_cast<std::chrono::seconds>(std::chrono::steady_clock::now() - runtime_.started_at).count(),
+      platform::resident_bytes(),
+      config.modbus.mode == config::ModbusMode::master ? "master" : "slave",
+      config.modbus.address,
+      config.unimabus.address,
+      (online_bits >> banks::c_bank::modbus_error_bit & 1) != 0,
+      online_bits};
   doc["ports"] = nlohmann::json::array();
   for (const auto& service : services_) service->describe(doc);
   return doc;

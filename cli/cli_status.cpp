@@ -17,9 +17,14 @@
 
 #include "config/config.hpp"
 #include "master/gateway_status.hpp"
+#include "monitor/monitor_status.hpp"
 #include "mqtt/mqtt_status.hpp"
 #include "sparkplug/edge_status.hpp"
 #include "state/state_status.hpp"
+#include "status/activity.hpp"
+#include "status/bridge_status.hpp"
+#include "status/port_status.hpp"
+#include "unimabus/bus_status.hpp"
 
 namespace unima::cli {
 
@@ -80,17 +85,27 @@ Answer ask(const std::string& path) {
 
 std::string led(bool on) { return on ? "[*]" : "[ ]"; }
 
-std::string ago(const nlohmann::json& activity, const char* what) {
-  if (activity["last_ms_ago"].is_null()) return fmt::format("no {} yet", what);
-  return fmt::format("last {} {:.1f} s ago", what, activity["last_ms_ago"].get<double>() / 1000.0);
+std::string ago(const status::Activity& activity, const char* what) {
+  if (!activity.last_ms_ago) return fmt::format("no {} yet", what);
+  return fmt::format("last {} {:.1f} s ago", what, static_cast<double>(*activity.last_ms_ago) / 1000.0);
 }
 
-std::string uptime(long seconds) {
+std::string uptime(std::int64_t seconds) {
   return fmt::format("{}h{:02}m{:02}s", seconds / 3600, seconds / 60 % 60, seconds % 60);
 }
 
-std::string counter(const nlohmann::json& port, const char* key) {
-  return port.contains(key) ? std::to_string(port[key].get<std::uint64_t>()) : "-";
+// A port's count in the table; "-" where the port has no such figure.
+std::string counted(const std::optional<std::uint64_t>& count) { return count ? std::to_string(*count) : "-"; }
+
+std::string state_count(const status::PortStatus& port, const char* state) {
+  const auto found = port.states.find(state);
+  return found == port.states.end() ? "-" : std::to_string(found->second);
+}
+
+// A part the daemon always writes: its absence is an unexpected document (json::exception).
+template <class Part>
+Part part_of(const nlohmann::json& s, const char* key) {
+  return s.at(key).get<Part>();
 }
 
 // A wait in ms as the table shows it: whole ms from 10 up, tenths below.
@@ -117,66 +132,59 @@ std::string render_gateway(const master::GatewayStatus& g) {
 }  // namespace
 
 std::string render_status_panel(const nlohmann::json& s) {
+  const auto bridge = s.get<status::BridgeStatus>();
+  const auto modbus = part_of<status::Activity>(s, "modbus");
+  const auto bus = part_of<unimabus::UnimabusStatus>(s, "unimabus");
   std::string out;
-  out += fmt::format("unima-bridge  {} mode  Modbus address {}  UnimaBUS address {}  up {}\n",
-                     s["mode"].get<std::string>(), s["modbus_address"].get<int>(), s["unimabus_address"].get<int>(),
-                     uptime(s["uptime_s"].get<long>()));
-  out += fmt::format("  Modbus    {}  {}\n", led(s["modbus"]["active"].get<bool>()), ago(s["modbus"], "frame sent"));
-  out += fmt::format("  UnimaBUS  {}  {} ({} transport)\n", led(s["unimabus"]["active"].get<bool>()),
-                     ago(s["unimabus"], "telegram received"), s["unimabus"]["transport"].get<std::string>());
-  const bool error = s["error"].get<bool>();
-  out += fmt::format("  Error     {}  {}\n", led(error),
-                     error ? "Modbus fault (C+0x13 bit 15; clears 2 s after the last one)" : "no fault in the last 2 s");
+  out += fmt::format("unima-bridge  {} mode  Modbus address {}  UnimaBUS address {}  up {}\n", bridge.mode,
+                     bridge.modbus_address, bridge.unimabus_address, uptime(bridge.uptime_s));
+  out += fmt::format("  Modbus    {}  {}\n", led(modbus.active), ago(modbus, "frame sent"));
+  out += fmt::format("  UnimaBUS  {}  {} ({} transport)\n", led(bus.led.active), ago(bus.led, "telegram received"),
+                     bus.transport);
+  out += fmt::format("  Error     {}  {}\n", led(bridge.error),
+                     bridge.error ? "Modbus fault (C+0x13 bit 15; clears 2 s after the last one)" : "no fault in the last 2 s");
   out += " ";
-  for (const auto& d : s["devices"]) {
-    if (d["type"].is_null()) out += fmt::format(" {} -  ", d["bank"].get<std::string>());
-    else
-      out += fmt::format(" {} {} {}@{}  ", d["bank"].get<std::string>(), led(d["online"].get<bool>()),
-                         d["type"].get<std::string>(), d["address"].get<int>());
+  for (const auto& d : part_of<std::vector<unimabus::DeviceStatus>>(s, "devices")) {
+    if (!d.type) out += fmt::format(" {} -  ", d.bank);
+    else out += fmt::format(" {} {} {}@{}  ", d.bank, led(d.online), *d.type, d.address.value_or(0));
   }
   out += "\n ";
-  for (const auto& m : s["modules"])
-    out += fmt::format(" {} {}", m["bank"].get<std::string>(), led(m["online"].get<bool>()));
+  for (const auto& m : part_of<std::vector<unimabus::ModuleStatus>>(s, "modules"))
+    out += fmt::format(" {} {}", m.bank, led(m.online));
   out += "\n";
 
   out += "Capture indicators\n";
-  if (s["indicators"].empty()) out += "  none configured (monitor.indicators)\n";
+  const auto indicators = part_of<std::vector<monitor::IndicatorStatus>>(s, "indicators");
+  if (indicators.empty()) out += "  none configured (monitor.indicators)\n";
   int n = 1;
-  for (const auto& i : s["indicators"]) {
-    out += fmt::format("  {}  Ad={:<3} Reg=0x{:04X}  ", n++, i["address"].get<int>(), i["register"].get<int>());
-    if (i["value"].is_null()) {
-      out += "-\n";
-    } else {
-      const auto value = i["value"].get<int>();
-      out += fmt::format("0x{:04X} ({:5})  {:<5}  {}\n", value, value, i["access"].get<std::string>(),
-                         i["time"].get<std::string>());
-    }
+  for (const auto& i : indicators) {
+    out += fmt::format("  {}  Ad={:<3} Reg=0x{:04X}  ", n++, i.address, i.reg);
+    if (!i.value) out += "-\n";
+    else
+      out += fmt::format("0x{:04X} ({:5})  {:<5}  {}\n", *i.value, *i.value, i.access.value_or(""), i.time.value_or(""));
   }
 
   out += "Port        frames    Done  Not4Me   Err01   Err02   Err03   Err04  Timeout  clients\n";
-  if (s["ports"].empty()) out += "  none\n";
-  for (const auto& p : s["ports"]) {
-    out += fmt::format("  {:<8} {:>8} {:>7} {:>7} {:>7} {:>7} {:>7} {:>7} {:>8} {:>8}", p["port"].get<std::string>(),
-                       counter(p, "transactions"), counter(p, "Done"), counter(p, "Not4Me"), counter(p, "Err01"),
-                       counter(p, "Err02"), counter(p, "Err03"), counter(p, "Err04"), counter(p, "Timeout"),
-                       counter(p, "clients"));
-    if (p.contains("listen")) out += "  " + p["listen"].get<std::string>();
+  const auto ports = part_of<std::vector<status::PortStatus>>(s, "ports");
+  if (ports.empty()) out += "  none\n";
+  for (const auto& p : ports) {
+    out += fmt::format("  {:<8} {:>8} {:>7} {:>7} {:>7} {:>7} {:>7} {:>7} {:>8} {:>8}", p.port, p.transactions,
+                       state_count(p, "Done"), state_count(p, "Not4Me"), state_count(p, "Err01"), state_count(p, "Err02"),
+                       state_count(p, "Err03"), state_count(p, "Err04"), state_count(p, "Timeout"), counted(p.clients));
+    if (p.listen) out += "  " + *p.listen;
     out += "\n";
   }
 
   if (s.contains("gateway")) out += render_gateway(s["gateway"].get<master::GatewayStatus>());
 
-  const auto& m = s["monitor"];
-  std::string where;
-  if (!m["file"].is_null()) where = m["file"].get<std::string>();
-  if (m["stdout"].get<bool>()) where += where.empty() ? "stdout" : " and stdout";
+  const auto m = part_of<monitor::MonitorStatus>(s, "monitor");
+  std::string where = m.file.value_or("");
+  if (m.to_stdout) where += where.empty() ? "stdout" : " and stdout";
   if (where.empty()) {
     out += "Monitor     off (set monitor.file)\n";
   } else {
-    out += fmt::format("Monitor     {} ({}), filter {}\n", where, m["format"].get<std::string>(),
-                       m["filter"].get<std::string>());
-    out += fmt::format("            {} lines written, {} dropped\n", m["written"].get<std::uint64_t>(),
-                       m["dropped"].get<std::uint64_t>());
+    out += fmt::format("Monitor     {} ({}), filter {}\n", where, m.format, m.filter);
+    out += fmt::format("            {} lines written, {} dropped\n", m.written, m.dropped);
   }
   if (s.contains("state")) {
     const auto st = s["state"].get<state::StateStatus>();

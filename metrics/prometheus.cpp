@@ -9,17 +9,19 @@
 #include <nlohmann/json.hpp>
 
 #include "master/gateway_status.hpp"
+#include "monitor/monitor_status.hpp"
 #include "mqtt/mqtt_status.hpp"
 #include "sparkplug/edge_status.hpp"
 #include "state/state_status.hpp"
+#include "status/bridge_status.hpp"
 #include "status/port_status.hpp"
+#include "unimabus/bus_status.hpp"
 #include "web/login_status.hpp"
 
 namespace unima::metrics {
 
 namespace {
 
-using status::Labels;
 using status::MetricType;
 using status::Samples;
 using status::Statistic;
@@ -110,62 +112,11 @@ std::vector<Type> array_at(const nlohmann::json& parent, const char* key) {
   return all;
 }
 
-std::string text(const nlohmann::json& value) { return value.is_string() ? value.get<std::string>() : value.dump(); }
-
-// The parts not typed yet (the bridge's own, the UnimaBUS side, the monitor): their keys
-// are read here.
-using Untyped = Statistic<nlohmann::json>;
-
-const std::vector<Untyped> bridge_statistics{
-    {"uptime_seconds", MetricType::gauge, "Seconds since the daemon started.",
-     [](const nlohmann::json& s, Samples& out) { out.add(field(s, "uptime_s")); }},
-    {"resident_memory_bytes", MetricType::gauge, "Resident set size of the daemon.",
-     [](const nlohmann::json& s, Samples& out) { out.add(field(s, "rss_bytes")); }},
-    {"modbus_error", MetricType::gauge, "The Modbus error bit (C+0x13 bit 15, the front panel's Error LED).",
-     [](const nlohmann::json& s, Samples& out) { out.add(field(s, "error")); }},
-};
-
-Labels device_labels(const nlohmann::json& d) { return {{"bank", text(field(d, "bank"))}, {"type", text(field(d, "type"))}}; }
-Labels module_labels(const nlohmann::json& m) { return {{"bank", text(field(m, "bank"))}}; }
-
-// A D_N without a type is not configured: not a device.
-const std::vector<Untyped> device_statistics{
-    {"device_online", MetricType::gauge, "1 while a configured device D_N is on-line on UnimaBUS.",
-     [](const nlohmann::json& d, Samples& out) {
-       if (field(d, "type").is_string()) out.add(field(d, "online"), device_labels(d));
-     }},
-    {"device_telegrams_total", MetricType::counter, "UnimaBUS telegrams taken into a device bank D_N.",
-     [](const nlohmann::json& d, Samples& out) {
-       if (field(d, "type").is_string()) out.add(field(d, "telegrams"), device_labels(d));
-     }},
-};
-
-const std::vector<Untyped> module_statistics{
-    {"module_online", MetricType::gauge, "1 while an I/O module S_N is on-line on UnimaBUS.",
-     [](const nlohmann::json& m, Samples& out) { out.add(field(m, "online"), module_labels(m)); }},
-    {"module_telegrams_total", MetricType::counter, "UnimaBUS telegrams taken into an I/O module bank S_N.",
-     [](const nlohmann::json& m, Samples& out) { out.add(field(m, "telegrams"), module_labels(m)); }},
-};
-
-const std::vector<Untyped> unimabus_statistics{
-    {"telegrams_ignored_total", MetricType::counter, "Telegrams for no configured device.",
-     [](const nlohmann::json& u, Samples& out) { out.add(field(u, "telegrams_ignored")); }},
-    {"telegrams_refused_total", MetricType::counter, "Telegrams refused (ambiguous address, bad offset).",
-     [](const nlohmann::json& u, Samples& out) { out.add(field(u, "telegrams_refused")); }},
-    {"feed_clients", MetricType::gauge, "Connected feed clients (UnimaBUS drivers).",
-     [](const nlohmann::json& u, Samples& out) { out.add(field(u, "clients")); }},
-};
-
-const std::vector<Untyped> monitor_statistics{
-    {"monitor_lines_written_total", MetricType::counter, "Monitor lines written.",
-     [](const nlohmann::json& m, Samples& out) { out.add(field(m, "written")); }},
-    {"monitor_lines_dropped_total", MetricType::counter, "Monitor lines dropped because the writer fell behind.",
-     [](const nlohmann::json& m, Samples& out) { out.add(field(m, "dropped")); }},
-};
-
-// The document itself, and a part that is always there even when the document lacks it.
-std::vector<nlohmann::json> whole(const nlohmann::json& status) { return {status}; }
-std::vector<nlohmann::json> always(const nlohmann::json& status, const char* key) { return {field(status, key)}; }
+// The bridge's own part is the document's top level: an empty document has none.
+std::vector<status::BridgeStatus> bridge(const nlohmann::json& document) {
+  return document.is_object() && !document.empty() ? std::vector{document.get<status::BridgeStatus>()}
+                                                    : std::vector<status::BridgeStatus>{};
+}
 
 // TLS handshakes (SPEC §11; tls/handshake_limiter), by port: the Modbus/TCP Security
 // port's, and HTTPS' as port "https".
@@ -180,19 +131,23 @@ std::vector<status::PortHandshakes> handshakes(const nlohmann::json& status) {
 // Every family of /metrics, in the order of the exposition.
 const std::vector<Part>& registry() {
   static const std::vector<Part> all{
-      part<nlohmann::json>(whole, bridge_statistics),
+      part<status::BridgeStatus>(bridge, status::bridge_statistics()),
       part<status::PortStatus>([](const nlohmann::json& s) { return array_at<status::PortStatus>(s, "ports"); },
                                status::port_statistics()),
       part<status::PortHandshakes>(handshakes, status::handshake_statistics()),
-      part<nlohmann::json>([](const nlohmann::json& s) { return elements(field(s, "devices")); }, device_statistics),
-      part<nlohmann::json>([](const nlohmann::json& s) { return elements(field(s, "modules")); }, module_statistics),
-      part<nlohmann::json>([](const nlohmann::json& s) { return always(s, "unimabus"); }, unimabus_statistics),
+      part<unimabus::DeviceStatus>([](const nlohmann::json& s) { return array_at<unimabus::DeviceStatus>(s, "devices"); },
+                                   unimabus::device_statistics()),
+      part<unimabus::ModuleStatus>([](const nlohmann::json& s) { return array_at<unimabus::ModuleStatus>(s, "modules"); },
+                                   unimabus::module_statistics()),
+      part<unimabus::UnimabusStatus>([](const nlohmann::json& s) { return object_at<unimabus::UnimabusStatus>(s, "unimabus"); },
+                                     unimabus::unimabus_statistics()),
       part<master::MasterDeviceStatus>([](const nlohmann::json& s) { return array_at<master::MasterDeviceStatus>(s, "master"); },
                                        master::master_device_statistics()),
       part<master::GatewayUnitStatus>(
           [](const nlohmann::json& s) { return array_at<master::GatewayUnitStatus>(field(s, "gateway"), "units"); },
           master::gateway_unit_statistics()),
-      part<nlohmann::json>([](const nlohmann::json& s) { return always(s, "monitor"); }, monitor_statistics),
+      part<monitor::MonitorStatus>([](const nlohmann::json& s) { return object_at<monitor::MonitorStatus>(s, "monitor"); },
+                                   monitor::monitor_statistics()),
       part<state::StateStatus>([](const nlohmann::json& s) { return object_at<state::StateStatus>(s, "state"); },
                                state::state_statistics()),
       part<mqtt::MqttStatus>([](const nlohmann::json& s) { return object_at<mqtt::MqttStatus>(s, "mqtt"); },

@@ -15,7 +15,8 @@
 
 namespace unima::metrics {
 
-/// The exposition of `status` (fields it lacks are left out, never made up).
+/// The exposition of `status`: the parts it lacks, and its null values, are left out,
+/// never made up.
 std::string prometheus_text(const nlohmann::json& status);
 
 /// The Content-Type of that text.

@@ -10,8 +10,12 @@
 #include "master/gateway_status.hpp"
 #include "metrics/prometheus.hpp"
 #include "monitor/command_filter.hpp"
+#include "monitor/monitor_status.hpp"
 #include "mqtt/mqtt_status.hpp"
 #include "sparkplug/edge_status.hpp"
+#include "status/activity.hpp"
+#include "status/bridge_status.hpp"
+#include "unimabus/bus_status.hpp"
 #include "values/value_json.hpp"
 #include "web/page_files.hpp"
 
@@ -41,10 +45,10 @@ monitor::CommandFilter page_filter(std::string_view target) {
   return monitor::parse_command_filter(expression);
 }
 
-// An LED as the page shows it (io/activity.hpp): lit now, and the count of frames that
+// An LED as the page shows it (status/activity.hpp): lit now, and the count of frames that
 // blinks it — not how long ago, which would change the panel on every heartbeat.
-nlohmann::json led_of(const nlohmann::json& activity) {
-  return {{"on", activity["active"]}, {"frames", activity["frames"]}, {"lit_ms", activity["lit_ms"]}};
+nlohmann::json led_of(const status::Activity& activity) {
+  return {{"on", activity.active}, {"frames", activity.frames}, {"lit_ms", activity.lit_ms}};
 }
 
 // The gateway's units as the page's table shows them: the counts a technician reads, the
@@ -97,21 +101,23 @@ nlohmann::json sparkplug_panel(const sparkplug::EdgeStatus& sparkplug) {
 }
 
 // The front panel of seed 004: its LEDs, the D_N and S_N on-line, the capture indicators.
-nlohmann::json panel_of(const nlohmann::json& status) {
+nlohmann::json panel_of(const nlohmann::json& document) {
+  const auto bridge = document.get<status::BridgeStatus>();
   nlohmann::json panel;
-  panel["mode"] = status["mode"];
-  panel["error"] = status["error"];
-  panel["modbus"] = led_of(status["modbus"]);
-  panel["unimabus"] = led_of(status["unimabus"]);
+  panel["mode"] = bridge.mode;
+  panel["error"] = bridge.error;
+  panel["modbus"] = led_of(document.at("modbus").get<status::Activity>());
+  panel["unimabus"] = led_of(document.at("unimabus").get<unimabus::UnimabusStatus>().led);
   panel["devices"] = nlohmann::json::array();
-  for (const auto& device : status["devices"])
-    panel["devices"].push_back({{"bank", device["bank"]}, {"type", device["type"]}, {"online", device["online"]}});
+  for (const auto& device : document.at("devices").get<std::vector<unimabus::DeviceStatus>>())
+    panel["devices"].push_back({{"bank", device.bank}, {"type", device.type}, {"online", device.online}});
   panel["modules"] = nlohmann::json::array();
-  for (const auto& module : status["modules"]) panel["modules"].push_back({{"bank", module["bank"]}, {"online", module["online"]}});
-  panel["indicators"] = status["indicators"];
-  if (status.contains("gateway")) panel["gateway"] = gateway_panel(status["gateway"].get<master::GatewayStatus>());
-  if (status.contains("mqtt")) panel["mqtt"] = mqtt_panel(status["mqtt"].get<mqtt::MqttStatus>());
-  if (status.contains("sparkplug")) panel["sparkplug"] = sparkplug_panel(status["sparkplug"].get<sparkplug::EdgeStatus>());
+  for (const auto& module : document.at("modules").get<std::vector<unimabus::ModuleStatus>>())
+    panel["modules"].push_back({{"bank", module.bank}, {"online", module.online}});
+  panel["indicators"] = document.at("indicators").get<std::vector<monitor::IndicatorStatus>>();
+  if (document.contains("gateway")) panel["gateway"] = gateway_panel(document.at("gateway").get<master::GatewayStatus>());
+  if (document.contains("mqtt")) panel["mqtt"] = mqtt_panel(document.at("mqtt").get<mqtt::MqttStatus>());
+  if (document.contains("sparkplug")) panel["sparkplug"] = sparkplug_panel(document.at("sparkplug").get<sparkplug::EdgeStatus>());
   return panel;
 }
 

@@ -1,0 +1,55 @@
+// `unima-bridge status`' panel (cli::render_status_panel) of the daemon's own document
+// (tests/golden/status_slave.json, kept by the integration test StatusKeys with every part
+// on), read through the typed parts: the front panel, the indicators and the ports' table
+// as an operator reads them.
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include <nlohmann/json.hpp>
+
+#include "cli/cli_status.hpp"
+#include "tests/support/temp_files.hpp"
+
+namespace unima::cli {
+namespace {
+
+nlohmann::json golden_slave() {
+  return nlohmann::json::parse(
+      test_support::read_file(std::filesystem::path(UNIMA_SOURCE_DIR) / "tests" / "golden" / "status_slave.json"));
+}
+
+bool has_line(const std::string& text, const std::string& line) { return text.find("\n" + line + "\n") != std::string::npos; }
+
+TEST(CliStatus, ThePanelShowsTheFrontPanelIndicatorsAndPortsOfTheDocument) {
+  const auto text = render_status_panel(golden_slave());
+  EXPECT_TRUE(text.starts_with("unima-bridge  slave mode  Modbus address 1  UnimaBUS address 5  up 0h00m00s\n")) << text;
+  EXPECT_TRUE(has_line(text, "  Modbus    [*]  last frame sent 0.0 s ago")) << text;
+  EXPECT_TRUE(has_line(text, "  UnimaBUS  [ ]  no telegram received yet (feed transport)")) << text;
+  EXPECT_TRUE(has_line(text, "  Error     [ ]  no fault in the last 2 s")) << text;
+  EXPECT_TRUE(has_line(text, "  D1 [ ] unigen-chp@5   D2 -   D3 -   D4 -  ")) << text;
+  EXPECT_TRUE(has_line(text, "  S1 [ ] S2 [ ] S3 [ ] S4 [ ] S5 [ ] S6 [ ] S7 [ ]")) << text;
+  EXPECT_TRUE(has_line(text, "  1  Ad=1   Reg=0x0100  0x7FFF (32767)  read   2026-11-28T19:54:16.012056Z")) << text;
+  EXPECT_TRUE(has_line(text, "  tcp             1       1       0       0       0       0       0        0        1  127.0.0.1:14681"))
+      << text;
+  EXPECT_TRUE(has_line(text, "            1 lines written, 0 dropped")) << text;
+}
+
+// A figure a port does not have is a dash, not a 0 that was never counted.
+TEST(CliStatus, APortWithoutClientsOrAStateShowsADash) {
+  auto document = golden_slave();
+  document["ports"] = nlohmann::json::parse(R"([{"port": "rtu", "transactions": 2, "Done": 2}])");
+  EXPECT_TRUE(has_line(render_status_panel(document),
+                       "  rtu             2       2       -       -       -       -       -        -        -"));
+}
+
+// `status` says so (an unexpected document) rather than draw a panel of zeros.
+TEST(CliStatus, ADocumentWithoutAPartIsAnError) {
+  auto document = golden_slave();
+  document.erase("devices");
+  EXPECT_THROW(render_status_panel(document), nlohmann::json::exception);
+}
+
+}  // namespace
+}  // namespace unima::cli
