@@ -33,15 +33,31 @@ Metric bd_seq_metric(std::uint64_t bd_seq, std::uint64_t now_ms) {
 // A metric's name as a log line shows it (a host may leave it out).
 std::string name_of(const Metric& metric) { return metric.name.value_or("(a metric without a name)"); }
 
+// The datatype a command's metric is sent as: its own, or its birth's when it leaves it out.
+DataType commanded_type(const Metric& metric, const values::ValueDef& def) { return metric.datatype.value_or(data_type_of(def)); }
+
 // The number a command's metric sets, in the metric's unit: a Boolean's as 1 or 0, when
-// its value is a bit.
+// its value is a bit (a bit takes a number too; the codec takes 0 and 1 only).
 std::optional<double> commanded_number(const Metric& metric, const values::ValueDef& def) {
-  const auto type = metric.datatype.value_or(data_type_of(def));
+  const auto type = commanded_type(metric, def);
   if (type == DataType::Boolean && def.type == values::ValueType::boolean) {
     const auto flag = boolean_of(metric.value, type);
     return flag ? std::optional<double>(*flag ? 1.0 : 0.0) : std::nullopt;
   }
   return number_of(metric.value, type);
+}
+
+// Why a command's metric sets nothing `def` can take.
+std::string not_a_value_of(const Metric& metric, const values::ValueDef& def) {
+  if (def.type != values::ValueType::boolean) return fmt::format("{} is not a number", def.name);
+  return fmt::format("{} takes a Boolean (or the number 0 or 1), not a {}", def.name, data_type_name(commanded_type(metric, def)));
+}
+
+// A written value as the log shows it: a bit's as the Boolean it was sent as, any other
+// as its register.
+std::string shown(const values::ValueDef& def, double number, std::uint16_t raw) {
+  if (def.type == values::ValueType::boolean) return number != 0 ? "true" : "false";
+  return std::to_string(raw);
 }
 
 // A D_N or S_N follows a device on the line; the bridge's own banks are always there.
@@ -251,7 +267,7 @@ Command EdgeSession::dcmd(const values::BankValues& layout, const Payload& paylo
     }
     const auto number = commanded_number(metric, *def);
     if (!number) {
-      command.malformed = fmt::format("{} is not a number", def->name);
+      command.malformed = not_a_value_of(metric, *def);
       return command;
     }
     const auto encoded = values::raw_of(*def, *number);
@@ -259,8 +275,8 @@ Command EdgeSession::dcmd(const values::BankValues& layout, const Payload& paylo
       command.refused.push_back(*reason);
       continue;
     }
-    command.writes.push_back(
-        {layout.bank, def->offsets.front(), std::get<std::uint16_t>(encoded), values::word_mask(*def), def->name});
+    const auto raw = std::get<std::uint16_t>(encoded);
+    command.writes.push_back({layout.bank, def->offsets.front(), raw, values::word_mask(*def), def->name, shown(*def, *number, raw)});
   }
   return command;
 }

@@ -23,7 +23,8 @@
 //     the future would otherwise make every real one look old (issue 43).
 //   - NCMD `Node Control/Rebirth` = true: every birth again, the same bdSeq.
 //   - DCMD to a metric of W or X, when commands are taken: a write of its register in
-//     the value's unit (W in tenths), by the value model's own way back (values/value_codec):
+//     the value's unit (W in tenths), or of one bit of X (`x.5`, a Boolean: that bit
+//     alone, the others kept), by the value model's own way back (values/value_codec):
 //     a value that would not read back as itself (3276.7 into W is 0x7FFF, "not measured")
 //     is refused with the reason — the service takes the rest through the one write path.
 // NCMD and DCMD come from whoever may publish on the broker: payloads over 64 KiB, that do
@@ -69,6 +70,7 @@ struct CommandWrite {
   std::uint16_t raw = 0;
   std::uint16_t mask = 0xFFFF;
   std::string metric;  // its name, for the log
+  std::string value;   // what it writes, for the log: the register, or a bit's true/false
 };
 
 /// What an NCMD or DCMD means.

@@ -5,7 +5,8 @@
 // how each is typed and put is decided here:
 //
 //   value (values::ValueDef)                    metric datatype (its value field)
-//   a bit, a mapped bit (B, C's user bits)       Boolean
+//   a bit, a mapped bit (B, C's user bits),      Boolean
+//   a bit of X (x.0 … x.15)
 //   an ASCII pair                                String
 //   a 32-bit pair, scale 1                       UInt32  (int_value)
 //   a 32-bit pair, scaled                        Double  (a Float's 24 bits would round
@@ -13,8 +14,8 @@
 //   any other number with a scale other than 1   Float   (16 bits of raw × scale fit it)
 //   a byte of a byte pair, scale 1               UInt8
 //   a signed register, scale 1                   Int16   (two's complement, sparkplug/metric_value.hpp)
-//   an unsigned register, a bit word, a field    UInt16
-//   of several bits, X
+//   an unsigned register, a bit word (X's `x`),  UInt16
+//   a field of several bits
 //
 // Each metric is named by the value's name (the table's identifier: "engine_speed",
 // "operating_hours", "knock_rank_1.level", "status_word.alarm"; bank A's by its source,

@@ -181,17 +181,17 @@ void SparkplugService::take_command(std::string_view device, std::string_view to
       continue;
     }
     answer_once_durable(runtime_.state.get(), result.kept_as,
-                        [this, alive = alive_, bank = write.bank, metric = write.metric, raw = write.raw](bool durable) {
+                        [this, alive = alive_, bank = write.bank, metric = write.metric, value = write.value](bool durable) {
                           if (!*alive) return;
                           if (durable) {
                             spdlog::info("sparkplug: DCMD {}/{} = {}", banks::bank_name(bank),
-                                         platform::log_safe(metric), raw);
+                                         platform::log_safe(metric), value);
                             return;
                           }
                           if (session_) session_->refused_by_write_path();
                           spdlog::warn("sparkplug: DCMD {}/{} = {} refused: the state file could not keep it; "
                                        "nothing changed",
-                                       banks::bank_name(bank), platform::log_safe(metric), raw);
+                                       banks::bank_name(bank), platform::log_safe(metric), value);
                         });
   }
 }

@@ -108,9 +108,10 @@ TEST_F(PageValuesTest, ThePageShowsEachValueAsTheSeedMeansItAndWhyAValueHasNone)
   ModbusClient client(config.modbus_port);
   ASSERT_TRUE(client.write(0x0101, 0x1234));       // indicator 1: a write
   ASSERT_TRUE(client.read_input(0x0012, 1));       // indicator 2: a read
+  ASSERT_TRUE(client.write(0x3010, 0x0021));       // X: bits 0 and 5
 
   const auto shown = page_shows("--online D1 --online D2 --expect 0x0012=41234 --expect 0x1208=32771 "
-                                "--indicator 1=write --indicator 2=read");
+                                "--expect 0x3010=33 --indicator 1=write --indicator 2=read");
   ASSERT_TRUE(shown.contains("keys")) << shown.dump(1);
   const auto& keys = shown["keys"];
   const auto text = [&](const std::string& key) {
@@ -138,6 +139,12 @@ TEST_F(PageValuesTest, ThePageShowsEachValueAsTheSeedMeansItAndWhyAValueHasNone)
   EXPECT_EQ(text("D1/status"), "0x450E");
   EXPECT_EQ(text("D1/status_word"), "0x250D");
   EXPECT_EQ(text("D1/status.state"), "14");
+  // X is a bit word too: the word in hex, each of its sixteen bits on or off.
+  EXPECT_EQ(text("X/x"), "0x0021");
+  EXPECT_EQ(text("X/x.0"), "on");
+  EXPECT_EQ(text("X/x.5"), "on");
+  EXPECT_EQ(text("X/x.4"), "off");
+  EXPECT_EQ(text("X/x.15"), "off");
   for (const auto& [key, cell] : keys.items()) {
     EXPECT_FALSE(key.ends_with("_high") || key.ends_with("_low")) << key;  // no half of a pair
     EXPECT_EQ(cell["text"].get<std::string>().find("32767"), std::string::npos) << key << ": " << cell;

@@ -440,6 +440,45 @@ TEST_F(Sparkplug, DcmdRefusesAValueThatWouldNotReadBackAsItselfAndWritesTheEdge)
   EXPECT_EQ(status()["commands"]["taken"], 2);
 }
 
+// X's bits are Boolean metrics (SPEC §16): a DCMD to x.5 writes bit 5 alone through the one
+// write path — the other bits as the register holds them, persisted, published to UnimaBUS
+// — and the next DDATA carries x.5 = true with the word.
+TEST_F(Sparkplug, DcmdToABitOfXWritesThatBitAloneReadBackOverModbusAndInTheNextDdata) {
+  const auto t = tap();
+  start_with(", commands: true");
+  const auto birth = wait_for(*t, device("DBIRTH", "X"));
+  ASSERT_TRUE(birth) << daemon->log();
+  const auto* bit5 = metric(birth->payload, "x.5");
+  ASSERT_TRUE(bit5) << birth->payload.dump();
+  EXPECT_EQ((*bit5)["datatype"], "Boolean");
+  EXPECT_EQ((*bit5)["is_null"], true) << "X was never written";
+  auto feed = feed_client();
+  ModbusClient client(config.modbus_port);
+  ASSERT_TRUE(client.write(0x3010, 0x0003));
+  ASSERT_TRUE(feed.wait_for_line(R"({"bank":"X","offset":0,"value":3})"));
+
+  publish_bytes(device("DCMD", "X"), boolean_metric("x.5", true));
+  EXPECT_TRUE(eventually([&] { return client.read_holding(0x3010, 1) == std::vector<std::uint16_t>{0x0023}; }))
+      << daemon->log();
+  EXPECT_TRUE(feed.wait_for_line(R"({"bank":"X","offset":0,"value":35})")) << "UnimaBUS gets the whole word";
+  const auto data = wait_for(*t, device("DDATA", "X"), [](const json& p) {
+    const auto* bit = metric(p, "x.5");
+    return bit && (*bit)["value"] == true;
+  });
+  ASSERT_TRUE(data) << daemon->log();
+  EXPECT_EQ((*metric(data->payload, "x.5"))["datatype"], "Boolean");
+  ASSERT_TRUE(metric(data->payload, "x"));
+  EXPECT_EQ((*metric(data->payload, "x"))["value"], 0x0023);
+  EXPECT_FALSE(metric(data->payload, "x.0")) << "bit 0 did not change";
+  EXPECT_EQ(status()["commands"]["taken"], 1);
+  EXPECT_NE(read_file(dir.path() / "bridge.state").find("X 0 35"), std::string::npos) << "persisted as the whole word";
+  EXPECT_TRUE(daemon->wait_for_log("sparkplug: DCMD X/x.5 = true")) << daemon->log();
+
+  publish_bytes(device("DCMD", "X"), boolean_metric("x.0", false));
+  EXPECT_TRUE(eventually([&] { return client.read_holding(0x3010, 1) == std::vector<std::uint16_t>{0x0022}; }))
+      << daemon->log();
+}
+
 // modbus.tcp.read_only freezes every way a write comes in: a DCMD too, counted as refused.
 TEST_F(Sparkplug, ReadOnlyRefusesADcmd) {
   config.tcp_extra = ", read_only: true";
