@@ -15,7 +15,7 @@
 // history up to that entry, so a restart sends only what follows. The file is appended
 // and synced at least once a second, so a crash tears at most its last line: a torn tail,
 // dropped. A bad line anywhere else is damage, and the file is set aside whole (as the
-// state file, SPEC §10). Pure: the file and its thread live in io/north/history_buffer.
+// state file, SPEC §10). Pure: the file and its thread live in io/mqtt/history_buffer.
 
 #include <cstddef>
 #include <cstdint>

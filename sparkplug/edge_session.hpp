@@ -1,7 +1,7 @@
 #pragma once
 // The bridge as a Sparkplug B edge node (SPEC §16), its decisions without I/O: which
 // messages are due and what they carry, the sequence numbers, the primary host's state,
-// what a command means. The service (io/north/sparkplug_service) owns the connection,
+// what a command means. The service (io/mqtt/sparkplug_service) owns the connection,
 // the clock, the bdSeq file and the one write path, and asks this class at each turn.
 //
 // Sparkplug 3.0, as followed here:

@@ -10,7 +10,7 @@
 // judge() answers on the loop what needs no hash — an Authorization header that passed
 // before (remembered, so a browser's every request does not pay again), or one that is no
 // name and password at all — and otherwise names the PasswordCheck to make;
-// hash_matches() computes it on a worker (io/north/password_worker); remember() keeps the
+// hash_matches() computes it on a worker (io/http/password_worker); remember() keeps the
 // header once it passed. How many checks may run, and for whom, is web/login_limits'.
 
 #include <cstdint>

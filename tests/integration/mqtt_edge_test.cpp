@@ -106,7 +106,10 @@ TEST_F(MqttEdge, ABurstGivesItsFirstValueAtOnceThenAtMostOneDocumentPer100ms) {
   EXPECT_LT(got.size(), static_cast<std::size_t>(last - first + 1)) << "coalesced, not one per change";
   for (std::size_t i = 1; i < got.size(); ++i) {
     EXPECT_GT(got[i].engine_speed, got[i - 1].engine_speed) << "in order, never a backlog";
-    EXPECT_GE(got[i].time - got[i - 1].time, 100ms) << subscription.lines();
+    // The pacing runs on the steady clock, a document's time is the system clock read just
+    // after: a preemption between the two reads of one document (a loaded machine) moves
+    // its stamp by a few ms, never the pacing.
+    EXPECT_GE(got[i].time - got[i - 1].time, 95ms) << subscription.lines();
   }
 }
 

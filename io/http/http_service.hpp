@@ -14,9 +14,9 @@
 #include <string>
 #include <vector>
 
-#include "io/north/http_answers.hpp"
-#include "io/north/http_server.hpp"
-#include "io/north/password_worker.hpp"
+#include "io/http/http_answers.hpp"
+#include "io/http/http_server.hpp"
+#include "io/http/password_worker.hpp"
 #include "io/movable_listener.hpp"
 #include "io/service.hpp"
 #include "values/leading_edge.hpp"

@@ -6,8 +6,8 @@
 
 #include <string_view>
 
-#include "io/north/http_server.hpp"
-#include "io/north/loop_health.hpp"
+#include "io/http/http_server.hpp"
+#include "io/http/loop_health.hpp"
 #include "io/runtime.hpp"
 #include "web/live_view.hpp"
 

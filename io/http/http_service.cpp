@@ -1,4 +1,4 @@
-#include "io/north/http_service.hpp"
+#include "io/http/http_service.hpp"
 
 #include <spdlog/spdlog.h>
 

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "io/north/mqtt_client.hpp"
+#include "io/mqtt/mqtt_client.hpp"
 #include "mqtt/discovery.hpp"
 
 namespace unima::io {

@@ -1,4 +1,4 @@
-#include "io/north/http_answers.hpp"
+#include "io/http/http_answers.hpp"
 
 #include <algorithm>
 #include <cmath>

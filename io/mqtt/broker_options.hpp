@@ -11,7 +11,7 @@
 
 #include <fmt/format.h>
 
-#include "io/north/mqtt_client.hpp"
+#include "io/mqtt/mqtt_client.hpp"
 
 namespace unima::io {
 

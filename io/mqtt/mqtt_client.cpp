@@ -1,4 +1,4 @@
-#include "io/north/mqtt_client.hpp"
+#include "io/mqtt/mqtt_client.hpp"
 
 #include <mosquitto.h>
 #include <mqtt_protocol.h>

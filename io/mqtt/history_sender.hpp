@@ -12,8 +12,8 @@
 #include <memory>
 #include <string>
 
-#include "io/north/history_buffer.hpp"
-#include "io/north/mqtt_client.hpp"
+#include "io/mqtt/history_buffer.hpp"
+#include "io/mqtt/mqtt_client.hpp"
 #include "mqtt/history_window.hpp"
 
 namespace unima::io {
@@ -37,7 +37,7 @@ class HistorySender {
 
  private:
   // Entries held read ahead of the window: a read is asked for when fewer than half are
-  // left, so the next ones are here before the window has sent these (io/north/history_sender.cpp).
+  // left, so the next ones are here before the window has sent these (io/mqtt/history_sender.cpp).
   static constexpr std::size_t read_ahead = 4 * mqtt::HistoryWindow::max_unacknowledged;
   void fill();
 

@@ -1,4 +1,4 @@
-#include "io/north/sparkplug_service.hpp"
+#include "io/mqtt/sparkplug_service.hpp"
 
 #include <charconv>
 
@@ -6,7 +6,7 @@
 #include <spdlog/spdlog.h>
 
 #include "io/durable_file.hpp"
-#include "io/north/broker_options.hpp"
+#include "io/mqtt/broker_options.hpp"
 #include "io/state_file.hpp"
 #include "platform/clock_sync.hpp"
 #include "platform/log_text.hpp"

@@ -1,4 +1,4 @@
-#include "io/north/http_server.hpp"
+#include "io/http/http_server.hpp"
 
 #include <algorithm>
 #include <array>

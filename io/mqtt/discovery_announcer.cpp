@@ -1,4 +1,4 @@
-#include "io/north/discovery_announcer.hpp"
+#include "io/mqtt/discovery_announcer.hpp"
 
 #include <algorithm>
 

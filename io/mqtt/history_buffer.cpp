@@ -1,4 +1,4 @@
-#include "io/north/history_buffer.hpp"
+#include "io/mqtt/history_buffer.hpp"
 
 #include <fcntl.h>
 #include <unistd.h>

@@ -1,4 +1,4 @@
-#include "io/north/history_sender.hpp"
+#include "io/mqtt/history_sender.hpp"
 
 #include <algorithm>
 #include <iterator>

@@ -9,7 +9,7 @@
 // fdatasync'ed by a thread of this class once a second — at least once a second, so that
 // kill -9 loses at most the last second, and at most once a second, so that a long outage
 // costs the disk one sync per second however many documents it brings (why and how:
-// io/north/history_buffer.cpp). Reads for the loop run on the same thread; their results,
+// io/mqtt/history_buffer.cpp). Reads for the loop run on the same thread; their results,
 // like everything else the loop sees, come back on the loop.
 
 #include <cstdint>
@@ -60,7 +60,7 @@ class HistoryBuffer {
   Counters counters() const;
 
  private:
-  struct Shared;  // the loop's side and the thread's side, io/north/history_buffer.cpp
+  struct Shared;  // the loop's side and the thread's side, io/mqtt/history_buffer.cpp
   std::filesystem::path path_;
   std::uint64_t delivered_at_start_ = 0;
   std::shared_ptr<Shared> shared_;

@@ -1,8 +1,8 @@
-#include "io/north/mqtt_service.hpp"
+#include "io/mqtt/mqtt_service.hpp"
 
 #include <spdlog/spdlog.h>
 
-#include "io/north/broker_options.hpp"
+#include "io/mqtt/broker_options.hpp"
 #include "mqtt/birth.hpp"
 #include "mqtt/command.hpp"
 #include "mqtt/mqtt_status.hpp"

@@ -9,9 +9,9 @@
 // answered on `<prefix>/set/result` or, for an MQTT 5 request that names one, on its
 // Response Topic (SPEC §15). Before all of it on each connection, the birth
 // (`<prefix>/birth`, mqtt/birth.hpp); with `discovery`, Home Assistant's configs
-// (io/north/discovery_announcer). While the broker is unreachable the same documents go to
-// the history buffer (`buffer`, SPEC §15: io/north/history_buffer), sent as history once
-// the live ones are out again (io/north/history_sender). A reload keeps the client (and
+// (io/mqtt/discovery_announcer). While the broker is unreachable the same documents go to
+// the history buffer (`buffer`, SPEC §15: io/mqtt/history_buffer), sent as history once
+// the live ones are out again (io/mqtt/history_sender). A reload keeps the client (and
 // its session) when the broker settings did not change; a reload to another config file
 // says so in a new birth.
 
@@ -20,10 +20,10 @@
 #include <string_view>
 #include <vector>
 
-#include "io/north/discovery_announcer.hpp"
-#include "io/north/history_buffer.hpp"
-#include "io/north/history_sender.hpp"
-#include "io/north/mqtt_client.hpp"
+#include "io/mqtt/discovery_announcer.hpp"
+#include "io/mqtt/history_buffer.hpp"
+#include "io/mqtt/history_sender.hpp"
+#include "io/mqtt/mqtt_client.hpp"
 #include "io/service.hpp"
 #include "mqtt/bank_documents.hpp"
 

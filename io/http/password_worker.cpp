@@ -1,4 +1,4 @@
-#include "io/north/password_worker.hpp"
+#include "io/http/password_worker.hpp"
 
 #include <limits>
 #include <memory>

@@ -1,6 +1,6 @@
 #pragma once
 // Sparkplug B (`sparkplug`, SPEC §16) as a service: an MQTT connection of its own
-// (io/north/mqtt_client) to the section's broker, and the edge node's session
+// (io/mqtt/mqtt_client) to the section's broker, and the edge node's session
 // (sparkplug/edge_session, which decides) over the value model (values/) that Modbus, the
 // page and MQTT read too. When the banks change (io/store_changes, Runtime::changes) it asks the
 // session what is due — DDATA of what changed, DDEATH/DBIRTH of a device that went or
@@ -20,7 +20,7 @@
 #include <string_view>
 
 #include "io/cpu_worker.hpp"
-#include "io/north/mqtt_client.hpp"
+#include "io/mqtt/mqtt_client.hpp"
 #include "io/service.hpp"
 #include "sparkplug/data_pacing.hpp"
 #include "sparkplug/edge_session.hpp"
