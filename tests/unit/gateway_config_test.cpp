@@ -78,6 +78,15 @@ TEST(GatewayConfig, TheBridgesOwnAddressIsAnErrorAtTheItemThatNamesIt) {
             std::string::npos);
 }
 
+// Issue 43, finding 13: `[5, 5]` or a range over an id already listed is a slip, named at
+// its second mention with its first.
+TEST(GatewayConfig, AUnitListedTwiceIsAnErrorNamingBothPlaces) {
+  EXPECT_EQ(error(rtu_master + "  gateway: { units: [5, 5] }\n"),
+            "g.yaml:4:25: modbus.gateway.units: unit 5 is listed twice (first at g.yaml:4:22)");
+  EXPECT_EQ(error(rtu_master + "  gateway: { units: [2-9, 17, 9-12] }\n"),
+            "g.yaml:4:31: modbus.gateway.units: unit 9 is listed twice (first at g.yaml:4:22)");
+}
+
 TEST(GatewayConfig, AUnitOutsideOneTo247IsAnErrorNamingTheKey) {
   EXPECT_EQ(error(rtu_master + "  gateway: { units: [3, 248] }\n"),
             "g.yaml:4:25: modbus.gateway.units: unit 248 is outside 1..247");
