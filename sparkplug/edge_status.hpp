@@ -41,6 +41,7 @@ struct EdgeStatus {
   std::uint64_t data = 0;    // DDATA
   std::uint64_t deaths = 0;  // DDEATH
   CommandCounts commands;
+  std::uint64_t rebirths_coalesced = 0;  // NCMD rebirths carried out with another (sparkplug/rebirth_pacing)
   std::optional<std::uint64_t> bdSeq;  // NOLINT(readability-identifier-naming): Sparkplug's word, the document's key
   std::uint64_t seq = 0;               // the next message's
   std::string since;                   // UTC: connected since, or not connected since
@@ -51,7 +52,7 @@ struct EdgeStatus {
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(CommandCounts, taken, refused, malformed, retained)
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(PrimaryHostStatus, name, state)
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(EdgeStatus, broker, client_id, group_id, edge_node_id, connected, born,
-                                                connections, drops, published, births, data, deaths, commands, bdSeq, seq,
+                                                connections, drops, published, births, data, deaths, commands, rebirths_coalesced, bdSeq, seq,
                                                 since, primary_host, last_error)
 
 const std::vector<status::Statistic<EdgeStatus>>& edge_statistics();

@@ -61,7 +61,7 @@ sparkplug::EdgeSession session_of(const config::SparkplugConfig& config, std::op
 }  // namespace
 
 SparkplugService::SparkplugService(Runtime& runtime)
-    : runtime_(runtime), look_timer_(runtime.io), bd_seq_writer_(runtime.io, bd_seq_writes_queued) {
+    : runtime_(runtime), look_timer_(runtime.io), rebirth_timer_(runtime.io), bd_seq_writer_(runtime.io, bd_seq_writes_queued) {
   runtime.changes.listen([this, alive = alive_] {
     if (*alive) banks_changed();
   });
@@ -167,11 +167,7 @@ void SparkplugService::take_command(std::string_view device, std::string_view to
   if (!command.refused.empty())
     platform::warn_from_peer("sparkplug: refused commands", broker, "sparkplug: a command on {} refused: {}", topic,
                              fmt::join(command.refused, "; "));
-  if (command.rebirth) {
-    spdlog::info("sparkplug: rebirth requested");
-    session_->rebirth();
-    publish_due();
-  }
+  if (command.rebirth) rebirth_asked();
   auto& writes = *running.writes;
   for (const auto& write : command.writes) {
     const auto address = static_cast<std::uint16_t>(running.config.bank_bases[banks::index_of(write.bank)] + write.offset);
@@ -260,6 +256,30 @@ void SparkplugService::stop() {
     client_->stop();
   }
   look_timer_.cancel();
+  rebirth_timer_.cancel();
+}
+
+void SparkplugService::rebirth_asked() {
+  switch (rebirth_pacing_.asked(sparkplug::RebirthPacing::Clock::now())) {
+    case sparkplug::RebirthPacing::Verdict::now:
+      spdlog::info("sparkplug: rebirth requested");
+      session_->rebirth();
+      publish_due();
+      return;
+    case sparkplug::RebirthPacing::Verdict::later:
+      rebirth_timer_.expires_at(rebirth_pacing_.due_at());
+      rebirth_timer_.async_wait([this, alive = alive_](const boost::system::error_code& ec) {
+        if (!*alive) return;
+        rebirth_pacing_.done(sparkplug::RebirthPacing::Clock::now());  // cancelled too: none stays due
+        if (ec || !started_ || !session_) return;
+        spdlog::info("sparkplug: rebirth requested (with those asked meanwhile; {} coalesced in all)",
+                     rebirth_pacing_.coalesced());
+        session_->rebirth();
+        publish_due();
+      });
+      return;
+    case sparkplug::RebirthPacing::Verdict::joined: return;
+  }
 }
 
 void SparkplugService::stage(const Banks& next) {
@@ -315,6 +335,7 @@ void SparkplugService::describe(nlohmann::json& status) const {
                           .data = c.data,
                           .deaths = c.deaths,
                           .commands = {c.taken, c.refused, c.malformed, m.retained_commands_dropped},
+                          .rebirths_coalesced = rebirth_pacing_.coalesced(),
                           .bdSeq = session_->bd_seq(),
                           .seq = session_->next_seq(),
                           .since = {},

@@ -24,6 +24,7 @@
 #include "io/service.hpp"
 #include "sparkplug/data_pacing.hpp"
 #include "sparkplug/edge_session.hpp"
+#include "sparkplug/rebirth_pacing.hpp"
 
 namespace unima::io {
 
@@ -45,6 +46,8 @@ class SparkplugService final : public Service {
   void banks_changed();
   void look_at(sparkplug::DataPacing::Clock::time_point when);
   void publish_due();
+  /// An NCMD rebirth: now, or once with those asked meanwhile (sparkplug/rebirth_pacing).
+  void rebirth_asked();
   void take_message(std::string_view topic, std::string_view payload);
   void take_command(std::string_view device, std::string_view topic, std::string_view payload);
   /// The host went offline: the node says its death, disconnects, and connects again to
@@ -59,6 +62,8 @@ class SparkplugService final : public Service {
   std::filesystem::path bd_seq_file_;  // empty: no state file, bdSeq counts from 0 at each start
   sparkplug::DataPacing pacing_;
   asio::steady_timer look_timer_;
+  sparkplug::RebirthPacing rebirth_pacing_;
+  asio::steady_timer rebirth_timer_;
   CpuWorker bd_seq_writer_;  // the bdSeq file's fdatasync, off the loop
   bool started_ = false;
   std::string dcmd_prefix_;  // spBv1.0/<group>/DCMD/<node>/

@@ -7,6 +7,7 @@
 
 #include <filesystem>
 
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include "cli/cli_status.hpp"
@@ -30,7 +31,10 @@ TEST(CliStatus, ThePanelShowsTheFrontPanelIndicatorsAndPortsOfTheDocument) {
   const auto indicator_time = document["indicators"][0]["time"].get<std::string>();
   const auto tcp_listen = document["ports"][0]["listen"].get<std::string>();
   EXPECT_TRUE(text.starts_with("unima-bridge  slave mode  Modbus address 1  UnimaBUS address 5  up 0h00m00s\n")) << text;
-  EXPECT_TRUE(has_line(text, "  Modbus    [*]  last frame sent 0.0 s ago")) << text;
+  const auto& modbus = document["modbus"];
+  EXPECT_TRUE(has_line(text, fmt::format("  Modbus    [{}]  last frame sent {:.1f} s ago", modbus["active"].get<bool>() ? '*' : ' ',
+                                         modbus["last_ms_ago"].get<double>() / 1000)))
+      << text;
   EXPECT_TRUE(has_line(text, "  UnimaBUS  [ ]  no telegram received yet (feed transport)")) << text;
   EXPECT_TRUE(has_line(text, "  Error     [ ]  no fault in the last 2 s")) << text;
   EXPECT_TRUE(has_line(text, "  D1 [ ] unigen-chp@5   D2 -   D3 -   D4 -  ")) << text;
@@ -38,7 +42,9 @@ TEST(CliStatus, ThePanelShowsTheFrontPanelIndicatorsAndPortsOfTheDocument) {
   EXPECT_TRUE(has_line(text, "  1  Ad=1   Reg=0x0100  0x7FFF (32767)  read   " + indicator_time)) << text;
   EXPECT_TRUE(has_line(text, "  tcp             1       1       0       0       0       0       0        0        1  " + tcp_listen))
       << text;
-  EXPECT_TRUE(has_line(text, "            1 lines written, 0 dropped")) << text;
+  EXPECT_TRUE(has_line(text, fmt::format("            {} lines written, {} dropped", document["monitor"]["written"].get<int>(),
+                                         document["monitor"]["dropped"].get<int>())))
+      << text;
 }
 
 // A figure a port does not have is a dash, not a 0 that was never counted.
