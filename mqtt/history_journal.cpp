@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 
+#include "banks/bank_id.hpp"
 #include "state/checked_lines.hpp"
 
 namespace unima::mqtt {
@@ -30,6 +31,13 @@ std::optional<HistoryEntry> entry_of(std::string_view body, std::string& why) {
     return std::nullopt;
   entry.bank = body.substr(space + 1, bank_end - space - 1);
   entry.document = body.substr(bank_end + 1);
+  // The bank is a topic level when the entry is sent: one that is no bank of the bridge
+  // ("D1/../x", "#") would be published under a topic the bridge never owns, or refused by
+  // the broker and held forever (issue 43, finding 13).
+  if (!banks::parse_bank_name(entry.bank)) {
+    why = "not a bank of the bridge";
+    return std::nullopt;
+  }
   return entry;
 }
 

@@ -13,6 +13,7 @@
 #include <thread>
 
 #include "tests/integration/bridge_fixture.hpp"
+#include "state/state_journal.hpp"
 #include "tests/integration/state_outage.hpp"
 
 namespace unima::test {
@@ -174,6 +175,21 @@ TEST_F(State, ACorruptFileIsKeptAsideAndTheDaemonStartsWithNothingSet) {
   ASSERT_TRUE(client.write(w_base, 42));
   kill_and_restart();
   EXPECT_EQ(read_w()[0], 42);
+}
+
+// A last record whose checksum holds but which names no register (W has 0..15) is no
+// write a crash cut short: the file is not the daemon's to trust, and is kept aside like
+// any other damage (issue 43, finding 13).
+TEST_F(State, ALastRecordForNoRegisterIsDamageAndTheFileIsKeptAside) {
+  const auto text = std::string(state::journal_header) + state::checked_line("W 0 300") + state::checked_line("W 16 5");
+  test_support::write_file(state_file(), text);
+  start();
+  EXPECT_TRUE(daemon->wait_for_log("line 3: bad register or value: kept aside as")) << daemon->log();
+  bool aside = false;
+  for (const auto& entry : std::filesystem::directory_iterator(dir.path()))
+    aside |= entry.path().filename().string().starts_with("bridge.state.corrupt-") && read_file(entry.path()) == text;
+  EXPECT_TRUE(aside);
+  EXPECT_EQ(read_w()[0], 0x7FFF) << "W+0 restored from a file with a forged record";
 }
 
 // Issue 29, row 4: W+0 was set to 200, then to 300 (acknowledged), and a record between

@@ -87,6 +87,18 @@ TEST(MqttHistoryJournal, ABadLineBeforeTheLastIsDamageAndAnotherFileIsForeign) {
   EXPECT_EQ(parse_history("unima-bridge mqtt hi").status, Status::torn_tail);
 }
 
+// The bank is the topic level the entry is sent under: one that is no bank of the bridge
+// ("D1/x", "#") is no entry of ours, with a good checksum and on the last line too — the
+// file is damaged, not sent under a topic the bridge never owns (issue 43, finding 13).
+TEST(MqttHistoryJournal, AnEntryForNoBankOfTheBridgeIsDamage) {
+  for (const std::string bank : {"D1/x", "#", "+", "D9", "W/../status"}) {
+    const auto loaded = parse_history(journal({encode_history_entry(first), encode_history_entry({2, bank, first.document})}));
+    EXPECT_EQ(loaded.status, Status::damaged) << bank;
+    EXPECT_EQ(loaded.problem, "line 3: not a bank of the bridge") << bank;
+    EXPECT_FALSE(parse_history_entry(encode_history_entry({2, bank, first.document}))) << bank;
+  }
+}
+
 TEST(MqttHistoryJournal, WhenFullTheOldestGoUntilAnEighthIsFree) {
   const std::vector<std::uint64_t> sizes{100, 100, 100, 100, 100, 100, 100, 100};
   EXPECT_EQ(oldest_to_drop(sizes, 800), 0u);
