@@ -135,7 +135,7 @@ std::uint64_t EdgeSession::take_seq() { return seq_++; }  // uint8_t: 255 is fol
 EdgeSession::Device& EdgeSession::state_of(banks::BankId bank) {
   const auto found = std::find_if(devices_.begin(), devices_.end(), [&](const Device& d) { return d.bank == bank; });
   if (found != devices_.end()) return *found;
-  return devices_.emplace_back(Device{bank, false, {}});
+  return devices_.emplace_back(Device{bank, false, {}, {}});
 }
 
 Message EdgeSession::birth_of(const DeviceReading& device, Device& state, std::uint64_t now_ms) {
@@ -193,7 +193,8 @@ std::vector<Message> EdgeSession::step(std::span<const DeviceReading> devices, s
     } else if (!state.born && alive) {
       due.push_back(birth_of(device, state, now_ms));
     } else if (state.born) {
-      auto changed = changed_metrics_of(*device.layout, state.sent, device.values, now_ms);
+      auto changed = changed_metrics_of(*device.layout, state.sent, device.values, now_ms, state.resend);
+      state.resend.clear();
       if (changed.empty()) continue;
       Payload payload;
       payload.timestamp = now_ms;
@@ -276,7 +277,8 @@ Command EdgeSession::dcmd(const values::BankValues& layout, const Payload& paylo
       continue;
     }
     const auto raw = std::get<std::uint16_t>(encoded);
-    command.writes.push_back({layout.bank, def->offsets.front(), raw, values::word_mask(*def), def->name, shown(*def, *number, raw)});
+    command.writes.push_back({layout.bank, def->offsets.front(), raw, values::word_mask(*def), def->name, shown(*def, *number, raw),
+                              static_cast<std::size_t>(def - layout.values.begin())});
   }
   return command;
 }

@@ -71,6 +71,7 @@ struct CommandWrite {
   std::uint16_t mask = 0xFFFF;
   std::string metric;  // its name, for the log
   std::string value;   // what it writes, for the log: the register, or a bit's true/false
+  std::size_t value_index = 0;  // the metric's value in the bank's layout (EdgeSession::resend)
 };
 
 /// What an NCMD or DCMD means.
@@ -127,6 +128,9 @@ class EdgeSession {
   HostVerdict host_state(std::string_view payload, std::optional<std::uint64_t> trusted_now_ms);
   /// Every birth again at the next step (a rebirth request, a new value model).
   void rebirth() { births_due_ = true; }
+  /// The value `value_index` of `bank`'s layout in the next DDATA, changed or not: a DCMD
+  /// the write path refused left it as it was, which the host is told.
+  void resend(banks::BankId bank, std::size_t value_index) { state_of(bank).resend.push_back(value_index); }
 
   /// The messages due now, in order, for the devices as they are now (in the model's
   /// order); their seq numbers taken.
@@ -153,6 +157,7 @@ class EdgeSession {
     banks::BankId bank;
     bool born = false;
     std::vector<values::Value> sent;
+    std::vector<std::size_t> resend;  // values sent in the next DDATA, changed or not
   };
 
   std::uint64_t take_seq();

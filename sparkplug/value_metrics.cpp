@@ -1,5 +1,6 @@
 #include "sparkplug/value_metrics.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "sparkplug/metric_value.hpp"
@@ -71,11 +72,13 @@ std::vector<Metric> metrics_of(const values::BankValues& layout, std::span<const
 }
 
 std::vector<Metric> changed_metrics_of(const values::BankValues& layout, std::span<const values::Value> sent,
-                                       std::span<const values::Value> values, std::uint64_t timestamp_ms) {
+                                       std::span<const values::Value> values, std::uint64_t timestamp_ms,
+                                       std::span<const std::size_t> also) {
   std::vector<Metric> metrics;
   for (std::size_t i = 0; i < layout.values.size() && i < values.size(); ++i) {
     const auto& def = layout.values[i];
-    if (!has_metric(def) || (i < sent.size() && sent[i].reading == values[i].reading)) continue;
+    const bool unchanged = i < sent.size() && sent[i].reading == values[i].reading;
+    if (!has_metric(def) || (unchanged && std::find(also.begin(), also.end(), i) == also.end())) continue;
     metrics.push_back(metric_of(def, values[i], timestamp_ms));
   }
   return metrics;

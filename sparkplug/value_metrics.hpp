@@ -50,8 +50,10 @@ std::vector<Metric> metrics_of(const values::BankValues& layout, std::span<const
 /// The metrics of a DDATA: those whose reading differs from `sent` (what the bank's last
 /// birth or data message carried), with name, timestamp, datatype and reading or is_null;
 /// none when nothing changed. A value that only changed why it is null (not measured to
-/// off-line) is no change on Sparkplug.
+/// off-line) is no change on Sparkplug. The values at `also` (indices into the layout) are
+/// sent changed or not: a host told again what a refused command left as it was.
 std::vector<Metric> changed_metrics_of(const values::BankValues& layout, std::span<const values::Value> sent,
-                                       std::span<const values::Value> values, std::uint64_t timestamp_ms);
+                                       std::span<const values::Value> values, std::uint64_t timestamp_ms,
+                                       std::span<const std::size_t> also = {});
 
 }  // namespace unima::sparkplug

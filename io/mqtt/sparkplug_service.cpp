@@ -169,27 +169,36 @@ void SparkplugService::take_command(std::string_view device, std::string_view to
                              fmt::join(command.refused, "; "));
   if (command.rebirth) rebirth_asked();
   auto& writes = *running.writes;
+  bool refused = false;
   for (const auto& write : command.writes) {
     const auto address = static_cast<std::uint16_t>(running.config.bank_bases[banks::index_of(write.bank)] + write.offset);
     const auto result = writes.write_field(address, write.mask, write.raw, nullptr);
     if (result.status != modbus::WriteResult::Status::written) {
       session_->refused_by_write_path();
+      session_->resend(write.bank, write.value_index);  // the host is told the value it did not change
+      refused = true;
       continue;
     }
     answer_once_durable(runtime_.state.get(), result.kept_as,
-                        [this, alive = alive_, bank = write.bank, metric = write.metric, value = write.value](bool durable) {
+                        [this, alive = alive_, bank = write.bank, metric = write.metric, value = write.value,
+                         index = write.value_index](bool durable) {
                           if (!*alive) return;
                           if (durable) {
                             spdlog::info("sparkplug: DCMD {}/{} = {}", banks::bank_name(bank),
                                          platform::log_safe(metric), value);
                             return;
                           }
-                          if (session_) session_->refused_by_write_path();
                           spdlog::warn("sparkplug: DCMD {}/{} = {} refused: the state file could not keep it; "
                                        "nothing changed",
                                        banks::bank_name(bank), platform::log_safe(metric), value);
+                          if (!session_) return;
+                          session_->refused_by_write_path();
+                          // The host may show what it asked for: its metric again, as it is.
+                          session_->resend(bank, index);
+                          publish_due();
                         });
   }
+  if (refused) publish_due();
 }
 
 void SparkplugService::banks_changed() {

@@ -500,8 +500,10 @@ TEST_F(Sparkplug, DcmdToABitOfXWritesThatBitAloneReadBackOverModbusAndInTheNextD
       << daemon->log();
 }
 
-// modbus.tcp.read_only freezes every way a write comes in: a DCMD too, counted as refused.
-TEST_F(Sparkplug, ReadOnlyRefusesADcmd) {
+// modbus.tcp.read_only freezes every way a write comes in: a DCMD too, counted as refused;
+// and the host, which may show what it asked for, gets the metric again as it is in a
+// DDATA (issue 43, finding 10: the same for a DCMD the state file refuses).
+TEST_F(Sparkplug, ReadOnlyRefusesADcmdAndTheHostIsToldTheValueAgain) {
   config.tcp_extra = ", read_only: true";
   const auto t = tap();
   start_with(", commands: true");
@@ -512,6 +514,10 @@ TEST_F(Sparkplug, ReadOnlyRefusesADcmd) {
   ModbusClient client(config.modbus_port);
   const auto w3 = client.read_holding(0x0103, 1);
   EXPECT_FALSE(w3 && (*w3)[0] == 125);
+  EXPECT_TRUE(wait_for(*t, device("DDATA", "W"), [](const json& p) {
+    const auto* again = metric(p, "w_03");
+    return again && !(again->contains("value") && (*again)["value"] == 12.5);
+  })) << daemon->log();
 }
 
 TEST_F(Sparkplug, AMalformedDcmdIsOnlyCountedAndLogged) {
