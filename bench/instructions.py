@@ -56,7 +56,7 @@ def counted_run(bridged, config_template, load, work, name, requests, connection
                     sys.exit(f"{name} did not start: {(work / f'{name}-{requests}.log').read_text()}")
                 time.sleep(0.2)
         subprocess.run([str(load), "--port", str(modbus), "--connections", str(connections), "--function", "4",
-                        "--address", "0x1100", "--quantity", "64", "--requests", str(requests), "--timeout", "600",
+                        "--address", "0x1100", "--quantity", "64", "--duration", "0", "--requests", str(requests), "--timeout", "600",
                         "--json"], check=True, capture_output=True, timeout=1200)
     finally:
         daemon.terminate()
