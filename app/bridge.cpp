@@ -15,7 +15,7 @@
 #include "io/status_socket_service.hpp"
 #include "io/unimabus/unimabus_service.hpp"
 #include "platform/process_memory.hpp"
-#include "status/bridge_status.hpp"
+#include "status/document.hpp"
 
 namespace unima::app {
 
@@ -81,10 +81,11 @@ void Bridge::reload(config::Config config) {
 
 // What the seed's front panel and monitor LEDs show (seed 004 §8, SPEC §8) plus the
 // counters: the bridge's own part here, each service's from it.
-nlohmann::json Bridge::status() const {
+status::Document Bridge::status() const {
   const auto& config = runtime_.config();
   const auto online_bits = runtime_.banks->store->online_bits();
-  nlohmann::json doc = status::BridgeStatus{
+  status::Document doc;
+  doc.bridge = status::BridgeStatus{
       ::getpid(),
       config.file,
       std::chrono::duration_cast<std::chrono::seconds>(std::chrono::steady_clock::now() - runtime_.started_at).count(),
@@ -94,7 +95,6 @@ nlohmann::json Bridge::status() const {
       config.unimabus.address,
       (online_bits >> banks::c_bank::modbus_error_bit & 1) != 0,
       online_bits};
-  doc["ports"] = nlohmann::json::array();
   for (const auto& service : services_) service->describe(doc);
   return doc;
 }

@@ -16,15 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include "config/config.hpp"
-#include "master/gateway_status.hpp"
-#include "monitor/monitor_status.hpp"
-#include "mqtt/mqtt_status.hpp"
-#include "sparkplug/edge_status.hpp"
-#include "state/state_status.hpp"
-#include "status/activity.hpp"
-#include "status/bridge_status.hpp"
-#include "status/port_status.hpp"
-#include "unimabus/bus_status.hpp"
+#include "status/document.hpp"
 
 namespace unima::cli {
 
@@ -102,10 +94,11 @@ std::string state_count(const status::PortStatus& port, const char* state) {
   return found == port.states.end() ? "-" : std::to_string(found->second);
 }
 
-// A part the daemon always writes: its absence is an unexpected document (json::exception).
+// A part the daemon always writes: its absence is an unexpected document.
 template <class Part>
-Part part_of(const nlohmann::json& s, const char* key) {
-  return s.at(key).get<Part>();
+const Part& required(const std::optional<Part>& part, const char* key) {
+  if (!part) throw MissingPart(fmt::format("it has no \"{}\"", key));
+  return *part;
 }
 
 // A wait in ms as the table shows it: whole ms from 10 up, tenths below.
@@ -131,10 +124,10 @@ std::string render_gateway(const master::GatewayStatus& g) {
 
 }  // namespace
 
-std::string render_status_panel(const nlohmann::json& s) {
-  const auto bridge = s.get<status::BridgeStatus>();
-  const auto modbus = part_of<status::Activity>(s, "modbus");
-  const auto bus = part_of<unimabus::UnimabusStatus>(s, "unimabus");
+std::string render_status_panel(const status::Document& s) {
+  const auto& bridge = required(s.bridge, "pid");
+  const auto& modbus = required(s.modbus, "modbus");
+  const auto& bus = required(s.unimabus, "unimabus");
   std::string out;
   out += fmt::format("unima-bridge  {} mode  Modbus address {}  UnimaBUS address {}  up {}\n", bridge.mode,
                      bridge.modbus_address, bridge.unimabus_address, uptime(bridge.uptime_s));
@@ -144,17 +137,17 @@ std::string render_status_panel(const nlohmann::json& s) {
   out += fmt::format("  Error     {}  {}\n", led(bridge.error),
                      bridge.error ? "Modbus fault (C+0x13 bit 15; clears 2 s after the last one)" : "no fault in the last 2 s");
   out += " ";
-  for (const auto& d : part_of<std::vector<unimabus::DeviceStatus>>(s, "devices")) {
+  for (const auto& d : required(s.devices, "devices")) {
     if (!d.type) out += fmt::format(" {} -  ", d.bank);
     else out += fmt::format(" {} {} {}@{}  ", d.bank, led(d.online), *d.type, d.address.value_or(0));
   }
   out += "\n ";
-  for (const auto& m : part_of<std::vector<unimabus::ModuleStatus>>(s, "modules"))
+  for (const auto& m : required(s.modules, "modules"))
     out += fmt::format(" {} {}", m.bank, led(m.online));
   out += "\n";
 
   out += "Capture indicators\n";
-  const auto indicators = part_of<std::vector<monitor::IndicatorStatus>>(s, "indicators");
+  const auto& indicators = required(s.indicators, "indicators");
   if (indicators.empty()) out += "  none configured (monitor.indicators)\n";
   int n = 1;
   for (const auto& i : indicators) {
@@ -165,7 +158,7 @@ std::string render_status_panel(const nlohmann::json& s) {
   }
 
   out += "Port        frames    Done  Not4Me   Err01   Err02   Err03   Err04  Timeout  clients\n";
-  const auto ports = part_of<std::vector<status::PortStatus>>(s, "ports");
+  const auto& ports = s.ports;
   if (ports.empty()) out += "  none\n";
   for (const auto& p : ports) {
     out += fmt::format("  {:<8} {:>8} {:>7} {:>7} {:>7} {:>7} {:>7} {:>7} {:>8} {:>8}", p.port, p.transactions,
@@ -175,9 +168,9 @@ std::string render_status_panel(const nlohmann::json& s) {
     out += "\n";
   }
 
-  if (s.contains("gateway")) out += render_gateway(s["gateway"].get<master::GatewayStatus>());
+  if (s.gateway) out += render_gateway(*s.gateway);
 
-  const auto m = part_of<monitor::MonitorStatus>(s, "monitor");
+  const auto& m = required(s.monitor, "monitor");
   std::string where = m.file.value_or("");
   if (m.to_stdout) where += where.empty() ? "stdout" : " and stdout";
   if (where.empty()) {
@@ -186,14 +179,14 @@ std::string render_status_panel(const nlohmann::json& s) {
     out += fmt::format("Monitor     {} ({}), filter {}\n", where, m.format, m.filter);
     out += fmt::format("            {} lines written, {} dropped\n", m.written, m.dropped);
   }
-  if (s.contains("state")) {
-    const auto st = s["state"].get<state::StateStatus>();
+  if (const auto& state = s.state) {
+    const auto& st = *state;
     if (!st.file) out += "State       off (state.file: none): writes are not kept across a restart\n";
     else
       out += fmt::format("State       {}: {} values recorded in {} syncs, {} failed\n", *st.file, st.records, st.syncs, st.failures);
   }
-  if (s.contains("mqtt")) {
-    const auto q = s["mqtt"].get<mqtt::MqttStatus>();
+  if (const auto& mqtt = s.mqtt) {
+    const auto& q = *mqtt;
     if (q.connected)
       out += fmt::format("MQTT        connected to {} since {} as {}, topic {}/…\n", q.broker, q.since, q.client_id, q.topic);
     else
@@ -208,8 +201,8 @@ std::string render_status_panel(const nlohmann::json& s) {
     else
       out += "            no history buffer (mqtt.buffer.file: none): an outage keeps only the present values\n";
   }
-  if (s.contains("sparkplug")) {
-    const auto p = s["sparkplug"].get<sparkplug::EdgeStatus>();
+  if (const auto& sparkplug = s.sparkplug) {
+    const auto& p = *sparkplug;
     const auto node = fmt::format("{}/{}", p.group_id, p.edge_node_id);
     if (p.connected)
       out += fmt::format("Sparkplug   {} connected to {} since {}, bdSeq {}, next seq {}\n", node, p.broker, p.since,
@@ -284,8 +277,8 @@ int status_command(const std::vector<std::string>& args) {
         code = 1;
       } else {
         try {
-          out = json ? document.dump(2) + "\n" : render_status_panel(document);
-        } catch (const nlohmann::json::exception& e) {
+          out = json ? document.dump(2) + "\n" : render_status_panel(document.get<status::Document>());
+        } catch (const std::exception& e) {  // a part absent (MissingPart) or of another shape (json::exception)
           std::fprintf(stderr, "unima-bridge status: unexpected document from %s: %s\n", socket.c_str(), e.what());
           if (!watch) return 1;
           code = 1;

@@ -15,9 +15,9 @@ void MonitorService::stage(const Banks& next) {
 
 void MonitorService::commit(const Banks&) { runtime_.monitor->reconfigure(runtime_.config().monitor, std::move(writer_)); }
 
-void MonitorService::describe(nlohmann::json& status) const {
+void MonitorService::describe(status::Document& status) const {
   const auto& monitor = *runtime_.monitor;
-  status["modbus"] =
+  status.modbus =
       status::activity(age<std::chrono::system_clock>(monitor.last_frame_sent()), monitor.frames_sent(), modbus_led_lit);
 
   std::vector<monitor::IndicatorStatus> indicators;
@@ -32,10 +32,10 @@ void MonitorService::describe(nlohmann::json& status) const {
       indicator.time = time;
     }
   }
-  status["indicators"] = indicators;
+  status.indicators = std::move(indicators);
 
   const auto& m = monitor.config();
-  status["monitor"] = monitor::MonitorStatus{m.file.empty() ? std::nullopt : std::optional(m.file),
+  status.monitor = monitor::MonitorStatus{m.file.empty() ? std::nullopt : std::optional(m.file),
                                              m.to_stdout,
                                              m.format == monitor::MonitorFormat::json ? "json" : "text",
                                              monitor.filter().describe(),

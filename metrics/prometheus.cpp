@@ -8,15 +8,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include "master/gateway_status.hpp"
-#include "monitor/monitor_status.hpp"
-#include "mqtt/mqtt_status.hpp"
-#include "sparkplug/edge_status.hpp"
-#include "state/state_status.hpp"
-#include "status/bridge_status.hpp"
-#include "status/port_status.hpp"
-#include "unimabus/bus_status.hpp"
-#include "web/login_status.hpp"
+#include "status/document.hpp"
 
 namespace unima::metrics {
 
@@ -67,26 +59,17 @@ class Exposition {
   std::string text_;
 };
 
-const nlohmann::json& field(const nlohmann::json& object, const char* key) {
-  static const nlohmann::json absent;
-  return object.is_object() && object.contains(key) ? object.at(key) : absent;
-}
-
-std::vector<nlohmann::json> elements(const nlohmann::json& array) {
-  return array.is_array() ? std::vector<nlohmann::json>(array.begin(), array.end()) : std::vector<nlohmann::json>{};
-}
-
-// A part of the status document read as its type, then each of its statistics written
-// over every instance the document holds (none: the families' HELP and TYPE alone).
-// `only_when_present`: a part that is off (mqtt, sparkplug, ...) has no families at all.
+// A part of the status document, then each of its statistics written over every instance
+// the document holds (none: the families' HELP and TYPE alone). `only_when_present`: a
+// part that is off (mqtt, sparkplug, ...) has no families at all.
 struct Part {
-  std::function<void(const nlohmann::json& status, Exposition& out)> write;
+  std::function<void(const status::Document& status, Exposition& out)> write;
 };
 
 template <class Type>
-Part part(std::function<std::vector<Type>(const nlohmann::json&)> instances, const std::vector<Statistic<Type>>& statistics,
+Part part(std::vector<Type> (*instances)(const status::Document&), const std::vector<Statistic<Type>>& statistics,
           bool only_when_present = false) {
-  return {[instances = std::move(instances), &statistics, only_when_present](const nlohmann::json& status, Exposition& out) {
+  return {[instances, &statistics, only_when_present](const status::Document& status, Exposition& out) {
     const auto all = instances(status);
     if (only_when_present && all.empty()) return;
     for (const auto& statistic : statistics) {
@@ -97,74 +80,61 @@ Part part(std::function<std::vector<Type>(const nlohmann::json&)> instances, con
   }};
 }
 
-/// The object at `key` (of `parent`) as `Type`; none when it is not an object.
+/// An optional part as none or one instance.
 template <class Type>
-std::vector<Type> object_at(const nlohmann::json& parent, const char* key) {
-  const auto& value = field(parent, key);
-  return value.is_object() ? std::vector<Type>{value.get<Type>()} : std::vector<Type>{};
+std::vector<Type> one(const std::optional<Type>& part) {
+  return part ? std::vector<Type>{*part} : std::vector<Type>{};
 }
 
-/// The elements of the array at `key` as `Type`.
+/// An optional list of parts as its instances.
 template <class Type>
-std::vector<Type> array_at(const nlohmann::json& parent, const char* key) {
-  std::vector<Type> all;
-  for (const auto& element : elements(field(parent, key))) all.push_back(element.get<Type>());
-  return all;
-}
-
-// The bridge's own part is the document's top level: an empty document has none.
-std::vector<status::BridgeStatus> bridge(const nlohmann::json& document) {
-  return document.is_object() && !document.empty() ? std::vector{document.get<status::BridgeStatus>()}
-                                                    : std::vector<status::BridgeStatus>{};
+std::vector<Type> each(const std::optional<std::vector<Type>>& parts) {
+  return parts.value_or(std::vector<Type>{});
 }
 
 // TLS handshakes (SPEC §11; tls/handshake_limiter), by port: the Modbus/TCP Security
 // port's, and HTTPS' as port "https".
-std::vector<status::PortHandshakes> handshakes(const nlohmann::json& status) {
+std::vector<status::PortHandshakes> handshakes(const status::Document& status) {
   std::vector<status::PortHandshakes> all;
-  for (const auto& port : array_at<status::PortStatus>(status, "ports"))
+  for (const auto& port : status.ports)
     if (port.handshakes) all.push_back({port.port, *port.handshakes});
-  for (const auto& https : object_at<status::HandshakeStatus>(field(status, "http"), "handshakes")) all.push_back({"https", https});
+  if (status.http.handshakes) all.push_back({"https", *status.http.handshakes});
   return all;
+}
+
+std::vector<master::GatewayUnitStatus> gateway_units(const status::Document& s) {
+  return s.gateway ? s.gateway->units : std::vector<master::GatewayUnitStatus>{};
+}
+
+std::vector<mqtt::BufferStatus> mqtt_buffer(const status::Document& s) {
+  return s.mqtt ? one(s.mqtt->buffer) : std::vector<mqtt::BufferStatus>{};
 }
 
 // Every family of /metrics, in the order of the exposition.
 const std::vector<Part>& registry() {
+  using Document = status::Document;
   static const std::vector<Part> all{
-      part<status::BridgeStatus>(bridge, status::bridge_statistics()),
-      part<status::PortStatus>([](const nlohmann::json& s) { return array_at<status::PortStatus>(s, "ports"); },
-                               status::port_statistics()),
+      part<status::BridgeStatus>([](const Document& s) { return one(s.bridge); }, status::bridge_statistics()),
+      part<status::PortStatus>([](const Document& s) { return s.ports; }, status::port_statistics()),
       part<status::PortHandshakes>(handshakes, status::handshake_statistics()),
-      part<unimabus::DeviceStatus>([](const nlohmann::json& s) { return array_at<unimabus::DeviceStatus>(s, "devices"); },
-                                   unimabus::device_statistics()),
-      part<unimabus::ModuleStatus>([](const nlohmann::json& s) { return array_at<unimabus::ModuleStatus>(s, "modules"); },
-                                   unimabus::module_statistics()),
-      part<unimabus::UnimabusStatus>([](const nlohmann::json& s) { return object_at<unimabus::UnimabusStatus>(s, "unimabus"); },
-                                     unimabus::unimabus_statistics()),
-      part<master::MasterDeviceStatus>([](const nlohmann::json& s) { return array_at<master::MasterDeviceStatus>(s, "master"); },
-                                       master::master_device_statistics()),
-      part<master::GatewayUnitStatus>(
-          [](const nlohmann::json& s) { return array_at<master::GatewayUnitStatus>(field(s, "gateway"), "units"); },
-          master::gateway_unit_statistics()),
-      part<monitor::MonitorStatus>([](const nlohmann::json& s) { return object_at<monitor::MonitorStatus>(s, "monitor"); },
-                                   monitor::monitor_statistics()),
-      part<state::StateStatus>([](const nlohmann::json& s) { return object_at<state::StateStatus>(s, "state"); },
-                               state::state_statistics()),
-      part<mqtt::MqttStatus>([](const nlohmann::json& s) { return object_at<mqtt::MqttStatus>(s, "mqtt"); },
-                             mqtt::mqtt_statistics(), true),
-      part<mqtt::BufferStatus>([](const nlohmann::json& s) { return object_at<mqtt::BufferStatus>(field(s, "mqtt"), "buffer"); },
-                               mqtt::buffer_statistics(), true),
-      part<sparkplug::EdgeStatus>([](const nlohmann::json& s) { return object_at<sparkplug::EdgeStatus>(s, "sparkplug"); },
-                                  sparkplug::edge_statistics(), true),
-      part<web::LoginStatus>([](const nlohmann::json& s) { return object_at<web::LoginStatus>(field(s, "http"), "logins"); },
-                             web::login_statistics(), true),
+      part<unimabus::DeviceStatus>([](const Document& s) { return each(s.devices); }, unimabus::device_statistics()),
+      part<unimabus::ModuleStatus>([](const Document& s) { return each(s.modules); }, unimabus::module_statistics()),
+      part<unimabus::UnimabusStatus>([](const Document& s) { return one(s.unimabus); }, unimabus::unimabus_statistics()),
+      part<master::MasterDeviceStatus>([](const Document& s) { return each(s.master); }, master::master_device_statistics()),
+      part<master::GatewayUnitStatus>(gateway_units, master::gateway_unit_statistics()),
+      part<monitor::MonitorStatus>([](const Document& s) { return one(s.monitor); }, monitor::monitor_statistics()),
+      part<state::StateStatus>([](const Document& s) { return one(s.state); }, state::state_statistics()),
+      part<mqtt::MqttStatus>([](const Document& s) { return one(s.mqtt); }, mqtt::mqtt_statistics(), true),
+      part<mqtt::BufferStatus>(mqtt_buffer, mqtt::buffer_statistics(), true),
+      part<sparkplug::EdgeStatus>([](const Document& s) { return one(s.sparkplug); }, sparkplug::edge_statistics(), true),
+      part<web::LoginStatus>([](const Document& s) { return one(s.http.logins); }, web::login_statistics(), true),
   };
   return all;
 }
 
 }  // namespace
 
-std::string prometheus_text(const nlohmann::json& status) {
+std::string prometheus_text(const status::Document& status) {
   Exposition out;
   for (const auto& part : registry()) part.write(status, out);
   return out.take();

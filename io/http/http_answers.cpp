@@ -7,15 +7,9 @@
 #include <nlohmann/json.hpp>
 
 #include "config/register_map_json.hpp"
-#include "master/gateway_status.hpp"
 #include "metrics/prometheus.hpp"
 #include "monitor/command_filter.hpp"
-#include "monitor/monitor_status.hpp"
-#include "mqtt/mqtt_status.hpp"
-#include "sparkplug/edge_status.hpp"
-#include "status/activity.hpp"
-#include "status/bridge_status.hpp"
-#include "unimabus/bus_status.hpp"
+#include "status/document.hpp"
 #include "values/value_json.hpp"
 #include "web/page_files.hpp"
 
@@ -101,23 +95,24 @@ nlohmann::json sparkplug_panel(const sparkplug::EdgeStatus& sparkplug) {
 }
 
 // The front panel of seed 004: its LEDs, the D_N and S_N on-line, the capture indicators.
-nlohmann::json panel_of(const nlohmann::json& document) {
-  const auto bridge = document.get<status::BridgeStatus>();
+nlohmann::json panel_of(const status::Document& document) {
   nlohmann::json panel;
-  panel["mode"] = bridge.mode;
-  panel["error"] = bridge.error;
-  panel["modbus"] = led_of(document.at("modbus").get<status::Activity>());
-  panel["unimabus"] = led_of(document.at("unimabus").get<unimabus::UnimabusStatus>().led);
+  if (const auto& bridge = document.bridge) {
+    panel["mode"] = bridge->mode;
+    panel["error"] = bridge->error;
+  }
+  if (document.modbus) panel["modbus"] = led_of(*document.modbus);
+  if (document.unimabus) panel["unimabus"] = led_of(document.unimabus->led);
   panel["devices"] = nlohmann::json::array();
-  for (const auto& device : document.at("devices").get<std::vector<unimabus::DeviceStatus>>())
+  for (const auto& device : document.devices.value_or(std::vector<unimabus::DeviceStatus>{}))
     panel["devices"].push_back({{"bank", device.bank}, {"type", device.type}, {"online", device.online}});
   panel["modules"] = nlohmann::json::array();
-  for (const auto& module : document.at("modules").get<std::vector<unimabus::ModuleStatus>>())
+  for (const auto& module : document.modules.value_or(std::vector<unimabus::ModuleStatus>{}))
     panel["modules"].push_back({{"bank", module.bank}, {"online", module.online}});
-  panel["indicators"] = document.at("indicators").get<std::vector<monitor::IndicatorStatus>>();
-  if (document.contains("gateway")) panel["gateway"] = gateway_panel(document.at("gateway").get<master::GatewayStatus>());
-  if (document.contains("mqtt")) panel["mqtt"] = mqtt_panel(document.at("mqtt").get<mqtt::MqttStatus>());
-  if (document.contains("sparkplug")) panel["sparkplug"] = sparkplug_panel(document.at("sparkplug").get<sparkplug::EdgeStatus>());
+  panel["indicators"] = document.indicators.value_or(std::vector<monitor::IndicatorStatus>{});
+  if (document.gateway) panel["gateway"] = gateway_panel(*document.gateway);
+  if (document.mqtt) panel["mqtt"] = mqtt_panel(*document.mqtt);
+  if (document.sparkplug) panel["sparkplug"] = sparkplug_panel(*document.sparkplug);
   return panel;
 }
 
@@ -232,7 +227,7 @@ HttpResponse HttpAnswers::answer(std::string_view target) {
   }
   if (path == "/metrics") return {200, metrics::prometheus_content_type, metrics::prometheus_text(runtime_.status()), {}, {}};
   if (path == "/api/status")
-    return {200, json_type, runtime_.status().dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) + "\n", {}, {}};
+    return {200, json_type, nlohmann::json(runtime_.status()).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) + "\n", {}, {}};
   if (path == "/api/registers") return registers();
   return not_found();
 }

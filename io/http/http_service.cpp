@@ -210,11 +210,11 @@ void HttpService::commit(const Banks&) {
   next_tls_.reset();
 }
 
-void HttpService::describe(nlohmann::json& status) const {
-  if (server_ && server_->tls()) status["http"]["handshakes"] = handshake_counters(*handshakes_);
+void HttpService::describe(status::Document& status) const {
+  if (server_ && server_->tls()) status.http.handshakes = handshake_counters(*handshakes_);
   if (!users_) return;
   const auto& c = login_counters_;
-  status["http"]["logins"] = web::LoginStatus{c.checked, c.wrong, c.peer_limited, c.busy, login_limits_.in_flight()};
+  status.http.logins = web::LoginStatus{c.checked, c.wrong, c.peer_limited, c.busy, login_limits_.in_flight()};
 }
 
 }  // namespace unima::io

@@ -35,7 +35,7 @@ class HttpService final : public Service {
   void stage(const Banks& next) override;
   void abandon() override;
   void commit(const Banks& previous) override;
-  void describe(nlohmann::json& status) const override;
+  void describe(status::Document& status) const override;
 
  private:
   std::unique_ptr<HttpServer> make_server(const config::Config& config);

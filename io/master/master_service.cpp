@@ -106,15 +106,15 @@ void MasterService::commit(const Banks&) {
   if (master_ && started_) master_->start();
 }
 
-void MasterService::describe(nlohmann::json& status) const {
+void MasterService::describe(status::Document& status) const {
   const auto& counters = runtime_.monitor->counters(modbus::PortKind::master);
-  if (counters.transactions > 0) status["ports"].push_back(status::port_status("master", counters));
+  if (counters.transactions > 0) status.ports.push_back(status::port_status("master", counters));
   if (!master_) return;
   std::vector<master::MasterDeviceStatus> devices;
   for (const auto& [device, c] : master_->counters())
     devices.push_back({device, c.requests, c.answered, c.timeouts, c.exceptions, c.bad_frames, c.retries});
-  status["master"] = devices;
-  if (const auto& gateway = runtime_.config().modbus.gateway) status["gateway"] = gateway_status(*gateway, *master_);
+  status.master = std::move(devices);
+  if (const auto& gateway = runtime_.config().modbus.gateway) status.gateway = gateway_status(*gateway, *master_);
 }
 
 }  // namespace unima::io

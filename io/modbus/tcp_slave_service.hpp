@@ -26,7 +26,7 @@ class TcpSlaveService final : public Service {
   void stage(const Banks& next) override;
   void abandon() override;
   void commit(const Banks& previous) override;
-  void describe(nlohmann::json& status) const override;
+  void describe(status::Document& status) const override;
 
  private:
   /// `config`'s slave on this port, or null when it has none; throws when it cannot listen.

@@ -226,7 +226,7 @@ void MqttService::commit(const Banks& previous) {
   if (started_) publish();  // the new layout's documents, all of them
 }
 
-void MqttService::describe(nlohmann::json& status) const {
+void MqttService::describe(status::Document& status) const {
   if (!client_) return;
   const auto& config = *runtime_.config().mqtt;
   const auto& c = client_->counters();
@@ -250,7 +250,7 @@ void MqttService::describe(nlohmann::json& status) const {
     const auto b = buffer_->counters();
     mqtt.buffer = mqtt::BufferStatus{buffer_->path().string(), b.bytes, b.messages, b.dropped, history_->sent(), b.syncs, b.failures};
   }
-  status["mqtt"] = mqtt;
+  status.mqtt = std::move(mqtt);
 }
 
 }  // namespace unima::io

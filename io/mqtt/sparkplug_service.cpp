@@ -329,7 +329,7 @@ void SparkplugService::commit(const Banks&) {
   }
 }
 
-void SparkplugService::describe(nlohmann::json& status) const {
+void SparkplugService::describe(status::Document& status) const {
   if (!client_ || !session_) return;
   const auto& config = *runtime_.config().sparkplug;
   const auto& c = session_->counters();
@@ -362,7 +362,7 @@ void SparkplugService::describe(nlohmann::json& status) const {
     s.primary_host = {config.primary_host, host == Host::online ? "online" : host == Host::offline ? "offline" : "unknown"};
   }
   if (!client_->last_error().empty()) s.last_error = client_->last_error();
-  status["sparkplug"] = s;
+  status.sparkplug = std::move(s);
 }
 
 }  // namespace unima::io

@@ -38,7 +38,7 @@ class SparkplugService final : public Service {
   void stage(const Banks& next) override;
   void abandon() override;
   void commit(const Banks& previous) override;
-  void describe(nlohmann::json& status) const override;
+  void describe(status::Document& status) const override;
 
  private:
   std::unique_ptr<MqttClient> make_client(const config::Config& config);

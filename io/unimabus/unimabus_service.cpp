@@ -152,7 +152,7 @@ void UnimabusService::commit(const Banks& previous) {
   }
 }
 
-void UnimabusService::describe(nlohmann::json& status) const {
+void UnimabusService::describe(status::Document& status) const {
   const auto& config = runtime_.config();
   const auto& intake = *runtime_.banks->intake;
   const auto& store = *runtime_.banks->store;
@@ -164,7 +164,7 @@ void UnimabusService::describe(nlohmann::json& status) const {
   bus.telegrams_ignored = counts.ignored;
   bus.telegrams_refused = counts.refused;
   if (transport_) bus.clients = transport_->clients();
-  status["unimabus"] = bus;
+  status.unimabus = std::move(bus);
 
   std::vector<unimabus::DeviceStatus> devices;
   for (unsigned n = 1; n <= 4; ++n) {
@@ -177,13 +177,13 @@ void UnimabusService::describe(nlohmann::json& status) const {
       d.telegrams = counts.taken[banks::index_of(bank)];
     }
   }
-  status["devices"] = devices;
+  status.devices = std::move(devices);
   std::vector<unimabus::ModuleStatus> modules;
   for (unsigned n = 1; n <= 7; ++n) {
     const auto bank = banks::module_bank(n);
     modules.push_back({std::string(banks::bank_name(bank)), n, store.online(bank), counts.taken[banks::index_of(bank)]});
   }
-  status["modules"] = modules;
+  status.modules = std::move(modules);
 }
 
 }  // namespace unima::io

@@ -52,8 +52,7 @@ struct Services : ::testing::Test {
     service.commit(*previous);
   }
   static nlohmann::json described(const Service& service) {
-    nlohmann::json status;
-    status["ports"] = nlohmann::json::array();
+    status::Document status;
     service.describe(status);
     return status;
   }
@@ -151,7 +150,7 @@ TEST_F(Services, TheMonitorTakesItsNewFilterAtCommitAndKeepsItsLogWhenTheFileSta
 
 TEST_F(Services, AStatusSocketThatCannotListenAtItsNewPathLeavesTheRunningOneAnswering) {
   auto rt = runtime(load(""));
-  rt->status = [] { return nlohmann::json{{"ok", true}}; };
+  rt->status = [] { return status::Document{}; };
   StatusSocketService socket(*rt);
   socket.start();
   std::ofstream(path("file")) << "not a directory";

@@ -25,7 +25,7 @@ bool has_line(const std::string& text, const std::string& line) { return text.fi
 
 TEST(CliStatus, ThePanelShowsTheFrontPanelIndicatorsAndPortsOfTheDocument) {
   const auto document = golden_slave();
-  const auto text = render_status_panel(document);
+  const auto text = render_status_panel(document.get<status::Document>());
   // The golden document is rewritten with the daemon's own time and port when its keys
   // change (UNIMA_UPDATE_GOLDEN): those two are read from it.
   const auto indicator_time = document["indicators"][0]["time"].get<std::string>();
@@ -51,7 +51,7 @@ TEST(CliStatus, ThePanelShowsTheFrontPanelIndicatorsAndPortsOfTheDocument) {
 TEST(CliStatus, APortWithoutClientsOrAStateShowsADash) {
   auto document = golden_slave();
   document["ports"] = nlohmann::json::parse(R"([{"port": "rtu", "transactions": 2, "Done": 2}])");
-  EXPECT_TRUE(has_line(render_status_panel(document),
+  EXPECT_TRUE(has_line(render_status_panel(document.get<status::Document>()),
                        "  rtu             2       2       -       -       -       -       -        -        -"));
 }
 
@@ -59,7 +59,7 @@ TEST(CliStatus, APortWithoutClientsOrAStateShowsADash) {
 TEST(CliStatus, ADocumentWithoutAPartIsAnError) {
   auto document = golden_slave();
   document.erase("devices");
-  EXPECT_THROW(render_status_panel(document), nlohmann::json::exception);
+  EXPECT_THROW(render_status_panel(document.get<status::Document>()), MissingPart);
 }
 
 }  // namespace

@@ -16,6 +16,7 @@
 #include "state/state_status.hpp"
 #include "status/activity.hpp"
 #include "status/bridge_status.hpp"
+#include "status/document.hpp"
 #include "status/port_status.hpp"
 #include "tests/support/temp_files.hpp"
 #include "unimabus/bus_status.hpp"
@@ -79,6 +80,33 @@ TEST(StatusParts, TheMastersPartsReadAndWriteTheDocumentExactly) {
   for (const auto& device : s["master"]) expect_round_trip<master::MasterDeviceStatus>(device);
   expect_round_trip<master::GatewayStatus>(s["gateway"]);
   ASSERT_FALSE(s["gateway"]["units"].empty());
+}
+
+// The whole document, as the services fill it and /metrics, the CLI and the page read it,
+// is the JSON of before: every part where it was, and no key more.
+TEST(StatusParts, TheWholeDocumentReadsAndWritesBothModesExactly) {
+  for (const std::string mode : {"slave", "master"}) {
+    const auto s = golden(mode);
+    EXPECT_EQ(nlohmann::json(s.get<status::Document>()), s) << mode;
+  }
+}
+
+// A part that is off has no key at all, "http" included, and "ports" is always a list.
+TEST(StatusParts, APartThatIsOffHasNoKey) {
+  status::Document document;
+  document.bridge = status::BridgeStatus{};
+  const nlohmann::json bare = document;
+  EXPECT_TRUE(bare["ports"].is_array());
+  for (const auto* key : {"modbus", "indicators", "monitor", "unimabus", "devices", "modules", "master", "gateway", "state", "mqtt",
+                          "sparkplug", "http"})
+    EXPECT_FALSE(bare.contains(key)) << key;
+  document.http.logins = web::LoginStatus{};
+  const nlohmann::json with_users = document;
+  EXPECT_TRUE(with_users["http"].contains("logins"));
+  EXPECT_FALSE(with_users["http"].contains("handshakes"));
+  const auto read_back = with_users.get<status::Document>();
+  EXPECT_TRUE(read_back.http.logins.has_value());
+  EXPECT_FALSE(read_back.mqtt.has_value());
 }
 
 // The parts' empty forms as the daemon writes them: no state file, no buffer, no primary host.
