@@ -156,14 +156,6 @@ nlohmann::json row_values(const config::MapRow& row, const config::Config& confi
   return list;
 }
 
-// {"value", "state"} (and "set": false): what changes of a value on the page.
-nlohmann::json live_value(const values::ValueDef& def, const values::Value& value) {
-  auto j = values::value_json(def, value);
-  j.erase("name");
-  j.erase("unit");
-  return j;
-}
-
 }  // namespace
 
 web::LiveSnapshot HttpAnswers::live_snapshot() const {
@@ -180,13 +172,23 @@ web::LiveSnapshot HttpAnswers::live_values() const {
     snapshot.addresses.push_back(row.address);
     snapshot.values.push_back(running.space->read(row.address, std::span(&value, 1)) ? std::optional(value) : std::nullopt);
   }
-  for (const auto& layout : running.value_model.banks()) {
-    const auto& values = running.values->of(layout.bank);
-    const auto bank = std::string(banks::bank_name(layout.bank)) + "/";
-    for (std::size_t i = 0; i < values.size(); ++i)
-      snapshot.named_values.emplace_back(bank + layout.values[i].name, live_value(layout.values[i], values[i]));
-  }
+  for (const auto& layout : running.value_model.banks()) snapshot.named_banks.push_back(named_values(layout));
   return snapshot;
+}
+
+std::shared_ptr<const web::NamedValues> HttpAnswers::named_values(const values::BankValues& layout) const {
+  const auto& running = *runtime_.banks;
+  const auto changes = running.store->changes(layout.bank);
+  auto& rendered = named_banks_[layout.bank];
+  if (rendered.values && rendered.at == changes) return rendered.values;
+  const auto& values = running.values->of(layout.bank);
+  const auto bank = std::string(banks::bank_name(layout.bank)) + "/";
+  auto named = std::make_shared<web::NamedValues>();
+  named->reserve(values.size());
+  for (std::size_t i = 0; i < values.size(); ++i)
+    named->emplace_back(bank + layout.values[i].name, values::reading_state_json(layout.values[i], values[i]));
+  rendered = {changes, std::move(named)};
+  return rendered.values;
 }
 
 HttpResponse HttpAnswers::registers() const {

@@ -202,6 +202,7 @@ void HttpService::abandon() {
 }
 
 void HttpService::commit(const Banks&) {
+  answers_.forget_values();
   users_ = std::move(next_users_);
   ++users_generation_;
   next_users_.reset();
