@@ -271,6 +271,9 @@ struct MqttConfig {
   std::chrono::milliseconds period{10'000};  // every bank in full
   bool on_change = true;     // and each bank when it changes (at most every 100 ms)
   bool commands = false;     // set/W/<offset>, set/X/<bit>
+  // Where an MQTT 5 command may be answered (SPEC §15): topic filters, default
+  // <topic>/reply/#; mqtt/response_topic also keeps the bridge's own topics out.
+  std::vector<std::string> response_topics;
   std::optional<MqttDiscoveryConfig> discovery;  // absent: no Home Assistant discovery
   MqttBufferConfig buffer;
   std::string origin;        // "file:line:col" of mqtt
@@ -278,11 +281,13 @@ struct MqttConfig {
   std::string host_name;     // gethostname(2); empty when it has none
   std::string machine_id;    // the first 8 hex digits of /etc/machine-id; empty when there is none
   /// The same client and publishing (where the section stands in the file does not count,
-  /// nor the buffer, which changes at the next start).
+  /// nor the buffer, which changes at the next start, nor where answers may go, which the
+  /// next command reads from the running config).
   bool same_client(const MqttConfig& other) const {
     auto a = *this, b = other;
     a.origin = b.origin = {};
     a.buffer = b.buffer = {};
+    a.response_topics = b.response_topics = {};
     return a == b;
   }
   bool operator==(const MqttConfig&) const = default;

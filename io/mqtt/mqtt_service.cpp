@@ -6,8 +6,10 @@
 #include "mqtt/birth.hpp"
 #include "mqtt/command.hpp"
 #include "mqtt/mqtt_status.hpp"
+#include "mqtt/response_topic.hpp"
 #include "platform/clock_sync.hpp"
 #include "platform/log_text.hpp"
+#include "platform/peer_warnings.hpp"
 #include "platform/utc_time.hpp"
 
 namespace unima::io {
@@ -88,8 +90,8 @@ void MqttService::lay_out() {
 // A command is a Modbus write by other means: it takes the one write path (rights, the
 // register space, the state file, UnimaBUS) and is answered once what it kept is durable.
 // An MQTT 5 request (Response Topic, Correlation Data) is answered where it asks, with its
-// correlation data; any other command, or a response topic the client cannot publish to
-// (wildcards), on `<prefix>/set/result`.
+// correlation data, when mqtt/response_topic allows it there; any other command, or a
+// response topic refused there or by the broker, on `<prefix>/set/result`.
 void MqttService::take_command(const MqttMessage& message) {
   const auto topic = message.topic;
   const auto payload = message.payload;
@@ -98,7 +100,7 @@ void MqttService::take_command(const MqttMessage& message) {
   const auto set = prefix + "/set/";
   if (!topic.starts_with(set) || topic == prefix + "/set/result") return;  // our own results come back too
   const auto result_topic = prefix + "/set/result";
-  const auto answer = [this, result_topic, topic = std::string(topic), response_topic = message.response_topic,
+  const auto answer = [this, result_topic, topic = std::string(topic), response_topic = allowed_response_topic(message),
                        correlation = message.correlation_data](const std::string& error) {
     if (!client_) return;
     const auto result = mqtt::command_result(topic, error);
@@ -123,6 +125,23 @@ void MqttService::take_command(const MqttMessage& message) {
   answer_once_durable(runtime_.state.get(), result.kept_as, [answer](bool durable) {
     answer(durable ? std::string() : std::string("the state file refused the write: nothing changed"));
   });
+}
+
+// The command's Response Topic when the bridge may answer there, else empty (set/result):
+// a refusal is counted and warned about (the first from the broker in a period, then how
+// many more), with the topic cut short, for the log's sake.
+std::string MqttService::allowed_response_topic(const MqttMessage& message) {
+  if (message.response_topic.empty()) return {};
+  const auto& mqtt = *runtime_.config().mqtt;
+  const auto verdict = mqtt::judge_response_topic(message.response_topic, mqtt);
+  if (verdict == mqtt::ResponseTopicVerdict::answer_there) return message.response_topic;
+  ++response_topics_refused_;
+  const auto& broker = client_->options();
+  platform::warn_from_peer("mqtt: response topics refused", fmt::format("{}:{}", broker.host, broker.port),
+                           "mqtt: the Response Topic {} of a command on {} is {}: answered on {}/set/result instead",
+                           platform::log_safe(std::string_view(message.response_topic).substr(0, 100)),
+                           platform::log_safe(message.topic), mqtt::verdict_text(verdict), platform::log_safe(mqtt.topic));
+  return {};
 }
 
 // Armed only when nothing sooner is: a change that may go at once does not wait for it,
@@ -239,6 +258,7 @@ void MqttService::describe(status::Document& status) const {
                         .published = c.published,
                         .session_takeovers = c.session_takeovers,
                         .retained_commands_dropped = c.retained_commands_dropped,
+                        .response_topics_refused = response_topics_refused_,
                         .since = {},
                         .last_takeover = {},
                         .last_error = {},

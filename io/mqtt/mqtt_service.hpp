@@ -7,16 +7,18 @@
 // register store that Modbus reads, so a document and a Modbus read never disagree — and the commands
 // it takes (`<prefix>/set/W/<n>`, `set/X/<bit>`), written through the one write path and
 // answered on `<prefix>/set/result` or, for an MQTT 5 request that names one, on its
-// Response Topic (SPEC §15). Before all of it on each connection, the birth
-// (`<prefix>/birth`, mqtt/birth.hpp); with `discovery`, Home Assistant's configs
-// (io/mqtt/discovery_announcer). While the broker is unreachable the same documents go to
-// the history buffer (`buffer`, SPEC §15: io/mqtt/history_buffer), sent as history once
-// the live ones are out again (io/mqtt/history_sender). A reload keeps the client (and
+// Response Topic when mqtt/response_topic allows it there (SPEC §15). Before all of it on
+// each connection, the birth (`<prefix>/birth`, mqtt/birth.hpp); with `discovery`, Home
+// Assistant's configs (io/mqtt/discovery_announcer). While the broker is unreachable the
+// same documents go to the history buffer (`buffer`, SPEC §15: io/mqtt/history_buffer),
+// sent as history once the live ones are out again (io/mqtt/history_sender). A reload keeps the client (and
 // its session) when the broker settings did not change; a reload to another config file
 // says so in a new birth.
 
+#include <cstdint>
 #include <memory>
 #include <optional>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -48,6 +50,7 @@ class MqttService final : public Service {
   void publish();
   void wake_at(mqtt::PublishSchedule::Clock::time_point when);
   void take_command(const MqttMessage& message);
+  std::string allowed_response_topic(const MqttMessage& message);
   std::string birth() const;
   /// Documents go to the history buffer instead of the broker.
   bool buffering() const;
@@ -63,6 +66,7 @@ class MqttService final : public Service {
   asio::steady_timer timer_;  // the next due time: a capped change, the period, a backlog's retry
   std::optional<mqtt::PublishSchedule::Clock::time_point> timer_due_;  // none: not armed
   bool started_ = false;
+  std::uint64_t response_topics_refused_ = 0;  // of every client this service had
   // Staged by a reload:
   bool new_client_ = false;
   std::unique_ptr<MqttClient> next_client_;  // null with new_client_: no more MQTT
