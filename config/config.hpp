@@ -293,6 +293,11 @@ struct MqttConfig {
   bool operator==(const MqttConfig&) const = default;
 };
 
+/// Sparkplug B's topic namespace (Sparkplug 3.0 §4.1): every topic of an edge node and a
+/// host lies under it. Here, below sparkplug/ and mqtt/, because MQTT's answers must keep
+/// off it too (mqtt/response_topic).
+inline constexpr std::string_view sparkplug_topic_namespace = "spBv1.0";
+
 /// sparkplug (SPEC §16): the bridge as a Sparkplug B edge node, on a broker of its own
 /// connection (which may be the mqtt section's broker). The broker, TLS and credentials
 /// keys are mqtt's, read by the same parser.

@@ -8,17 +8,13 @@ namespace unima::mqtt {
 
 namespace {
 
-// Sparkplug B's topic namespace (Sparkplug 3.0 §4.1): the edge node's births, data, death
-// and the hosts' STATE and commands all live under it.
-constexpr std::string_view sparkplug_namespace = "spBv1.0";
-
 // `topic` is `prefix` or a topic below it, level by level (`a/bc` is not under `a/b`).
 bool under(std::string_view topic, std::string_view prefix) {
   return topic.starts_with(prefix) && (topic.size() == prefix.size() || topic[prefix.size()] == '/');
 }
 
 bool is_bridge_topic(std::string_view topic, const config::MqttConfig& mqtt) {
-  if (topic.starts_with('$') || under(topic, sparkplug_namespace)) return true;
+  if (topic.starts_with('$') || under(topic, config::sparkplug_topic_namespace)) return true;
   if (mqtt.discovery && under(topic, mqtt.discovery->prefix)) return true;
   // Of its own prefix, only reply/ and below is not the bridge's: status, birth, the bank
   // documents and set/… are.

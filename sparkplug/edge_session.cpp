@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "config/config.hpp"
 #include "sparkplug/metric_value.hpp"
 #include "sparkplug/payload_codec.hpp"
 #include "sparkplug/value_metrics.hpp"
@@ -14,7 +15,6 @@ namespace unima::sparkplug {
 
 namespace {
 
-constexpr std::string_view name_space = "spBv1.0";
 
 std::string encoded(const Payload& payload) {
   const auto bytes = encode_payload(payload);
@@ -68,15 +68,19 @@ bool may_die(banks::BankId bank) { return banks::is_device_bank(bank) || banks::
 EdgeSession::EdgeSession(Settings settings, std::optional<std::uint64_t> last_bd_seq)
     : settings_(std::move(settings)), last_bd_seq_(last_bd_seq) {}
 
-std::string EdgeSession::node_topic(std::string_view type) const {
-  return fmt::format("{}/{}/{}/{}", name_space, settings_.group_id, type, settings_.edge_node_id);
+std::string EdgeSession::node_topic(std::string_view type) const { return node_topic(settings_.group_id, type, settings_.edge_node_id); }
+
+std::string EdgeSession::node_topic(std::string_view group_id, std::string_view type, std::string_view edge_node_id) {
+  return fmt::format("{}/{}/{}/{}", config::sparkplug_topic_namespace, group_id, type, edge_node_id);
 }
 
 std::string EdgeSession::device_topic(std::string_view type, std::string_view device) const {
-  return fmt::format("{}/{}/{}/{}/{}", name_space, settings_.group_id, type, settings_.edge_node_id, device);
+  return node_topic(type) + "/" + std::string(device);
 }
 
-std::string EdgeSession::host_state_topic(std::string_view host) { return fmt::format("{}/STATE/{}", name_space, host); }
+std::string EdgeSession::host_state_topic(std::string_view host) {
+  return fmt::format("{}/STATE/{}", config::sparkplug_topic_namespace, host);
+}
 
 std::uint64_t EdgeSession::begin_connect() {
   bd_seq_ = last_bd_seq_ ? (*last_bd_seq_ + 1) % 256 : 0;

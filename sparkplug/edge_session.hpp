@@ -110,9 +110,12 @@ class EdgeSession {
   /// `last_bd_seq`: the bdSeq of the last CONNECT before this process (nullopt: none kept).
   EdgeSession(Settings settings, std::optional<std::uint64_t> last_bd_seq);
 
+  /// spBv1.0/<group>/<type>/<node>: this node's, or another config's (a reload's next).
   std::string node_topic(std::string_view type) const;
+  static std::string node_topic(std::string_view group_id, std::string_view type, std::string_view edge_node_id);
+  /// spBv1.0/<group>/<type>/<node>/<device>
   std::string device_topic(std::string_view type, std::string_view device) const;
-  /// spBv1.0/STATE/<host>, spBv1.0/<group>/NCMD/<node>, spBv1.0/<group>/DCMD/<node>/+
+  /// spBv1.0/STATE/<host>
   static std::string host_state_topic(std::string_view host);
 
   /// A CONNECT is about to go: its bdSeq (the last one's + 1, modulo 256), kept as the

@@ -86,10 +86,10 @@ std::unique_ptr<MqttClient> SparkplugService::make_client(const config::Config& 
     session_->connected();
     publish_due();
   });
-  const auto ncmd = fmt::format("spBv1.0/{}/NCMD/{}", s.group_id, s.edge_node_id);
+  using sparkplug::EdgeSession;
   const auto take = [this](const MqttMessage& message) { take_message(message.topic, message.payload); };
-  client->subscribe(ncmd, take, MqttClient::Retained::dropped);
-  client->subscribe(fmt::format("spBv1.0/{}/DCMD/{}/+", s.group_id, s.edge_node_id), take, MqttClient::Retained::dropped);
+  client->subscribe(EdgeSession::node_topic(s.group_id, "NCMD", s.edge_node_id), take, MqttClient::Retained::dropped);
+  client->subscribe(EdgeSession::node_topic(s.group_id, "DCMD", s.edge_node_id) + "/+", take, MqttClient::Retained::dropped);
   if (!s.primary_host.empty()) client->subscribe(sparkplug::EdgeSession::host_state_topic(s.primary_host), take);
   return client;
 }
@@ -148,8 +148,8 @@ void SparkplugService::take_message(std::string_view topic, std::string_view pay
     }
     return;
   }
-  const auto ncmd = fmt::format("spBv1.0/{}/NCMD/{}", config.group_id, config.edge_node_id);
-  const auto dcmd = fmt::format("spBv1.0/{}/DCMD/{}/", config.group_id, config.edge_node_id);
+  const auto ncmd = session_->node_topic("NCMD");
+  const auto dcmd = session_->node_topic("DCMD") + "/";
   if (topic == ncmd) take_command("", topic, payload);
   else if (topic.starts_with(dcmd)) take_command(topic.substr(dcmd.size()), topic, payload);
 }
