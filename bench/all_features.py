@@ -9,17 +9,23 @@ bench/mqtt_feeder.py), each with FC4 x 64 on 127.0.0.1:
               scraped every second (bench/http_clients.py) during its rounds;
   all, no page     - the same daemon, nobody on HTTP during the round;
   all, no Sparkplug - a daemon like `all` without its sparkplug section, the page open.
+While one daemon is measured the others and their feeders are stopped (SIGSTOP), so that
+their features' work does not take the measured one's CPU on a small machine; it
+settles for half a second after it resumes before the load starts.
 At each connection count, paired rounds whose order turns each round; per round and
 variant the requests/s (unima-bench-load) and the requests per daemon CPU-second (the
 daemon's utime + stime over the load's run, /proc/PID/stat). Reports each variant's
 median ratio to `minimal` (and the rounds' range), so the page's and Sparkplug's shares
-are named.
+are named. First, each variant's own cost without Modbus load: the daemon's CPU over
+--idle seconds, alone, fed and watched as in its rounds (a sharper figure for a feature's
+share than the rounds' ratios, whose range on 2 shared cores is wider than 5 %).
 Usage: bench/all_features.py [--build-dir build-release] [--rounds 5] [--seconds 3]
        [--connections 8,64] [--json FILE]
 """
 import argparse
 import json
 import os
+import signal
 import socket
 import statistics
 import subprocess
@@ -70,6 +76,8 @@ class Bench:
 
     def close(self):
         for process in reversed(self.processes):
+            if process.poll() is None:
+                os.kill(process.pid, signal.SIGCONT)
             process.kill()
             process.wait()
         subprocess.run(["rm", "-rf", str(self.work)], check=False)
@@ -108,12 +116,36 @@ class Bench:
         log = self.work / f"{name}.log"
         process = self.spawn([str(self.bridged), "--config", str(config)], stdout=log.open("w"), stderr=subprocess.STDOUT)
         wait_for_port(modbus, name, log)
-        total = 2 * self.args.rounds * len(self.connections) * 4 * (self.args.seconds + 1) + 30
-        self.spawn([sys.executable, str(SOURCE / "bench/mqtt_feeder.py"), "--feed-port", str(feed), "--seconds", str(total)],
-                   stdout=subprocess.DEVNULL)
-        return {"name": name, "pid": process.pid, "modbus": modbus, "http": http_port}
+        total = 2 * self.args.rounds * len(self.connections) * 4 * (self.args.seconds + 1) + 4 * (self.args.idle + 2) + 30
+        feeder = self.spawn([sys.executable, str(SOURCE / "bench/mqtt_feeder.py"), "--feed-port", str(feed),
+                             "--seconds", str(total)], stdout=subprocess.DEVNULL)
+        return {"name": name, "pid": process.pid, "feeder": feeder.pid, "modbus": modbus, "http": http_port}
+
+    def only(self, daemon):
+        """Runs `daemon` and its feeder alone: the other daemons and feeders are stopped."""
+        for other in self.daemons:
+            sig = signal.SIGCONT if other is daemon else signal.SIGSTOP
+            os.kill(other["feeder"], sig)
+            os.kill(other["pid"], sig)
+        time.sleep(0.5)
+
+    def idle_cost(self, daemon, page):
+        """The share of a core `daemon` takes with no Modbus load."""
+        self.only(daemon)
+        clients = None
+        if page:
+            clients = subprocess.Popen([sys.executable, str(SOURCE / "bench/http_clients.py"), "--port", str(daemon["http"]),
+                                        "--seconds", str(self.args.idle + 1)], stdout=subprocess.DEVNULL)
+            time.sleep(0.5)
+        before = cpu_seconds(daemon["pid"])
+        time.sleep(self.args.idle)
+        share = (cpu_seconds(daemon["pid"]) - before) / self.args.idle
+        if clients:
+            clients.wait()
+        return share
 
     def measure(self, daemon, connections, page):
+        self.only(daemon)
         clients = None
         if page:
             clients = subprocess.Popen([sys.executable, str(SOURCE / "bench/http_clients.py"), "--port", str(daemon["http"]),
@@ -136,9 +168,13 @@ class Bench:
         minimal = self.daemon("minimal")
         every = self.daemon("all", mqtt=True, sparkplug=True, http=True, state=True)
         no_sparkplug = self.daemon("nosp", mqtt=True, http=True, state=True)
+        self.daemons = [minimal, every, no_sparkplug]
         time.sleep(1.5)  # connected, born, fed
         variants = [("minimal", minimal, False), ("all", every, True), ("all, no page", every, False),
                     ("all, no Sparkplug", no_sparkplug, True)]
+        if self.args.idle > 0:
+            print("without Modbus load, share of a core: " +
+                  ", ".join(f"{name} {100 * self.idle_cost(daemon, page):.1f} %" for name, daemon, page in variants))
         figures = {}
         for connections in self.connections:
             rows = {name: [] for name, _, _ in variants}
@@ -183,6 +219,7 @@ def main():
     parser.add_argument("--rounds", type=int, default=5)
     parser.add_argument("--seconds", type=float, default=3)
     parser.add_argument("--connections", default="8,64")
+    parser.add_argument("--idle", type=float, default=10, help="seconds of each variant without load (0: skip)")
     parser.add_argument("--json", metavar="FILE")
     args = parser.parse_args()
     bench = Bench(args)
