@@ -97,6 +97,12 @@ std::size_t oldest_to_drop(std::span<const std::uint64_t> sizes, std::uint64_t r
   const auto target = room - room / 8;
   std::size_t dropped = 0;
   while (dropped < sizes.size() && total > target) total -= sizes[dropped++];
+  if (dropped < sizes.size()) return dropped;
+  // The eighth left free must not cost the newest entries that fit the room: a buffer so
+  // small that one entry takes most of it keeps the newest, rewritten with each new entry.
+  total = std::accumulate(sizes.begin(), sizes.end(), std::uint64_t{0});
+  dropped = 0;
+  while (dropped < sizes.size() && total > room) total -= sizes[dropped++];
   return dropped;
 }
 

@@ -111,6 +111,20 @@ TEST(MqttHistoryJournal, WhenFullTheOldestGoUntilAnEighthIsFree) {
   EXPECT_EQ(oldest_to_drop({}, 0), 0u);
 }
 
+// Issue 43, finding 11: a buffer whose room one bank document nearly fills (8 KiB, a D1
+// document of 7.6 KB) dropped every entry, for no entry fits within the eighth left free;
+// the newest that fit the room stay.
+TEST(MqttHistoryJournal, ABufferThatOneEntryNearlyFillsKeepsTheNewest) {
+  const std::vector<std::uint64_t> d1_documents{7640, 7640, 7640, 7640, 7640};
+  EXPECT_EQ(oldest_to_drop(d1_documents, 8164), 4u);
+  const std::vector<std::uint64_t> c_then_d1{1030, 7640};
+  EXPECT_EQ(oldest_to_drop(c_then_d1, 8164), 1u) << "the newest fits the room, not within the eighth";
+  const std::vector<std::uint64_t> mixed{7640, 1030, 7640, 1030};
+  EXPECT_EQ(oldest_to_drop(mixed, 8164), 3u) << "within the eighth where the target keeps any";
+  EXPECT_EQ(oldest_to_drop(mixed, 16356), 1u);
+  EXPECT_EQ(oldest_to_drop(std::vector<std::uint64_t>{9000}, 8164), 1u) << "one larger than the room cannot stay";
+}
+
 TEST(MqttHistoryWindow, AtMostAHundredInFlightAndDeliveredUpToTheOldestUnacknowledged) {
   HistoryWindow window(10);
   EXPECT_EQ(window.room(), 100u);
