@@ -129,14 +129,20 @@ class Bench:
             os.kill(other["pid"], sig)
         time.sleep(0.5)
 
+    def watched(self, daemon, page, seconds):
+        """`daemon` alone, with the page open and /metrics scraped for `seconds` if `page`:
+        the clients' process (wait for it after the measurement), or None."""
+        self.only(daemon)
+        if not page:
+            return None
+        clients = subprocess.Popen([sys.executable, str(SOURCE / "bench/http_clients.py"), "--port", str(daemon["http"]),
+                                    "--seconds", str(seconds)], stdout=subprocess.DEVNULL)
+        time.sleep(0.4)
+        return clients
+
     def idle_cost(self, daemon, page):
         """The share of a core `daemon` takes with no Modbus load."""
-        self.only(daemon)
-        clients = None
-        if page:
-            clients = subprocess.Popen([sys.executable, str(SOURCE / "bench/http_clients.py"), "--port", str(daemon["http"]),
-                                        "--seconds", str(self.args.idle + 1)], stdout=subprocess.DEVNULL)
-            time.sleep(0.5)
+        clients = self.watched(daemon, page, self.args.idle + 1)
         before = cpu_seconds(daemon["pid"])
         time.sleep(self.args.idle)
         share = (cpu_seconds(daemon["pid"]) - before) / self.args.idle
@@ -145,12 +151,7 @@ class Bench:
         return share
 
     def measure(self, daemon, connections, page):
-        self.only(daemon)
-        clients = None
-        if page:
-            clients = subprocess.Popen([sys.executable, str(SOURCE / "bench/http_clients.py"), "--port", str(daemon["http"]),
-                                        "--seconds", str(self.args.seconds + 1.5)], stdout=subprocess.DEVNULL)
-            time.sleep(0.3)
+        clients = self.watched(daemon, page, self.args.seconds + 1.5)
         before = cpu_seconds(daemon["pid"])
         out = subprocess.run([str(self.load), "--port", str(daemon["modbus"]), "--connections", str(connections),
                               "--function", "4", "--address", "4352", "--quantity", "64",
