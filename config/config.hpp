@@ -161,6 +161,7 @@ struct GatewayConfig {
   Duration wait{2'000};                 // longest a request may wait for the line: then 0x06
   std::optional<Duration> timeout;      // the slave's answer time-out; else its profile's, else 1 s
   Duration cache{0};                    // an identical read answered this young is served again; 0: off
+  bool reads_only = false;              // `functions: read`: only functions 1-4 are forwarded, from every port
   std::string origin;                   // "file:line:col" of the section
   bool routes(std::uint8_t unit) const { return units[unit]; }
 };

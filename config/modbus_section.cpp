@@ -122,7 +122,7 @@ void parse_gateway_unit(const YamlReader& yaml, const YAML::Node& item, GatewayC
 }
 
 GatewayConfig parse_gateway(const YamlReader& yaml, const YAML::Node& node) {
-  yaml.expect_keys(node, "modbus.gateway", {"units", "priority", "wait", "timeout", "cache"});
+  yaml.expect_keys(node, "modbus.gateway", {"units", "priority", "wait", "timeout", "cache", "functions"});
   GatewayConfig gateway;
   gateway.origin = yaml.position(node);
   const auto units = node["units"];
@@ -146,6 +146,7 @@ GatewayConfig parse_gateway(const YamlReader& yaml, const YAML::Node& node) {
   if (node["wait"]) gateway.wait = positive_duration(yaml, node["wait"]);
   if (node["timeout"]) gateway.timeout = positive_duration(yaml, node["timeout"]);
   if (node["cache"]) gateway.cache = yaml.duration(node["cache"]);
+  if (node["functions"]) gateway.reads_only = yaml.choice(node["functions"], {"read", "all"}) == "read";
   return gateway;
 }
 

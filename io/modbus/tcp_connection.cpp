@@ -93,7 +93,8 @@ bool TcpSlaveServer::Connection::process() {
     const auto unit = adu.header.unit_id;
     const auto recipient = modbus::recipient_of(modbus::Link::tcp, unit, context.unit_id);
     const auto* rights = server_.write_rights(role_);
-    const auto verdict = modbus::route(recipient, unit, adu.pdu[0], routed_units(), rights);
+    const auto& gateway = server_.context_.gateway;
+    const auto verdict = modbus::route(recipient, unit, adu.pdu[0], routed_units(), rights, gateway && gateway->reads_only);
     if (verdict == modbus::Verdict::forward) {
       auto& forwarding = forwarding_.emplace();
       forwarding.header = adu.header;

@@ -3,6 +3,7 @@
 // Security clients (tests/integration/tls/modbus_tls_client.py) within their roles' rights.
 // What a slave hears and says is checked in the simulator's frame log, byte for byte.
 
+#include <fmt/format.h>
 #include <modbus/modbus.h>
 
 #include <sstream>
@@ -329,6 +330,29 @@ TEST_F(GatewayTlsTest, ReadOnlyForwardsNoWrite) {
   EXPECT_EQ(tls_client("operator", plc, {"06000b04d2", "03000b0001"}), (std::vector<std::string>{"8601", "03020000"}))
       << diagnostics();
   EXPECT_EQ(heard(rtu_frame(plc, write_d11)), 0u) << diagnostics();
+}
+
+// modbus.gateway.functions: read (issue 43, finding 9): the plain port forwards reads, and
+// no write, restart (fn 8) or vendor function to the line, while it keeps writing the
+// bridge's own banks.
+TEST_F(GatewayTest, FunctionsReadForwardsReadsOnlyAndTheOwnBanksStayWritable) {
+  start_with("{ units: [5-7], timeout: 300ms, functions: read }");
+  ASSERT_EQ(sim->control("set 5 10 777"), "ok");
+  auto socket = Socket::tcp(config.modbus_port);
+  const auto read = ask(socket, 0x0101, plc, Bytes{0x03, 0x00, 0x0A, 0x00, 0x01});
+  ASSERT_TRUE(read) << diagnostics();
+  EXPECT_EQ(hex(read->pdu), "03 02 03 09");
+  const Bytes restart{0x08, 0x00, 0x01, 0x00, 0x00};
+  const Bytes vendor{0x41};
+  for (const auto& refused : {write_d11, restart, vendor}) {
+    const auto answer = ask(socket, 0x0102, plc, refused);
+    ASSERT_TRUE(answer) << hex(refused) << diagnostics();
+    EXPECT_EQ(hex(answer->pdu), fmt::format("{:02X} 01", refused[0] | 0x80)) << hex(refused) << " is refused with exception 01";
+    EXPECT_EQ(heard(rtu_frame(plc, refused)), 0u) << hex(refused) << diagnostics();
+  }
+  ModbusClient client(config.modbus_port, 1);
+  ASSERT_TRUE(client.connected());
+  EXPECT_TRUE(client.write(0x3000, 17)) << "the bridge's own W stays writable" << diagnostics();
 }
 
 // The bridge-wide modbus.tcp.read_only holds on the TLS port and for the plain port's

@@ -57,7 +57,15 @@ TEST(GatewayConfig, DefaultsAreTwoSecondsOfWaitTheProfilesTimeoutAndNoCache) {
   EXPECT_FALSE(c.modbus.gateway->timeout);
   EXPECT_EQ(c.modbus.gateway->cache, 0ms);
   EXPECT_TRUE(c.modbus.gateway->priority.empty());
+  EXPECT_FALSE(c.modbus.gateway->reads_only) << "every function is forwarded unless functions: read";
   EXPECT_FALSE(load(rtu_master).modbus.gateway);
+}
+
+TEST(GatewayConfig, FunctionsReadForwardsReadsOnlyAndAnotherWordIsAnError) {
+  EXPECT_TRUE(load(rtu_master + "  gateway: { units: [3], functions: read }\n").modbus.gateway->reads_only);
+  EXPECT_FALSE(load(rtu_master + "  gateway: { units: [3], functions: all }\n").modbus.gateway->reads_only);
+  EXPECT_NE(error(rtu_master + "  gateway: { units: [3], functions: writes }\n").find("'writes' is not one of: read, all"),
+            std::string::npos);
 }
 
 TEST(GatewayConfig, WithoutMasterModeIsAnErrorNamingTheKey) {
