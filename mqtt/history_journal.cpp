@@ -92,18 +92,19 @@ LoadedHistory parse_history(std::string_view bytes) {
 }
 
 std::size_t oldest_to_drop(std::span<const std::uint64_t> sizes, std::uint64_t room) {
-  auto total = std::accumulate(sizes.begin(), sizes.end(), std::uint64_t{0});
+  const auto total = std::accumulate(sizes.begin(), sizes.end(), std::uint64_t{0});
   if (total <= room) return 0;
-  const auto target = room - room / 8;
-  std::size_t dropped = 0;
-  while (dropped < sizes.size() && total > target) total -= sizes[dropped++];
-  if (dropped < sizes.size()) return dropped;
+  // How many of the oldest go for the rest to take `limit` bytes at most.
+  const auto to_fit = [&](std::uint64_t limit) {
+    auto left = total;
+    std::size_t dropped = 0;
+    while (dropped < sizes.size() && left > limit) left -= sizes[dropped++];
+    return dropped;
+  };
   // The eighth left free must not cost the newest entries that fit the room: a buffer so
   // small that one entry takes most of it keeps the newest, rewritten with each new entry.
-  total = std::accumulate(sizes.begin(), sizes.end(), std::uint64_t{0});
-  dropped = 0;
-  while (dropped < sizes.size() && total > room) total -= sizes[dropped++];
-  return dropped;
+  const auto with_an_eighth_free = to_fit(room - room / 8);
+  return with_an_eighth_free < sizes.size() ? with_an_eighth_free : to_fit(room);
 }
 
 }  // namespace unima::mqtt

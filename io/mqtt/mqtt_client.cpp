@@ -266,9 +266,11 @@ void MqttClient::release_socket() {
   socket_.reset();
 }
 
+std::string MqttClientOptions::broker() const { return fmt::format("{}:{}", host, port); }
+
 void MqttClient::drop_retained_command(std::string_view topic) {
   ++counters_.retained_commands_dropped;
-  platform::warn_from_peer("mqtt: retained commands", fmt::format("{}:{}", options_.host, options_.port),
+  platform::warn_from_peer("mqtt: retained commands", options_.broker(),
                            "mqtt: a retained command on {} dropped: a command is carried out once, when it is published, "
                            "never again from the broker's store (clear it: publish an empty retained message there)",
                            platform::log_safe(topic));

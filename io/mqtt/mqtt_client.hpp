@@ -43,6 +43,9 @@ struct MqttClientOptions {
   std::string status_topic;  // <prefix>/status; empty: no status messages and no will of its own (Sparkplug's is the NDEATH)
   std::string birth_topic;   // <prefix>/birth; empty: no birth
   std::chrono::seconds keepalive{30};
+
+  /// "host:port": how the log's peer warnings name the broker, one count per broker.
+  std::string broker() const;
 };
 
 /// A message that came; MQTT 5's Response Topic and Correlation Data when it carried them.

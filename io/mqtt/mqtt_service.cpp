@@ -136,8 +136,7 @@ std::string MqttService::allowed_response_topic(const MqttMessage& message) {
   const auto verdict = mqtt::judge_response_topic(message.response_topic, mqtt);
   if (verdict == mqtt::ResponseTopicVerdict::answer_there) return message.response_topic;
   ++response_topics_refused_;
-  const auto& broker = client_->options();
-  platform::warn_from_peer("mqtt: response topics refused", fmt::format("{}:{}", broker.host, broker.port),
+  platform::warn_from_peer("mqtt: response topics refused", client_->options().broker(),
                            "mqtt: the Response Topic {} of a command on {} is {}: answered on {}/set/result instead",
                            platform::log_safe(std::string_view(message.response_topic).substr(0, 100)),
                            platform::log_safe(message.topic), mqtt::verdict_text(verdict), platform::log_safe(mqtt.topic));

@@ -11,9 +11,9 @@
 // each connection, the birth (`<prefix>/birth`, mqtt/birth.hpp); with `discovery`, Home
 // Assistant's configs (io/mqtt/discovery_announcer). While the broker is unreachable the
 // same documents go to the history buffer (`buffer`, SPEC §15: io/mqtt/history_buffer),
-// sent as history once the live ones are out again (io/mqtt/history_sender). A reload keeps the client (and
-// its session) when the broker settings did not change; a reload to another config file
-// says so in a new birth.
+// sent as history once the live ones are out again (io/mqtt/history_sender). A reload
+// keeps the client (and its session) when the broker settings did not change; a reload to
+// another config file says so in a new birth.
 
 #include <cstdint>
 #include <memory>

@@ -26,11 +26,6 @@ bool same_client(const config::Config& a, const config::Config& b) {
   return a.sparkplug.has_value() == b.sparkplug.has_value() && (!a.sparkplug || a.sparkplug->same_client(*b.sparkplug));
 }
 
-// How the log's peer warnings name the broker, one count per broker.
-std::string broker_of(const config::SparkplugConfig& config) {
-  return fmt::format("{}:{}", config.endpoint.host, config.endpoint.port);
-}
-
 std::uint64_t now_ms() {
   return static_cast<std::uint64_t>(
       std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::system_clock::now().time_since_epoch()).count());
@@ -140,7 +135,7 @@ void SparkplugService::take_message(std::string_view topic, std::string_view pay
         });
         break;
       case sparkplug::HostVerdict::from_the_future:
-        platform::warn_from_peer("sparkplug: STATE from the future", broker_of(config), "sparkplug: a STATE of primary host {} "
+        platform::warn_from_peer("sparkplug: STATE from the future", client_->options().broker(), "sparkplug: a STATE of primary host {} "
                                  "stamped more than {} s ahead of this clock, ignored", platform::log_safe(config.primary_host),
                                  sparkplug::max_host_clock_lead_ms / 1000);
         break;
@@ -163,7 +158,7 @@ void SparkplugService::take_command(std::string_view device, std::string_view to
   const auto& running = *runtime_.banks;
   const auto& config = *running.config.sparkplug;
   const auto command = session_->command(device, payload, running.value_model, config.commands);
-  const auto broker = broker_of(config);
+  const auto broker = client_->options().broker();
   if (!command.malformed.empty()) {
     platform::warn_from_peer("sparkplug: malformed commands", broker, "sparkplug: a malformed command on {}, ignored: {}", topic,
                              command.malformed);
