@@ -8,8 +8,9 @@
 //
 // One thread, not a pool: the gateways have two cores and the loop needs one of them; a
 // second worker thread would only let a flood of logins or handshakes take the loop's core
-// too. It runs at nice 19, so that where the two compete for a core the loop wins. The
-// queue is bounded: a job beyond `capacity` is refused, and the caller says what that means.
+// too. It runs below the loop's priority, so that where the two compete for a core the loop
+// wins (Priority). The queue is bounded: a job beyond `capacity` is refused, and the caller
+// says what that means.
 //
 // A job runs on the worker and is destroyed there: it must hold nothing that may only die on
 // the loop (a connection is kept alive by its completion, which never leaves the loop's
@@ -30,7 +31,18 @@ class CpuWorker {
   using Job = std::function<void()>;
   using Done = std::function<void()>;
 
-  CpuWorker(asio::io_context& io, std::size_t capacity);
+  /// How the worker's thread stands against the loop and the box's other programs.
+  enum class Priority {
+    /// nice 19: work an attacker may ask for at will and nobody waits on in real time
+    /// (password hashes, a file's sync): it gets what the box leaves over.
+    background,
+    /// nice 5: work a real client waits on against a deadline (TLS handshakes, issue 43):
+    /// the loop still wins three to one on a shared core, but a box busy with other
+    /// programs leaves it a share instead of the crumbs nice 19 gets.
+    beside_the_loop,
+  };
+
+  CpuWorker(asio::io_context& io, std::size_t capacity, Priority priority = Priority::background);
   ~CpuWorker();
   CpuWorker(const CpuWorker&) = delete;
   CpuWorker& operator=(const CpuWorker&) = delete;
