@@ -3,6 +3,7 @@
 // file:line:column of the line that is wrong, the key, and what to do; warnings are
 // `file:line:column: warning: …`, `check` still exits 0, and the daemon logs them at start.
 
+#include <fmt/format.h>
 #include <signal.h>
 
 #include <algorithm>
@@ -62,6 +63,24 @@ TEST_F(ConfigMessages, ALineIndentedUnlikeItsSiblingsSaysWhereItSeemsToBelong) {
             std::string::npos)
       << result.output;
   expect_refused_start(yaml, ":" + line + ":4: this line is indented by 3 spaces");
+}
+
+// Issue 44, finding 1: the installed config with a `modbus: { rtu: … }` block pasted at its
+// end gave a TCP-only bridge, `check` saying OK. Both refuse it, naming both positions.
+TEST_F(ConfigMessages, ASectionWrittenTwiceIsRefusedByCheckAndTheDaemonNamingBoth) {
+  const auto yaml = config.yaml() + "modbus:\n  rtu: { device: /dev/null }\n";
+  const auto count_lines = [&](std::size_t end) {
+    return std::count(yaml.begin(), yaml.begin() + static_cast<long>(end), '\n') + 1;
+  };
+  const auto first = count_lines(yaml.find("modbus:"));
+  const auto second = count_lines(yaml.rfind("modbus:"));
+  ASSERT_LT(first, second);
+  const auto expected = fmt::format(":{}:1: 'modbus' is written twice in this mapping (first at line {}, column 1); "
+                                    "only one would count: merge the two", second, first);
+  const auto result = check(yaml);
+  EXPECT_EQ(result.status, 1) << result.output;
+  EXPECT_NE(result.output.find(file() + expected), std::string::npos) << result.output;
+  expect_refused_start(yaml, expected);
 }
 
 TEST_F(ConfigMessages, EveryPemKeyIsCheckedAtItsLineSayingWhatIsWrong) {
