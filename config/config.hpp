@@ -332,6 +332,7 @@ struct HostPath {
     log_file,         // the daemon appends there: never through a symbolic link (monitor/log_path)
     state_file,       // the daemon reads and rewrites there: a regular file, or nothing yet
     serial_device,    // the daemon opens it, and retries while it cannot: a warning when it is not there
+    secret_file,      // the daemon reads its first line at start (a password): an error when it cannot
     certificate,      // PEM files the daemon loads at start (tls/pem_check): an error when unusable,
     private_key,      //   a warning when a certificate has expired
     ca_certificates,

@@ -246,6 +246,8 @@ void parse_broker_connection(ParseState& state, const YAML::Node& node, std::str
   if (!s.password_file.empty() && s.username.empty())
     yaml.fail(node["password_file"], fmt::format("{0}.password_file needs {0}.username", section));
   using Use = HostPath::Use;
+  if (!s.password_file.empty())
+    note_host_path(state, Use::secret_file, node["password_file"], std::string(section) + ".password_file", s.password_file);
   for (const auto& [key, use, file] : {std::tuple{"ca", Use::ca_certificates, &s.ca},
                                        std::tuple{"certificate", Use::certificate, &s.certificate},
                                        std::tuple{"key", Use::private_key, &s.key}}) {

@@ -4,6 +4,8 @@
 // (config/network_sections.cpp reads them alike): one place that turns them into
 // MqttClientOptions and reads the password file.
 
+#include <cerrno>
+#include <cstring>
 #include <fstream>
 #include <stdexcept>
 #include <string>
@@ -18,7 +20,7 @@ namespace unima::io {
 /// The first line of a password file, without its line end; `section` names it in errors.
 inline std::string password_of(const std::string& path, std::string_view section) {
   std::ifstream file(path);
-  if (!file) throw std::runtime_error(fmt::format("{}.password_file {}: cannot be read", section, path));
+  if (!file) throw std::runtime_error(fmt::format("{}.password_file {}: cannot be read: {}", section, path, std::strerror(errno)));
   std::string line;
   std::getline(file, line);
   if (!line.empty() && line.back() == '\r') line.pop_back();

@@ -83,6 +83,37 @@ TEST_F(ConfigMessages, ASectionWrittenTwiceIsRefusedByCheckAndTheDaemonNamingBot
   expect_refused_start(yaml, expected);
 }
 
+// Issue 44, finding 2: `check` and the daemon agree on the files a config names. A missing
+// MQTT password file is refused by both at its key (the daemon said "cannot be read", no
+// line, no reason); a state file in a directory that is not there is a warning in both,
+// and the daemon makes the directory (it exited without key or line).
+TEST_F(ConfigMessages, CheckAndTheDaemonAgreeOnAMissingPasswordFileAndAMissingStateDirectory) {
+  const auto password = (dir.path() / "mqtt.pass").string();
+  config.extra = "mqtt:\n  broker: 'mqtt://127.0.0.1:1'\n  username: site\n  password_file: " + password + "\n";
+  auto yaml = config.yaml();
+  const auto line = std::count(yaml.begin(), yaml.begin() + static_cast<long>(yaml.find("  password_file:")), '\n') + 1;
+  const auto refused = fmt::format(":{}:18: mqtt.password_file: {}: no such file: correct the path, or put the file there",
+                                   line, password);
+  auto result = check(yaml);
+  EXPECT_EQ(result.status, 1) << result.output;
+  EXPECT_NE(result.output.find(file() + refused), std::string::npos) << result.output;
+  expect_refused_start(yaml, refused);
+
+  const auto typo = dir.path() / "unima-brige";
+  config.extra = "state:\n  file: " + (typo / "state").string() + "\n";
+  yaml = config.yaml();
+  const auto warned = fmt::format("state.file: {}: the directory {} is not there; the daemon makes it at start",
+                                  (typo / "state").string(), typo.string());
+  result = check(yaml);
+  EXPECT_EQ(result.status, 0) << result.output;
+  EXPECT_NE(result.output.find(warned), std::string::npos) << result.output;
+  test_support::write_file(file(), yaml);
+  daemon = std::make_unique<Daemon>(dir, yaml);
+  ASSERT_TRUE(wait_for_port(config.modbus_port)) << daemon->log();
+  EXPECT_NE(daemon->log().find(warned), std::string::npos) << daemon->log();
+  EXPECT_TRUE(eventually([&] { return fs::is_regular_file(typo / "state"); })) << daemon->log();
+}
+
 TEST_F(ConfigMessages, EveryPemKeyIsCheckedAtItsLineSayingWhatIsWrong) {
   const auto tls = [&](const std::string& certificate, const std::string& key) {
     return with_modbus("  tls:\n    port: " + std::to_string(free_port()) + "\n    certificate: " + certificate +

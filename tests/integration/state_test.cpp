@@ -254,13 +254,16 @@ TEST_F(State, FileNoneKeepsNothing) {
   EXPECT_FALSE(std::filesystem::exists(state_file()));
 }
 
+// Its directory cannot be made: a regular file stands where it would go. (A directory that
+// is merely not there is made, with a warning: config_messages_test.)
 TEST_F(State, AStateFileThatCannotBeWrittenIsAStartUpErrorNamingIt) {
-  config.extra = "state: { file: " + (dir.path() / "no-such-dir" / "state").string() + " }\n";
+  test_support::write_file(dir.path() / "not-a-dir", "a file\n");
+  const auto path = (dir.path() / "not-a-dir" / "state").string();
+  config.extra = "state: { file: " + path + " }\n";
   daemon = std::make_unique<Daemon>(dir, config.yaml());
   ASSERT_TRUE(eventually([&] { return !daemon->running(); }));
   EXPECT_NE(daemon->exit_code(), 0);
-  EXPECT_NE(daemon->log().find("state file " + (dir.path() / "no-such-dir" / "state").string()), std::string::npos)
-      << daemon->log();
+  EXPECT_NE(daemon->log().find("state file " + path), std::string::npos) << daemon->log();
 }
 
 // A disk that refuses the state file's writes (issue 29, row 2): tests/integration/state_outage.hpp.
