@@ -1,5 +1,9 @@
 #include "io/http/http_server.hpp"
 
+#include <netinet/in.h>
+#include <netinet/tcp.h>
+#include <sys/socket.h>
+
 #include <algorithm>
 #include <array>
 #include <optional>
@@ -9,6 +13,7 @@
 #include "io/handshake_admission.hpp"
 #include "platform/beast.hpp"
 #include "platform/peer_warnings.hpp"
+#include "web/connection_eviction.hpp"
 
 namespace unima::io {
 
@@ -23,6 +28,16 @@ constexpr std::uint32_t max_header_bytes = 8 * 1024;
 using PlainStream = beast::tcp_stream;
 using TlsStream = beast::ssl_stream<beast::tcp_stream>;
 
+// After the socket turned readable: whether the client's end came (its FIN or a reset), not
+// only bytes. Asked of the kernel, so that nothing is read that the stream (or TLS) must
+// read later.
+bool client_left(tcp::socket& socket) {
+  tcp_info info{};
+  socklen_t size = sizeof info;
+  if (::getsockopt(socket.native_handle(), IPPROTO_TCP, TCP_INFO, &info, &size) != 0) return true;
+  return info.tcpi_state != TCP_ESTABLISHED;
+}
+
 }  // namespace
 
 // What the server keeps of a connection, whatever its stream.
@@ -32,6 +47,9 @@ class HttpServer::ConnectionBase : public web::EventSink {
   virtual void close() = 0;
   Clock::time_point last_activity() const { return last_activity_; }
   const std::string& peer() const { return peer_; }
+  /// A request read and not yet answered (its gate deciding, its answer being written):
+  /// the connection is not idle, whenever it last sent something.
+  bool request_in_progress() const { return request_in_progress_; }
   /// An HTTPS connection's place among the handshakes its port allows (tls::HandshakeLimiter).
   void hold(tls::HandshakeSlot handshake) { handshake_ = std::move(handshake); }
 
@@ -39,6 +57,7 @@ class HttpServer::ConnectionBase : public web::EventSink {
   std::string peer_;
   tls::HandshakeSlot handshake_;  // until the handshake completes; else its end counts it failed
   Clock::time_point last_activity_ = Clock::now();
+  bool request_in_progress_ = false;
 };
 
 template <class Stream>
@@ -72,6 +91,8 @@ class HttpServer::Connection : public HttpServer::ConnectionBase, public std::en
   }
   void close() override {
     closed_ = true;
+    // Whatever the gate keeps for this request (a password check and its host's place) goes too.
+    if (auto leave = std::exchange(leave_gate_, nullptr)) leave();
     boost::system::error_code ec;
     socket_().shutdown(tcp::socket::shutdown_both, ec);
     socket_().close(ec);
@@ -105,8 +126,9 @@ class HttpServer::Connection : public HttpServer::ConnectionBase, public std::en
                        if (closed_) return;
                        if (ec == http::error::end_of_stream || ec == asio::error::eof) return finish();
                        if (ec == beast::error::timeout || ec == asio::ssl::error::stream_truncated) return finish();
-                       if (ec) return refuse(ec);
                        last_activity_ = Clock::now();
+                       request_in_progress_ = true;
+                       if (ec) return refuse(ec);
                        answer(parser_->get());
                      });
   }
@@ -133,13 +155,29 @@ class HttpServer::Connection : public HttpServer::ConnectionBase, public std::en
     if (!server_.gate_) return serve(request, std::nullopt);
     // The request stays in parser_ while the gate decides: nothing is read until it has.
     const auto authorization = request[http::field::authorization];
-    server_.gate_(std::string_view(authorization.data(), authorization.size()), peer_,
-                  [this, self = this->shared_from_this()](std::optional<HttpResponse> refusal) {
-                    // Closed meanwhile (the client went, the server stopped): nothing to answer, and
-                    // server_ may be gone.
-                    if (closed_) return;
-                    serve(parser_->get(), std::move(refusal));
-                  });
+    leave_gate_ = server_.gate_(std::string_view(authorization.data(), authorization.size()), peer_,
+                                [this, self = this->shared_from_this()](std::optional<HttpResponse> refusal) {
+                                  leave_gate_ = nullptr;
+                                  // Closed meanwhile (the server stopped): nothing to answer, and
+                                  // server_ may be gone.
+                                  if (closed_) return;
+                                  boost::system::error_code ec;
+                                  socket_().cancel(ec);  // the watch for the client's leaving
+                                  serve(parser_->get(), std::move(refusal));
+                                });
+    if (leave_gate_) watch_while_gated();
+  }
+
+  // While the gate decides nothing is read, but a client that leaves is seen, and what the
+  // gate kept for it let go (issue 43, finding 7: the check of a client long gone kept its
+  // host's place). Bytes that come meanwhile (a next request, a TLS record) stay in the
+  // socket for the stream to read after the answer; its end behind them is seen only if it
+  // came with them, else the wait ends with the verdict, as it always did.
+  void watch_while_gated() {
+    socket_().async_wait(tcp::socket::wait_read, [this, self = this->shared_from_this()](const boost::system::error_code& ec) {
+      if (closed_ || !leave_gate_ || ec == asio::error::operation_aborted) return;
+      if (ec || client_left(socket_())) finish();
+    });
   }
 
   void serve(const http::request<http::string_body>& request, std::optional<HttpResponse> result) {
@@ -171,6 +209,8 @@ class HttpServer::Connection : public HttpServer::ConnectionBase, public std::en
     http::async_write(stream_, *response_, [this, self = this->shared_from_this(), keep_alive](const boost::system::error_code& ec, std::size_t) {
       if (closed_) return;
       if (ec) return finish();
+      request_in_progress_ = false;
+      last_activity_ = Clock::now();
       if (!keep_alive) return say_goodbye();
       read();
     });
@@ -190,6 +230,7 @@ class HttpServer::Connection : public HttpServer::ConnectionBase, public std::en
                              [this, self = this->shared_from_this(), header, serializer, head_only](const boost::system::error_code& ec, std::size_t) {
                                if (closed_) return;
                                if (ec || head_only) return finish();
+                               request_in_progress_ = false;  // the stream's events come unasked
                                streaming_ = true;
                                last_activity_ = Clock::now();
                                if (!queued_.empty() && !writing_) write_queued();
@@ -243,6 +284,7 @@ class HttpServer::Connection : public HttpServer::ConnectionBase, public std::en
   }
 
   HttpServer& server_;
+  HttpGateLeave leave_gate_;  // while the gate has this request's `done`
   Stream stream_;
   beast::flat_buffer buffer_{max_header_bytes + 1024};
   std::optional<http::request_parser<http::string_body>> parser_;
@@ -289,26 +331,35 @@ void HttpServer::stop() {
 }
 
 void HttpServer::adopt(tcp::socket socket) {
-  // Before any eviction: a refused handshake must not cost another client its connection.
+  boost::system::error_code ec;
+  const auto remote = socket.remote_endpoint(ec);
+  if (ec) return;  // gone already
+  const auto peer = remote.address().to_string() + ":" + std::to_string(remote.port());
+  std::shared_ptr<ConnectionBase> evicted;
+  if (connections_.size() >= options_.max_clients && !(evicted = connection_to_evict())) {
+    platform::warn_from_peer("http: new clients turned away", peer,
+                             "http: {} connections is the limit and each has a request in progress: {} turned away",
+                             options_.max_clients, peer);
+    socket.close(ec);
+    return;
+  }
+  // Before the eviction: a refused handshake must not cost another client its connection.
   tls::HandshakeSlot handshake;
   if (options_.tls && options_.handshakes) {
-    boost::system::error_code ec;
-    const auto remote = socket.remote_endpoint(ec);
-    if (ec) return;  // gone already
-    auto admitted = admit_handshake(options_.handshakes, remote.address(),
-                                    remote.address().to_string() + ":" + std::to_string(remote.port()), "https");
+    auto admitted = admit_handshake(options_.handshakes, remote.address(), peer, "https");
     if (!admitted) {
       socket.close(ec);
       return;
     }
     handshake = std::move(*admitted);
   }
-  if (const auto idlest = connections_.size() >= options_.max_clients ? connections_.idlest() : nullptr) {
-    platform::warn_from_peer("http: connections closed for a new client", idlest->peer(),
-                             "http: {} connections is the limit: closing {}, the longest idle, for a new client",
-                             options_.max_clients, idlest->peer());
-    idlest->close();
-    connections_.forget(idlest.get());
+  if (evicted) {
+    platform::warn_from_peer("http: connections closed for a new client", evicted->peer(),
+                             "http: {} connections is the limit: closing {}, idle the longest of its host's, which holds "
+                             "the most, for a new client",
+                             options_.max_clients, evicted->peer());
+    evicted->close();
+    connections_.forget(evicted.get());
   }
   std::shared_ptr<ConnectionBase> connection;
   if (options_.tls)
@@ -318,6 +369,16 @@ void HttpServer::adopt(tcp::socket socket) {
   connection->hold(std::move(handshake));
   connections_.add(connection);
   connection->start();
+}
+
+std::shared_ptr<HttpServer::ConnectionBase> HttpServer::connection_to_evict() const {
+  const auto open = connections_.copy();
+  std::vector<web::OpenConnection> seen;
+  seen.reserve(open.size());
+  for (const auto& connection : open)
+    seen.push_back({platform::peer_host(connection->peer()), connection->last_activity(), connection->request_in_progress()});
+  const auto chosen = web::connection_to_evict(seen);
+  return chosen ? open[*chosen] : nullptr;
 }
 
 void HttpServer::forget(ConnectionBase* connection) { connections_.forget(connection); }

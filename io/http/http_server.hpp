@@ -5,7 +5,9 @@
 // limits a technician's browser or a scraper must live with: request headers up to 8 KiB
 // and no body, a deadline for each request (and for the TLS handshake; an idle keep-alive
 // connection is closed by it too), and at most `max_clients` connections — one more
-// closes the one idle the longest (SPEC §10's slow-client rules).
+// closes one that web::connection_to_evict chooses (never one with a request in
+// progress; one of the host holding the most), or is closed itself when each has a
+// request in progress (SPEC §10's slow-client rules, issue 43).
 
 #include <chrono>
 #include <cstdint>
@@ -54,10 +56,14 @@ using HttpHandler = std::function<HttpResponse(std::string_view target)>;
 /// The gate's verdict on a request: nullopt lets it through, a response (401, 429, 503)
 /// goes instead.
 using HttpGateDone = std::function<void(std::optional<HttpResponse> refusal)>;
+/// Called when a connection goes while the gate has its `done` (the client left, the
+/// server stopped, closed): `done` must then never run, and what it waited for is let go.
+using HttpGateLeave = std::function<void()>;
 /// Asked before every request is answered, with its Authorization header (empty when
 /// none) and the peer; calls `done` at once or later, from the loop (a password check is
-/// computed elsewhere). The connection waits for it, reading nothing more.
-using HttpGate = std::function<void(std::string_view authorization, const std::string& peer, HttpGateDone done)>;
+/// computed elsewhere). The connection waits for it, reading nothing more, but sees its
+/// client leave. Returns how to leave when `done` is kept for later; empty when it ran.
+using HttpGate = std::function<HttpGateLeave(std::string_view authorization, const std::string& peer, HttpGateDone done)>;
 
 class HttpServer {
  public:
@@ -82,6 +88,8 @@ class HttpServer {
 
  private:
   void adopt(asio::ip::tcp::socket socket);
+  /// Full: the connection that web::connection_to_evict chooses to close; null when none may go.
+  std::shared_ptr<ConnectionBase> connection_to_evict() const;
   void forget(ConnectionBase* connection);
 
   HttpOptions options_;

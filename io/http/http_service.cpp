@@ -1,5 +1,7 @@
 #include "io/http/http_service.hpp"
 
+#include <algorithm>
+
 #include <spdlog/spdlog.h>
 
 #include "io/handshake_admission.hpp"
@@ -47,7 +49,7 @@ std::unique_ptr<HttpServer> HttpService::serve(const HttpOptions& options) {
   try {
     auto server = std::make_unique<HttpServer>(runtime_.io, options, [this](std::string_view target) { return answers_.answer(target); });
     server->set_gate([this](std::string_view authorization, const std::string& peer, HttpGateDone done) {
-      gate(authorization, peer, std::move(done));
+      return gate(authorization, peer, std::move(done));
     });
     return server;
   } catch (const boost::system::system_error& e) {
@@ -72,21 +74,25 @@ std::optional<web::BasicAuth> HttpService::read_users(const config::Config& conf
 
 // Answered on the loop when no hash is needed; else the hash is computed by the worker and
 // the request answered when it is back (checked()). web::LoginLimits decides who may start one.
-void HttpService::gate(std::string_view authorization, const std::string& peer, HttpGateDone done) {
-  if (!users_) return done(std::nullopt);
+HttpGateLeave HttpService::gate(std::string_view authorization, const std::string& peer, HttpGateDone done) {
+  // Answered here and now: the connection has nothing to leave.
+  const auto answer = [&done](std::optional<HttpResponse> refusal) -> HttpGateLeave {
+    done(std::move(refusal));
+    return nullptr;
+  };
+  if (!users_) return answer(std::nullopt);
   auto judgement = users_->judge(authorization);
   switch (judgement.verdict) {
     case web::BasicAuth::Verdict::allowed:
-      return done(std::nullopt);
+      return answer(std::nullopt);
     case web::BasicAuth::Verdict::refused:
-      return done(unauthorized(peer, !authorization.empty()));
+      return answer(unauthorized(peer, !authorization.empty()));
     case web::BasicAuth::Verdict::check:
       break;
   }
   if (const auto same = checks_.find(authorization); same != checks_.end()) {
     web::forget_password(judgement.check->password);
-    same->second.waiting.push_back({peer, std::move(done)});
-    return;
+    return wait_for(same->second, peer, std::move(done));
   }
   const std::string host(platform::peer_host(peer));
   const auto retry_after = std::to_string(web::LoginLimits::retry_after.count());
@@ -99,24 +105,47 @@ void HttpService::gate(std::string_view authorization, const std::string& peer, 
       platform::warn_from_peer("http: logins refused as too many from one host", peer,
                                "http: {} asks for more password checks than {} at once and {} a second: told to wait", peer,
                                login_limits_.options().checks_per_host, login_limits_.options().host_rate);
-      return done(HttpResponse{429, text_type, "too many logins from your address: try again in a second\n",
-                               {{"Retry-After", retry_after}}, {}});
+      return answer(HttpResponse{429, text_type, "too many logins from your address: try again in a second\n",
+                                 {{"Retry-After", retry_after}}, {}});
     case web::LoginLimits::Admission::busy:
       ++login_counters_.busy;
       web::forget_password(judgement.check->password);
       platform::warn_from_peer("http: logins refused as too many at once", peer,
                                "http: {} password checks are waiting already: {} told to come back", login_limits_.options().checks,
                                peer);
-      return done(HttpResponse{503, text_type, "too many logins at once: try again in a second\n", {{"Retry-After", retry_after}}, {}});
+      return answer(HttpResponse{503, text_type, "too many logins at once: try again in a second\n", {{"Retry-After", retry_after}}, {}});
   }
   ++login_counters_.checked;
   auto& pending = checks_[std::string(authorization)];
   pending.host = host;
   pending.users_generation = users_generation_;
-  pending.waiting.push_back({peer, std::move(done)});
   pending.check = std::move(*judgement.check);
-  passwords_.check(std::move(pending.check.password), pending.check.hash,
-                   [this, header = std::string(authorization)](bool hash_matched) { checked(header, hash_matched); });
+  pending.ticket = passwords_.check(std::move(pending.check.password), pending.check.hash,
+                                    [this, header = std::string(authorization)](bool hash_matched) { checked(header, hash_matched); });
+  return wait_for(pending, peer, std::move(done));
+}
+
+HttpGateLeave HttpService::wait_for(PendingCheck& pending, const std::string& peer, HttpGateDone done) {
+  const auto id = next_waiter_++;
+  pending.waiting.push_back({id, peer, std::move(done)});
+  return [this, id] { left(id); };
+}
+
+// A check nobody waits for any more is not worth its hash, nor its host's place: a client
+// that left (or was closed) would keep its host from logging in again until the hash came
+// back (issue 43, finding 7).
+void HttpService::left(std::uint64_t id) {
+  for (auto pending = checks_.begin(); pending != checks_.end(); ++pending) {
+    auto& waiting = pending->second.waiting;
+    const auto waiter = std::find_if(waiting.begin(), waiting.end(), [id](const auto& w) { return w.id == id; });
+    if (waiter == waiting.end()) continue;
+    waiting.erase(waiter);
+    if (!waiting.empty()) return;
+    pending->second.ticket.abandon();
+    login_limits_.release(pending->second.host);
+    checks_.erase(pending);
+    return;
+  }
 }
 
 void HttpService::checked(const std::string& authorization, bool hash_matched) {

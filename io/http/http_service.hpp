@@ -38,12 +38,18 @@ class HttpService final : public Service {
   void describe(status::Document& status) const override;
 
  private:
+  struct PendingCheck;
   std::unique_ptr<HttpServer> make_server(const config::Config& config);
   std::unique_ptr<HttpServer> serve(const HttpOptions& options);
   /// `config`'s users; nullopt when it has none. Throws when they cannot be read, unless
   /// the running config named the same file: then the users read before stay, logged.
   std::optional<web::BasicAuth> read_users(const config::Config& config) const;
-  void gate(std::string_view authorization, const std::string& peer, HttpGateDone done);
+  HttpGateLeave gate(std::string_view authorization, const std::string& peer, HttpGateDone done);
+  /// `done` waits in `pending`; the connection leaves with what this returns.
+  HttpGateLeave wait_for(PendingCheck& pending, const std::string& peer, HttpGateDone done);
+  /// The connection of waiter `id` went: its check is abandoned, and its host's place given
+  /// back, when nobody else waits for it.
+  void left(std::uint64_t id);
   void checked(const std::string& authorization, bool hash_matched);
   HttpResponse unauthorized(const std::string& peer, bool gave_credentials);
   void heartbeat();
@@ -62,15 +68,18 @@ class HttpService final : public Service {
   // the same new header wait for the one hash.
   struct PendingCheck {
     web::PasswordCheck check;
+    PasswordWorker::Ticket ticket;
     std::string host;
     std::uint64_t users_generation = 0;
     struct Waiter {
+      std::uint64_t id = 0;
       std::string peer;
       HttpGateDone done;
     };
     std::vector<Waiter> waiting;
   };
   std::map<std::string, PendingCheck, std::less<>> checks_;
+  std::uint64_t next_waiter_ = 0;
   struct LoginCounters {
     std::uint64_t checked = 0;        // hashes computed
     std::uint64_t wrong = 0;          // credentials given and refused (401)

@@ -9,9 +9,12 @@
 //
 // `done` runs on the loop, never after the worker is gone: the destructor waits for the
 // hash being computed (a bcrypt of cost 12 takes ~0.25 s) and drops what is queued (their
-// passwords overwritten), and a verdict posted before then is dropped.
+// passwords overwritten), and a verdict posted before then is dropped. A check whose
+// client went is abandoned (issue 43, finding 7): still queued, its hash is never computed;
+// either way its `done` never runs.
 
 #include <functional>
+#include <memory>
 #include <string>
 
 #include "io/cpu_worker.hpp"
@@ -23,11 +26,25 @@ class PasswordWorker {
  public:
   using Done = std::function<void(bool hash_matched)>;
 
+  struct Check;
+  /// A check handed over. It outlives the worker safely: abandon() after the worker is
+  /// gone does nothing.
+  class Ticket {
+   public:
+    Ticket() = default;
+    explicit Ticket(std::shared_ptr<Check> check) : check_(std::move(check)) {}
+    /// Its `done` will not run, and its hash is not computed unless it is already.
+    void abandon();
+
+   private:
+    std::shared_ptr<Check> check_;
+  };
+
   explicit PasswordWorker(asio::io_context& io);
 
   /// Computes web::hash_matches(password, hash) on the worker; `done` with its answer on
   /// the loop. The password is overwritten once used.
-  void check(std::string password, std::string hash, Done done);
+  Ticket check(std::string password, std::string hash, Done done);
   /// Checks handed over whose `done` has not run yet.
   std::size_t pending() const { return worker_.pending(); }
 
