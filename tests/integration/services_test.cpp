@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <fstream>
 #include <memory>
 #include <string>
@@ -209,8 +210,12 @@ TEST_F(Services, HttpKeepsTheUsersReadBeforeWhenTheirFileCannotBeReadAgain) {
 TEST_F(Services, AnMqttClientWhosePasswordCannotBeReadRefusesTheReloadAndTheRunningOneStays) {
   auto rt = runtime(load("mqtt: { broker: \"mqtt://127.0.0.1:1\", client_id: site-1 }\n"));
   MqttService mqtt(*rt);
+  // The file is there when the config is checked (config/host_check refuses it otherwise)
+  // and gone when the service stages it.
+  test_support::write_file(path("missing"), "secret\n");
   const auto banks =
       next(*rt, load("mqtt: { broker: \"mqtt://127.0.0.1:1\", client_id: site-2, username: tech, password_file: " + path("missing") + " }\n"));
+  std::filesystem::remove(path("missing"));
   EXPECT_THROW(mqtt.stage(*banks), std::runtime_error);
   mqtt.abandon();
   EXPECT_EQ(described(mqtt)["mqtt"]["client_id"], "site-1");
