@@ -155,7 +155,7 @@ void MqttClient::stop() {
 }
 
 bool MqttClient::backlogged() const {
-  return connected_ && (mosquitto_want_write(mosq_) || unacknowledged_.size() >= in_flight_window);
+  return connected_ && (mosquitto_want_write(mosq_) || window_full());
 }
 
 void MqttClient::hold_reading(bool held) {

@@ -79,6 +79,8 @@ class MqttClient {
   void on_acknowledged(std::function<void(int mid)> handler) { on_acknowledged_ = std::move(handler); }
   /// QoS 1 messages sent and not acknowledged yet, at most; more wait inside libmosquitto.
   static constexpr std::size_t in_flight_window = 256;
+  /// A full window of QoS 1 messages waits for the broker's acknowledgement.
+  bool window_full() const { return unacknowledged_.size() >= in_flight_window; }
   /// True while what was published has not all gone to the socket, or a full window of it
   /// waits for the broker's acknowledgement (a slow broker): the caller publishes its
   /// latest state later instead of queueing more.

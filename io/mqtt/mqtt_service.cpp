@@ -51,9 +51,11 @@ std::unique_ptr<MqttClient> MqttService::make_client(const config::Config& confi
     if (history_) history_->end();
     history_waits_ = history_ != nullptr;
     publish();
+    send_answers();  // those that waited for a window the lost connection never freed
   });
   client->on_acknowledged([this](int mid) {
     if (history_) history_->acknowledged(mid);
+    send_answers();
   });
   if (m.commands)
     client->subscribe(m.topic + "/set/#", [this](const MqttMessage& message) { take_command(message); },
@@ -109,10 +111,11 @@ void MqttService::carry_out(const MqttMessage& message) {
   const auto result_topic = prefix + "/set/result";
   const auto answer = [this, result_topic, topic = std::string(topic), response_topic = allowed_response_topic(message),
                        correlation = message.correlation_data](const std::string& error) {
-    if (!client_) return;
-    const auto result = mqtt::command_result(topic, error);
-    if (!response_topic.empty() && client_->publish_response(response_topic, result, correlation)) return;
-    client_->publish(result_topic, result, false);
+    answers_.push_back([this, result_topic, response_topic, correlation, result = mqtt::command_result(topic, error)] {
+      if (!response_topic.empty() && client_->publish_response(response_topic, result, correlation)) return;
+      client_->publish(result_topic, result, false);
+    });
+    send_answers();
   };
   const auto parsed = mqtt::parse_command(topic.substr(set.size()), payload);
   if (const auto* error = std::get_if<std::string>(&parsed)) return answer(*error);
@@ -138,6 +141,15 @@ void MqttService::carry_out(const MqttMessage& message) {
     command_flow_.answered();
     follow_command_flow();
   });
+}
+
+void MqttService::send_answers() {
+  if (!client_) return answers_.clear();
+  while (!answers_.empty() && !client_->window_full()) {
+    const auto send = std::move(answers_.front());
+    answers_.pop_front();
+    send();
+  }
 }
 
 void MqttService::follow_command_flow() {

@@ -20,6 +20,7 @@
 
 #include <cstdint>
 #include <deque>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -62,6 +63,10 @@ class MqttService final : public Service {
   /// out then, a slice per turn of the loop.
   void follow_command_flow();
   void carry_out_later_commands();
+  /// Publishes the answers that wait while the client's window has room: an answer never
+  /// waits inside libmosquitto, whose every read takes as many packets as it holds
+  /// messages (a burst's answers there made one read carry out thousands of commands).
+  void send_answers();
   std::string allowed_response_topic(const MqttMessage& message);
   std::string birth() const;
   /// Documents go to the history buffer instead of the broker.
@@ -88,6 +93,7 @@ class MqttService final : public Service {
   };
   std::deque<LaterCommand> later_commands_;
   bool carrying_out_later_ = false;  // a slice of them is posted
+  std::deque<std::function<void()>> answers_;  // in the order the commands were answered
   // Staged by a reload:
   bool new_client_ = false;
   std::unique_ptr<MqttClient> next_client_;  // null with new_client_: no more MQTT
