@@ -82,10 +82,12 @@ class Bench:
             process.wait()
         subprocess.run(["rm", "-rf", str(self.work)], check=False)
 
-    def broker(self):
+    def broker(self, extra=""):
+        """`extra`: more lines of mosquitto.conf."""
         self.broker_port = free_port()
         conf = self.work / "broker.conf"
-        conf.write_text(f"listener {self.broker_port} 127.0.0.1\nallow_anonymous true\npersistence false\nlog_dest none\n")
+        conf.write_text(f"listener {self.broker_port} 127.0.0.1\nallow_anonymous true\npersistence false\nlog_dest none\n"
+                        + extra)
         self.spawn(["mosquitto", "-c", str(conf)], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
         wait_for_port(self.broker_port, "mosquitto")
         # A subscriber to everything the bridges publish: MQTT's documents and Sparkplug's.

@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <mutex>
+#include <utility>
 
 #include <spdlog/spdlog.h>
 
@@ -58,9 +59,13 @@ mosquitto* MqttClient::make_handle() {
   auto* mosq = mosquitto_new(options_.client_id.c_str(), true, this);
   if (mosq == nullptr) throw std::runtime_error("mqtt: libmosquitto cannot make a client: " + reason(MOSQ_ERR_ERRNO));
   mosquitto_int_option(mosq, MOSQ_OPT_PROTOCOL_VERSION, options_.version == 5 ? MQTT_PROTOCOL_V5 : MQTT_PROTOCOL_V311);
-  // Every message goes to the socket at once, so that a broker that does not keep up
-  // shows as a socket that wants writing (backlogged()), not as a queue inside the library.
-  mosquitto_max_inflight_messages_set(mosq, 0);
+  // A bounded window of QoS 1 messages in flight: libmosquitto walks the whole list of
+  // messages it holds at every PUBACK, and with no bound a burst of commands answered
+  // faster than the broker acknowledged them (its PUBACKs queued behind the commands it
+  // still had for us) made that list tens of thousands long — seconds of the loop
+  // (issue 43, finding 6). Past the window messages wait inside the library, which
+  // backlogged() reports, as it does a socket that wants writing.
+  mosquitto_max_inflight_messages_set(mosq, static_cast<unsigned>(in_flight_window));
   const std::string offline = "offline";
   if (!options_.status_topic.empty())
     mosquitto_will_set(mosq, options_.status_topic.c_str(), static_cast<int>(offline.size()), offline.data(), 1, true);
@@ -79,6 +84,7 @@ mosquitto* MqttClient::make_handle() {
   mosquitto_disconnect_callback_set(mosq, [](mosquitto*, void* self, int rc) { static_cast<MqttClient*>(self)->handle_disconnect(rc); });
   mosquitto_publish_callback_set(mosq, [](mosquitto*, void* self, int mid) {
     auto& client = *static_cast<MqttClient*>(self);
+    client.unacknowledged_.erase(mid);
     if (client.on_acknowledged_) client.on_acknowledged_(mid);
   });
   // The v5 callback serves 3.1.1 too (without properties).
@@ -148,15 +154,24 @@ void MqttClient::stop() {
   release_socket();
 }
 
-bool MqttClient::backlogged() const { return connected_ && mosquitto_want_write(mosq_); }
+bool MqttClient::backlogged() const {
+  return connected_ && (mosquitto_want_write(mosq_) || window_full());
+}
+
+void MqttClient::hold_reading(bool held) {
+  if (std::exchange(held_, held) == held) return;
+  if (!held) watch();
+}
 
 bool MqttClient::publish(const std::string& topic, std::string_view payload, bool retain) {
   return connected_ && send(topic, payload, retain);
 }
 
 bool MqttClient::send(const std::string& topic, std::string_view payload, bool retain) {
-  const int rc = mosquitto_publish(mosq_, nullptr, topic.c_str(), static_cast<int>(payload.size()), payload.data(), 1, retain);
+  int mid = 0;
+  const int rc = mosquitto_publish(mosq_, &mid, topic.c_str(), static_cast<int>(payload.size()), payload.data(), 1, retain);
   if (rc != MOSQ_ERR_SUCCESS) return false;
+  unacknowledged_.insert(mid);
   ++counters_.published;
   watch();
   return true;
@@ -170,10 +185,12 @@ bool MqttClient::publish_response(const std::string& topic, std::string_view pay
                                     static_cast<std::uint16_t>(correlation_data.size())) != MOSQ_ERR_SUCCESS)
     return false;
   // A topic with wildcards, or not UTF-8, is refused here (MOSQ_ERR_INVALID), not sent.
-  const int rc = mosquitto_publish_v5(mosq_, nullptr, topic.c_str(), static_cast<int>(payload.size()), payload.data(), 1,
+  int mid = 0;
+  const int rc = mosquitto_publish_v5(mosq_, &mid, topic.c_str(), static_cast<int>(payload.size()), payload.data(), 1,
                                       false, properties);
   mosquitto_property_free_all(&properties);
   if (rc != MOSQ_ERR_SUCCESS) return false;
+  unacknowledged_.insert(mid);
   ++counters_.published;
   watch();
   return true;
@@ -193,6 +210,7 @@ std::optional<int> MqttClient::publish_acknowledged(const std::string& topic, st
   int mid = 0;
   const int rc = mosquitto_publish(mosq_, &mid, topic.c_str(), static_cast<int>(payload.size()), payload.data(), 1, false);
   if (rc != MOSQ_ERR_SUCCESS) return std::nullopt;
+  unacknowledged_.insert(mid);
   ++counters_.published;
   watch();
   return mid;
@@ -233,12 +251,13 @@ void MqttClient::connect_now(const std::string& host) {
 
 void MqttClient::watch() {
   if (!socket_) return;
-  if (!reading_) {
+  if (!reading_ && !held_) {
     reading_ = true;
     socket_->async_wait(asio::posix::stream_descriptor::wait_read, [this, alive = alive_](const boost::system::error_code& ec) {
       if (!*alive) return;
       reading_ = false;
-      if (ec || !socket_) return;
+      // Held after the wait began: the read waits for hold_reading(false), which watches again.
+      if (ec || !socket_ || held_) return;
       after_io(mosquitto_loop_read(mosq_, 1));
     });
   }
@@ -282,6 +301,7 @@ void MqttClient::lost(const std::string& why) {
   // Never inside one of libmosquitto's calls: lost() runs after they return.
   mosquitto_destroy(mosq_);
   mosq_ = make_handle();
+  unacknowledged_.clear();  // message ids are the old handle's
   last_error_ = taken_over_ ? fmt::format("the broker gave the session of client id {} to another client", options_.client_id)
                             : refusal_.empty() ? why : std::exchange(refusal_, {});
   if (!drop_logged_) {

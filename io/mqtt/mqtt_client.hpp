@@ -15,6 +15,7 @@
 // the log naming the id.
 
 #include <chrono>
+#include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -22,6 +23,7 @@
 #include <random>
 #include <string>
 #include <string_view>
+#include <unordered_set>
 #include <vector>
 
 #include "mqtt/session_takeover.hpp"
@@ -75,9 +77,19 @@ class MqttClient {
   /// queued) while not connected. Ids are of this connection only.
   std::optional<int> publish_acknowledged(const std::string& topic, std::string_view payload);
   void on_acknowledged(std::function<void(int mid)> handler) { on_acknowledged_ = std::move(handler); }
-  /// True while what was published has not all gone to the socket (a slow broker): the
-  /// caller publishes its latest state later instead of queueing more.
+  /// QoS 1 messages sent and not acknowledged yet, at most; more wait inside libmosquitto.
+  static constexpr std::size_t in_flight_window = 256;
+  /// A full window of QoS 1 messages waits for the broker's acknowledgement.
+  bool window_full() const { return unacknowledged_.size() >= in_flight_window; }
+  /// True while what was published has not all gone to the socket, or a full window of it
+  /// waits for the broker's acknowledgement (a slow broker): the caller publishes its
+  /// latest state later instead of queueing more.
   bool backlogged() const;
+  /// While held, nothing more is read from the broker's socket: the messages wait there and
+  /// in the broker (its flow control, QoS 1's included), and none read is ever dropped.
+  /// Writes and the keep-alive go on. The MQTT service holds it while too many commands
+  /// wait for their answer (mqtt/command_flow.hpp).
+  void hold_reading(bool held);
   /// An answer to an MQTT 5 request (SPEC §15): QoS 1, not retained, with the request's
   /// correlation data; false when not connected or the broker cannot take `topic`.
   bool publish_response(const std::string& topic, std::string_view payload, std::string_view correlation_data);
@@ -153,6 +165,8 @@ class MqttClient {
   asio::ip::tcp::resolver resolver_;
   std::optional<asio::posix::stream_descriptor> socket_;
   bool reading_ = false;
+  bool held_ = false;  // hold_reading
+  std::unordered_set<int> unacknowledged_;  // message ids of QoS 1 publishes on this handle
   bool writing_ = false;
   asio::steady_timer misc_timer_;   // keep-alive pings, once a second
   asio::steady_timer retry_timer_;

@@ -3,6 +3,7 @@
 // status and its will, a bank's document after feed telegrams, a device going off line,
 // and a broker that goes away and comes back while Modbus clients read.
 
+#include <algorithm>
 #include <csignal>
 #include <future>
 #include <thread>
@@ -409,6 +410,47 @@ TEST_F(Mqtt, ACommandTheStateFileRefusesChangesNothingAndItsResultSaysWhy) {
   EXPECT_EQ(payloads(results.lines(), "fleet/site-17/set/result")[1], R"({"topic":"fleet/site-17/set/W/3","ok":true,"error":null})");
   // UnimaBUS: the next line after the refusal is the command that was taken.
   EXPECT_EQ(feed.read_line(), R"({"bank":"W","offset":3,"value":54322})");
+}
+
+// A burst of commands (issue 43, finding 6): every one is carried out and answered, and
+// the last value is the one Modbus reads; Modbus is served while the burst goes on;
+// the log holds a line for the first command and not one for each.
+TEST_F(Mqtt, ABurstOfCommandsAllLandsWhileModbusIsServedAndTheLogStaysShort) {
+  constexpr int commands = 5000;
+  broker.reset();
+  // The broker queues what the bridge has not read yet (it stops reading while too many
+  // commands wait): room for the whole burst, where mosquitto's default (1,000) would drop
+  // QoS 1 messages past it — the broker's policy, not the bridge's.
+  broker = std::make_unique<Broker>(dir.path(), "max_queued_messages 20000\n");
+  ASSERT_TRUE(broker->start());
+  config.extra = site_17_mqtt(*broker, true) + "state: { file: " + (dir.path() / "state").string() + " }\n";
+  start();
+  ASSERT_TRUE(eventually([&] { return broker->subscribe("fleet/site-17/status", 1, 1) == "fleet/site-17/status online\n"; }));
+  Subscription results(*broker, dir.path() / "results", "fleet/site-17/set/result");
+  const auto answered = [&] { return payloads(results.lines(), "fleet/site-17/set/result").size(); };
+  auto burst = std::async(std::launch::async, [&] {
+    return test_support::run("seq 1 " + std::to_string(commands) + " | mosquitto_pub -p " + std::to_string(broker->port()) +
+                             " -q 1 -t fleet/site-17/set/W/3 -l 2>&1");
+  });
+  ModbusClient client(config.modbus_port);
+  // Reads until every command is answered: those that went while some were answered and
+  // some were not are reads during the burst.
+  int reads_during_burst = 0;
+  ASSERT_TRUE(eventually([&] {
+    const auto before = answered();
+    if (before == static_cast<std::size_t>(commands)) return true;
+    const auto read = client.read_holding(0x0103, 1);
+    EXPECT_TRUE(read.has_value()) << client.last_error();
+    if (read && before > 0 && answered() < static_cast<std::size_t>(commands)) ++reads_during_burst;
+    return false;
+  }, 60000ms)) << answered() << " answers\n" << daemon->log();
+  EXPECT_EQ(burst.get().status, 0);
+  EXPECT_GT(reads_during_burst, 0);
+  const auto answers = payloads(results.lines(), "fleet/site-17/set/result");
+  EXPECT_EQ(std::count(answers.begin(), answers.end(), R"({"topic":"fleet/site-17/set/W/3","ok":true,"error":null})"),
+            commands);
+  EXPECT_EQ(client.read_holding(0x0103, 1), std::vector<std::uint16_t>{commands});
+  EXPECT_EQ(daemon->log_count("mqtt: fleet/site-17/set/W/3 = "), 1u) << daemon->log();
 }
 
 // commands off (the default): nothing is subscribed, nothing changes.
