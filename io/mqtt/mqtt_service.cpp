@@ -156,7 +156,10 @@ void MqttService::follow_command_flow() {
   if (client_) client_->hold_reading(!command_flow_.reading());
   if (command_flow_.reading() && !later_commands_.empty() && !carrying_out_later_) {
     carrying_out_later_ = true;
-    asio::post(runtime_.io, [this] { carry_out_later_commands(); });
+    // The service may be gone when the loop comes to it (a stop with the handler queued).
+    asio::post(runtime_.io, [this, token = guard_.token()] {
+      if (HandlerGuard::alive(token)) carry_out_later_commands();
+    });
   }
 }
 

@@ -27,6 +27,7 @@
 #include <string_view>
 #include <vector>
 
+#include "io/handler_guard.hpp"
 #include "io/mqtt/discovery_announcer.hpp"
 #include "io/mqtt/history_buffer.hpp"
 #include "io/mqtt/history_sender.hpp"
@@ -94,6 +95,7 @@ class MqttService final : public Service {
   std::deque<LaterCommand> later_commands_;
   bool carrying_out_later_ = false;  // a slice of them is posted
   std::deque<std::function<void()>> answers_;  // in the order the commands were answered
+  HandlerGuard guard_;  // last: the posted slices see it expired as soon as the service is torn down
   // Staged by a reload:
   bool new_client_ = false;
   std::unique_ptr<MqttClient> next_client_;  // null with new_client_: no more MQTT
