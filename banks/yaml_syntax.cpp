@@ -191,6 +191,42 @@ std::optional<YamlSyntaxError> tab_indented_line(const std::vector<std::string_v
   return std::nullopt;
 }
 
+// A line among the keys of a mapping that has no ':' ("address 5" between "mode: slave"
+// and "tcp: …"): yaml-cpp reads it as the start of a key and says "illegal map value" at
+// the next line's ':' (issue 44).
+std::optional<YamlSyntaxError> colonless_line(const std::vector<std::string_view>& lines, int last_line) {
+  std::optional<Entry> colonless;  // the last line without a key, at its indentation
+  int flow_depth = 0;
+  int text_above = -1;
+  for (int i = 0; i < static_cast<int>(lines.size()) && i < last_line; ++i) {
+    const auto line = lines[static_cast<std::size_t>(i)];
+    if (!structural(line) || line.starts_with("---") || line.starts_with("...")) continue;
+    const auto entry = read_entry(line, i + 1);
+    if (text_above >= 0 && entry.indent > text_above) continue;
+    text_above = -1;
+    if (flow_depth > 0) {
+      flow_depth = std::max(0, flow_depth + entry.flow_depth);
+      continue;
+    }
+    flow_depth = std::max(0, entry.flow_depth);
+    if (entry.scalar_block) text_above = entry.item_indent;
+    if (!entry.key.empty() && colonless && colonless->indent == entry.indent) {
+      const auto content = without_comment(lines[static_cast<std::size_t>(colonless->number - 1)]
+                                               .substr(static_cast<std::size_t>(colonless->indent)));
+      const auto space = content.find(' ');
+      const auto fix = space == std::string_view::npos
+                           ? fmt::format("'{}:'", content)
+                           : fmt::format("'{}: {}'", content.substr(0, space), content.substr(space + 1));
+      return YamlSyntaxError{colonless->number, colonless->indent + 1,
+                             fmt::format("this line has no ':' after its key, unlike '{}' on line {}: write {}",
+                                         entry.key, entry.number, fix)};
+    }
+    colonless.reset();
+    if (entry.key.empty() && !entry.item && entry.flow_depth == 0) colonless = entry;
+  }
+  return std::nullopt;
+}
+
 }  // namespace
 
 YamlSyntaxError explain_yaml_syntax_error(std::string_view text, int line, int column, std::string_view parser_message) {
@@ -199,6 +235,7 @@ YamlSyntaxError explain_yaml_syntax_error(std::string_view text, int line, int c
   const int last_line = line + 2;
   if (auto tab = tab_indented_line(lines, last_line)) return *tab;
   if (auto misindented = misindented_line(lines, last_line)) return *misindented;
+  if (auto colonless = colonless_line(lines, last_line)) return *colonless;
   return {line + 1, column + 1, std::string(parser_message)};
 }
 

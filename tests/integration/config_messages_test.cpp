@@ -114,6 +114,18 @@ TEST_F(ConfigMessages, CheckAndTheDaemonAgreeOnAMissingPasswordFileAndAMissingSt
   EXPECT_TRUE(eventually([&] { return fs::is_regular_file(typo / "state"); })) << daemon->log();
 }
 
+// Issue 44, finding 2: a ':' left out gave yaml-cpp's "illegal map value" one line late.
+TEST_F(ConfigMessages, AKeyWithoutItsColonIsNamedAtItsOwnLineByCheckAndTheDaemon) {
+  const auto yaml = with_modbus("  mode slave\n  rtu: { device: /dev/null }\n");
+  const auto line = std::count(yaml.begin(), yaml.begin() + static_cast<long>(yaml.find("  mode slave")), '\n') + 1;
+  const auto expected = fmt::format(":{}:3: this line has no ':' after its key, unlike 'rtu' on line {}: write 'mode: slave'",
+                                    line, line + 1);
+  const auto result = check(yaml);
+  EXPECT_EQ(result.status, 1) << result.output;
+  EXPECT_NE(result.output.find(file() + expected), std::string::npos) << result.output;
+  expect_refused_start(yaml, expected);
+}
+
 TEST_F(ConfigMessages, EveryPemKeyIsCheckedAtItsLineSayingWhatIsWrong) {
   const auto tls = [&](const std::string& certificate, const std::string& key) {
     return with_modbus("  tls:\n    port: " + std::to_string(free_port()) + "\n    certificate: " + certificate +
