@@ -238,6 +238,7 @@ struct HttpConfig {
   unsigned max_clients = 16;
   std::optional<HttpTlsConfig> tls;  // HTTPS instead of HTTP
   std::string users;                 // htpasswd-style file for basic authentication; empty: none
+  std::string users_origin;          // "file:line:col" of http.users, for its file's errors
   std::string origin;                // "file:line:col" of http, for errors found at start
   std::string port_origin;           // "file:line:col" of http.port, else of http
 };

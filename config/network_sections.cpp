@@ -191,7 +191,11 @@ void parse_http(ParseState& state, const YAML::Node& node) {
     h.tls = t;
   }
   if (const auto users = node["users"]) {
+    if (!users.IsScalar())
+      yaml.fail(users, "http.users must be the path of a file of name:password-hash lines, not the users themselves "
+                       "(docs/security.md: make the hashes with `openssl passwd -6`)");
     h.users = yaml.text(users);
+    h.users_origin = yaml.position(users);
     if (h.users.empty()) yaml.fail(users, "http.users must be the path of a file of name:password-hash lines");
   }
   state.config.http = h;

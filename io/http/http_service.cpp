@@ -61,7 +61,7 @@ std::unique_ptr<HttpServer> HttpService::serve(const HttpOptions& options) {
 std::optional<web::BasicAuth> HttpService::read_users(const config::Config& config) const {
   if (!config.http || config.http->users.empty()) return std::nullopt;
   try {
-    return web::BasicAuth::load(config.http->users);
+    return web::BasicAuth::load(config.http->users, config.http->users_origin);
   } catch (const std::exception& e) {
     const auto& running = runtime_.config();
     if (users_ && running.http && running.http->users == config.http->users) {

@@ -555,6 +555,13 @@ TEST(YamlReader, ExpectKeysAndPositions) {
 }
 
 // http (SPEC §13): HTTPS and users, and what a bridge open beyond loopback is warned of.
+// Issue 44, finding 2: the users written in the config instead of a file's path.
+TEST(ConfigErrors, HttpUsersWrittenInPlaceOfTheirFileSayWhatIsMeant) {
+  EXPECT_EQ(load_error("http:\n  listen: 127.0.0.1\n  users:\n    alice: x\n"),
+            "cfg.yaml:4:5: http.users must be the path of a file of name:password-hash lines, not the users themselves "
+            "(docs/security.md: make the hashes with `openssl passwd -6`)");
+}
+
 TEST(ConfigLoad, HttpTlsAndUsers) {
   // The parse alone: the PEM files are check_on_host's (config_host_test).
   const auto c = parse_text("http:\n  listen: 0.0.0.0\n  port: 8443\n  users: /etc/u\n"
