@@ -48,7 +48,7 @@ PropertySet unit_property(const std::string& unit) {
 DataType data_type_of(const ValueDef& def) {
   if (def.type == ValueType::boolean) return DataType::Boolean;
   if (def.type == ValueType::text) return DataType::String;
-  if (def.decoding == Decoding::pair32) return def.scale == 1.0 ? DataType::UInt32 : DataType::Double;
+  if (def.decoding == Decoding::pair32) return def.scale == 1.0 ? DataType::UInt64 : DataType::Double;
   if (def.scale != 1.0) return DataType::Float;
   if (def.decoding == Decoding::byte_field) return DataType::UInt8;
   return def.is_signed ? DataType::Int16 : DataType::UInt16;

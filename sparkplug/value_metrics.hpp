@@ -8,7 +8,10 @@
 //   a bit, a mapped bit (B, C's user bits),      Boolean
 //   a bit of X (x.0 … x.15)
 //   an ASCII pair                                String
-//   a 32-bit pair, scale 1                       UInt32  (int_value)
+//   a 32-bit pair, scale 1                       UInt64  (long_value: a UInt32 in int_value,
+//                                                        as the specification puts it, is
+//                                                        null to Eclipse Tahu's JS codec,
+//                                                        which reads long_value — Tahu #397)
 //   a 32-bit pair, scaled                        Double  (a Float's 24 bits would round
 //                                                        operating hours past 16.7 million)
 //   any other number with a scale other than 1   Float   (16 bits of raw × scale fit it)

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <csignal>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <thread>
@@ -81,18 +82,22 @@ class Sparkplug : public BridgeTest {
     return std::make_unique<Subscription>(*broker, dir.path() / ("tap-" + std::to_string(++taps_)), "spBv1.0/#", true);
   }
 
+  /// A file of what `subscription` took so far, a line per message: "<topic> <hex>".
+  std::filesystem::path taken_lines(const Subscription& subscription) const {
+    const auto lines = dir.path() / "lines";
+    std::ofstream out(lines);
+    // Whole lines only: the subscriber may be writing the last one (a birth's hex is long).
+    auto taken = subscription.lines();
+    taken.erase(taken.find_last_of('\n') == std::string::npos ? 0 : taken.find_last_of('\n') + 1);
+    std::istringstream in(taken);
+    for (std::string line; std::getline(in, line);)
+      if (line.starts_with("spBv1.0/")) out << line << "\n";
+    return lines;
+  }
+
   /// What `subscription` took so far, decoded by the independent decoder (one run for all).
   std::vector<Message> messages(const Subscription& subscription) const {
-    const auto lines = dir.path() / "lines";
-    {
-      std::ofstream out(lines);
-      // Whole lines only: the subscriber may be writing the last one (a birth's hex is long).
-      auto taken = subscription.lines();
-      taken.erase(taken.find_last_of('\n') == std::string::npos ? 0 : taken.find_last_of('\n') + 1);
-      std::istringstream in(taken);
-      for (std::string line; std::getline(in, line);)
-        if (line.starts_with("spBv1.0/")) out << line << "\n";
-    }
+    const auto lines = taken_lines(subscription);
     const auto script =
         "import json, sys\n"
         "sys.path.insert(0, '" UNIMA_SOURCE_DIR "/tests/support')\n"
@@ -129,6 +134,20 @@ class Sparkplug : public BridgeTest {
         }
       return false;
     }, timeout);
+    return found;
+  }
+
+  /// What `subscription` took so far as Eclipse Tahu's JavaScript codec reads it
+  /// (tests/support/tahu_decode.js): per message its metrics, name → {type, value}.
+  std::vector<Message> tahu_messages(const Subscription& subscription) const {
+    const auto decoded = run("node " UNIMA_SOURCE_DIR "/tests/support/tahu_decode.js " + taken_lines(subscription).string());
+    EXPECT_EQ(decoded.status, 0) << decoded.output;
+    std::vector<Message> found;
+    std::istringstream in(decoded.output);
+    for (std::string line; std::getline(in, line);) {
+      const auto object = json::parse(line);
+      found.push_back({object["topic"], object.contains("error") ? json{{"error", object["error"]}} : object["payload"]});
+    }
     return found;
   }
 
@@ -253,6 +272,94 @@ TEST_F(Sparkplug, AFedChangeIsDdataAndSeqWrapsFrom255To0) {
     wrapped = wrapped || (seq == 0 && all[i].topic != nbirth);
   }
   EXPECT_TRUE(wrapped);
+}
+
+// Every host must read a metric as the bridge means it. Eclipse Tahu's JavaScript codec
+// (Node-RED's Sparkplug nodes) decodes each metric of a DBIRTH and of a DDATA to the value
+// the bridge's MQTT document of the same bank carries: the 32-bit counters past 2^31 too,
+// which it read as null while they were UInt32 in int_value (Tahu #397).
+TEST_F(Sparkplug, TahusCodecReadsEveryMetricOfABirthAndADdataAsTheMqttDocumentCarriesIt) {
+  config.banks = "{ D1: 0x0011, D2: 0x0200 }";
+  config.devices = "{ D1: { type: unigen-chp, address: 5 }, D2: { type: uis, address: 6 } }";
+  config.extra += test_support::site_17_mqtt(*broker);
+  const auto t = tap();
+  std::vector<std::unique_ptr<Subscription>> documents;
+  for (const auto* bank : {"D1", "D2"})
+    documents.push_back(std::make_unique<Subscription>(*broker, dir.path() / (std::string("doc-") + bank), std::string("fleet/site-17/") + bank));
+  start_with();
+  ASSERT_TRUE(wait_for(*t, nbirth)) << daemon->log();
+
+  // The newest document of a bank, once it holds `ready`.
+  const auto document = [&](std::size_t bank, const std::function<bool(const json&)>& ready) {
+    json newest;
+    eventually([&] {
+      const auto all = test_support::payloads(documents[bank]->lines(), std::string("fleet/site-17/") + (bank ? "D2" : "D1"));
+      if (all.empty()) return false;
+      newest = json::parse(all.back());
+      return ready(newest);
+    }, 6000ms);
+    return newest;
+  };
+  // Each metric as Tahu read it against the document: the same value (a Float as the
+  // float the document's number is), null where the document has null.
+  const auto expect_read_alike = [](const json& payload, const json& doc, const std::string& what) {
+    ASSERT_TRUE(payload.contains("metrics")) << what << ": " << payload.dump();
+    ASSERT_FALSE(payload["metrics"].empty()) << what;
+    for (const auto& m : payload["metrics"]) {
+      const std::string name = m["name"];
+      ASSERT_TRUE(doc.contains(name)) << what << ": " << name << " is in no document: " << doc.dump();
+      const auto& mine = doc[name];
+      const auto& tahus = m["value"];
+      if (mine.is_null()) {
+        EXPECT_TRUE(tahus.is_null()) << what << " " << name << ": " << tahus;
+      } else if (m["type"] == "Float") {
+        ASSERT_TRUE(tahus.is_number()) << what << " " << name << " (" << m["type"] << "): " << tahus << ", the document " << mine;
+        EXPECT_EQ(static_cast<float>(tahus.get<double>()), static_cast<float>(mine.get<double>())) << what << " " << name;
+      } else {
+        EXPECT_EQ(tahus, mine) << what << " " << name << " (" << m["type"] << ")";
+      }
+    }
+  };
+
+  // Every register of both tables, all kinds of value; the counters' high words past 0x8000
+  // make them more than 2^31.
+  auto feed = feed_client();
+  const auto telegram = [](int address, unsigned seed) {
+    std::string values;
+    for (unsigned offset = 0; offset < 64; ++offset)
+      values += (offset ? "," : "") + std::to_string((offset * 7919u + seed) % 0x10000u | (offset % 4 == 3 ? 0x8000u : 0u));
+    return R"({"addr":)" + std::to_string(address) + R"(,"slot":0,"offset":0,"values":[)" + values + "]}";
+  };
+  feed_and_wait(feed, telegram(5, 1234), 0x0011 + 63, static_cast<std::uint16_t>((63 * 7919u + 1234) % 0x10000u | 0x8000u));
+  feed_and_wait(feed, telegram(6, 4321), 0x0200 + 63, static_cast<std::uint16_t>((63 * 7919u + 4321) % 0x10000u | 0x8000u));
+  for (std::size_t bank = 0; bank < 2; ++bank) {
+    const std::string name = bank ? "D2" : "D1";
+    const auto birth_topic = device("DBIRTH", name);
+    ASSERT_TRUE(wait_for(*t, birth_topic)) << daemon->log();
+    const auto doc = document(bank, [](const json& d) { return d["online"] == true; });
+    json birth;
+    for (const auto& m : tahu_messages(*t))
+      if (m.topic == birth_topic) birth = m.payload;
+    ASSERT_FALSE(birth.contains("error")) << birth.dump();
+    expect_read_alike(birth, doc, name + "'s DBIRTH");
+    if (bank == 0) {
+      ASSERT_TRUE(doc["operating_hours"].is_number()) << doc.dump();
+      EXPECT_GT(doc["operating_hours"].get<double>(), 2147483648.0) << "a counter past 2^31 is read too";
+    }
+  }
+
+  // A second telegram changes every register: the DDATA carries what changed.
+  feed_and_wait(feed, telegram(5, 999), 0x0011 + 63, static_cast<std::uint16_t>((63 * 7919u + 999) % 0x10000u | 0x8000u));
+  const auto changed = [](const json& d) { return d["engine_speed"] == (1 * 7919u + 999) % 0x10000u; };
+  const auto doc = document(0, changed);
+  ASSERT_TRUE(changed(doc)) << doc.dump();
+  ASSERT_TRUE(wait_for(*t, device("DDATA", "D1"))) << daemon->log();
+  json data;
+  for (const auto& m : tahu_messages(*t))
+    if (m.topic == device("DDATA", "D1")) data = m.payload;
+  ASSERT_FALSE(data.contains("error")) << data.dump();
+  expect_read_alike(data, doc, "D1's DDATA");
+  EXPECT_GE(data["metrics"].size(), 10u) << data.dump();
 }
 
 TEST_F(Sparkplug, AKilledBridgesWillIsItsNdeathWithTheBirthsBdSeqWhichGrowsAcrossRestarts) {

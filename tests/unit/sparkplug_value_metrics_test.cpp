@@ -70,8 +70,8 @@ TEST_F(SparkplugValueMetrics, EachKindOfValueHasItsDatatypeAndReading) {
   EXPECT_FALSE(speed.is_null.has_value());
 
   const auto& hours = find(d1, "operating_hours");
-  EXPECT_EQ(hours.datatype, DataType::UInt32);
-  EXPECT_EQ(hours.value, MetricValue(std::uint32_t{2 * 65536 + 16}));
+  EXPECT_EQ(hours.datatype, DataType::UInt64) << "read alike by the specification and Tahu's codecs";
+  EXPECT_EQ(hours.value, MetricValue(std::uint64_t{2 * 65536 + 16}));
   EXPECT_EQ(unit_of(hours), "s");
 
   const auto& power = find(d1, "mains_active_power");
