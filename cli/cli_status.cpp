@@ -8,8 +8,10 @@
 #include <cerrno>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <optional>
+#include <string_view>
 #include <thread>
 
 #include <fmt/format.h>
@@ -75,7 +77,21 @@ Answer ask(const std::string& path) {
   return answer;
 }
 
-std::string led(bool on) { return on ? "[*]" : "[ ]"; }
+enum class Paint { none, lit, problem, warning };
+
+// `text` in the colour its meaning takes (SGR: green, bold red, yellow), when colour is on.
+std::string painted(const std::string& text, Paint paint, PanelStyle style) {
+  if (!style.colour || paint == Paint::none) return text;
+  const char* sgr = paint == Paint::lit ? "32" : paint == Paint::problem ? "1;31" : "33";
+  return fmt::format("\033[{}m{}\033[0m", sgr, text);
+}
+
+std::string led(bool on, PanelStyle style, Paint lit = Paint::lit) { return on ? painted("[*]", lit, style) : "[ ]"; }
+
+// "1 value", "2 values": a count with its noun.
+std::string counted_as(std::uint64_t count, const char* noun, const char* nouns) {
+  return fmt::format("{} {}", count, count == 1 ? noun : nouns);
+}
 
 std::string ago(const status::Activity& activity, const char* what) {
   if (!activity.last_ms_ago) return fmt::format("no {} yet", what);
@@ -106,7 +122,7 @@ std::string wait_ms(double value) { return value >= 10 ? fmt::format("{:.0f}", v
 
 // modbus.gateway (SPEC §14): one row per unit a client has asked for, the silent ones
 // saying since when.
-std::string render_gateway(const master::GatewayStatus& g) {
+std::string render_gateway(const master::GatewayStatus& g, PanelStyle style) {
   std::string out = fmt::format("Gateway     units {}, wait {} ms, timeout {}, cache {}\n", g.routes, g.wait_ms,
                                 g.timeout_ms ? fmt::format("{} ms", *g.timeout_ms) : std::string("the device's"),
                                 g.cache_ms > 0 ? fmt::format("{} ms", g.cache_ms) : std::string("off"));
@@ -114,7 +130,7 @@ std::string render_gateway(const master::GatewayStatus& g) {
   out += "  unit  requests  answered  exceptions  timeouts  bad  busy  cached  queue  wait ms last/mean/max  state\n";
   for (const auto& u : g.units) {
     const auto& w = u.wait_ms;
-    const auto state = u.since ? "not answering since " + *u.since : u.state;
+    const auto state = u.since ? painted("not answering since " + *u.since, Paint::problem, style) : u.state;
     out += fmt::format("  {:>4} {:>9} {:>9} {:>11} {:>9} {:>4} {:>5} {:>7} {:>6}  {:>20}  {}\n", u.unit, u.requests, u.answered,
                        u.exceptions, u.timeouts, u.bad_frames, u.busy, u.cache_hits, u.queue_depth,
                        wait_ms(w.last) + "/" + wait_ms(w.mean) + "/" + wait_ms(w.max), state);
@@ -124,26 +140,34 @@ std::string render_gateway(const master::GatewayStatus& g) {
 
 }  // namespace
 
-std::string render_status_panel(const status::Document& s) {
+bool colour_on_stdout() {
+  const char* no_colour = std::getenv("NO_COLOR");
+  const char* term = std::getenv("TERM");
+  return ::isatty(STDOUT_FILENO) != 0 && (no_colour == nullptr || *no_colour == '\0') &&
+         (term == nullptr || std::string_view(term) != "dumb");
+}
+
+std::string render_status_panel(const status::Document& s, PanelStyle style) {
   const auto& bridge = required(s.bridge, "pid");
   const auto& modbus = required(s.modbus, "modbus");
   const auto& bus = required(s.unimabus, "unimabus");
   std::string out;
   out += fmt::format("unima-bridge  {} mode  Modbus address {}  UnimaBUS address {}  up {}\n", bridge.mode,
                      bridge.modbus_address, bridge.unimabus_address, uptime(bridge.uptime_s));
-  out += fmt::format("  Modbus    {}  {}\n", led(modbus.active), ago(modbus, "frame sent"));
-  out += fmt::format("  UnimaBUS  {}  {} ({} transport)\n", led(bus.led.active), ago(bus.led, "telegram received"),
+  out += fmt::format("  Modbus    {}  {}\n", led(modbus.active, style), ago(modbus, "frame sent"));
+  out += fmt::format("  UnimaBUS  {}  {} ({} transport)\n", led(bus.led.active, style), ago(bus.led, "telegram received"),
                      bus.transport);
-  out += fmt::format("  Error     {}  {}\n", led(bridge.error),
-                     bridge.error ? "Modbus fault (C+0x13 bit 15; clears 2 s after the last one)" : "no fault in the last 2 s");
+  out += fmt::format("  Error     {}  {}\n", led(bridge.error, style, Paint::problem),
+                     bridge.error ? painted("Modbus fault (C+0x13 bit 15; clears 2 s after the last one)", Paint::problem, style)
+                                  : "no fault in the last 2 s");
   out += " ";
   for (const auto& d : required(s.devices, "devices")) {
     if (!d.type) out += fmt::format(" {} -  ", d.bank);
-    else out += fmt::format(" {} {} {}@{}  ", d.bank, led(d.online), *d.type, d.address.value_or(0));
+    else out += fmt::format(" {} {} {}@{}  ", d.bank, led(d.online, style), *d.type, d.address.value_or(0));
   }
   out += "\n ";
   for (const auto& m : required(s.modules, "modules"))
-    out += fmt::format(" {} {}", m.bank, led(m.online));
+    out += fmt::format(" {} {}", m.bank, led(m.online, style));
   out += "\n";
 
   out += "Capture indicators\n";
@@ -161,14 +185,21 @@ std::string render_status_panel(const status::Document& s) {
   const auto& ports = s.ports;
   if (ports.empty()) out += "  none\n";
   for (const auto& p : ports) {
-    out += fmt::format("  {:<8} {:>8} {:>7} {:>7} {:>7} {:>7} {:>7} {:>7} {:>8} {:>8}", p.port, p.transactions,
-                       state_count(p, "Done"), state_count(p, "Not4Me"), state_count(p, "Err01"), state_count(p, "Err02"),
-                       state_count(p, "Err03"), state_count(p, "Err04"), state_count(p, "Timeout"), counted(p.clients));
+    // An exception or a time-out counted is what an operator looks for: in colour, once padded.
+    const auto cell = [&](const char* state, std::size_t width, Paint paint) {
+      const auto count = state_count(p, state);
+      const auto padded = fmt::format("{:>{}}", count, width);
+      return count == "-" || count == "0" ? padded : painted(padded, paint, style);
+    };
+    out += fmt::format("  {:<8} {:>8} {:>7} {:>7} {} {} {} {} {} {:>8}", p.port, p.transactions, state_count(p, "Done"),
+                       state_count(p, "Not4Me"), cell("Err01", 7, Paint::problem), cell("Err02", 7, Paint::problem),
+                       cell("Err03", 7, Paint::problem), cell("Err04", 7, Paint::problem), cell("Timeout", 8, Paint::warning),
+                       counted(p.clients));
     if (p.listen) out += "  " + *p.listen;
     out += "\n";
   }
 
-  if (s.gateway) out += render_gateway(*s.gateway);
+  if (s.gateway) out += render_gateway(*s.gateway, style);
 
   const auto& m = required(s.monitor, "monitor");
   std::string where = m.file.value_or("");
@@ -177,27 +208,36 @@ std::string render_status_panel(const status::Document& s) {
     out += "Monitor     off (set monitor.file)\n";
   } else {
     out += fmt::format("Monitor     {} ({}), filter {}\n", where, m.format, m.filter);
-    out += fmt::format("            {} lines written, {} dropped\n", m.written, m.dropped);
+    out += fmt::format("            {} written, {}\n", counted_as(m.written, "line", "lines"),
+                       painted(fmt::format("{} dropped", m.dropped), m.dropped ? Paint::warning : Paint::none, style));
   }
   if (const auto& state = s.state) {
     const auto& st = *state;
     if (!st.file) out += "State       off (state.file: none): writes are not kept across a restart\n";
     else
-      out += fmt::format("State       {}: {} values recorded in {} syncs, {} failed\n", *st.file, st.records, st.syncs, st.failures);
+      out += fmt::format("State       {}: {} recorded in {}, {}\n", *st.file, counted_as(st.records, "value", "values"),
+                         counted_as(st.syncs, "sync", "syncs"),
+                         painted(fmt::format("{} failed", st.failures), st.failures ? Paint::problem : Paint::none, style));
   }
   if (const auto& mqtt = s.mqtt) {
     const auto& q = *mqtt;
     if (q.connected)
       out += fmt::format("MQTT        connected to {} since {} as {}, topic {}/…\n", q.broker, q.since, q.client_id, q.topic);
     else
-      out += fmt::format("MQTT        not connected to {} since {}: {}\n", q.broker, q.since, q.last_error.value_or("connecting"));
-    out += fmt::format("            {} messages published, {} connections, {} dropped\n", q.published, q.connections, q.drops);
+      out += painted(fmt::format("MQTT        not connected to {} since {}: {}", q.broker, q.since, q.last_error.value_or("connecting")),
+                     Paint::problem, style) +
+             "\n";
+    out += fmt::format("            {} published, {}, {} dropped\n", counted_as(q.published, "message", "messages"),
+                       counted_as(q.connections, "connection", "connections"), q.drops);
     if (q.last_takeover)
-      out += fmt::format("            session taken over by another client with this id {} times, last at {}\n",
-                         q.session_takeovers, *q.last_takeover);
+      out += painted(fmt::format("            session taken over by another client with this id {}, last at {}",
+                                 counted_as(q.session_takeovers, "time", "times"), *q.last_takeover),
+                     Paint::warning, style) +
+             "\n";
     if (const auto& b = q.buffer)
-      out += fmt::format("            history buffer {}: {} documents ({} bytes) to send, {} dropped when full, {} sent\n",
-                         b->file, b->messages, b->bytes, b->dropped, b->history_sent);
+      out += fmt::format("            history buffer {}: {} ({}) to send, {} dropped when full, {} sent\n", b->file,
+                         counted_as(b->messages, "document", "documents"), counted_as(b->bytes, "byte", "bytes"), b->dropped,
+                         b->history_sent);
     else
       out += "            no history buffer (mqtt.buffer.file: none): an outage keeps only the present values\n";
   }
@@ -208,13 +248,16 @@ std::string render_status_panel(const status::Document& s) {
       out += fmt::format("Sparkplug   {} connected to {} since {}, bdSeq {}, next seq {}\n", node, p.broker, p.since,
                          p.bdSeq ? std::to_string(*p.bdSeq) : std::string("null"), p.seq);
     else
-      out += fmt::format("Sparkplug   {} not connected to {} since {}: {}\n", node, p.broker, p.since,
-                         p.last_error.value_or("connecting"));
+      out += painted(fmt::format("Sparkplug   {} not connected to {} since {}: {}", node, p.broker, p.since,
+                                 p.last_error.value_or("connecting")),
+                     Paint::problem, style) +
+             "\n";
     if (const auto& host = p.primary_host)
       out += fmt::format("            primary host {} {}{}\n", host->name, host->state, p.born ? "" : ": births wait for it online");
     const auto& c = p.commands;
-    out += fmt::format("            {} births, {} data, {} device deaths; commands {} taken, {} refused, {} malformed\n", p.births,
-                       p.data, p.deaths, c.taken, c.refused, c.malformed);
+    out += fmt::format("            {}, {} data, {}; commands {} taken, {} refused, {} malformed\n",
+                       counted_as(p.births, "birth", "births"), p.data, counted_as(p.deaths, "device death", "device deaths"),
+                       c.taken, c.refused, c.malformed);
   }
   return out;
 }
@@ -277,7 +320,7 @@ int status_command(const std::vector<std::string>& args) {
         code = 1;
       } else {
         try {
-          out = json ? document.dump(2) + "\n" : render_status_panel(document.get<status::Document>());
+          out = json ? document.dump(2) + "\n" : render_status_panel(document.get<status::Document>(), {colour_on_stdout()});
         } catch (const std::exception& e) {  // a part absent (MissingPart) or of another shape (json::exception)
           std::fprintf(stderr, "unima-bridge status: unexpected document from %s: %s\n", socket.c_str(), e.what());
           if (!watch) return 1;

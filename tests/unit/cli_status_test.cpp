@@ -47,6 +47,37 @@ TEST(CliStatus, ThePanelShowsTheFrontPanelIndicatorsAndPortsOfTheDocument) {
       << text;
 }
 
+// A count of one is said in the singular.
+TEST(CliStatus, OneOfAThingIsSaidInTheSingular) {
+  auto document = golden_slave();
+  document["state"]["records"] = 1;
+  document["state"]["syncs"] = 1;
+  document["monitor"]["written"] = 1;
+  const auto text = render_status_panel(document.get<status::Document>());
+  EXPECT_NE(text.find(": 1 value recorded in 1 sync, 0 failed\n"), std::string::npos) << text;
+  EXPECT_TRUE(has_line(text, "            1 line written, 0 dropped")) << text;
+  document["state"]["records"] = 2;
+  EXPECT_NE(render_status_panel(document.get<status::Document>()).find(": 2 values recorded in 1 sync"), std::string::npos);
+}
+
+// On a terminal: a lit LED green, the Error LED and what needs looking at red; into a
+// pipe (the default style) not one escape sequence.
+TEST(CliStatus, OnATerminalLitLedsAreGreenAndFaultsRed) {
+  auto document = golden_slave();
+  document["modbus"]["active"] = true;
+  document["error"] = true;
+  document["ports"] = nlohmann::json::parse(R"([{"port": "tcp", "transactions": 9, "Done": 7, "Err02": 2, "clients": 1}])");
+  document["mqtt"]["connected"] = false;
+  const auto coloured = render_status_panel(document.get<status::Document>(), PanelStyle{true});
+  EXPECT_NE(coloured.find("  Modbus    \033[32m[*]\033[0m  "), std::string::npos) << coloured;
+  EXPECT_NE(coloured.find("  Error     \033[1;31m[*]\033[0m  \033[1;31mModbus fault"), std::string::npos) << coloured;
+  EXPECT_NE(coloured.find("\033[1;31m      2\033[0m"), std::string::npos) << "Err02's count: " << coloured;
+  EXPECT_NE(coloured.find("\033[1;31mMQTT        not connected to "), std::string::npos) << coloured;
+  const auto plain = render_status_panel(document.get<status::Document>());
+  EXPECT_EQ(plain.find('\033'), std::string::npos) << plain;
+  EXPECT_TRUE(has_line(plain, "  tcp             9       7       -       -       2       -       -        -        1")) << plain;
+}
+
 // A figure a port does not have is a dash, not a 0 that was never counted.
 TEST(CliStatus, APortWithoutClientsOrAStateShowsADash) {
   auto document = golden_slave();
