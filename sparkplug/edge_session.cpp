@@ -148,7 +148,7 @@ Message EdgeSession::birth_of(const DeviceReading& device, Device& state, std::u
   payload.metrics = metrics_of(*device.layout, device.values, now_ms);
   payload.seq = take_seq();
   state.born = true;
-  state.sent = device.values;
+  state.sent.assign(device.values.begin(), device.values.end());
   ++counters_.births;
   return {device_topic("DBIRTH", banks::bank_name(state.bank)), encoded(payload)};
 }
@@ -204,7 +204,7 @@ std::vector<Message> EdgeSession::step(std::span<const DeviceReading> devices, s
       payload.timestamp = now_ms;
       payload.metrics = std::move(changed);
       payload.seq = take_seq();
-      state.sent = device.values;
+      state.sent.assign(device.values.begin(), device.values.end());
       ++counters_.data;
       due.push_back({device_topic("DDATA", banks::bank_name(bank)), encoded(payload)});
     }

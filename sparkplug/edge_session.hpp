@@ -58,7 +58,7 @@ struct Message {
 /// One device (a bank of the value model) as it is now.
 struct DeviceReading {
   const values::BankValues* layout = nullptr;
-  std::vector<values::Value> values;  // ValueModel::evaluate's
+  std::span<const values::Value> values;  // ValueModel::evaluate's, kept by the caller for the step
   bool online = true;
 };
 

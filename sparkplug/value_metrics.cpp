@@ -75,6 +75,10 @@ std::vector<Metric> changed_metrics_of(const values::BankValues& layout, std::sp
                                        std::span<const values::Value> values, std::uint64_t timestamp_ms,
                                        std::span<const std::size_t> also) {
   std::vector<Metric> metrics;
+  std::size_t changed = 0;
+  for (std::size_t i = 0; i < values.size(); ++i) changed += i >= sent.size() || !(sent[i].reading == values[i].reading);
+  if (changed == 0 && also.empty()) return metrics;
+  metrics.reserve(changed + also.size());
   for (std::size_t i = 0; i < layout.values.size() && i < values.size(); ++i) {
     const auto& def = layout.values[i];
     const bool unchanged = i < sent.size() && sent[i].reading == values[i].reading;

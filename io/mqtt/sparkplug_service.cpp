@@ -232,6 +232,7 @@ void SparkplugService::publish_due() {
   const auto& running = *runtime_.banks;
   auto& current = *running.values;
   std::vector<sparkplug::DeviceReading> devices;
+  devices.reserve(running.value_model.banks().size());
   for (const auto& layout : running.value_model.banks())
     devices.push_back({&layout, current.of(layout.bank), current.snapshot()[banks::index_of(layout.bank)].online});
   for (const auto& message : session_->step(devices, now_ms())) client_->publish_at_most_once(message.topic, message.payload);

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <deque>
 
 #include "config/config.hpp"
 #include "sparkplug/edge_session.hpp"
@@ -57,13 +58,17 @@ class SparkplugEdgeSession : public ::testing::Test {
     for (unsigned n = 1; n <= 7; ++n) store.set_online(banks::module_bank(n), true);
   }
 
+  /// The devices as the service hands them to a step; their values stay with the fixture.
   std::vector<DeviceReading> devices() const {
     const auto snapshot = values::snapshot_of(store);
     std::vector<DeviceReading> all;
-    for (const auto& layout : model.banks())
-      all.push_back({&layout, model.evaluate(layout.bank, snapshot), snapshot[banks::index_of(layout.bank)].online});
+    for (const auto& layout : model.banks()) {
+      const auto& values = evaluated.emplace_back(model.evaluate(layout.bank, snapshot));
+      all.push_back({&layout, values, snapshot[banks::index_of(layout.bank)].online});
+    }
     return all;
   }
+  mutable std::deque<std::vector<values::Value>> evaluated;
 
   EdgeSession connected_session(bool primary_host = false, std::optional<std::uint64_t> last = std::nullopt) {
     EdgeSession session({"plant-7", "bridge-17", primary_host}, last);
