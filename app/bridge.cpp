@@ -8,13 +8,14 @@
 #include "io/modbus/rtu_slave_service.hpp"
 #include "io/modbus/tcp_slave_service.hpp"
 #include "io/monitor_service.hpp"
-#include "io/north/http_service.hpp"
-#include "io/north/mqtt_service.hpp"
-#include "io/north/sparkplug_service.hpp"
+#include "io/http/http_service.hpp"
+#include "io/mqtt/mqtt_service.hpp"
+#include "io/mqtt/sparkplug_service.hpp"
 #include "io/state_service.hpp"
 #include "io/status_socket_service.hpp"
 #include "io/unimabus/unimabus_service.hpp"
 #include "platform/process_memory.hpp"
+#include "status/document.hpp"
 
 namespace unima::app {
 
@@ -80,21 +81,20 @@ void Bridge::reload(config::Config config) {
 
 // What the seed's front panel and monitor LEDs show (seed 004 §8, SPEC §8) plus the
 // counters: the bridge's own part here, each service's from it.
-nlohmann::json Bridge::status() const {
+status::Document Bridge::status() const {
   const auto& config = runtime_.config();
   const auto online_bits = runtime_.banks->store->online_bits();
-  nlohmann::json doc;
-  doc["pid"] = ::getpid();
-  doc["config"] = config.file;
-  doc["uptime_s"] =
-      std::chrono::duration_cast<std::chrono::seconds>(std::chrono::steady_clock::now() - runtime_.started_at).count();
-  if (const auto rss = platform::resident_bytes()) doc["rss_bytes"] = *rss;
-  doc["mode"] = config.modbus.mode == config::ModbusMode::master ? "master" : "slave";
-  doc["modbus_address"] = config.modbus.address;
-  doc["unimabus_address"] = config.unimabus.address;
-  doc["error"] = (online_bits >> banks::c_bank::modbus_error_bit & 1) != 0;
-  doc["online_bits"] = online_bits;
-  doc["ports"] = nlohmann::json::array();
+  status::Document doc;
+  doc.bridge = status::BridgeStatus{
+      ::getpid(),
+      config.file,
+      std::chrono::duration_cast<std::chrono::seconds>(std::chrono::steady_clock::now() - runtime_.started_at).count(),
+      platform::resident_bytes(),
+      config.modbus.mode == config::ModbusMode::master ? "master" : "slave",
+      config.modbus.address,
+      config.unimabus.address,
+      (online_bits >> banks::c_bank::modbus_error_bit & 1) != 0,
+      online_bits};
   for (const auto& service : services_) service->describe(doc);
   return doc;
 }

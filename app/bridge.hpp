@@ -7,7 +7,7 @@
 #include <memory>
 #include <vector>
 
-#include <nlohmann/json.hpp>
+#include "status/document.hpp"
 
 #include "config/config.hpp"
 #include "io/runtime.hpp"
@@ -28,8 +28,9 @@ class Bridge {
   void reload(config::Config config);
 
   const config::Config& config() const { return runtime_.config(); }
-  /// The front panel and counters as one JSON document (`unima-bridge status`, /api/status).
-  nlohmann::json status() const;
+  /// The front panel and counters as one document (`unima-bridge status`, /api/status,
+  /// /metrics, the page).
+  status::Document status() const;
 
  private:
   io::Runtime runtime_;

@@ -3,7 +3,8 @@
 // (explained by banks/yaml_syntax where yaml-cpp's words do not say what is wrong), or a
 // conversion yaml-cpp refuses while `read` walks the nodes, becomes an `Error` naming
 // origin:line:column (yaml-cpp marks are 0-based, ours 1-based), like the errors `read`
-// raises itself. Shared by the device tables, the device profiles and the config loader;
+// raises itself; a key written twice in a mapping is refused with both positions
+// (banks/yaml_duplicate_keys). Shared by the device tables, the device profiles and the config loader;
 // YamlFields is what the tables' and the profiles' readers ask of a node.
 
 #include <yaml-cpp/yaml.h>
@@ -17,6 +18,7 @@
 #include <fmt/ranges.h>
 
 #include "banks/number_text.hpp"
+#include "banks/yaml_duplicate_keys.hpp"
 #include "banks/yaml_syntax.hpp"
 
 namespace unima::banks {
@@ -33,6 +35,11 @@ auto read_yaml_document(std::string_view text, std::string_view origin, Read&& r
     const auto explained = explain_yaml_syntax_error(text, e.mark.line, e.mark.column, e.msg);
     throw Error(fmt::format("{}:{}:{}: {}", origin, explained.line, explained.column, explained.message));
   }
+  if (const auto twice = first_duplicate_key(root))
+    throw Error(fmt::format("{}:{}:{}: '{}' is written twice in this mapping (first at line {}, column {}); only one "
+                            "would count: merge the two",
+                            origin, twice->second.line + 1, twice->second.column + 1, twice->key, twice->first.line + 1,
+                            twice->first.column + 1));
   try {
     return read(root);
   } catch (const YAML::Exception& e) {

@@ -107,10 +107,11 @@ std::string key_or_line(const Level& level) {
                                  : fmt::format("'{}' on line {}", level.first_key, level.first_line);
 }
 
-// The first line, up to `last_line` (1-based), indented unlike any line it could belong to.
-std::optional<YamlSyntaxError> misindented_line(const std::vector<std::string_view>& lines, int last_line) {
-  std::vector<Level> levels;
-  std::optional<Entry> previous;
+// Calls `visit` with each line that makes the block structure, up to `last_line`
+// (1-based): neither blank nor a comment, nor the text of a block scalar ("key: |"), nor the
+// inside of a { … } or [ … ] spread over lines. The first error `visit` returns ends it.
+template <typename Visit>
+std::optional<YamlSyntaxError> walk_block_entries(const std::vector<std::string_view>& lines, int last_line, Visit visit) {
   int flow_depth = 0;
   int text_above = -1;  // inside a block scalar: lines indented deeper than this are its text
   for (int i = 0; i < static_cast<int>(lines.size()) && i < last_line; ++i) {
@@ -119,10 +120,22 @@ std::optional<YamlSyntaxError> misindented_line(const std::vector<std::string_vi
     const auto entry = read_entry(line, i + 1);
     if (text_above >= 0 && entry.indent > text_above) continue;
     text_above = -1;
-    if (flow_depth > 0) {  // a { … } or [ … ] spread over lines: its inside is not indentation
-      flow_depth += entry.flow_depth;
+    if (flow_depth > 0) {
+      flow_depth = std::max(0, flow_depth + entry.flow_depth);
       continue;
     }
+    if (auto error = visit(entry)) return error;
+    flow_depth = std::max(0, entry.flow_depth);
+    if (entry.scalar_block) text_above = entry.item_indent;
+  }
+  return std::nullopt;
+}
+
+// The first line, up to `last_line` (1-based), indented unlike any line it could belong to.
+std::optional<YamlSyntaxError> misindented_line(const std::vector<std::string_view>& lines, int last_line) {
+  std::vector<Level> levels;
+  std::optional<Entry> previous;
+  return walk_block_entries(lines, last_line, [&](const Entry& entry) -> std::optional<YamlSyntaxError> {
     const auto owner_of = [&](const Entry& e) {
       if (e.key.empty()) return levels.empty() ? std::string("the top level") : levels.back().owner;
       return fmt::format("'{}'", e.key);
@@ -165,12 +178,10 @@ std::optional<YamlSyntaxError> misindented_line(const std::vector<std::string_vi
     }
     if (entry.item && !entry.key.empty())  // "- key: …" starts a mapping at the item's content
       levels.push_back({entry.item_indent, fmt::format("an item of {}", levels.back().owner), entry.number, entry.key});
-    flow_depth = entry.flow_depth > 0 ? entry.flow_depth : 0;
-    if (entry.scalar_block) text_above = entry.item_indent;
     previous = entry;
     previous->item_indent = entry.item && !entry.key.empty() ? entry.item_indent : entry.indent;
-  }
-  return std::nullopt;
+    return std::nullopt;
+  });
 }
 
 std::optional<YamlSyntaxError> tab_indented_line(const std::vector<std::string_view>& lines, int last_line) {
@@ -191,6 +202,29 @@ std::optional<YamlSyntaxError> tab_indented_line(const std::vector<std::string_v
   return std::nullopt;
 }
 
+// A line among the keys of a mapping that has no ':' ("address 5" between "mode: slave"
+// and "tcp: …"): yaml-cpp reads it as the start of a key and says "illegal map value" at
+// the next line's ':' (issue 44).
+std::optional<YamlSyntaxError> colonless_line(const std::vector<std::string_view>& lines, int last_line) {
+  std::optional<Entry> colonless;  // the last line without a key, at its indentation
+  return walk_block_entries(lines, last_line, [&](const Entry& entry) -> std::optional<YamlSyntaxError> {
+    if (!entry.key.empty() && colonless && colonless->indent == entry.indent) {
+      const auto content = without_comment(lines[static_cast<std::size_t>(colonless->number - 1)]
+                                               .substr(static_cast<std::size_t>(colonless->indent)));
+      const auto space = content.find(' ');
+      const auto fix = space == std::string_view::npos
+                           ? fmt::format("'{}:'", content)
+                           : fmt::format("'{}: {}'", content.substr(0, space), content.substr(space + 1));
+      return YamlSyntaxError{colonless->number, colonless->indent + 1,
+                             fmt::format("this line has no ':' after its key, unlike '{}' on line {}: write {}",
+                                         entry.key, entry.number, fix)};
+    }
+    colonless.reset();
+    if (entry.key.empty() && !entry.item && entry.flow_depth == 0) colonless = entry;
+    return std::nullopt;
+  });
+}
+
 }  // namespace
 
 YamlSyntaxError explain_yaml_syntax_error(std::string_view text, int line, int column, std::string_view parser_message) {
@@ -199,6 +233,7 @@ YamlSyntaxError explain_yaml_syntax_error(std::string_view text, int line, int c
   const int last_line = line + 2;
   if (auto tab = tab_indented_line(lines, last_line)) return *tab;
   if (auto misindented = misindented_line(lines, last_line)) return *misindented;
+  if (auto colonless = colonless_line(lines, last_line)) return *colonless;
   return {line + 1, column + 1, std::string(parser_message)};
 }
 

@@ -8,18 +8,17 @@
 #include <cerrno>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <optional>
+#include <string_view>
 #include <thread>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include "config/config.hpp"
-#include "master/gateway_status.hpp"
-#include "mqtt/mqtt_status.hpp"
-#include "sparkplug/edge_status.hpp"
-#include "state/state_status.hpp"
+#include "status/document.hpp"
 
 namespace unima::cli {
 
@@ -78,19 +77,44 @@ Answer ask(const std::string& path) {
   return answer;
 }
 
-std::string led(bool on) { return on ? "[*]" : "[ ]"; }
+enum class Paint { none, lit, problem, warning };
 
-std::string ago(const nlohmann::json& activity, const char* what) {
-  if (activity["last_ms_ago"].is_null()) return fmt::format("no {} yet", what);
-  return fmt::format("last {} {:.1f} s ago", what, activity["last_ms_ago"].get<double>() / 1000.0);
+// `text` in the colour its meaning takes (SGR: green, bold red, yellow), when colour is on.
+std::string painted(const std::string& text, Paint paint, PanelStyle style) {
+  if (!style.colour || paint == Paint::none) return text;
+  const char* sgr = paint == Paint::lit ? "32" : paint == Paint::problem ? "1;31" : "33";
+  return fmt::format("\033[{}m{}\033[0m", sgr, text);
 }
 
-std::string uptime(long seconds) {
+std::string led(bool on, PanelStyle style, Paint lit = Paint::lit) { return on ? painted("[*]", lit, style) : "[ ]"; }
+
+// "1 value", "2 values": a count with its noun.
+std::string counted_as(std::uint64_t count, const char* noun, const char* nouns) {
+  return fmt::format("{} {}", count, count == 1 ? noun : nouns);
+}
+
+std::string ago(const status::Activity& activity, const char* what) {
+  if (!activity.last_ms_ago) return fmt::format("no {} yet", what);
+  return fmt::format("last {} {:.1f} s ago", what, static_cast<double>(*activity.last_ms_ago) / 1000.0);
+}
+
+std::string uptime(std::int64_t seconds) {
   return fmt::format("{}h{:02}m{:02}s", seconds / 3600, seconds / 60 % 60, seconds % 60);
 }
 
-std::string counter(const nlohmann::json& port, const char* key) {
-  return port.contains(key) ? std::to_string(port[key].get<std::uint64_t>()) : "-";
+// A port's count in the table; "-" where the port has no such figure.
+std::string counted(const std::optional<std::uint64_t>& count) { return count ? std::to_string(*count) : "-"; }
+
+std::string state_count(const status::PortStatus& port, const char* state) {
+  const auto found = port.states.find(state);
+  return found == port.states.end() ? "-" : std::to_string(found->second);
+}
+
+// A part the daemon always writes: its absence is an unexpected document.
+template <class Part>
+const Part& required(const std::optional<Part>& part, const char* key) {
+  if (!part) throw MissingPart(fmt::format("it has no \"{}\"", key));
+  return *part;
 }
 
 // A wait in ms as the table shows it: whole ms from 10 up, tenths below.
@@ -98,7 +122,7 @@ std::string wait_ms(double value) { return value >= 10 ? fmt::format("{:.0f}", v
 
 // modbus.gateway (SPEC §14): one row per unit a client has asked for, the silent ones
 // saying since when.
-std::string render_gateway(const master::GatewayStatus& g) {
+std::string render_gateway(const master::GatewayStatus& g, PanelStyle style) {
   std::string out = fmt::format("Gateway     units {}, wait {} ms, timeout {}, cache {}\n", g.routes, g.wait_ms,
                                 g.timeout_ms ? fmt::format("{} ms", *g.timeout_ms) : std::string("the device's"),
                                 g.cache_ms > 0 ? fmt::format("{} ms", g.cache_ms) : std::string("off"));
@@ -106,7 +130,7 @@ std::string render_gateway(const master::GatewayStatus& g) {
   out += "  unit  requests  answered  exceptions  timeouts  bad  busy  cached  queue  wait ms last/mean/max  state\n";
   for (const auto& u : g.units) {
     const auto& w = u.wait_ms;
-    const auto state = u.since ? "not answering since " + *u.since : u.state;
+    const auto state = u.since ? painted("not answering since " + *u.since, Paint::problem, style) : u.state;
     out += fmt::format("  {:>4} {:>9} {:>9} {:>11} {:>9} {:>4} {:>5} {:>7} {:>6}  {:>20}  {}\n", u.unit, u.requests, u.answered,
                        u.exceptions, u.timeouts, u.bad_frames, u.busy, u.cache_hits, u.queue_depth,
                        wait_ms(w.last) + "/" + wait_ms(w.mean) + "/" + wait_ms(w.max), state);
@@ -116,104 +140,124 @@ std::string render_gateway(const master::GatewayStatus& g) {
 
 }  // namespace
 
-std::string render_status_panel(const nlohmann::json& s) {
+bool colour_on_stdout() {
+  const char* no_colour = std::getenv("NO_COLOR");
+  const char* term = std::getenv("TERM");
+  return ::isatty(STDOUT_FILENO) != 0 && (no_colour == nullptr || *no_colour == '\0') &&
+         (term == nullptr || std::string_view(term) != "dumb");
+}
+
+std::string render_status_panel(const status::Document& s, PanelStyle style) {
+  const auto& bridge = required(s.bridge, "pid");
+  const auto& modbus = required(s.modbus, "modbus");
+  const auto& bus = required(s.unimabus, "unimabus");
   std::string out;
-  out += fmt::format("unima-bridge  {} mode  Modbus address {}  UnimaBUS address {}  up {}\n",
-                     s["mode"].get<std::string>(), s["modbus_address"].get<int>(), s["unimabus_address"].get<int>(),
-                     uptime(s["uptime_s"].get<long>()));
-  out += fmt::format("  Modbus    {}  {}\n", led(s["modbus"]["active"].get<bool>()), ago(s["modbus"], "frame sent"));
-  out += fmt::format("  UnimaBUS  {}  {} ({} transport)\n", led(s["unimabus"]["active"].get<bool>()),
-                     ago(s["unimabus"], "telegram received"), s["unimabus"]["transport"].get<std::string>());
-  const bool error = s["error"].get<bool>();
-  out += fmt::format("  Error     {}  {}\n", led(error),
-                     error ? "Modbus fault (C+0x13 bit 15; clears 2 s after the last one)" : "no fault in the last 2 s");
+  out += fmt::format("unima-bridge  {} mode  Modbus address {}  UnimaBUS address {}  up {}\n", bridge.mode,
+                     bridge.modbus_address, bridge.unimabus_address, uptime(bridge.uptime_s));
+  out += fmt::format("  Modbus    {}  {}\n", led(modbus.active, style), ago(modbus, "frame sent"));
+  out += fmt::format("  UnimaBUS  {}  {} ({} transport)\n", led(bus.led.active, style), ago(bus.led, "telegram received"),
+                     bus.transport);
+  out += fmt::format("  Error     {}  {}\n", led(bridge.error, style, Paint::problem),
+                     bridge.error ? painted("Modbus fault (C+0x13 bit 15; clears 2 s after the last one)", Paint::problem, style)
+                                  : "no fault in the last 2 s");
   out += " ";
-  for (const auto& d : s["devices"]) {
-    if (d["type"].is_null()) out += fmt::format(" {} -  ", d["bank"].get<std::string>());
-    else
-      out += fmt::format(" {} {} {}@{}  ", d["bank"].get<std::string>(), led(d["online"].get<bool>()),
-                         d["type"].get<std::string>(), d["address"].get<int>());
+  for (const auto& d : required(s.devices, "devices")) {
+    if (!d.type) out += fmt::format(" {} -  ", d.bank);
+    else out += fmt::format(" {} {} {}@{}  ", d.bank, led(d.online, style), *d.type, d.address.value_or(0));
   }
   out += "\n ";
-  for (const auto& m : s["modules"])
-    out += fmt::format(" {} {}", m["bank"].get<std::string>(), led(m["online"].get<bool>()));
+  for (const auto& m : required(s.modules, "modules"))
+    out += fmt::format(" {} {}", m.bank, led(m.online, style));
   out += "\n";
 
   out += "Capture indicators\n";
-  if (s["indicators"].empty()) out += "  none configured (monitor.indicators)\n";
+  const auto& indicators = required(s.indicators, "indicators");
+  if (indicators.empty()) out += "  none configured (monitor.indicators)\n";
   int n = 1;
-  for (const auto& i : s["indicators"]) {
-    out += fmt::format("  {}  Ad={:<3} Reg=0x{:04X}  ", n++, i["address"].get<int>(), i["register"].get<int>());
-    if (i["value"].is_null()) {
-      out += "-\n";
-    } else {
-      const auto value = i["value"].get<int>();
-      out += fmt::format("0x{:04X} ({:5})  {:<5}  {}\n", value, value, i["access"].get<std::string>(),
-                         i["time"].get<std::string>());
-    }
+  for (const auto& i : indicators) {
+    out += fmt::format("  {}  Ad={:<3} Reg=0x{:04X}  ", n++, i.address, i.reg);
+    if (!i.value) out += "-\n";
+    else
+      out += fmt::format("0x{:04X} ({:5})  {:<5}  {}\n", *i.value, *i.value, i.access.value_or(""), i.time.value_or(""));
   }
 
   out += "Port        frames    Done  Not4Me   Err01   Err02   Err03   Err04  Timeout  clients\n";
-  if (s["ports"].empty()) out += "  none\n";
-  for (const auto& p : s["ports"]) {
-    out += fmt::format("  {:<8} {:>8} {:>7} {:>7} {:>7} {:>7} {:>7} {:>7} {:>8} {:>8}", p["port"].get<std::string>(),
-                       counter(p, "transactions"), counter(p, "Done"), counter(p, "Not4Me"), counter(p, "Err01"),
-                       counter(p, "Err02"), counter(p, "Err03"), counter(p, "Err04"), counter(p, "Timeout"),
-                       counter(p, "clients"));
-    if (p.contains("listen")) out += "  " + p["listen"].get<std::string>();
+  const auto& ports = s.ports;
+  if (ports.empty()) out += "  none\n";
+  for (const auto& p : ports) {
+    // An exception or a time-out counted is what an operator looks for: in colour, once padded.
+    const auto cell = [&](const char* state, std::size_t width, Paint paint) {
+      const auto count = state_count(p, state);
+      const auto padded = fmt::format("{:>{}}", count, width);
+      return count == "-" || count == "0" ? padded : painted(padded, paint, style);
+    };
+    out += fmt::format("  {:<8} {:>8} {:>7} {:>7} {} {} {} {} {} {:>8}", p.port, p.transactions, state_count(p, "Done"),
+                       state_count(p, "Not4Me"), cell("Err01", 7, Paint::problem), cell("Err02", 7, Paint::problem),
+                       cell("Err03", 7, Paint::problem), cell("Err04", 7, Paint::problem), cell("Timeout", 8, Paint::warning),
+                       counted(p.clients));
+    if (p.listen) out += "  " + *p.listen;
     out += "\n";
   }
 
-  if (s.contains("gateway")) out += render_gateway(s["gateway"].get<master::GatewayStatus>());
+  if (s.gateway) out += render_gateway(*s.gateway, style);
 
-  const auto& m = s["monitor"];
-  std::string where;
-  if (!m["file"].is_null()) where = m["file"].get<std::string>();
-  if (m["stdout"].get<bool>()) where += where.empty() ? "stdout" : " and stdout";
+  const auto& m = required(s.monitor, "monitor");
+  std::string where = m.file.value_or("");
+  if (m.to_stdout) where += where.empty() ? "stdout" : " and stdout";
   if (where.empty()) {
     out += "Monitor     off (set monitor.file)\n";
   } else {
-    out += fmt::format("Monitor     {} ({}), filter {}\n", where, m["format"].get<std::string>(),
-                       m["filter"].get<std::string>());
-    out += fmt::format("            {} lines written, {} dropped\n", m["written"].get<std::uint64_t>(),
-                       m["dropped"].get<std::uint64_t>());
+    out += fmt::format("Monitor     {} ({}), filter {}\n", where, m.format, m.filter);
+    out += fmt::format("            {} written, {}\n", counted_as(m.written, "line", "lines"),
+                       painted(fmt::format("{} dropped", m.dropped), m.dropped ? Paint::warning : Paint::none, style));
   }
-  if (s.contains("state")) {
-    const auto st = s["state"].get<state::StateStatus>();
+  if (const auto& state = s.state) {
+    const auto& st = *state;
     if (!st.file) out += "State       off (state.file: none): writes are not kept across a restart\n";
     else
-      out += fmt::format("State       {}: {} values recorded in {} syncs, {} failed\n", *st.file, st.records, st.syncs, st.failures);
+      out += fmt::format("State       {}: {} recorded in {}, {}\n", *st.file, counted_as(st.records, "value", "values"),
+                         counted_as(st.syncs, "sync", "syncs"),
+                         painted(fmt::format("{} failed", st.failures), st.failures ? Paint::problem : Paint::none, style));
   }
-  if (s.contains("mqtt")) {
-    const auto q = s["mqtt"].get<mqtt::MqttStatus>();
+  if (const auto& mqtt = s.mqtt) {
+    const auto& q = *mqtt;
     if (q.connected)
       out += fmt::format("MQTT        connected to {} since {} as {}, topic {}/…\n", q.broker, q.since, q.client_id, q.topic);
     else
-      out += fmt::format("MQTT        not connected to {} since {}: {}\n", q.broker, q.since, q.last_error.value_or("connecting"));
-    out += fmt::format("            {} messages published, {} connections, {} dropped\n", q.published, q.connections, q.drops);
+      out += painted(fmt::format("MQTT        not connected to {} since {}: {}", q.broker, q.since, q.last_error.value_or("connecting")),
+                     Paint::problem, style) +
+             "\n";
+    out += fmt::format("            {} published, {}, {} dropped\n", counted_as(q.published, "message", "messages"),
+                       counted_as(q.connections, "connection", "connections"), q.drops);
     if (q.last_takeover)
-      out += fmt::format("            session taken over by another client with this id {} times, last at {}\n",
-                         q.session_takeovers, *q.last_takeover);
+      out += painted(fmt::format("            session taken over by another client with this id {}, last at {}",
+                                 counted_as(q.session_takeovers, "time", "times"), *q.last_takeover),
+                     Paint::warning, style) +
+             "\n";
     if (const auto& b = q.buffer)
-      out += fmt::format("            history buffer {}: {} documents ({} bytes) to send, {} dropped when full, {} sent\n",
-                         b->file, b->messages, b->bytes, b->dropped, b->history_sent);
+      out += fmt::format("            history buffer {}: {} ({}) to send, {} dropped when full, {} sent\n", b->file,
+                         counted_as(b->messages, "document", "documents"), counted_as(b->bytes, "byte", "bytes"), b->dropped,
+                         b->history_sent);
     else
       out += "            no history buffer (mqtt.buffer.file: none): an outage keeps only the present values\n";
   }
-  if (s.contains("sparkplug")) {
-    const auto p = s["sparkplug"].get<sparkplug::EdgeStatus>();
+  if (const auto& sparkplug = s.sparkplug) {
+    const auto& p = *sparkplug;
     const auto node = fmt::format("{}/{}", p.group_id, p.edge_node_id);
     if (p.connected)
       out += fmt::format("Sparkplug   {} connected to {} since {}, bdSeq {}, next seq {}\n", node, p.broker, p.since,
                          p.bdSeq ? std::to_string(*p.bdSeq) : std::string("null"), p.seq);
     else
-      out += fmt::format("Sparkplug   {} not connected to {} since {}: {}\n", node, p.broker, p.since,
-                         p.last_error.value_or("connecting"));
+      out += painted(fmt::format("Sparkplug   {} not connected to {} since {}: {}", node, p.broker, p.since,
+                                 p.last_error.value_or("connecting")),
+                     Paint::problem, style) +
+             "\n";
     if (const auto& host = p.primary_host)
       out += fmt::format("            primary host {} {}{}\n", host->name, host->state, p.born ? "" : ": births wait for it online");
     const auto& c = p.commands;
-    out += fmt::format("            {} births, {} data, {} device deaths; commands {} taken, {} refused, {} malformed\n", p.births,
-                       p.data, p.deaths, c.taken, c.refused, c.malformed);
+    out += fmt::format("            {}, {} data, {}; commands {} taken, {} refused, {} malformed\n",
+                       counted_as(p.births, "birth", "births"), p.data, counted_as(p.deaths, "device death", "device deaths"),
+                       c.taken, c.refused, c.malformed);
   }
   return out;
 }
@@ -276,8 +320,8 @@ int status_command(const std::vector<std::string>& args) {
         code = 1;
       } else {
         try {
-          out = json ? document.dump(2) + "\n" : render_status_panel(document);
-        } catch (const nlohmann::json::exception& e) {
+          out = json ? document.dump(2) + "\n" : render_status_panel(document.get<status::Document>(), {colour_on_stdout()});
+        } catch (const std::exception& e) {  // a part absent (MissingPart) or of another shape (json::exception)
           std::fprintf(stderr, "unima-bridge status: unexpected document from %s: %s\n", socket.c_str(), e.what());
           if (!watch) return 1;
           code = 1;

@@ -97,10 +97,10 @@ int check(const std::string& path) {
     if (const auto& http = config.http) {
       try {
         if (http->tls) (void)unima::tls::load_server_credentials({http->tls->certificate, http->tls->key, {}}, "http.tls");
-        if (!http->users.empty()) (void)unima::web::BasicAuth::load(http->users);
       } catch (const std::exception& e) {
         throw std::runtime_error(fmt::format("{}: {}", http->origin, e.what()));
       }
+      if (!http->users.empty()) (void)unima::web::BasicAuth::load(http->users, http->users_origin);
     }
     for (const auto& warning : unima::config::warnings(config)) fmt::print(stderr, "{}\n", warning);
     fmt::print("{}: OK\n", path);

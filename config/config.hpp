@@ -161,6 +161,7 @@ struct GatewayConfig {
   Duration wait{2'000};                 // longest a request may wait for the line: then 0x06
   std::optional<Duration> timeout;      // the slave's answer time-out; else its profile's, else 1 s
   Duration cache{0};                    // an identical read answered this young is served again; 0: off
+  bool reads_only = false;              // `functions: read`: only functions 1-4 are forwarded, from every port
   std::string origin;                   // "file:line:col" of the section
   bool routes(std::uint8_t unit) const { return units[unit]; }
 };
@@ -237,6 +238,7 @@ struct HttpConfig {
   unsigned max_clients = 16;
   std::optional<HttpTlsConfig> tls;  // HTTPS instead of HTTP
   std::string users;                 // htpasswd-style file for basic authentication; empty: none
+  std::string users_origin;          // "file:line:col" of http.users, for its file's errors
   std::string origin;                // "file:line:col" of http, for errors found at start
   std::string port_origin;           // "file:line:col" of http.port, else of http
 };
@@ -271,6 +273,9 @@ struct MqttConfig {
   std::chrono::milliseconds period{10'000};  // every bank in full
   bool on_change = true;     // and each bank when it changes (at most every 100 ms)
   bool commands = false;     // set/W/<offset>, set/X/<bit>
+  // Where an MQTT 5 command may be answered (SPEC §15): topic filters, default
+  // <topic>/reply/#; mqtt/response_topic also keeps the bridge's own topics out.
+  std::vector<std::string> response_topics;
   std::optional<MqttDiscoveryConfig> discovery;  // absent: no Home Assistant discovery
   MqttBufferConfig buffer;
   std::string origin;        // "file:line:col" of mqtt
@@ -278,15 +283,22 @@ struct MqttConfig {
   std::string host_name;     // gethostname(2); empty when it has none
   std::string machine_id;    // the first 8 hex digits of /etc/machine-id; empty when there is none
   /// The same client and publishing (where the section stands in the file does not count,
-  /// nor the buffer, which changes at the next start).
+  /// nor the buffer, which changes at the next start, nor where answers may go, which the
+  /// next command reads from the running config).
   bool same_client(const MqttConfig& other) const {
     auto a = *this, b = other;
     a.origin = b.origin = {};
     a.buffer = b.buffer = {};
+    a.response_topics = b.response_topics = {};
     return a == b;
   }
   bool operator==(const MqttConfig&) const = default;
 };
+
+/// Sparkplug B's topic namespace (Sparkplug 3.0 §4.1): every topic of an edge node and a
+/// host lies under it. Here, below sparkplug/ and mqtt/, because MQTT's answers must keep
+/// off it too (mqtt/response_topic).
+inline constexpr std::string_view sparkplug_topic_namespace = "spBv1.0";
 
 /// sparkplug (SPEC §16): the bridge as a Sparkplug B edge node, on a broker of its own
 /// connection (which may be the mqtt section's broker). The broker, TLS and credentials
@@ -321,6 +333,7 @@ struct HostPath {
     log_file,         // the daemon appends there: never through a symbolic link (monitor/log_path)
     state_file,       // the daemon reads and rewrites there: a regular file, or nothing yet
     serial_device,    // the daemon opens it, and retries while it cannot: a warning when it is not there
+    secret_file,      // the daemon reads its first line at start (a password): an error when it cannot
     certificate,      // PEM files the daemon loads at start (tls/pem_check): an error when unusable,
     private_key,      //   a warning when a certificate has expired
     ca_certificates,

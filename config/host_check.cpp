@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <ctime>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -57,6 +58,15 @@ std::optional<std::string> refused_state_path(const std::string& path) {
   return fmt::format("{} is {}, not a regular file; the state is kept in a file of its own", path, what);
 }
 
+// Read by the daemon at start, as whoever runs `check` reads it now.
+std::optional<std::string> unreadable(const std::string& path) {
+  std::ifstream file(path);
+  if (file) return std::nullopt;
+  const auto why = errno == ENOENT ? std::string("no such file: correct the path, or put the file there")
+                                   : fmt::format("cannot be read: {}", std::strerror(errno));
+  return fmt::format("{}: {}", path, why);
+}
+
 std::optional<tls::PemContent> pem_content(HostPath::Use use) {
   switch (use) {
     case HostPath::Use::certificate: return tls::PemContent::certificate;
@@ -82,13 +92,23 @@ std::optional<std::string> refusal(const Config& config, const HostPath& path) {
     case HostPath::Use::unix_socket: return socket_path_conflict(path.path);
     case HostPath::Use::log_file: return monitor::refused_log_path(path.path);
     case HostPath::Use::state_file: return refused_state_path(path.path);
+    case HostPath::Use::secret_file: return unreadable(path.path);
     default: return std::nullopt;
   }
 }
 
 // What the daemon copes with, but a technician should know of: a serial device that is
-// not there (the daemon opens it when it comes), a certificate out of its validity.
+// not there (the daemon opens it when it comes), a certificate out of its validity, a
+// file in a directory that is not there (the daemon makes it: a mistyped path?).
 std::optional<std::string> doubt(const Config& config, const HostPath& path) {
+  if (path.use == HostPath::Use::state_file || path.use == HostPath::Use::log_file) {
+    const auto directory = std::filesystem::path(path.path).parent_path();
+    std::error_code ignored;
+    if (!directory.empty() && !std::filesystem::exists(directory, ignored))
+      return fmt::format("the directory {} is not there; the daemon makes it at start: correct the path if it is mistyped",
+                         directory.string());
+    return std::nullopt;
+  }
   if (path.use == HostPath::Use::certificate || path.use == HostPath::Use::ca_certificates)
     return tls::certificate_out_of_date(path.path, std::time(nullptr));
   if (path.use != HostPath::Use::serial_device || ::access(path.path.c_str(), R_OK | W_OK) == 0) return std::nullopt;

@@ -2,6 +2,7 @@
 // TCP and TLS slaves are read in config/network_sections.cpp.
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 
 #include <fmt/format.h>
@@ -121,17 +122,31 @@ void parse_gateway_unit(const YamlReader& yaml, const YAML::Node& item, GatewayC
 }
 
 GatewayConfig parse_gateway(const YamlReader& yaml, const YAML::Node& node) {
-  yaml.expect_keys(node, "modbus.gateway", {"units", "priority", "wait", "timeout", "cache"});
+  yaml.expect_keys(node, "modbus.gateway", {"units", "priority", "wait", "timeout", "cache", "functions"});
   GatewayConfig gateway;
   gateway.origin = yaml.position(node);
   const auto units = node["units"];
   if (!units || !units.IsSequence() || units.size() == 0)
     yaml.fail(units ? units : node, "modbus.gateway.units must list the unit ids forwarded to the line, e.g. [2-9, 17]");
-  for (const auto& item : units) parse_gateway_unit(yaml, item, gateway);
+  // A unit listed twice is a slip that hides another (a range typed 5-5 for 5-6): named
+  // at its second mention, with its first.
+  std::array<std::string, 256> listed_at;  // the item's position; empty: not listed
+  for (const auto& item : units) {
+    GatewayConfig one;
+    parse_gateway_unit(yaml, item, one);
+    for (unsigned unit = 0; unit < one.units.size(); ++unit) {
+      if (!one.units[unit]) continue;
+      if (!listed_at[unit].empty())
+        yaml.fail(item, fmt::format("modbus.gateway.units: unit {} is listed twice (first at {})", unit, listed_at[unit]));
+      listed_at[unit] = yaml.position(item);
+      gateway.units[unit] = true;
+    }
+  }
   if (node["priority"]) gateway.priority = parse_allow_list(yaml, node["priority"], "modbus.gateway.priority");
   if (node["wait"]) gateway.wait = positive_duration(yaml, node["wait"]);
   if (node["timeout"]) gateway.timeout = positive_duration(yaml, node["timeout"]);
   if (node["cache"]) gateway.cache = yaml.duration(node["cache"]);
+  if (node["functions"]) gateway.reads_only = yaml.choice(node["functions"], {"read", "all"}) == "read";
   return gateway;
 }
 

@@ -14,6 +14,7 @@
 
 #include "config/endpoint.hpp"
 #include "config/section_parsers.hpp"
+#include "config/topic_filter.hpp"
 
 namespace unima::config::sections {
 
@@ -190,7 +191,11 @@ void parse_http(ParseState& state, const YAML::Node& node) {
     h.tls = t;
   }
   if (const auto users = node["users"]) {
+    if (!users.IsScalar())
+      yaml.fail(users, "http.users must be the path of a file of name:password-hash lines, not the users themselves "
+                       "(docs/security.md: make the hashes with `openssl passwd -6`)");
     h.users = yaml.text(users);
+    h.users_origin = yaml.position(users);
     if (h.users.empty()) yaml.fail(users, "http.users must be the path of a file of name:password-hash lines");
   }
   state.config.http = h;
@@ -245,6 +250,8 @@ void parse_broker_connection(ParseState& state, const YAML::Node& node, std::str
   if (!s.password_file.empty() && s.username.empty())
     yaml.fail(node["password_file"], fmt::format("{0}.password_file needs {0}.username", section));
   using Use = HostPath::Use;
+  if (!s.password_file.empty())
+    note_host_path(state, Use::secret_file, node["password_file"], std::string(section) + ".password_file", s.password_file);
   for (const auto& [key, use, file] : {std::tuple{"ca", Use::ca_certificates, &s.ca},
                                        std::tuple{"certificate", Use::certificate, &s.certificate},
                                        std::tuple{"key", Use::private_key, &s.key}}) {
@@ -280,11 +287,27 @@ std::string parse_sparkplug_id(const YamlReader& yaml, const YAML::Node& node, s
   return id;
 }
 
+// mqtt.response_topics: a list of MQTT topic filters, absent: `<prefix>/reply/#`.
+std::vector<std::string> parse_response_topics(const YamlReader& yaml, const YAML::Node& node, const std::string& prefix) {
+  if (!node) return {prefix + "/reply/#"};
+  if (!node.IsSequence())
+    yaml.fail(node, fmt::format("mqtt.response_topics must be a list of topic filters, e.g. [{}/reply/#]", prefix));
+  std::vector<std::string> filters;
+  for (const auto& item : node) {
+    auto filter = yaml.text(item);
+    if (const auto problem = topic_filter_problem(filter))
+      yaml.fail(item, fmt::format("mqtt.response_topics: not a topic filter: {}", *problem));
+    filters.push_back(std::move(filter));
+  }
+  return filters;
+}
+
 }  // namespace
 
 void parse_mqtt(ParseState& state, const YAML::Node& node) {
   const auto& yaml = state.yaml;
-  yaml.expect_keys(node, "mqtt", keys_with_broker({"client_id", "topic", "publish", "commands", "discovery", "buffer"}));
+  yaml.expect_keys(node, "mqtt", keys_with_broker({"client_id", "topic", "publish", "commands", "response_topics",
+                                                   "discovery", "buffer"}));
   MqttConfig m;
   m.origin = yaml.position(node);
   parse_broker_connection(state, node, "mqtt", m);
@@ -308,6 +331,7 @@ void parse_mqtt(ParseState& state, const YAML::Node& node) {
     if (publish["on_change"]) m.on_change = yaml.boolean(publish["on_change"]);
   }
   if (node["commands"]) m.commands = yaml.boolean(node["commands"]);
+  m.response_topics = parse_response_topics(yaml, node["response_topics"], m.topic);
   if (const auto discovery = node["discovery"]) {
     if (!discovery.IsMap() && !discovery.IsNull())
       yaml.fail(discovery, "mqtt.discovery must be a mapping, e.g. { prefix: homeassistant }");

@@ -1,5 +1,7 @@
 #include "config/yaml_reader.hpp"
 
+#include <algorithm>
+
 #include <charconv>
 #include <cmath>
 #include <optional>
@@ -34,12 +36,26 @@ void YamlReader::expect_keys(const YAML::Node& map, std::string_view what,
 
 void YamlReader::expect_keys(const YAML::Node& map, std::string_view what, std::span<const std::string_view> allowed) const {
   if (map.IsNull()) return;
-  if (!map.IsMap()) fail(map, fmt::format("{} must be a mapping of keys", what));
+  // "address 5" where "address: 5" was meant, read as a key of a null value or as the
+  // section's whole value: a ':' left out (issue 44).
+  const auto colon_left_out = [&](const YAML::Node& node) {
+    const auto& text = node.Scalar();
+    const auto space = text.find(' ');
+    const auto first_word = std::string_view(text).substr(0, space);
+    if (space == std::string::npos || std::find(allowed.begin(), allowed.end(), first_word) == allowed.end()) return;
+    fail(node, fmt::format("'{}' has no ':' after its key: write '{}: {}'", text, first_word, text.substr(space + 1)));
+  };
+  if (!map.IsMap()) {
+    if (map.IsScalar()) colon_left_out(map);
+    fail(map, fmt::format("{} must be a mapping of keys", what));
+  }
   for (const auto& entry : map) {
     const auto key = entry.first.Scalar();
     bool known = false;
     for (auto a : allowed) known = known || a == key;
-    if (!known) fail(entry.first, fmt::format("unknown key '{}' in {} (known: {})", key, what, fmt::join(allowed, ", ")));
+    if (known) continue;
+    if (entry.second.IsNull()) colon_left_out(entry.first);
+    fail(entry.first, fmt::format("unknown key '{}' in {} (known: {})", key, what, fmt::join(allowed, ", ")));
   }
 }
 

@@ -2,7 +2,8 @@
 // The open connections of a server (the Modbus TCP slave, HTTP, the UnimaBUS feed): the
 // set holds each alive while it is open, and a connection forgets itself when it closes.
 // A server that stops takes them all out first and closes each (a close forgets, so the
-// set must not be walked then); one that is full closes the connection idle the longest.
+// set must not be walked then); the Modbus TCP server, when full, closes the connection
+// idle the longest (HTTP asks web::connection_to_evict instead).
 
 #include <algorithm>
 #include <memory>

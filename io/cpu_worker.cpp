@@ -3,6 +3,7 @@
 #include <sys/resource.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <condition_variable>
 #include <cstdint>
 #include <deque>
@@ -19,10 +20,11 @@ struct CpuWorker::Shared {
     Job job;
   };
 
-  Shared(asio::io_context& io, std::size_t capacity) : io(io), capacity(capacity) {}
+  Shared(asio::io_context& io, std::size_t capacity, int nice) : io(io), capacity(capacity), nice(nice) {}
 
   asio::io_context& io;
   const std::size_t capacity;
+  const int nice;
 
   // The loop's side: the completions never leave the loop's thread (what they hold — a
   // connection — is the loop's to destroy).
@@ -48,10 +50,12 @@ struct CpuWorker::Shared {
 };
 
 void CpuWorker::Shared::run(const std::weak_ptr<Shared>& self) {
-  // The lowest priority for this thread alone (Linux's nice is per thread): where it and
-  // the loop want the same core, the loop runs and the job waits. Lowering needs no
-  // privilege; if refused, the job runs at the loop's priority.
-  (void)::setpriority(PRIO_PROCESS, static_cast<id_t>(::gettid()), 19);
+  // A lower priority for this thread alone (Linux's nice is per thread): where it and the
+  // loop want the same core, the loop runs first. Lowering needs no privilege; if refused,
+  // the job runs at the loop's priority. Never raised above the process's own.
+  errno = 0;
+  const int own = ::getpriority(PRIO_PROCESS, static_cast<id_t>(::gettid()));
+  if (errno == 0 && own < nice) (void)::setpriority(PRIO_PROCESS, static_cast<id_t>(::gettid()), nice);
   while (true) {
     Queued next;
     {
@@ -69,7 +73,8 @@ void CpuWorker::Shared::run(const std::weak_ptr<Shared>& self) {
   }
 }
 
-CpuWorker::CpuWorker(asio::io_context& io, std::size_t capacity) : shared_(std::make_shared<Shared>(io, capacity)) {
+CpuWorker::CpuWorker(asio::io_context& io, std::size_t capacity, Priority priority)
+    : shared_(std::make_shared<Shared>(io, capacity, priority == Priority::background ? 19 : 5)) {
   shared_->thread = std::thread([shared = shared_.get(), weak = std::weak_ptr<Shared>(shared_)] { shared->run(weak); });
 }
 

@@ -2,14 +2,15 @@
 // Where CPU-heavy work of the daemon runs (issue 29): on a thread of its own, never on the
 // event loop that serves Modbus. The loop hands a job over and goes on; the job's
 // completion comes back to the loop as a posted handler. Its users: the password checks of
-// `http.users` (io/north/password_worker), the TLS handshakes of the Modbus/TCP Security
+// `http.users` (io/http/password_worker), the TLS handshakes of the Modbus/TCP Security
 // port (io/modbus/tls_connection), and the Sparkplug bdSeq file's write and fdatasync
-// before each CONNECT (io/north/sparkplug_service), each with an instance of its own.
+// before each CONNECT (io/mqtt/sparkplug_service), each with an instance of its own.
 //
 // One thread, not a pool: the gateways have two cores and the loop needs one of them; a
 // second worker thread would only let a flood of logins or handshakes take the loop's core
-// too. It runs at nice 19, so that where the two compete for a core the loop wins. The
-// queue is bounded: a job beyond `capacity` is refused, and the caller says what that means.
+// too. It runs below the loop's priority, so that where the two compete for a core the loop
+// wins (Priority). The queue is bounded: a job beyond `capacity` is refused, and the caller
+// says what that means.
 //
 // A job runs on the worker and is destroyed there: it must hold nothing that may only die on
 // the loop (a connection is kept alive by its completion, which never leaves the loop's
@@ -30,7 +31,18 @@ class CpuWorker {
   using Job = std::function<void()>;
   using Done = std::function<void()>;
 
-  CpuWorker(asio::io_context& io, std::size_t capacity);
+  /// How the worker's thread stands against the loop and the box's other programs.
+  enum class Priority {
+    /// nice 19: work an attacker may ask for at will and nobody waits on in real time
+    /// (password hashes, a file's sync): it gets what the box leaves over.
+    background,
+    /// nice 5: work a real client waits on against a deadline (TLS handshakes, issue 43):
+    /// the loop still wins three to one on a shared core, but a box busy with other
+    /// programs leaves it a share instead of the crumbs nice 19 gets.
+    beside_the_loop,
+  };
+
+  CpuWorker(asio::io_context& io, std::size_t capacity, Priority priority = Priority::background);
   ~CpuWorker();
   CpuWorker(const CpuWorker&) = delete;
   CpuWorker& operator=(const CpuWorker&) = delete;

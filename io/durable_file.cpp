@@ -89,6 +89,13 @@ Descriptor replace_file(const std::filesystem::path& path, std::string_view cont
 }
 
 Descriptor replace_file(const std::filesystem::path& path, const std::function<void(int fd)>& write) {
+  // A directory that is not there yet is made, as for the monitor's file: `check` and the
+  // start's log warn of it (config/host_check), in case its path was mistyped.
+  if (const auto directory = path.parent_path(); !directory.empty()) {
+    std::error_code made;
+    std::filesystem::create_directories(directory, made);
+    if (made) throw std::system_error(made, "create the directory " + directory.string());
+  }
   auto temporary = path;
   temporary += ".tmp";
   Descriptor fd(::open(temporary.c_str(), O_RDWR | O_CREAT | O_TRUNC | O_APPEND | O_NOFOLLOW | O_CLOEXEC, 0640));

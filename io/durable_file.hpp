@@ -1,10 +1,10 @@
 #pragma once
 // What the files the daemon keeps across restarts share (SPEC §10, §15): the state file
-// (io/state_file) and the MQTT history buffer (io/north/history_buffer) are each read
+// (io/state_file) and the MQTT history buffer (io/mqtt/history_buffer) are each read
 // whole at start, appended to and fdatasync'ed on a thread of their own, rewritten by
 // atomic replace, and set aside as `<path>.corrupt-<UTC time>` when what they hold cannot
 // be trusted. Each call blocks on the disk: those two make them on their own threads. The
-// one exception is Sparkplug's bdSeq beside the state file (io/north/sparkplug_service), a
+// one exception is Sparkplug's bdSeq beside the state file (io/mqtt/sparkplug_service), a
 // few bytes replaced once per MQTT CONNECT, at most once a second, on the loop.
 
 #include <filesystem>

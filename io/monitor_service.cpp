@@ -2,6 +2,9 @@
 
 #include "io/activity.hpp"
 #include "monitor/monitor_line.hpp"
+#include "monitor/monitor_status.hpp"
+#include "platform/utc_time.hpp"
+#include "status/activity.hpp"
 
 namespace unima::io {
 
@@ -12,40 +15,33 @@ void MonitorService::stage(const Banks& next) {
 
 void MonitorService::commit(const Banks&) { runtime_.monitor->reconfigure(runtime_.config().monitor, std::move(writer_)); }
 
-void MonitorService::describe(nlohmann::json& status) const {
+void MonitorService::describe(status::Document& status) const {
   const auto& monitor = *runtime_.monitor;
-  status["modbus"] = activity(age<std::chrono::system_clock>(monitor.last_frame_sent()), monitor.frames_sent(), modbus_led_lit);
+  status.modbus =
+      status::activity(age<std::chrono::system_clock>(monitor.last_frame_sent()), monitor.frames_sent(), modbus_led_lit);
 
-  status["indicators"] = nlohmann::json::array();
-  const auto& indicators = monitor.indicators();
-  for (std::size_t i = 0; i < indicators.size(); ++i) {
-    nlohmann::json j;
-    j["address"] = indicators.spec(i).address;
-    j["register"] = indicators.spec(i).reg;
-    if (const auto& reading = indicators.reading(i)) {
+  std::vector<monitor::IndicatorStatus> indicators;
+  const auto& watched = monitor.indicators();
+  for (std::size_t i = 0; i < watched.size(); ++i) {
+    auto& indicator = indicators.emplace_back(monitor::IndicatorStatus{watched.spec(i).address, watched.spec(i).reg, {}, {}, {}});
+    if (const auto& reading = watched.reading(i)) {
       std::string time;
-      monitor::append_utc_time(time, reading->time);
-      j["value"] = reading->value;
-      j["access"] = reading->access == modbus::CaptureAccess::write ? "write" : "read";
-      j["time"] = time;
-    } else {
-      j["value"] = nullptr;
-      j["access"] = nullptr;
-      j["time"] = nullptr;
+      platform::append_utc_time(time, reading->time);
+      indicator.value = reading->value;
+      indicator.access = reading->access == modbus::CaptureAccess::write ? "write" : "read";
+      indicator.time = time;
     }
-    status["indicators"].push_back(j);
   }
+  status.indicators = std::move(indicators);
 
   const auto& m = monitor.config();
-  nlohmann::json j;
-  j["file"] = m.file.empty() ? nlohmann::json(nullptr) : nlohmann::json(m.file);
-  j["stdout"] = m.to_stdout;
-  j["format"] = m.format == monitor::MonitorFormat::json ? "json" : "text";
-  j["filter"] = monitor.filter().describe();
-  j["queue"] = m.queue;
-  j["written"] = monitor.written();
-  j["dropped"] = monitor.dropped();
-  status["monitor"] = j;
+  status.monitor = monitor::MonitorStatus{m.file.empty() ? std::nullopt : std::optional(m.file),
+                                             m.to_stdout,
+                                             m.format == monitor::MonitorFormat::json ? "json" : "text",
+                                             monitor.filter().describe(),
+                                             m.queue,
+                                             monitor.written(),
+                                             monitor.dropped()};
 }
 
 }  // namespace unima::io

@@ -18,7 +18,7 @@ class MonitorService final : public Service {
   void stage(const Banks& next) override;
   void abandon() override { writer_.reset(); }
   void commit(const Banks& previous) override;
-  void describe(nlohmann::json& status) const override;
+  void describe(status::Document& status) const override;
 
  private:
   Runtime& runtime_;

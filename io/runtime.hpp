@@ -21,6 +21,7 @@
 #include "io/store_changes.hpp"
 #include "modbus/capture.hpp"
 #include "monitor/monitor.hpp"
+#include "status/document.hpp"
 #include "platform/asio.hpp"
 #include "unimabus/publisher.hpp"
 #include "unimabus/telegram_intake.hpp"
@@ -61,8 +62,9 @@ struct Runtime {
   StoreChanges changes;              // the running store's changes, for who sends values north
   std::chrono::steady_clock::time_point started_at = std::chrono::steady_clock::now();
   std::chrono::system_clock::time_point started_utc = std::chrono::system_clock::now();  // the birth's `started`
-  /// The whole status document (`unima-bridge status --json`), for who shows it.
-  std::function<nlohmann::json()> status;
+  /// The whole status document (`unima-bridge status --json`, /metrics, the page), for who
+  /// shows it.
+  std::function<status::Document()> status;
   /// The TCP and TLS ports' way to the running master's line (modbus.gateway, SPEC §14);
   /// the master service attaches its master.
   GatewayLine gateway_line{io};

@@ -9,9 +9,8 @@
 // and the running config stays. Else the banks are swapped and every service commits,
 // which cannot fail.
 
-#include <nlohmann/json.hpp>
-
 #include "io/runtime.hpp"
+#include "status/document.hpp"
 
 namespace unima::io {
 
@@ -31,8 +30,8 @@ class Service {
   /// `previous` the ones they replaced. Cannot fail.
   virtual void commit(const Banks& previous) = 0;
 
-  /// Adds this service's part to the status document.
-  virtual void describe(nlohmann::json& status) const { (void)status; }
+  /// Fills this service's part of the status document.
+  virtual void describe(status::Document& status) const { (void)status; }
 };
 
 }  // namespace unima::io

@@ -94,6 +94,15 @@ struct StateFile::Shared {
   std::uint64_t durable = 0;
   std::deque<KeptWrite> uncommitted;                   // kept, neither durable nor refused yet, in order
   std::deque<std::pair<std::uint64_t, Done>> waiters;  // in order of their sequence
+  // Batches synced (or refused) whose writes are not all committed and answered yet, in
+  // the order they were written; `finishing` while a slice of them is posted.
+  struct Synced {
+    std::uint64_t sequence;
+    std::string error;  // empty: durable
+    bool begun = false;
+  };
+  std::deque<Synced> finished_batches;
+  bool finishing = false;
   Outcome outcome;
   monitor::WriteOutage outage;
   Counters counters;
@@ -112,7 +121,8 @@ struct StateFile::Shared {
   platform::JournalThread thread;
 
   std::uint64_t queue(std::span<const banks::WrittenValue> write);
-  void synced(std::uint64_t sequence, const std::string& error);
+  void synced(std::uint64_t sequence, std::string error, const std::weak_ptr<Shared>& self);
+  void finish_slice(const std::weak_ptr<Shared>& self);
   void turn(const std::weak_ptr<Shared>& self);
   std::string write_batch(const std::string& records, const StateImage& next);
 };
@@ -134,36 +144,63 @@ std::uint64_t StateFile::Shared::queue(std::span<const banks::WrittenValue> writ
 // its own writes only, commits and acknowledges none of them, and the next batch (a
 // rewrite, see write_batch) still commits and acknowledges its own. The outage is logged
 // as the monitor's files are (monitor/write_outage.hpp): once, and once it is over.
-void StateFile::Shared::synced(std::uint64_t sequence, const std::string& error) {
-  const bool ok = error.empty();
+void StateFile::Shared::synced(std::uint64_t sequence, std::string error, const std::weak_ptr<Shared>& self) {
+  finished_batches.push_back({sequence, std::move(error)});
+  if (!finishing) finish_slice(self);
+}
+
+// One sync may hold thousands of writes (a burst of MQTT commands: issue 43, finding 6);
+// committing and answering them all in one go kept a Modbus request waiting for seconds.
+// So a slice of them at a time, the rest posted behind whatever else the loop has to do;
+// a later batch waits for the one before it, so the order kept is the order committed.
+void StateFile::Shared::finish_slice(const std::weak_ptr<Shared>& self) {
+  finishing = false;
+  if (finished_batches.empty()) return;
+  auto& batch = finished_batches.front();
+  const bool ok = batch.error.empty();
   const auto now = monitor::WriteOutage::Clock::now();
-  if (ok) {
-    durable = sequence;
-    ++counters.syncs;
-    if (outage.failing())
-      if (const auto recovery = outage.succeeded(now))
-        spdlog::info("state: {} takes writes again; {} writes refused over {:.1f} s", path.string(),
-                     recovery->failed_writes, std::chrono::duration<double>(recovery->lasted).count());
-  } else {
-    ++counters.failures;
+  if (!std::exchange(batch.begun, true)) {
+    if (ok) {
+      ++counters.syncs;
+      if (outage.failing())
+        if (const auto recovery = outage.succeeded(now))
+          spdlog::info("state: {} takes writes again; {} writes refused over {:.1f} s", path.string(),
+                       recovery->failed_writes, std::chrono::duration<double>(recovery->lasted).count());
+    } else {
+      ++counters.failures;
+      // The Error bit before the first of its writes is answered.
+      if (outcome.refused) outcome.refused();
+    }
   }
-  // Committed in the order kept, all before any answer: an answer may be followed at once
-  // by a read that must see its write.
-  while (!uncommitted.empty() && uncommitted.front().sequence <= sequence) {
+  // Committed in the order kept, all of a slice before any of its answers: an answer may
+  // be followed at once by a read that must see its write.
+  std::uint64_t done_up_to = 0;
+  for (std::size_t n = 0; n < writes_per_slice && !uncommitted.empty() && uncommitted.front().sequence <= batch.sequence;
+       ++n) {
+    done_up_to = uncommitted.front().sequence;
     if (ok && outcome.commit) outcome.commit(uncommitted.front().values);
     if (!ok && outage.failed(now))
       spdlog::error("state: cannot write {}: {}; writes are refused (exception 04) and change nothing until it "
                     "can (logged once, and when it has taken writes again for {} s)",
-                    path.string(), error,
+                    path.string(), batch.error,
                     std::chrono::duration_cast<std::chrono::seconds>(monitor::WriteOutage::default_settle).count());
     uncommitted.pop_front();
   }
-  if (!ok && outcome.refused) outcome.refused();
+  const bool batch_done = uncommitted.empty() || uncommitted.front().sequence > batch.sequence;
+  if (batch_done) done_up_to = batch.sequence;
+  if (ok) durable = done_up_to;
   // A callback may keep more, or ask when_durable: the ready ones leave the queue first.
   std::vector<Done> ready;
-  while (!waiters.empty() && waiters.front().first <= sequence) {
+  while (!waiters.empty() && waiters.front().first <= done_up_to) {
     ready.push_back(std::move(waiters.front().second));
     waiters.pop_front();
+  }
+  if (batch_done) finished_batches.pop_front();
+  if (!finished_batches.empty()) {
+    finishing = true;
+    asio::post(io, [self] {
+      if (const auto shared = self.lock()) shared->finish_slice(self);
+    });
   }
   for (auto& done : ready) done(ok);
 }
@@ -207,8 +244,8 @@ void StateFile::Shared::turn(const std::weak_ptr<Shared>& self) {
   batch.clear();
   auto error = write_batch(records, next);
   if (error.empty()) image = next;
-  asio::post(io, [self, sequence, error = std::move(error)] {
-    if (const auto shared = self.lock()) shared->synced(sequence, error);
+  asio::post(io, [self, sequence, error = std::move(error)]() mutable {
+    if (const auto shared = self.lock()) shared->synced(sequence, std::move(error), self);
   });
 }
 

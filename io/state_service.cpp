@@ -28,13 +28,13 @@ void StateService::stage(const Banks& next) {
                  running.empty() ? "no file" : running);
 }
 
-void StateService::describe(nlohmann::json& status) const {
+void StateService::describe(status::Document& status) const {
   state::StateStatus state;
   if (const auto& file = runtime_.state) {
     const auto counters = file->counters();
     state = {file->path().string(), counters.records, counters.syncs, counters.failures};
   }
-  status["state"] = state;
+  status.state = std::move(state);
 }
 
 }  // namespace unima::io

@@ -16,7 +16,7 @@ class StateService final : public Service {
   void stop() override {}
   void stage(const Banks& next) override;
   void commit(const Banks&) override {}
-  void describe(nlohmann::json& status) const override;
+  void describe(status::Document& status) const override;
 
  private:
   Runtime& runtime_;

@@ -12,7 +12,7 @@ StatusSocketService::StatusSocketService(Runtime& runtime)
 std::unique_ptr<ControlSocket> StatusSocketService::open(const std::string& path) {
   try {
     return std::make_unique<ControlSocket>(runtime_.io, path, [this] {
-      return runtime_.status().dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+      return nlohmann::json(runtime_.status()).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
     });
   } catch (const config::PathRefused&) {
     throw;

@@ -16,18 +16,20 @@ Gateway::Gateway(Settings settings) : settings_(settings), queue_(settings.wait)
   if (settings_.cache > Clock::duration::zero()) cache_.emplace(settings_.cache);
 }
 
-Gateway::Arrival Gateway::arrive(std::uint64_t client, bool priority, std::uint8_t unit,
-                                 std::span<const std::uint8_t> pdu, TimePoint now) {
+Gateway::Arrival Gateway::arrive(const GatewayQueue::Asker& asker, std::uint8_t unit, std::span<const std::uint8_t> pdu,
+                                 TimePoint now) {
   auto& counters = units_[unit];
   if (cache_) {
     if (auto cached = cache_->answer(unit, pdu, now)) {
       ++counters.cache_hits;
-      return Arrival{std::move(cached), 0};
+      return Arrival{std::move(cached), std::nullopt};
     }
     // A write empties the unit's cache now, and again when it goes on the line (began).
     if (!GatewayCache::is_read(pdu)) cache_->written(unit);
   }
-  return Arrival{std::nullopt, queue_.push(client, priority, unit, now)};
+  const auto ticket = queue_.push(asker, unit, now);
+  if (!ticket) ++counters.busy;
+  return Arrival{std::nullopt, ticket};
 }
 
 void Gateway::began(const GatewayQueue::Request& next, std::span<const std::uint8_t> pdu, TimePoint now) {

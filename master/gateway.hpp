@@ -43,13 +43,13 @@ class Gateway {
   explicit Gateway(Settings settings);
 
   /// A client's request arrives at `now`: either answered from the cache (the answer PDU,
-  /// counted as a cache hit) or queued for the line under the returned ticket.
+  /// counted as a cache hit), or queued for the line under the returned ticket, or
+  /// neither when its host has too many waiting (GatewayQueue; counted busy, answered 0x06).
   struct Arrival {
     std::optional<Bytes> cached;
-    Ticket ticket = 0;
+    std::optional<Ticket> ticket;
   };
-  Arrival arrive(std::uint64_t client, bool priority, std::uint8_t unit, std::span<const std::uint8_t> pdu,
-                 TimePoint now);
+  Arrival arrive(const GatewayQueue::Asker& asker, std::uint8_t unit, std::span<const std::uint8_t> pdu, TimePoint now);
 
   /// The queued request that has the line next, when the line is free; nullopt when none
   /// waits or a due poll (`poll_due`) has its turn (GatewayQueue).

@@ -1,12 +1,39 @@
 #include "master/gateway_queue.hpp"
 
 #include <algorithm>
+#include <utility>
 
 namespace unima::master {
 
-GatewayQueue::Ticket GatewayQueue::push(std::uint64_t client, bool priority, std::uint8_t unit, TimePoint now) {
+namespace {
+
+// Of the requests that `take`, the one whose key comes first after `last`, else (the round
+// is over) the one whose key comes first: the one rule of taking turns, for hosts and for
+// a host's connections alike. Among requests with one key, the oldest.
+template <typename Key, typename Take, typename KeyOf>
+const GatewayQueue::Request* next_in_round(const std::deque<GatewayQueue::Request>& queue, const std::optional<Key>& last,
+                                           Take take, KeyOf key_of) {
+  const GatewayQueue::Request* after = nullptr;
+  const GatewayQueue::Request* lowest = nullptr;
+  for (const auto& r : queue) {
+    if (!take(r)) continue;
+    const auto& key = key_of(r);
+    if (!lowest || key < key_of(*lowest)) lowest = &r;
+    if (last && key > *last && (!after || key < key_of(*after))) after = &r;
+  }
+  return after ? after : lowest;
+}
+
+}  // namespace
+
+std::optional<GatewayQueue::Ticket> GatewayQueue::push(const Asker& asker, std::uint8_t unit, TimePoint now) {
+  if (!asker.priority) {
+    auto& host = hosts_[asker.host];
+    if (host.waiting >= most_waiting_per_host) return std::nullopt;
+    ++host.waiting;
+  }
   const auto ticket = next_ticket_++;
-  queue_.push_back(Request{ticket, client, priority, unit, now});
+  queue_.push_back(Request{ticket, asker.client, asker.host, asker.priority, unit, now});
   return ticket;
 }
 
@@ -14,15 +41,13 @@ std::optional<GatewayQueue::Request> GatewayQueue::next(bool poll_due) const {
   for (const auto& r : queue_)
     if (r.priority) return r;
   if (queue_.empty() || (poll_due && !last_was_poll_)) return std::nullopt;
-  // The round goes by client number: the first client after the one served last, else
-  // (the round is over) the lowest; each client's oldest request.
-  const Request* after = nullptr;
-  const Request* lowest = nullptr;
-  for (const auto& r : queue_) {
-    if (!lowest || r.client < lowest->client) lowest = &r;
-    if (last_client_ && r.client > *last_client_ && (!after || r.client < after->client)) after = &r;
-  }
-  return after ? *after : *lowest;
+  const auto any = [](const Request&) { return true; };
+  const auto* host = next_in_round(queue_, last_host_, any, [](const Request& r) -> const std::string& { return r.host; });
+  const auto& name = host->host;
+  const auto of_host = [&](const Request& r) { return r.host == name; };
+  const auto* turn = next_in_round(queue_, hosts_.at(name).last_client, of_host,
+                                   [](const Request& r) -> const std::uint64_t& { return r.client; });
+  return *turn;
 }
 
 void GatewayQueue::began(Ticket ticket) {
@@ -30,16 +55,35 @@ void GatewayQueue::began(Ticket ticket) {
   if (it == queue_.end()) return;
   // A priority peer's request jumps the round without taking another client's turn.
   if (!it->priority) {
-    last_client_ = it->client;
+    const auto previous = std::exchange(last_host_, it->host);
+    hosts_[it->host].last_client = it->client;
+    if (previous && *previous != it->host) forget_if_idle(*previous);
     last_was_poll_ = false;
   }
+  left(*it);
   queue_.erase(it);
+}
+
+void GatewayQueue::left(const Request& request) {
+  if (request.priority) return;
+  const auto host = hosts_.find(request.host);
+  if (host == hosts_.end()) return;
+  --host->second.waiting;
+  forget_if_idle(request.host);
+}
+
+// The map holds the hosts with requests waiting, and the host served last (whose round
+// among its connections goes on when it asks again): never more than the queue holds + 1.
+void GatewayQueue::forget_if_idle(const std::string& name) {
+  const auto host = hosts_.find(name);
+  if (host != hosts_.end() && host->second.waiting == 0 && name != last_host_) hosts_.erase(host);
 }
 
 std::vector<GatewayQueue::Request> GatewayQueue::expire(TimePoint now) {
   std::vector<Request> expired;
   std::erase_if(queue_, [&](const Request& r) {
     if (now - r.queued < wait_) return false;
+    left(r);
     expired.push_back(r);
     return true;
   });
@@ -58,6 +102,7 @@ std::vector<GatewayQueue::Request> GatewayQueue::drop_client(std::uint64_t clien
   std::vector<Request> dropped;
   std::erase_if(queue_, [&](const Request& r) {
     if (r.client != client) return false;
+    left(r);
     dropped.push_back(r);
     return true;
   });

@@ -4,8 +4,11 @@
 // passes in — no clock, no I/O — so that every rule is unit-tested.
 //
 // - Requests of `priority` peers go first, before polls and other clients, oldest first.
-// - Other clients are served in turn, one request per client per round, so that one
-//   client sending without pause never starves another.
+// - Other clients are served in turn by host, then by connection: one request per host per
+//   round, and within a host's turns one per connection, so that neither one client
+//   sending without pause nor one host opening many connections starves another.
+// - A host has at most `most_waiting_per_host` requests waiting: one more is refused at
+//   once (the caller answers it "slave device busy", 0x06, as it would after `wait`).
 // - Polls and forwarded requests take turns: when a poll is due and the line's last
 //   transaction was a forwarded one, the poll goes first, so polls keep their period
 //   while clients use at most about half of the line.
@@ -18,7 +21,9 @@
 #include <chrono>
 #include <cstdint>
 #include <deque>
+#include <map>
 #include <optional>
+#include <string>
 #include <vector>
 
 namespace unima::master {
@@ -30,18 +35,31 @@ class GatewayQueue {
   using Duration = Clock::duration;
   using Ticket = std::uint64_t;
 
+  /// Who asks: a connection, the host it comes from, whether the host is a priority peer.
+  struct Asker {
+    std::uint64_t client = 0;
+    std::string host;
+    bool priority = false;
+  };
+
   struct Request {
     Ticket ticket = 0;
     std::uint64_t client = 0;  // the connection: requests of one client are one turn
+    std::string host;          // its peer's address: hosts take turns before connections do
     bool priority = false;
     std::uint8_t unit = 0;
     TimePoint queued;
   };
 
+  /// Enough for a SCADA's or an OPC server's handful of connections, each with one request
+  /// waiting (a connection waits for its answer before its next request goes on).
+  static constexpr std::size_t most_waiting_per_host = 16;
+
   explicit GatewayQueue(Duration wait) : wait_(wait) {}
 
   /// A client's request joins the queue at `now`; its ticket names it from then on.
-  Ticket push(std::uint64_t client, bool priority, std::uint8_t unit, TimePoint now);
+  /// nullopt: its host (not a priority peer) already has most_waiting_per_host waiting.
+  std::optional<Ticket> push(const Asker& asker, std::uint8_t unit, TimePoint now);
   /// The request that has the line next, when the line is free; nullopt when none waits
   /// or a due poll (`poll_due`) has its turn.
   std::optional<Request> next(bool poll_due) const;
@@ -62,10 +80,18 @@ class GatewayQueue {
   bool empty() const { return queue_.empty(); }
 
  private:
+  struct Host {
+    std::size_t waiting = 0;                    // its requests in the queue, priority ones aside
+    std::optional<std::uint64_t> last_client;  // its connection served last in its turns
+  };
+  void left(const Request& request);
+  void forget_if_idle(const std::string& host);
+
   std::deque<Request> queue_;  // in the order they came
   Duration wait_;
   Ticket next_ticket_ = 1;
-  std::optional<std::uint64_t> last_client_;  // the client served last in the round
+  std::map<std::string, Host, std::less<>> hosts_;  // see forget_if_idle
+  std::optional<std::string> last_host_;           // the host served last in the round
   bool last_was_poll_ = true;
 };
 

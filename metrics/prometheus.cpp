@@ -8,18 +8,12 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include "master/gateway_status.hpp"
-#include "mqtt/mqtt_status.hpp"
-#include "sparkplug/edge_status.hpp"
-#include "state/state_status.hpp"
-#include "status/port_status.hpp"
-#include "web/login_status.hpp"
+#include "status/document.hpp"
 
 namespace unima::metrics {
 
 namespace {
 
-using status::Labels;
 using status::MetricType;
 using status::Samples;
 using status::Statistic;
@@ -65,26 +59,17 @@ class Exposition {
   std::string text_;
 };
 
-const nlohmann::json& field(const nlohmann::json& object, const char* key) {
-  static const nlohmann::json absent;
-  return object.is_object() && object.contains(key) ? object.at(key) : absent;
-}
-
-std::vector<nlohmann::json> elements(const nlohmann::json& array) {
-  return array.is_array() ? std::vector<nlohmann::json>(array.begin(), array.end()) : std::vector<nlohmann::json>{};
-}
-
-// A part of the status document read as its type, then each of its statistics written
-// over every instance the document holds (none: the families' HELP and TYPE alone).
-// `only_when_present`: a part that is off (mqtt, sparkplug, ...) has no families at all.
+// A part of the status document, then each of its statistics written over every instance
+// the document holds (none: the families' HELP and TYPE alone). `only_when_present`: a
+// part that is off (mqtt, sparkplug, ...) has no families at all.
 struct Part {
-  std::function<void(const nlohmann::json& status, Exposition& out)> write;
+  std::function<void(const status::Document& status, Exposition& out)> write;
 };
 
 template <class Type>
-Part part(std::function<std::vector<Type>(const nlohmann::json&)> instances, const std::vector<Statistic<Type>>& statistics,
+Part part(std::vector<Type> (*instances)(const status::Document&), const std::vector<Statistic<Type>>& statistics,
           bool only_when_present = false) {
-  return {[instances = std::move(instances), &statistics, only_when_present](const nlohmann::json& status, Exposition& out) {
+  return {[instances, &statistics, only_when_present](const status::Document& status, Exposition& out) {
     const auto all = instances(status);
     if (only_when_present && all.empty()) return;
     for (const auto& statistic : statistics) {
@@ -95,121 +80,61 @@ Part part(std::function<std::vector<Type>(const nlohmann::json&)> instances, con
   }};
 }
 
-/// The object at `key` (of `parent`) as `Type`; none when it is not an object.
+/// An optional part as none or one instance.
 template <class Type>
-std::vector<Type> object_at(const nlohmann::json& parent, const char* key) {
-  const auto& value = field(parent, key);
-  return value.is_object() ? std::vector<Type>{value.get<Type>()} : std::vector<Type>{};
+std::vector<Type> one(const std::optional<Type>& part) {
+  return part ? std::vector<Type>{*part} : std::vector<Type>{};
 }
 
-/// The elements of the array at `key` as `Type`.
+/// An optional list of parts as its instances.
 template <class Type>
-std::vector<Type> array_at(const nlohmann::json& parent, const char* key) {
-  std::vector<Type> all;
-  for (const auto& element : elements(field(parent, key))) all.push_back(element.get<Type>());
-  return all;
+std::vector<Type> each(const std::optional<std::vector<Type>>& parts) {
+  return parts.value_or(std::vector<Type>{});
 }
-
-std::string text(const nlohmann::json& value) { return value.is_string() ? value.get<std::string>() : value.dump(); }
-
-// The parts not typed yet (the bridge's own, the UnimaBUS side, the monitor): their keys
-// are read here.
-using Untyped = Statistic<nlohmann::json>;
-
-const std::vector<Untyped> bridge_statistics{
-    {"uptime_seconds", MetricType::gauge, "Seconds since the daemon started.",
-     [](const nlohmann::json& s, Samples& out) { out.add(field(s, "uptime_s")); }},
-    {"resident_memory_bytes", MetricType::gauge, "Resident set size of the daemon.",
-     [](const nlohmann::json& s, Samples& out) { out.add(field(s, "rss_bytes")); }},
-    {"modbus_error", MetricType::gauge, "The Modbus error bit (C+0x13 bit 15, the front panel's Error LED).",
-     [](const nlohmann::json& s, Samples& out) { out.add(field(s, "error")); }},
-};
-
-Labels device_labels(const nlohmann::json& d) { return {{"bank", text(field(d, "bank"))}, {"type", text(field(d, "type"))}}; }
-Labels module_labels(const nlohmann::json& m) { return {{"bank", text(field(m, "bank"))}}; }
-
-// A D_N without a type is not configured: not a device.
-const std::vector<Untyped> device_statistics{
-    {"device_online", MetricType::gauge, "1 while a configured device D_N is on-line on UnimaBUS.",
-     [](const nlohmann::json& d, Samples& out) {
-       if (field(d, "type").is_string()) out.add(field(d, "online"), device_labels(d));
-     }},
-    {"device_telegrams_total", MetricType::counter, "UnimaBUS telegrams taken into a device bank D_N.",
-     [](const nlohmann::json& d, Samples& out) {
-       if (field(d, "type").is_string()) out.add(field(d, "telegrams"), device_labels(d));
-     }},
-};
-
-const std::vector<Untyped> module_statistics{
-    {"module_online", MetricType::gauge, "1 while an I/O module S_N is on-line on UnimaBUS.",
-     [](const nlohmann::json& m, Samples& out) { out.add(field(m, "online"), module_labels(m)); }},
-    {"module_telegrams_total", MetricType::counter, "UnimaBUS telegrams taken into an I/O module bank S_N.",
-     [](const nlohmann::json& m, Samples& out) { out.add(field(m, "telegrams"), module_labels(m)); }},
-};
-
-const std::vector<Untyped> unimabus_statistics{
-    {"telegrams_ignored_total", MetricType::counter, "Telegrams for no configured device.",
-     [](const nlohmann::json& u, Samples& out) { out.add(field(u, "telegrams_ignored")); }},
-    {"telegrams_refused_total", MetricType::counter, "Telegrams refused (ambiguous address, bad offset).",
-     [](const nlohmann::json& u, Samples& out) { out.add(field(u, "telegrams_refused")); }},
-    {"feed_clients", MetricType::gauge, "Connected feed clients (UnimaBUS drivers).",
-     [](const nlohmann::json& u, Samples& out) { out.add(field(u, "clients")); }},
-};
-
-const std::vector<Untyped> monitor_statistics{
-    {"monitor_lines_written_total", MetricType::counter, "Monitor lines written.",
-     [](const nlohmann::json& m, Samples& out) { out.add(field(m, "written")); }},
-    {"monitor_lines_dropped_total", MetricType::counter, "Monitor lines dropped because the writer fell behind.",
-     [](const nlohmann::json& m, Samples& out) { out.add(field(m, "dropped")); }},
-};
-
-// The document itself, and a part that is always there even when the document lacks it.
-std::vector<nlohmann::json> whole(const nlohmann::json& status) { return {status}; }
-std::vector<nlohmann::json> always(const nlohmann::json& status, const char* key) { return {field(status, key)}; }
 
 // TLS handshakes (SPEC §11; tls/handshake_limiter), by port: the Modbus/TCP Security
 // port's, and HTTPS' as port "https".
-std::vector<status::PortHandshakes> handshakes(const nlohmann::json& status) {
+std::vector<status::PortHandshakes> handshakes(const status::Document& status) {
   std::vector<status::PortHandshakes> all;
-  for (const auto& port : array_at<status::PortStatus>(status, "ports"))
+  for (const auto& port : status.ports)
     if (port.handshakes) all.push_back({port.port, *port.handshakes});
-  for (const auto& https : object_at<status::HandshakeStatus>(field(status, "http"), "handshakes")) all.push_back({"https", https});
+  if (status.http.handshakes) all.push_back({"https", *status.http.handshakes});
   return all;
+}
+
+std::vector<master::GatewayUnitStatus> gateway_units(const status::Document& s) {
+  return s.gateway ? s.gateway->units : std::vector<master::GatewayUnitStatus>{};
+}
+
+std::vector<mqtt::BufferStatus> mqtt_buffer(const status::Document& s) {
+  return s.mqtt ? one(s.mqtt->buffer) : std::vector<mqtt::BufferStatus>{};
 }
 
 // Every family of /metrics, in the order of the exposition.
 const std::vector<Part>& registry() {
+  using Document = status::Document;
   static const std::vector<Part> all{
-      part<nlohmann::json>(whole, bridge_statistics),
-      part<status::PortStatus>([](const nlohmann::json& s) { return array_at<status::PortStatus>(s, "ports"); },
-                               status::port_statistics()),
+      part<status::BridgeStatus>([](const Document& s) { return one(s.bridge); }, status::bridge_statistics()),
+      part<status::PortStatus>([](const Document& s) { return s.ports; }, status::port_statistics()),
       part<status::PortHandshakes>(handshakes, status::handshake_statistics()),
-      part<nlohmann::json>([](const nlohmann::json& s) { return elements(field(s, "devices")); }, device_statistics),
-      part<nlohmann::json>([](const nlohmann::json& s) { return elements(field(s, "modules")); }, module_statistics),
-      part<nlohmann::json>([](const nlohmann::json& s) { return always(s, "unimabus"); }, unimabus_statistics),
-      part<master::MasterDeviceStatus>([](const nlohmann::json& s) { return array_at<master::MasterDeviceStatus>(s, "master"); },
-                                       master::master_device_statistics()),
-      part<master::GatewayUnitStatus>(
-          [](const nlohmann::json& s) { return array_at<master::GatewayUnitStatus>(field(s, "gateway"), "units"); },
-          master::gateway_unit_statistics()),
-      part<nlohmann::json>([](const nlohmann::json& s) { return always(s, "monitor"); }, monitor_statistics),
-      part<state::StateStatus>([](const nlohmann::json& s) { return object_at<state::StateStatus>(s, "state"); },
-                               state::state_statistics()),
-      part<mqtt::MqttStatus>([](const nlohmann::json& s) { return object_at<mqtt::MqttStatus>(s, "mqtt"); },
-                             mqtt::mqtt_statistics(), true),
-      part<mqtt::BufferStatus>([](const nlohmann::json& s) { return object_at<mqtt::BufferStatus>(field(s, "mqtt"), "buffer"); },
-                               mqtt::buffer_statistics(), true),
-      part<sparkplug::EdgeStatus>([](const nlohmann::json& s) { return object_at<sparkplug::EdgeStatus>(s, "sparkplug"); },
-                                  sparkplug::edge_statistics(), true),
-      part<web::LoginStatus>([](const nlohmann::json& s) { return object_at<web::LoginStatus>(field(s, "http"), "logins"); },
-                             web::login_statistics(), true),
+      part<unimabus::DeviceStatus>([](const Document& s) { return each(s.devices); }, unimabus::device_statistics()),
+      part<unimabus::ModuleStatus>([](const Document& s) { return each(s.modules); }, unimabus::module_statistics()),
+      part<unimabus::UnimabusStatus>([](const Document& s) { return one(s.unimabus); }, unimabus::unimabus_statistics()),
+      part<master::MasterDeviceStatus>([](const Document& s) { return each(s.master); }, master::master_device_statistics()),
+      part<master::GatewayUnitStatus>(gateway_units, master::gateway_unit_statistics()),
+      part<monitor::MonitorStatus>([](const Document& s) { return one(s.monitor); }, monitor::monitor_statistics()),
+      part<state::StateStatus>([](const Document& s) { return one(s.state); }, state::state_statistics()),
+      part<mqtt::MqttStatus>([](const Document& s) { return one(s.mqtt); }, mqtt::mqtt_statistics(), true),
+      part<mqtt::BufferStatus>(mqtt_buffer, mqtt::buffer_statistics(), true),
+      part<sparkplug::EdgeStatus>([](const Document& s) { return one(s.sparkplug); }, sparkplug::edge_statistics(), true),
+      part<web::LoginStatus>([](const Document& s) { return one(s.http.logins); }, web::login_statistics(), true),
   };
   return all;
 }
 
 }  // namespace
 
-std::string prometheus_text(const nlohmann::json& status) {
+std::string prometheus_text(const status::Document& status) {
   Exposition out;
   for (const auto& part : registry()) part.write(status, out);
   return out.take();

@@ -16,6 +16,12 @@ inline constexpr std::uint8_t write_multiple_coils = 0x0F;
 inline constexpr std::uint8_t write_multiple_registers = 0x10;
 inline constexpr std::uint8_t encapsulated_interface = 0x2B;
 inline constexpr std::uint8_t exception_flag = 0x80;
+
+/// Functions 1-4, which only read. Every other function counts as a write where a right
+/// is asked (modbus/write_rights, the gateway's `functions: read`), the ones the bridge
+/// does not know too (23, 43, a vendor's): it forwards them unread, so it cannot tell that
+/// they change nothing.
+constexpr bool only_reads(std::uint8_t function) { return function >= read_coils && function <= read_input_registers; }
 }  // namespace function
 
 /// Modbus exception codes; the seed's Err01..Err04 are the first four (seed 004 §5.3).

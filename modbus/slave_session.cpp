@@ -10,8 +10,9 @@ Recipient recipient_of(Link link, std::uint8_t address, std::uint8_t own_address
 }
 
 Verdict route(Recipient recipient, std::uint8_t unit, std::uint8_t function,
-              const std::array<bool, 256>* routed_units, const WriteRights* rights) {
+              const std::array<bool, 256>* routed_units, const WriteRights* rights, bool reads_only) {
   if (recipient != Recipient::another_slave || !routed_units || !(*routed_units)[unit]) return Verdict::serve;
+  if (reads_only && !function::only_reads(function)) return Verdict::refuse_forward;
   return !rights || rights->may_forward(unit, function) ? Verdict::forward : Verdict::refuse_forward;
 }
 

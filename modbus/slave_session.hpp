@@ -32,13 +32,15 @@ enum class Verdict : std::uint8_t {
                    // route is answered there (0x0A behind a gateway, else 0x0B)
   forward,         // to the line of foreign slaves, as it came
   refuse_forward,  // a unit the gateway routes, but this client may not send it this
-                   // function (WriteRights::may_forward, the freeze included): 01
+                   // function (WriteRights::may_forward, the freeze included), or the
+                   // gateway forwards reads only (`functions: read`): 01
 };
 
 /// `routed_units`: by unit id, what the gateway forwards (nullptr: no gateway).
 /// `rights`: the client's (nullptr: everything), as the port's write_rights says.
+/// `reads_only`: the gateway forwards functions 1-4 only, whoever asks.
 Verdict route(Recipient recipient, std::uint8_t unit, std::uint8_t function,
-              const std::array<bool, 256>* routed_units, const WriteRights* rights);
+              const std::array<bool, 256>* routed_units, const WriteRights* rights, bool reads_only = false);
 
 struct Served {
   std::size_t length = 0;  // of the response PDU in `out`; 0: nothing to send

@@ -27,10 +27,8 @@ void WriteRights::allow_units(std::uint8_t first, std::uint8_t last) {
 }
 
 bool WriteRights::may_forward(std::uint8_t unit, std::uint8_t function) const {
-  // Functions 1-4 only read: SPEC §14 lets every client read through the gateway. Every
-  // other function counts as a write, the ones the bridge does not know too (23, 43, a
-  // vendor's): it forwards them unread, so it cannot tell that they change nothing.
-  if (function >= function::read_coils && function <= function::read_input_registers) return true;
+  // SPEC §14 lets every client read through the gateway.
+  if (function::only_reads(function)) return true;
   return everything_ || units_[unit];
 }
 

@@ -10,6 +10,7 @@
 #include "monitor/hex_text.hpp"
 #include "platform/json_text.hpp"
 #include "platform/log_text.hpp"
+#include "platform/utc_time.hpp"
 
 namespace unima::monitor {
 
@@ -19,14 +20,6 @@ using Clock = std::chrono::system_clock;
 
 constexpr std::array<std::string_view, 8> state_names = {"Done",  "Not4Me", "Err01",   "Err02",
                                                          "Err03", "Err04",  "Timeout", "Cached"};
-// The last UTC second formatted, per thread: lines come many per second, and the date and
-// clock of a second are the costly part of a time stamp.
-struct SecondText {
-  std::int64_t second = -1;
-  char text[19];  // "YYYY-MM-DDTHH:MM:SS"
-};
-thread_local SecondText last_second;
-
 // Writes a line through a raw pointer into space reserved for its bound, so that no
 // character is checked against a capacity: the writer thread formats one line per
 // transaction, and per-character appends were most of its cost. The loops work on a
@@ -58,14 +51,6 @@ class LineWriter {
     p_ = write_hex_cells(p_, bytes.data(), bytes.size()) - 1;  // no space after the last byte
   }
   void decimal(std::uint64_t value) { p_ = std::to_chars(p_, p_ + 20, value).ptr; }
-  void digits(unsigned value, int width) {
-    char* p = p_;
-    for (int i = width - 1; i >= 0; --i) {
-      p[i] = static_cast<char>('0' + value % 10);
-      value /= 10;
-    }
-    p_ = p + width;
-  }
   // A field of a text line is one word, and a port name is the peer's text (a TLS
   // client's certificate names its role): a control character or a space in it is escaped
   // as in the log (platform/log_text), so a peer can neither forge a line nor shift the
@@ -97,35 +82,7 @@ class LineWriter {
     }
     put('"');
   }
-  void utc_time(Clock::time_point time) {
-    using namespace std::chrono;
-    const auto micros = floor<microseconds>(time);
-    const auto second = floor<seconds>(micros);
-    if (last_second.second != second.time_since_epoch().count()) {
-      const auto day = floor<days>(second);
-      const year_month_day date{day};
-      const hh_mm_ss clock{second - day};
-      char* const start = p_;
-      digits(static_cast<unsigned>(static_cast<int>(date.year())), 4);
-      put('-');
-      digits(static_cast<unsigned>(date.month()), 2);
-      put('-');
-      digits(static_cast<unsigned>(date.day()), 2);
-      put('T');
-      digits(static_cast<unsigned>(clock.hours().count()), 2);
-      put(':');
-      digits(static_cast<unsigned>(clock.minutes().count()), 2);
-      put(':');
-      digits(static_cast<unsigned>(clock.seconds().count()), 2);
-      std::memcpy(last_second.text, start, sizeof last_second.text);
-      last_second.second = second.time_since_epoch().count();
-    } else {
-      put(std::string_view(last_second.text, sizeof last_second.text));
-    }
-    put('.');
-    digits(static_cast<unsigned>((micros - second).count()), 6);
-    put('Z');
-  }
+  void utc_time(Clock::time_point time) { p_ = platform::write_utc_time(p_, time); }
 
  private:
   char* p_;
@@ -315,7 +272,7 @@ class TextReader {
 std::optional<MonitorLine> parse_text(std::string_view text) {
   TextReader reader(text);
   MonitorLine line;
-  const auto time = parse_utc_time(reader.word());
+  const auto time = platform::parse_utc_time(reader.word());
   if (!time) return std::nullopt;
   line.time = *time;
   line.port = std::string(reader.word());
@@ -418,7 +375,7 @@ std::optional<MonitorLine> parse_json(std::string_view text) {
   const auto time = string_at("time");
   const auto port = string_at("port");
   if (!time || !port) return std::nullopt;
-  const auto parsed_time = parse_utc_time(*time);
+  const auto parsed_time = platform::parse_utc_time(*time);
   if (!parsed_time) return std::nullopt;
   line.time = *parsed_time;
   line.port = *port;
@@ -517,29 +474,6 @@ void append_monitor_line(std::string& out, const MonitorFields& fields, MonitorF
 
 void append_drop_notice(std::string& out, Clock::time_point time, std::uint64_t dropped, MonitorFormat format) {
   append_bounded(out, 128, [&](LineWriter& w) { write_drop_notice(w, time, dropped, format); });
-}
-
-void append_utc_time(std::string& out, Clock::time_point time) {
-  append_bounded(out, 32, [&](LineWriter& w) { w.utc_time(time); });
-}
-
-std::optional<Clock::time_point> parse_utc_time(std::string_view text) {
-  using namespace std::chrono;
-  // YYYY-MM-DDTHH:MM:SS.ffffffZ
-  if (text.size() != 27 || text[4] != '-' || text[7] != '-' || text[10] != 'T' || text[13] != ':' ||
-      text[16] != ':' || text[19] != '.' || text[26] != 'Z')
-    return std::nullopt;
-  const auto field = [&](std::size_t at, std::size_t width) {
-    return parse_unsigned(text.substr(at, width), 10, 999'999);
-  };
-  const auto y = field(0, 4), mo = field(5, 2), d = field(8, 2), h = field(11, 2), mi = field(14, 2), s = field(17, 2),
-             us = field(20, 6);
-  if (!y || !mo || !d || !h || !mi || !s || !us || *h > 23 || *mi > 59 || *s > 60) return std::nullopt;
-  const year_month_day date{year(static_cast<int>(*y)), month(static_cast<unsigned>(*mo)),
-                            day(static_cast<unsigned>(*d))};
-  if (!date.ok()) return std::nullopt;
-  return time_point_cast<Clock::duration>(sys_days(date) + hours(*h) + minutes(*mi) + seconds(*s) +
-                                          microseconds(*us));
 }
 
 MonitorFields MonitorLine::fields() const {

@@ -58,10 +58,6 @@ std::size_t monitor_line_bound(const MonitorFields& fields);
 /// Returns the end of what was written.
 char* write_monitor_line(char* out, const MonitorFields& fields, MonitorFormat format);
 
-/// "2026-11-22T14:41:23.123456Z"
-void append_utc_time(std::string& out, std::chrono::system_clock::time_point time);
-std::optional<std::chrono::system_clock::time_point> parse_utc_time(std::string_view text);
-
 /// A line read back; owns its bytes.
 struct MonitorLine {
   enum class Kind : std::uint8_t { transaction, drop_notice };

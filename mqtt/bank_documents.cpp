@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-#include "monitor/monitor_line.hpp"
+#include "platform/utc_time.hpp"
 #include "values/value_json.hpp"
 
 namespace unima::mqtt {
@@ -25,7 +25,7 @@ nlohmann::ordered_json bank_values(const values::BankValues& layout, std::span<c
 nlohmann::ordered_json bank_document(const values::BankValues& layout, std::span<const values::Value> values, bool online,
                                      std::chrono::system_clock::time_point now) {
   std::string time;
-  monitor::append_utc_time(time, now);
+  platform::append_utc_time(time, now);
   nlohmann::ordered_json document = {{"time", time}};
   auto changing = bank_values(layout, values, online);
   for (auto& [key, value] : changing.items()) document[key] = std::move(value);

@@ -2,13 +2,13 @@
 
 #include <nlohmann/json.hpp>
 
-#include "monitor/monitor_line.hpp"
+#include "platform/utc_time.hpp"
 
 namespace unima::mqtt {
 
 std::string birth_document(const BirthFacts& facts) {
   std::string started;
-  monitor::append_utc_time(started, facts.started);
+  platform::append_utc_time(started, facts.started);
   nlohmann::ordered_json document;
   document["version"] = facts.version;
   document["config_sha256"] = facts.config_sha256;

@@ -131,16 +131,18 @@ void add_setpoints(Context& context, const values::BankValues& layout, const Jso
   }
 }
 
-void add_switches(Context& context, const Json& device) {
-  for (unsigned bit = 0; bit < 16; ++bit) {
-    const auto identifier = fmt::format("x.{}", bit);
-    auto payload = common(context, "X", identifier, device);
-    payload["command_topic"] = fmt::format("{}/set/X/{}", context.mqtt.topic, bit);
+// A switch per bit of X, as the value model names them (values/value_layout.cpp): set/X
+// takes the bit's number (SPEC §12).
+void add_switches(Context& context, const values::BankValues& layout, const Json& device) {
+  for (const auto& def : layout.values) {
+    if (!is_boolean(def)) continue;
+    auto payload = common(context, "X", def.name, device);
+    payload["command_topic"] = fmt::format("{}/set/X/{}", context.mqtt.topic, def.first_bit);
     payload["payload_on"] = "1";
     payload["payload_off"] = "0";
     payload["qos"] = 1;
     payload["retain"] = false;
-    add(context, "switch", "X", identifier, payload);
+    add(context, "switch", "X", def.name, payload);
   }
 }
 
@@ -158,7 +160,7 @@ std::vector<DiscoveryMessage> discovery_messages(const config::Config& config, c
     if (const auto* layout = model.bank(bank)) add_values(context, *layout, bridge);
   if (!mqtt.commands) return messages;
   if (const auto* w = model.bank(BankId::W)) add_setpoints(context, *w, bridge);
-  if (model.bank(BankId::X)) add_switches(context, bridge);
+  if (const auto* x = model.bank(BankId::X)) add_switches(context, *x, bridge);
   return messages;
 }
 

@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 
+#include "banks/bank_id.hpp"
 #include "state/checked_lines.hpp"
 
 namespace unima::mqtt {
@@ -30,6 +31,13 @@ std::optional<HistoryEntry> entry_of(std::string_view body, std::string& why) {
     return std::nullopt;
   entry.bank = body.substr(space + 1, bank_end - space - 1);
   entry.document = body.substr(bank_end + 1);
+  // The bank is a topic level when the entry is sent: one that is no bank of the bridge
+  // ("D1/../x", "#") would be published under a topic the bridge never owns, or refused by
+  // the broker and held forever (issue 43, finding 13).
+  if (!banks::parse_bank_name(entry.bank)) {
+    why = "not a bank of the bridge";
+    return std::nullopt;
+  }
   return entry;
 }
 
@@ -84,12 +92,19 @@ LoadedHistory parse_history(std::string_view bytes) {
 }
 
 std::size_t oldest_to_drop(std::span<const std::uint64_t> sizes, std::uint64_t room) {
-  auto total = std::accumulate(sizes.begin(), sizes.end(), std::uint64_t{0});
+  const auto total = std::accumulate(sizes.begin(), sizes.end(), std::uint64_t{0});
   if (total <= room) return 0;
-  const auto target = room - room / 8;
-  std::size_t dropped = 0;
-  while (dropped < sizes.size() && total > target) total -= sizes[dropped++];
-  return dropped;
+  // How many of the oldest go for the rest to take `limit` bytes at most.
+  const auto to_fit = [&](std::uint64_t limit) {
+    auto left = total;
+    std::size_t dropped = 0;
+    while (dropped < sizes.size() && left > limit) left -= sizes[dropped++];
+    return dropped;
+  };
+  // The eighth left free must not cost the newest entries that fit the room: a buffer so
+  // small that one entry takes most of it keeps the newest, rewritten with each new entry.
+  const auto with_an_eighth_free = to_fit(room - room / 8);
+  return with_an_eighth_free < sizes.size() ? with_an_eighth_free : to_fit(room);
 }
 
 }  // namespace unima::mqtt

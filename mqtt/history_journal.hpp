@@ -15,7 +15,7 @@
 // history up to that entry, so a restart sends only what follows. The file is appended
 // and synced at least once a second, so a crash tears at most its last line: a torn tail,
 // dropped. A bad line anywhere else is damage, and the file is set aside whole (as the
-// state file, SPEC §10). Pure: the file and its thread live in io/north/history_buffer.
+// state file, SPEC §10). Pure: the file and its thread live in io/mqtt/history_buffer.
 
 #include <cstddef>
 #include <cstdint>
@@ -71,7 +71,9 @@ LoadedHistory parse_history(std::string_view bytes);
 /// entries' lines, oldest first, that the buffer would hold; `room` is what max_size leaves
 /// for them. None go while they fit; else the oldest go until the rest leave an eighth of
 /// the room free, so that a full buffer is rewritten once per eighth of its size taken in,
-/// not for every new entry. Returns how many of the oldest go.
+/// not for every new entry — unless that would leave nothing: then the oldest go only until
+/// the rest fit the room, so the newest entries stay whenever one fits at all. Returns how
+/// many of the oldest go.
 std::size_t oldest_to_drop(std::span<const std::uint64_t> sizes, std::uint64_t room);
 
 }  // namespace unima::mqtt

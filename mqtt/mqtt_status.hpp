@@ -32,6 +32,8 @@ struct MqttStatus {
   std::uint64_t drops = 0;
   std::uint64_t published = 0;
   std::uint64_t session_takeovers = 0;
+  std::uint64_t retained_commands_dropped = 0;  // set/… messages from the broker's store
+  std::uint64_t response_topics_refused = 0;    // answered on set/result instead (mqtt/response_topic)
   std::string since;                         // UTC: connected since, or not connected since
   std::optional<std::string> last_takeover;  // UTC; none yet: null
   std::optional<std::string> last_error;
@@ -40,7 +42,8 @@ struct MqttStatus {
 
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(BufferStatus, file, bytes, messages, dropped, history_sent, syncs, failures)
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(MqttStatus, broker, client_id, topic, connected, connections, drops, published,
-                                                session_takeovers, since, last_takeover, last_error, buffer)
+                                                session_takeovers, retained_commands_dropped, response_topics_refused, since,
+                                                last_takeover, last_error, buffer)
 
 const std::vector<status::Statistic<MqttStatus>>& mqtt_statistics();
 /// The buffer's, written only when there is one.

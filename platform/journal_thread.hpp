@@ -1,6 +1,6 @@
 #pragma once
 // The thread that writes and fdatasyncs a journal on the disk — the state file's
-// (io/state_file) and the MQTT history buffer's (io/north/history_buffer) — so that the
+// (io/state_file) and the MQTT history buffer's (io/mqtt/history_buffer) — so that the
 // loop never waits for the disk: fdatasync blocks for as long as the disk takes, longer
 // on a busy or failing one, and the loop serves Modbus.
 //

@@ -28,20 +28,38 @@ packages=(
   stunnel4
   # fuzzing (fuzz/, docs/fuzzing.md): clang 14 and its libFuzzer, ASan and UBSan runtimes
   clang libclang-rt-dev
+  # Eclipse Tahu's Sparkplug codec runs in Node.js (tests/support/tahu, below)
+  nodejs
 )
 
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
-if [ ${#missing[@]} -eq 0 ]; then
-  exit 0
-fi
-echo "installing: ${missing[*]}"
+# Debian's npm is a package of its own; NodeSource's nodejs carries one (and conflicts with it).
+command -v npm >/dev/null || missing+=(npm)
 sudo=""
 if [ "$(id -u)" -ne 0 ]; then sudo="sudo"; fi
-$sudo apt-get update -qq
-# tshark's wireshark-common asks whether non-root users may capture; they need not, and
-# the install must not stop to ask.
-echo "wireshark-common wireshark-common/install-setuid boolean false" | $sudo debconf-set-selections
-DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "installing: ${missing[*]}"
+  $sudo apt-get update -qq
+  # tshark's wireshark-common asks whether non-root users may capture; they need not, and
+  # the install must not stop to ask.
+  echo "wireshark-common wireshark-common/install-setuid boolean false" | $sudo debconf-set-selections
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi
+
+# Eclipse Tahu's Sparkplug B codec (npm `sparkplug-payload`), an independent decoder of what
+# the daemon publishes (tests/integration/sparkplug_tahu_test.cpp). It is not a Debian
+# package: npm installs the versions tests/support/tahu/package-lock.json pins, with their
+# checksums, once per machine, outside the source tree (a fresh clone finds it there).
+tahu_dir=/usr/local/lib/unima-bridge-tests/tahu
+tahu_source="$(dirname "$0")/../tests/support/tahu"
+if ! cmp -s "$tahu_source/package-lock.json" "$tahu_dir/package-lock.json" ||
+   [ ! -f "$tahu_dir/node_modules/sparkplug-payload/package.json" ]; then
+  echo "installing Eclipse Tahu's sparkplug-payload into $tahu_dir"
+  $sudo mkdir -p "$tahu_dir"
+  $sudo cp "$tahu_source/package.json" "$tahu_source/package-lock.json" "$tahu_dir/"
+  # --ignore-scripts: protobufjs' postinstall only prints; nothing of the package runs as root
+  (cd "$tahu_dir" && $sudo npm ci --no-audit --no-fund --ignore-scripts --loglevel=error)
+fi

@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "config/config.hpp"
 #include "sparkplug/metric_value.hpp"
 #include "sparkplug/payload_codec.hpp"
 #include "sparkplug/value_metrics.hpp"
@@ -14,7 +15,6 @@ namespace unima::sparkplug {
 
 namespace {
 
-constexpr std::string_view name_space = "spBv1.0";
 
 std::string encoded(const Payload& payload) {
   const auto bytes = encode_payload(payload);
@@ -33,15 +33,31 @@ Metric bd_seq_metric(std::uint64_t bd_seq, std::uint64_t now_ms) {
 // A metric's name as a log line shows it (a host may leave it out).
 std::string name_of(const Metric& metric) { return metric.name.value_or("(a metric without a name)"); }
 
+// The datatype a command's metric is sent as: its own, or its birth's when it leaves it out.
+DataType commanded_type(const Metric& metric, const values::ValueDef& def) { return metric.datatype.value_or(data_type_of(def)); }
+
 // The number a command's metric sets, in the metric's unit: a Boolean's as 1 or 0, when
-// its value is a bit.
+// its value is a bit (a bit takes a number too; the codec takes 0 and 1 only).
 std::optional<double> commanded_number(const Metric& metric, const values::ValueDef& def) {
-  const auto type = metric.datatype.value_or(data_type_of(def));
+  const auto type = commanded_type(metric, def);
   if (type == DataType::Boolean && def.type == values::ValueType::boolean) {
     const auto flag = boolean_of(metric.value, type);
     return flag ? std::optional<double>(*flag ? 1.0 : 0.0) : std::nullopt;
   }
   return number_of(metric.value, type);
+}
+
+// Why a command's metric sets nothing `def` can take.
+std::string not_a_value_of(const Metric& metric, const values::ValueDef& def) {
+  if (def.type != values::ValueType::boolean) return fmt::format("{} is not a number", def.name);
+  return fmt::format("{} takes a Boolean (or the number 0 or 1), not a {}", def.name, data_type_name(commanded_type(metric, def)));
+}
+
+// A written value as the log shows it: a bit's as the Boolean it was sent as, any other
+// as its register.
+std::string shown(const values::ValueDef& def, double number, std::uint16_t raw) {
+  if (def.type == values::ValueType::boolean) return number != 0 ? "true" : "false";
+  return std::to_string(raw);
 }
 
 // A D_N or S_N follows a device on the line; the bridge's own banks are always there.
@@ -52,15 +68,19 @@ bool may_die(banks::BankId bank) { return banks::is_device_bank(bank) || banks::
 EdgeSession::EdgeSession(Settings settings, std::optional<std::uint64_t> last_bd_seq)
     : settings_(std::move(settings)), last_bd_seq_(last_bd_seq) {}
 
-std::string EdgeSession::node_topic(std::string_view type) const {
-  return fmt::format("{}/{}/{}/{}", name_space, settings_.group_id, type, settings_.edge_node_id);
+std::string EdgeSession::node_topic(std::string_view type) const { return node_topic(settings_.group_id, type, settings_.edge_node_id); }
+
+std::string EdgeSession::node_topic(std::string_view group_id, std::string_view type, std::string_view edge_node_id) {
+  return fmt::format("{}/{}/{}/{}", config::sparkplug_topic_namespace, group_id, type, edge_node_id);
 }
 
 std::string EdgeSession::device_topic(std::string_view type, std::string_view device) const {
-  return fmt::format("{}/{}/{}/{}/{}", name_space, settings_.group_id, type, settings_.edge_node_id, device);
+  return node_topic(type) + "/" + std::string(device);
 }
 
-std::string EdgeSession::host_state_topic(std::string_view host) { return fmt::format("{}/STATE/{}", name_space, host); }
+std::string EdgeSession::host_state_topic(std::string_view host) {
+  return fmt::format("{}/STATE/{}", config::sparkplug_topic_namespace, host);
+}
 
 std::uint64_t EdgeSession::begin_connect() {
   bd_seq_ = last_bd_seq_ ? (*last_bd_seq_ + 1) % 256 : 0;
@@ -79,8 +99,10 @@ void EdgeSession::connected() {
   connected_ = true;
   births_due_ = true;
   // The retained STATE comes again with the subscription; until it does, the host is
-  // not known to be online.
+  // not known to be online, and what was the newest stamp is forgotten: whatever a
+  // message once claimed holds for one connection at most.
   host_ = HostState::unknown;
+  host_timestamp_.reset();
 }
 
 void EdgeSession::disconnected() {
@@ -90,11 +112,12 @@ void EdgeSession::disconnected() {
   for (auto& device : devices_) device.born = false;
 }
 
-HostVerdict EdgeSession::host_state(std::string_view payload) {
+HostVerdict EdgeSession::host_state(std::string_view payload, std::optional<std::uint64_t> trusted_now_ms) {
   const auto json = nlohmann::json::parse(payload, nullptr, false);
   if (!json.is_object() || !json.contains("online") || !json["online"].is_boolean()) return HostVerdict::none;
   std::optional<std::uint64_t> timestamp;
   if (json.contains("timestamp") && json["timestamp"].is_number_unsigned()) timestamp = json["timestamp"].get<std::uint64_t>();
+  if (timestamp && trusted_now_ms && *timestamp > *trusted_now_ms + max_host_clock_lead_ms) return HostVerdict::from_the_future;
   // A STATE older than one seen is a host's stale message (its will, delivered late).
   if (timestamp && host_timestamp_ && *timestamp < *host_timestamp_) return HostVerdict::none;
   if (timestamp) host_timestamp_ = timestamp;
@@ -116,7 +139,7 @@ std::uint64_t EdgeSession::take_seq() { return seq_++; }  // uint8_t: 255 is fol
 EdgeSession::Device& EdgeSession::state_of(banks::BankId bank) {
   const auto found = std::find_if(devices_.begin(), devices_.end(), [&](const Device& d) { return d.bank == bank; });
   if (found != devices_.end()) return *found;
-  return devices_.emplace_back(Device{bank, false, {}});
+  return devices_.emplace_back(Device{bank, false, {}, {}});
 }
 
 Message EdgeSession::birth_of(const DeviceReading& device, Device& state, std::uint64_t now_ms) {
@@ -125,7 +148,7 @@ Message EdgeSession::birth_of(const DeviceReading& device, Device& state, std::u
   payload.metrics = metrics_of(*device.layout, device.values, now_ms);
   payload.seq = take_seq();
   state.born = true;
-  state.sent = device.values;
+  state.sent.assign(device.values.begin(), device.values.end());
   ++counters_.births;
   return {device_topic("DBIRTH", banks::bank_name(state.bank)), encoded(payload)};
 }
@@ -174,13 +197,14 @@ std::vector<Message> EdgeSession::step(std::span<const DeviceReading> devices, s
     } else if (!state.born && alive) {
       due.push_back(birth_of(device, state, now_ms));
     } else if (state.born) {
-      auto changed = changed_metrics_of(*device.layout, state.sent, device.values, now_ms);
+      auto changed = changed_metrics_of(*device.layout, state.sent, device.values, now_ms, state.resend);
+      state.resend.clear();
       if (changed.empty()) continue;
       Payload payload;
       payload.timestamp = now_ms;
       payload.metrics = std::move(changed);
       payload.seq = take_seq();
-      state.sent = device.values;
+      state.sent.assign(device.values.begin(), device.values.end());
       ++counters_.data;
       due.push_back({device_topic("DDATA", banks::bank_name(bank)), encoded(payload)});
     }
@@ -248,7 +272,7 @@ Command EdgeSession::dcmd(const values::BankValues& layout, const Payload& paylo
     }
     const auto number = commanded_number(metric, *def);
     if (!number) {
-      command.malformed = fmt::format("{} is not a number", def->name);
+      command.malformed = not_a_value_of(metric, *def);
       return command;
     }
     const auto encoded = values::raw_of(*def, *number);
@@ -256,8 +280,9 @@ Command EdgeSession::dcmd(const values::BankValues& layout, const Payload& paylo
       command.refused.push_back(*reason);
       continue;
     }
-    command.writes.push_back(
-        {layout.bank, def->offsets.front(), std::get<std::uint16_t>(encoded), values::word_mask(*def), def->name});
+    const auto raw = std::get<std::uint16_t>(encoded);
+    command.writes.push_back({layout.bank, def->offsets.front(), raw, values::word_mask(*def), def->name, shown(*def, *number, raw),
+                              static_cast<std::size_t>(def - layout.values.begin())});
   }
   return command;
 }

@@ -1,7 +1,7 @@
 #pragma once
 // The bridge as a Sparkplug B edge node (SPEC §16), its decisions without I/O: which
 // messages are due and what they carry, the sequence numbers, the primary host's state,
-// what a command means. The service (io/north/sparkplug_service) owns the connection,
+// what a command means. The service (io/mqtt/sparkplug_service) owns the connection,
 // the clock, the bdSeq file and the one write path, and asks this class at each turn.
 //
 // Sparkplug 3.0, as followed here:
@@ -18,10 +18,13 @@
 //     {"online":true,"timestamp":…}; an offline STATE while the node is born means the node
 //     publishes its NDEATH and disconnects (§5.9 "Edge Node Session Establishment" / the
 //     Primary Host Application's STATE, §7 of the specification); a STATE older than one
-//     seen before is ignored.
+//     seen before on this connection is ignored, and so is one stamped further ahead of the
+//     bridge's synchronised clock than max_host_clock_lead: a forged STATE stamped far in
+//     the future would otherwise make every real one look old (issue 43).
 //   - NCMD `Node Control/Rebirth` = true: every birth again, the same bdSeq.
 //   - DCMD to a metric of W or X, when commands are taken: a write of its register in
-//     the value's unit (W in tenths), by the value model's own way back (values/value_codec):
+//     the value's unit (W in tenths), or of one bit of X (`x.5`, a Boolean: that bit
+//     alone, the others kept), by the value model's own way back (values/value_codec):
 //     a value that would not read back as itself (3276.7 into W is 0x7FFF, "not measured")
 //     is refused with the reason — the service takes the rest through the one write path.
 // NCMD and DCMD come from whoever may publish on the broker: payloads over 64 KiB, that do
@@ -43,6 +46,9 @@ namespace unima::sparkplug {
 
 inline constexpr std::string_view rebirth_metric = "Node Control/Rebirth";
 inline constexpr std::size_t max_command_bytes = 64 * 1024;
+/// How far a primary host's STATE may be stamped ahead of the bridge's clock: hosts'
+/// clocks are synchronised too, so a minute is slack enough for any that is.
+inline constexpr std::uint64_t max_host_clock_lead_ms = 60'000;
 
 struct Message {
   std::string topic;
@@ -52,7 +58,7 @@ struct Message {
 /// One device (a bank of the value model) as it is now.
 struct DeviceReading {
   const values::BankValues* layout = nullptr;
-  std::vector<values::Value> values;  // ValueModel::evaluate's
+  std::span<const values::Value> values;  // ValueModel::evaluate's, kept by the caller for the step
   bool online = true;
 };
 
@@ -64,6 +70,8 @@ struct CommandWrite {
   std::uint16_t raw = 0;
   std::uint16_t mask = 0xFFFF;
   std::string metric;  // its name, for the log
+  std::string value;   // what it writes, for the log: the register, or a bit's true/false
+  std::size_t value_index = 0;  // the metric's value in the bank's layout (EdgeSession::resend)
 };
 
 /// What an NCMD or DCMD means.
@@ -77,6 +85,7 @@ struct Command {
 
 enum class HostVerdict {
   none,    // nothing to do: the same state, an older STATE, or not our host's
+  from_the_future,  // ignored: stamped more than max_host_clock_lead_ms ahead of the clock
   birth,   // the host is online: births are due (when connected)
   death,   // the host went offline while the node was born: NDEATH and disconnect
 };
@@ -101,9 +110,12 @@ class EdgeSession {
   /// `last_bd_seq`: the bdSeq of the last CONNECT before this process (nullopt: none kept).
   EdgeSession(Settings settings, std::optional<std::uint64_t> last_bd_seq);
 
+  /// spBv1.0/<group>/<type>/<node>: this node's, or another config's (a reload's next).
   std::string node_topic(std::string_view type) const;
+  static std::string node_topic(std::string_view group_id, std::string_view type, std::string_view edge_node_id);
+  /// spBv1.0/<group>/<type>/<node>/<device>
   std::string device_topic(std::string_view type, std::string_view device) const;
-  /// spBv1.0/STATE/<host>, spBv1.0/<group>/NCMD/<node>, spBv1.0/<group>/DCMD/<node>/+
+  /// spBv1.0/STATE/<host>
   static std::string host_state_topic(std::string_view host);
 
   /// A CONNECT is about to go: its bdSeq (the last one's + 1, modulo 256), kept as the
@@ -114,10 +126,14 @@ class EdgeSession {
 
   void connected();
   void disconnected();
-  /// The primary host's STATE payload.
-  HostVerdict host_state(std::string_view payload);
+  /// The primary host's STATE payload; `trusted_now_ms`: the bridge's clock when it is
+  /// synchronised (nullopt: it is not, and no STATE is judged by it).
+  HostVerdict host_state(std::string_view payload, std::optional<std::uint64_t> trusted_now_ms);
   /// Every birth again at the next step (a rebirth request, a new value model).
   void rebirth() { births_due_ = true; }
+  /// The value `value_index` of `bank`'s layout in the next DDATA, changed or not: a DCMD
+  /// the write path refused left it as it was, which the host is told.
+  void resend(banks::BankId bank, std::size_t value_index) { state_of(bank).resend.push_back(value_index); }
 
   /// The messages due now, in order, for the devices as they are now (in the model's
   /// order); their seq numbers taken.
@@ -144,6 +160,7 @@ class EdgeSession {
     banks::BankId bank;
     bool born = false;
     std::vector<values::Value> sent;
+    std::vector<std::size_t> resend;  // values sent in the next DDATA, changed or not
   };
 
   std::uint64_t take_seq();
@@ -161,7 +178,7 @@ class EdgeSession {
   bool node_born_ = false;
   bool births_due_ = true;
   HostState host_ = HostState::unknown;
-  std::optional<std::uint64_t> host_timestamp_;  // the newest STATE's
+  std::optional<std::uint64_t> host_timestamp_;  // the newest STATE's on this connection
   std::vector<Device> devices_;
   Counters counters_;
 };

@@ -24,12 +24,16 @@ const std::vector<status::Statistic<EdgeStatus>>& edge_statistics() {
       {"sparkplug_data_total", counter, "DDATA messages published.", [](const EdgeStatus& s, Samples& out) { out.add(s.data); }},
       {"sparkplug_device_deaths_total", counter, "DDEATH messages published.",
        [](const EdgeStatus& s, Samples& out) { out.add(s.deaths); }},
+      {"sparkplug_rebirths_coalesced_total", counter,
+       "NCMD rebirth requests carried out together with another: at most one rebirth per 5 s.",
+       [](const EdgeStatus& s, Samples& out) { out.add(s.rebirths_coalesced); }},
       {"sparkplug_commands_total", counter,
-       "NCMD/DCMD metrics taken (a rebirth, a write) or refused, and command messages malformed.",
+       "NCMD/DCMD metrics taken (a rebirth, a write) or refused, and command messages malformed or retained (dropped).",
        [](const EdgeStatus& s, Samples& out) {
          out.add(s.commands.taken, {{"outcome", "taken"}})
              .add(s.commands.refused, {{"outcome", "refused"}})
-             .add(s.commands.malformed, {{"outcome", "malformed"}});
+             .add(s.commands.malformed, {{"outcome", "malformed"}})
+             .add(s.commands.retained, {{"outcome", "retained"}});
        }},
   };
   return all;

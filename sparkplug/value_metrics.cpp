@@ -1,5 +1,6 @@
 #include "sparkplug/value_metrics.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "sparkplug/metric_value.hpp"
@@ -47,7 +48,7 @@ PropertySet unit_property(const std::string& unit) {
 DataType data_type_of(const ValueDef& def) {
   if (def.type == ValueType::boolean) return DataType::Boolean;
   if (def.type == ValueType::text) return DataType::String;
-  if (def.decoding == Decoding::pair32) return def.scale == 1.0 ? DataType::UInt32 : DataType::Double;
+  if (def.decoding == Decoding::pair32) return def.scale == 1.0 ? DataType::UInt64 : DataType::Double;
   if (def.scale != 1.0) return DataType::Float;
   if (def.decoding == Decoding::byte_field) return DataType::UInt8;
   return def.is_signed ? DataType::Int16 : DataType::UInt16;
@@ -71,11 +72,17 @@ std::vector<Metric> metrics_of(const values::BankValues& layout, std::span<const
 }
 
 std::vector<Metric> changed_metrics_of(const values::BankValues& layout, std::span<const values::Value> sent,
-                                       std::span<const values::Value> values, std::uint64_t timestamp_ms) {
+                                       std::span<const values::Value> values, std::uint64_t timestamp_ms,
+                                       std::span<const std::size_t> also) {
   std::vector<Metric> metrics;
+  std::size_t changed = 0;
+  for (std::size_t i = 0; i < values.size(); ++i) changed += i >= sent.size() || !(sent[i].reading == values[i].reading);
+  if (changed == 0 && also.empty()) return metrics;
+  metrics.reserve(changed + also.size());
   for (std::size_t i = 0; i < layout.values.size() && i < values.size(); ++i) {
     const auto& def = layout.values[i];
-    if (!has_metric(def) || (i < sent.size() && sent[i].reading == values[i].reading)) continue;
+    const bool unchanged = i < sent.size() && sent[i].reading == values[i].reading;
+    if (!has_metric(def) || (unchanged && std::find(also.begin(), also.end(), i) == also.end())) continue;
     metrics.push_back(metric_of(def, values[i], timestamp_ms));
   }
   return metrics;

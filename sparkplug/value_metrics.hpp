@@ -5,16 +5,20 @@
 // how each is typed and put is decided here:
 //
 //   value (values::ValueDef)                    metric datatype (its value field)
-//   a bit, a mapped bit (B, C's user bits)       Boolean
+//   a bit, a mapped bit (B, C's user bits),      Boolean
+//   a bit of X (x.0 … x.15)
 //   an ASCII pair                                String
-//   a 32-bit pair, scale 1                       UInt32  (int_value)
+//   a 32-bit pair, scale 1                       UInt64  (long_value: a UInt32 in int_value,
+//                                                        as the specification puts it, is
+//                                                        null to Eclipse Tahu's JS codec,
+//                                                        which reads long_value — Tahu #397)
 //   a 32-bit pair, scaled                        Double  (a Float's 24 bits would round
 //                                                        operating hours past 16.7 million)
 //   any other number with a scale other than 1   Float   (16 bits of raw × scale fit it)
 //   a byte of a byte pair, scale 1               UInt8
 //   a signed register, scale 1                   Int16   (two's complement, sparkplug/metric_value.hpp)
-//   an unsigned register, a bit word, a field    UInt16
-//   of several bits, X
+//   an unsigned register, a bit word (X's `x`),  UInt16
+//   a field of several bits
 //
 // Each metric is named by the value's name (the table's identifier: "engine_speed",
 // "operating_hours", "knock_rank_1.level", "status_word.alarm"; bank A's by its source,
@@ -49,8 +53,10 @@ std::vector<Metric> metrics_of(const values::BankValues& layout, std::span<const
 /// The metrics of a DDATA: those whose reading differs from `sent` (what the bank's last
 /// birth or data message carried), with name, timestamp, datatype and reading or is_null;
 /// none when nothing changed. A value that only changed why it is null (not measured to
-/// off-line) is no change on Sparkplug.
+/// off-line) is no change on Sparkplug. The values at `also` (indices into the layout) are
+/// sent changed or not: a host told again what a refused command left as it was.
 std::vector<Metric> changed_metrics_of(const values::BankValues& layout, std::span<const values::Value> sent,
-                                       std::span<const values::Value> values, std::uint64_t timestamp_ms);
+                                       std::span<const values::Value> values, std::uint64_t timestamp_ms,
+                                       std::span<const std::size_t> also = {});
 
 }  // namespace unima::sparkplug

@@ -55,7 +55,10 @@ JournalWalk walk_journal(std::string_view bytes, std::string_view header, std::s
     if (newline != std::string_view::npos) body = checked_body(bytes.substr(at, newline - at), why);
     auto verdict = body ? read(*body, at, newline + 1 - at) : LineVerdict{LineVerdict::Kind::bad, why};
     if (verdict.kind == LineVerdict::Kind::bad) {
-      walk.status = last ? JournalStatus::torn_tail : JournalStatus::damaged;
+      // Only a line that fails its own check can be a write a crash cut short: one whose
+      // checksum holds but whose content is not a record (a register out of range) was
+      // written so, and the file is not ours to trust, last line or not (issue 43).
+      walk.status = last && !body ? JournalStatus::torn_tail : JournalStatus::damaged;
       walk.problem = fmt::format("line {}: {}", line_number, verdict.why);
       break;
     }

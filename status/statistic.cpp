@@ -2,7 +2,7 @@
 
 #include <chrono>
 
-#include "monitor/monitor_line.hpp"
+#include "platform/utc_time.hpp"
 
 namespace unima::status {
 
@@ -17,7 +17,7 @@ const char* type_name(MetricType type) {
 
 std::optional<double> unix_seconds(const std::optional<std::string>& time) {
   if (!time) return std::nullopt;
-  const auto parsed = monitor::parse_utc_time(*time);
+  const auto parsed = platform::parse_utc_time(*time);
   if (!parsed) return std::nullopt;
   return std::chrono::duration<double>(parsed->time_since_epoch()).count();
 }

@@ -35,10 +35,16 @@ nlohmann::json reading_json(const ValueDef& def, const Value& value) {
   return nullptr;
 }
 
-nlohmann::json value_json(const ValueDef& def, const Value& value) {
-  nlohmann::json j = {
-      {"name", def.name}, {"value", reading_json(def, value)}, {"unit", def.unit}, {"state", state_name(value.state)}};
+nlohmann::json reading_state_json(const ValueDef& def, const Value& value) {
+  nlohmann::json j = {{"value", reading_json(def, value)}, {"state", state_name(value.state)}};
   if (value.state == State::not_set) j["set"] = false;
+  return j;
+}
+
+nlohmann::json value_json(const ValueDef& def, const Value& value) {
+  auto j = reading_state_json(def, value);
+  j["name"] = def.name;
+  j["unit"] = def.unit;
   return j;
 }
 

@@ -20,8 +20,11 @@ std::string_view type_name(const ValueDef& def);
 /// The reading alone: what an MQTT bank document holds under the value's name.
 nlohmann::json reading_json(const ValueDef& def, const Value& value);
 
-/// {"name", "value", "unit", "state"}, and "set": false for a W or X no master wrote:
-/// what /api/registers and the page show.
+/// {"value", "state"}, and "set": false for a W or X no master wrote: what changes of a
+/// value on the page's live stream (which has the name and unit from /api/registers).
+nlohmann::json reading_state_json(const ValueDef& def, const Value& value);
+
+/// The same with "name" and "unit": what /api/registers shows.
 nlohmann::json value_json(const ValueDef& def, const Value& value);
 
 /// Whether MQTT publishes it: not an unmapped entry, not a setpoint never written.

@@ -43,6 +43,14 @@ ValueDef def(std::string name, std::string label, std::string unit, Decoding dec
   return d;
 }
 
+// Bit `bit` of a word, as a boolean.
+ValueDef bit_def(std::string name, std::string label, Decoding decoding, std::uint16_t offset, std::uint8_t bit) {
+  auto d = def(std::move(name), std::move(label), "", decoding, {offset});
+  d.type = ValueType::boolean;
+  d.first_bit = d.last_bit = bit;
+  return d;
+}
+
 // The seed labels each half "<quantity>, <which word>" ("Motohodiny, nižší slovo"): the
 // one value of the pair is the quantity.
 std::string pair_label(const std::string& low_word_label) {
@@ -142,9 +150,7 @@ std::vector<ValueDef> b_values(const banks::Mapping& mapping) {
   for (std::uint8_t bit = 0; bit < banks::Mapping::entries; ++bit) {
     const auto& source = mapping.bits[bit];
     if (!source) continue;
-    auto entry = def(source->text, "", "", Decoding::mapped_bit, {0});
-    entry.type = ValueType::boolean;
-    entry.first_bit = entry.last_bit = bit;
+    auto entry = bit_def(source->text, "", Decoding::mapped_bit, 0, bit);
     entry.source = source;
     values.push_back(std::move(entry));
   }
@@ -177,6 +183,14 @@ std::vector<ValueDef> w_values() {
   return values;
 }
 
+// X is a bit word without a table (SPEC §17): the word, and each of its sixteen bits as
+// a boolean named by its number, as a table's bit word names its fields.
+std::vector<ValueDef> x_values() {
+  std::vector<ValueDef> values{def("x", "", "", Decoding::word, {0})};
+  for (std::uint8_t bit = 0; bit < 16; ++bit) values.push_back(bit_def(fmt::format("x.{}", bit), "", Decoding::bit_field, 0, bit));
+  return values;
+}
+
 }  // namespace
 
 ValueModel::ValueModel(const config::Config& config) {
@@ -189,7 +203,7 @@ ValueModel::ValueModel(const config::Config& config) {
       case BankId::A: layout.values = a_values(shapes, config.mapping); break;
       case BankId::B: layout.values = b_values(config.mapping); break;
       case BankId::W: layout.values = w_values(); break;
-      case BankId::X: layout.values.push_back(def("x", "", "", Decoding::word, {0})); break;
+      case BankId::X: layout.values = x_values(); break;
       default:
         if (shape.table) layout.values = table_values(*shape.table, shape.length);
     }

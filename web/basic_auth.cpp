@@ -82,12 +82,13 @@ void forget_password(std::string& password) {
   password.clear();
 }
 
-BasicAuth BasicAuth::load(const std::string& path) {
+BasicAuth BasicAuth::load(const std::string& path, const std::string& key_origin) {
+  const auto origin = (key_origin.empty() ? std::string() : key_origin + ": ") + "http.users " + path;
   std::ifstream file(path);
-  if (!file) throw std::runtime_error(fmt::format("http.users {}: {}", path, std::strerror(errno)));
+  if (!file) throw std::runtime_error(fmt::format("{}: {}", origin, std::strerror(errno)));
   std::ostringstream text;
   text << file.rdbuf();
-  return parse(text.str(), "http.users " + path);
+  return parse(text.str(), origin);
 }
 
 BasicAuth BasicAuth::parse(std::string_view text, const std::string& origin) {

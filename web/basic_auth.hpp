@@ -10,7 +10,7 @@
 // judge() answers on the loop what needs no hash — an Authorization header that passed
 // before (remembered, so a browser's every request does not pay again), or one that is no
 // name and password at all — and otherwise names the PasswordCheck to make;
-// hash_matches() computes it on a worker (io/north/password_worker); remember() keeps the
+// hash_matches() computes it on a worker (io/http/password_worker); remember() keeps the
 // header once it passed. How many checks may run, and for whom, is web/login_limits'.
 
 #include <cstdint>
@@ -48,9 +48,11 @@ class BasicAuth {
  public:
   static constexpr std::size_t remembered = 64;
 
-  /// Reads the users file; throws std::runtime_error naming the key, the file and the line
-  /// ("http.users /etc/…/http-users:3: 'bob' has no password hash ...").
-  static BasicAuth load(const std::string& path);
+  /// Reads the users file; throws std::runtime_error naming the key's position in the config
+  /// (`key_origin`, "bridge.yaml:41:10", when given), the file and the line ("bridge.yaml:41:10:
+  /// http.users /etc/…/http-users:3: 'bob' has no password hash ..."): `check` and the
+  /// daemon say the same.
+  static BasicAuth load(const std::string& path, const std::string& key_origin = {});
   /// From the file's text, `origin` naming it in errors.
   static BasicAuth parse(std::string_view text, const std::string& origin);
 

@@ -29,21 +29,32 @@ nlohmann::json changed_values(const LiveSnapshot& before, const LiveSnapshot& no
 
 nlohmann::json all_named(const LiveSnapshot& snapshot) {
   auto values = nlohmann::json::object();
-  for (const auto& [key, value] : snapshot.named_values) values[key] = value;
+  for (const auto& bank : snapshot.named_banks)
+    for (const auto& [key, value] : *bank) values[key] = value;
   return values;
 }
 
+// Precondition: same_layout(before, now).
 nlohmann::json changed_named(const LiveSnapshot& before, const LiveSnapshot& now) {
   auto values = nlohmann::json::object();
-  for (std::size_t i = 0; i < now.named_values.size(); ++i)
-    if (now.named_values[i] != before.named_values[i]) values[now.named_values[i].first] = now.named_values[i].second;
+  for (std::size_t b = 0; b < now.named_banks.size(); ++b) {
+    if (now.named_banks[b] == before.named_banks[b]) continue;
+    const auto& was = *before.named_banks[b];
+    const auto& is = *now.named_banks[b];
+    for (std::size_t i = 0; i < is.size(); ++i)
+      if (is[i].second != was[i].second) values[is[i].first] = is[i].second;
+  }
   return values;
+}
+
+bool same_keys(const NamedValues& a, const NamedValues& b) {
+  return std::equal(a.begin(), a.end(), b.begin(), b.end(), [](const auto& x, const auto& y) { return x.first == y.first; });
 }
 
 bool same_layout(const LiveSnapshot& a, const LiveSnapshot& b) {
-  return a.addresses == b.addresses && a.named_values.size() == b.named_values.size() &&
-         std::equal(a.named_values.begin(), a.named_values.end(), b.named_values.begin(),
-                    [](const auto& x, const auto& y) { return x.first == y.first; });
+  return a.addresses == b.addresses &&
+         std::equal(a.named_banks.begin(), a.named_banks.end(), b.named_banks.begin(), b.named_banks.end(),
+                    [](const auto& x, const auto& y) { return x == y || same_keys(*x, *y); });
 }
 
 }  // namespace

@@ -27,12 +27,18 @@
 
 namespace unima::web {
 
+/// One bank's values (values/) by "<bank>/<name>", each {"value", "state"} as the page
+/// shows it.
+using NamedValues = std::vector<std::pair<std::string, nlohmann::json>>;
+
 struct LiveSnapshot {
   nlohmann::json panel;                                   // what the front panel shows
   std::vector<std::uint16_t> addresses;                   // every served register, in address order
   std::vector<std::optional<std::uint16_t>> values;       // nullopt: unreadable (a write bank)
-  /// The value model's values by "<bank>/<name>", each {"value", "state"} as the page shows it.
-  std::vector<std::pair<std::string, nlohmann::json>> named_values;
+  /// The value model's values, bank by bank. A bank that did not change since the last
+  /// snapshot is the same object as there (shared, never altered), so it is neither
+  /// rendered nor compared again: the page's stream costs what changed, not the model.
+  std::vector<std::shared_ptr<const NamedValues>> named_banks;
 };
 
 class LiveView {

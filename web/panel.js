@@ -1,4 +1,4 @@
-// The front page (SPEC §13): the register map once from /api/registers, then everything
+// The front page (docs/configuration.md, `http`): the register map once from /api/registers, then everything
 // live from /api/events (web/live_view.hpp): a full picture on connecting, changes after.
 'use strict';
 
@@ -16,16 +16,33 @@ const element = (tag, attributes = {}, text) => {
 
 const hex = (number, digits = 4) => '0x' + number.toString(16).toUpperCase().padStart(digits, '0');
 
-// A value as the daemon decoded it (values/, SPEC §17): its reading in its unit, or why
-// it has none, in words ("not measured", "off-line", "not set", "not mapped"). A bit word
-// is bits, named by the seed or not: in hex, as a technician compares it with the unit's
-// manual; its named bits have rows of their own.
+// A number as the reader's browser writes one: thousands grouped, every decimal the scale
+// gave kept (a knock level of 0.78125 % steps is 100.78125, not 100.781).
+const numberText = number => number.toLocaleString(undefined, { maximumFractionDigits: 6 });
+
+// Seconds past this are a counter (operating hours): read in hours, the seconds in the title.
+const LONG_SECONDS = 10 * 3600;
+const inHours = seconds => (seconds / 3600).toLocaleString(undefined, { minimumFractionDigits: 1, maximumFractionDigits: 1 }) + ' h';
+
+// A value as the daemon decoded it (values/): its reading in its unit, or why it has none,
+// in words ("not measured", "off-line", "not set", "not mapped"). A bit word is bits, named
+// by the seed or not: in hex, as a technician compares it with the unit's manual; its named
+// bits have rows of their own.
 function shown(value, unit, type) {
   if (value.state !== 'ok') return value.state;
   if (typeof value.value === 'boolean') return value.value ? 'on' : 'off';
   if (typeof value.value === 'string') return `"${value.value}"`;
   if (type === 'bits') return hex(value.value);
-  return String(value.value) + (unit ? ' ' + unit : '');
+  if (unit === 's' && Math.abs(value.value) >= LONG_SECONDS) return inHours(value.value);
+  return numberText(value.value) + (unit ? ' ' + unit : '');
+}
+
+// What the cell's title adds to its register: the exact reading when the cell shows it
+// another way, or that the seed's table gives the number no unit.
+function readingNote(value, unit, type) {
+  if (value.state !== 'ok' || typeof value.value !== 'number' || type === 'bits') return '';
+  if (unit === 's' && Math.abs(value.value) >= LONG_SECONDS) return `${numberText(value.value)} s`;
+  return unit ? '' : 'no unit in the device table';
 }
 
 // A bank's table: one row per value, at the first register it reads; a register without
@@ -95,6 +112,8 @@ function setValue(key, value, flash = true) {
 
 function showValue(cell, value, flash) {
   cell.textContent = shown(value, cell.dataset.unit, cell.dataset.type);
+  cell.dataset.note = readingNote(value, cell.dataset.unit, cell.dataset.type);
+  cell.title = cellTitle(cell);
   cell.dataset.state = value.state;
   if (value.set === false) cell.dataset.set = 'false';
   else delete cell.dataset.set;
@@ -105,11 +124,17 @@ function showValue(cell, value, flash) {
 }
 
 // The raw register beside the values read from it: the cells' title, for the technician
-// who compares with a Modbus read.
+// who compares with a Modbus read, and the reading's note.
+function cellTitle(cell) {
+  const register = cell.dataset.raw === undefined ? '' : cell.dataset.raw === '' ? `${cell.dataset.address}: not readable`
+                                                                                  : `${cell.dataset.address} = ${cell.dataset.raw}`;
+  return [register, cell.dataset.note].filter(Boolean).join('; ');
+}
+
 function setRaw(address, raw) {
   for (const cell of byAddress.get(address) || []) {
     cell.dataset.raw = raw === null || raw === undefined ? '' : String(raw);
-    cell.title = raw === null || raw === undefined ? `${address}: not readable` : `${address} = ${raw}`;
+    cell.title = cellTitle(cell);
   }
 }
 
@@ -242,16 +267,22 @@ function showPanel(panel) {
   showNorth(panel);
 }
 
+// A monitor line by its transaction's state (Done, Not4Me, Err01…Err04, Timeout, Cached),
+// which the stylesheet colours: an Err02 must not look like a Done.
+function monitorLine(text, state) {
+  const line = element('div', { class: 'line' }, text);
+  const found = state || (/(?:^| )State=(\w+)/.exec(text) || [])[1];
+  if (found) line.dataset.state = found;
+  return line;
+}
+
 function showLines(event) {
-  const pre = document.getElementById('lines');
-  const atBottom = pre.scrollTop + pre.clientHeight >= pre.scrollHeight - 4;
-  let text = pre.textContent;
-  if (event.skipped > 0) text += `… ${event.skipped} more transactions passed the filter\n`;
-  for (const line of event.lines) text += line + '\n';
-  const lines = text.split('\n');
-  if (lines.length > MAX_LINES + 1) text = lines.slice(lines.length - MAX_LINES - 1).join('\n');
-  pre.textContent = text;
-  if (atBottom) pre.scrollTop = pre.scrollHeight;
+  const box = document.getElementById('lines');
+  const atBottom = box.scrollTop + box.clientHeight >= box.scrollHeight - 4;
+  if (event.skipped > 0) box.append(monitorLine(`… ${event.skipped} more transactions passed the filter`, 'skipped'));
+  for (const text of event.lines) box.append(monitorLine(text));
+  while (box.childElementCount > MAX_LINES) box.firstElementChild.remove();
+  if (atBottom) box.scrollTop = box.scrollHeight;
 }
 
 function filterQuery() {
@@ -267,7 +298,7 @@ function setFeed(state, text) {
 
 function connect() {
   if (source) source.close();
-  document.getElementById('lines').textContent = '';
+  document.getElementById('lines').replaceChildren();
   source = new EventSource('/api/events?' + filterQuery());
   let lost = false;
   source.onopen = () => {

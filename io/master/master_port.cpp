@@ -8,6 +8,7 @@
 #include "master/master_codec.hpp"
 #include "modbus/request_handler.hpp"
 #include "monitor/monitor_line.hpp"
+#include "platform/peer_warnings.hpp"
 
 namespace unima::io {
 
@@ -239,9 +240,17 @@ void MasterPort::finished(const MasterScheduler::Choice& choice, const master::B
 void MasterPort::forward(GatewayRequest request, GatewayAnswer answer) {
   if (!running_ || !gateway_) return refuse(Forwarded{std::move(request), std::move(answer)},
                                             modbus::ExceptionCode::gateway_target_failed);
-  auto arrival = gateway_->arrive(request.client, request.priority, request.unit, request.pdu, Clock::now());
+  const master::GatewayQueue::Asker asker{request.client, std::string(platform::peer_host(request.peer)), request.priority};
+  auto arrival = gateway_->arrive(asker, request.unit, request.pdu, Clock::now());
   if (arrival.cached) return answer_from_cache(Forwarded{std::move(request), std::move(answer)}, std::move(*arrival.cached));
-  waiting_.emplace(arrival.ticket, Forwarded{std::move(request), std::move(answer)});
+  if (!arrival.ticket) {
+    platform::warn_from_peer("modbus gateway: requests refused busy", request.peer,
+                             "modbus gateway: {} has {} requests waiting for the line, the most one host may have: "
+                             "answered busy (0x06)",
+                             platform::peer_host(request.peer), master::GatewayQueue::most_waiting_per_host);
+    return refuse(Forwarded{std::move(request), std::move(answer)}, modbus::ExceptionCode::server_device_busy);
+  }
+  waiting_.emplace(*arrival.ticket, Forwarded{std::move(request), std::move(answer)});
   if (gateway_->waiting() == 1) expire_waiting();  // the timer was idle: arm it
   if (in_flight_) return;  // the line's next turn is decided when its transaction ends
   // Not from within the client's call: its answer must not come back into it.

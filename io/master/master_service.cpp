@@ -5,7 +5,7 @@
 
 #include "master/gateway_status.hpp"
 #include "modbus/request_handler.hpp"
-#include "monitor/monitor_line.hpp"
+#include "platform/utc_time.hpp"
 #include "status/port_status.hpp"
 
 namespace unima::io {
@@ -44,7 +44,7 @@ master::GatewayUnitStatus gateway_unit_status(std::uint8_t unit, const GatewayUn
                               .queue_depth = queue_depth,
                               .wait_ms = {milliseconds(c.wait.last()), milliseconds(c.wait.mean()), milliseconds(c.wait.max()),
                                           c.wait.count(), milliseconds(c.wait.sum())}};
-  if (const auto silent = c.answering.silent_since()) monitor::append_utc_time(s.since.emplace(), *silent);
+  if (const auto silent = c.answering.silent_since()) platform::append_utc_time(s.since.emplace(), *silent);
   return s;
 }
 
@@ -106,15 +106,15 @@ void MasterService::commit(const Banks&) {
   if (master_ && started_) master_->start();
 }
 
-void MasterService::describe(nlohmann::json& status) const {
+void MasterService::describe(status::Document& status) const {
   const auto& counters = runtime_.monitor->counters(modbus::PortKind::master);
-  if (counters.transactions > 0) status["ports"].push_back(status::port_status("master", counters));
+  if (counters.transactions > 0) status.ports.push_back(status::port_status("master", counters));
   if (!master_) return;
   std::vector<master::MasterDeviceStatus> devices;
   for (const auto& [device, c] : master_->counters())
     devices.push_back({device, c.requests, c.answered, c.timeouts, c.exceptions, c.bad_frames, c.retries});
-  status["master"] = devices;
-  if (const auto& gateway = runtime_.config().modbus.gateway) status["gateway"] = gateway_status(*gateway, *master_);
+  status.master = std::move(devices);
+  if (const auto& gateway = runtime_.config().modbus.gateway) status.gateway = gateway_status(*gateway, *master_);
 }
 
 }  // namespace unima::io

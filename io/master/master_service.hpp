@@ -21,7 +21,7 @@ class MasterService final : public Service {
   void stage(const Banks& next) override;
   void abandon() override { next_.reset(); }
   void commit(const Banks& previous) override;
-  void describe(nlohmann::json& status) const override;
+  void describe(status::Document& status) const override;
 
   const MasterPort* master() const { return master_.get(); }
 

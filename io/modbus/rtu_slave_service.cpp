@@ -77,9 +77,9 @@ void RtuSlaveService::commit(const Banks&) {
 }
 
 // Listed once it has seen traffic.
-void RtuSlaveService::describe(nlohmann::json& status) const {
+void RtuSlaveService::describe(status::Document& status) const {
   const auto& counters = runtime_.monitor->counters(modbus::PortKind::rtu);
-  if (counters.transactions > 0) status["ports"].push_back(status::port_status("rtu", counters));
+  if (counters.transactions > 0) status.ports.push_back(status::port_status("rtu", counters));
 }
 
 }  // namespace unima::io

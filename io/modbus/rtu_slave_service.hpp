@@ -22,7 +22,7 @@ class RtuSlaveService final : public Service {
   void stop() override;
   void stage(const Banks& next) override;
   void commit(const Banks& previous) override;
-  void describe(nlohmann::json& status) const override;
+  void describe(status::Document& status) const override;
 
  private:
   std::unique_ptr<RtuSlavePort> make_port(const config::Config& config);

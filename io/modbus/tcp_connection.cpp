@@ -93,7 +93,8 @@ bool TcpSlaveServer::Connection::process() {
     const auto unit = adu.header.unit_id;
     const auto recipient = modbus::recipient_of(modbus::Link::tcp, unit, context.unit_id);
     const auto* rights = server_.write_rights(role_);
-    const auto verdict = modbus::route(recipient, unit, adu.pdu[0], routed_units(), rights);
+    const auto& gateway = server_.context_.gateway;
+    const auto verdict = modbus::route(recipient, unit, adu.pdu[0], routed_units(), rights, gateway && gateway->reads_only);
     if (verdict == modbus::Verdict::forward) {
       auto& forwarding = forwarding_.emplace();
       forwarding.header = adu.header;
@@ -295,7 +296,7 @@ void TcpSlaveServer::Connection::send_rest(std::size_t done) {
 // A closed connection may outlive its server (stop() abandons it): it looks at nothing
 // of the server's once its socket is closed.
 std::optional<TcpSlaveServer::Connection::Clock::time_point> TcpSlaveServer::Connection::idle_deadline() const {
-  if (!socket_.is_open()) return std::nullopt;
+  if (!socket_.is_open() || waiting_for_worker()) return std::nullopt;
   std::optional<Clock::time_point> due;
   if (const auto idle = server_.options_.idle_timeout; idle.count() > 0) due = last_activity_ + idle;
   if (adu_started_) {

@@ -55,6 +55,9 @@ class TcpSlaveServer::Connection : public std::enable_shared_from_this<Connectio
   virtual void sent_all() { out_used_ = 0; }
   /// True while a TLS client has not finished its handshake (its deadline says so).
   virtual bool handshake_pending() const { return false; }
+  /// True while the connection waits for the daemon's own work (a TLS handshake step on
+  /// the worker): no deadline runs then, since the client is not the one who is late.
+  virtual bool waiting_for_worker() const { return false; }
   /// What a protocol says before its connection closes (TLS: close_notify); nothing for plain TCP.
   virtual void say_goodbye() {}
   /// The socket is readable while a forwarded request waits: what the client sent is kept

@@ -101,7 +101,7 @@ void TcpSlaveService::commit(const Banks&) {
 }
 
 // A port is listed while it is configured or has seen traffic.
-void TcpSlaveService::describe(nlohmann::json& status) const {
+void TcpSlaveService::describe(status::Document& status) const {
   const auto kind = security_ == Security::tls ? modbus::PortKind::tls : modbus::PortKind::tcp;
   const auto& counters = runtime_.monitor->counters(kind);
   if (!server_ && counters.transactions == 0) return;
@@ -111,7 +111,7 @@ void TcpSlaveService::describe(nlohmann::json& status) const {
     port.clients = server_->client_count();
   }
   if (security_ == Security::tls) port.handshakes = handshake_counters(*handshakes_);
-  status["ports"].push_back(port);
+  status.ports.push_back(std::move(port));
 }
 
 }  // namespace unima::io

@@ -26,7 +26,7 @@ class TcpSlaveService final : public Service {
   void stage(const Banks& next) override;
   void abandon() override;
   void commit(const Banks& previous) override;
-  void describe(nlohmann::json& status) const override;
+  void describe(status::Document& status) const override;
 
  private:
   /// `config`'s slave on this port, or null when it has none; throws when it cannot listen.
@@ -44,7 +44,9 @@ class TcpSlaveService final : public Service {
   // server and so destroyed after it: a stopped port's connections are closed before their
   // steps still out are dropped.
   std::shared_ptr<CpuWorker> handshake_worker_ =
-      security_ == Security::tls ? std::make_shared<CpuWorker>(runtime_.io, handshakes_->limits().in_progress) : nullptr;
+      security_ == Security::tls ? std::make_shared<CpuWorker>(runtime_.io, handshakes_->limits().in_progress,
+                                                                     CpuWorker::Priority::beside_the_loop)
+                                 : nullptr;
   MovableListener<TcpSlaveServer> server_;
   std::shared_ptr<asio::ssl::context> next_context_;  // staged, same endpoint: the TLS files read again
 };

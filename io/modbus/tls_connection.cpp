@@ -10,7 +10,9 @@
 // port's io::CpuWorker, not on the loop that serves every Modbus client (issue 29). While a
 // step is out the worker has the session to itself: the loop touches nothing of tls_ (no
 // read of the socket either — the handshake is request and answer), and a close meanwhile
-// (a deadline, an eviction, the port stopped) closes the socket and says no goodbye. The
+// (an eviction, the port stopped) closes the socket and says no goodbye. The client's
+// deadline does not run while its step is out (issue 43: on a busy box a handshake that
+// waited behind others on the worker was cut, though the client was never late). The
 // step's completion holds the connection alive until it is back on the loop; one that
 // comes back to a closed connection ends it there (if nothing had yet), and the
 // handshake's slot ends as failed with the connection, once.
@@ -64,6 +66,7 @@ class TlsConnection final : public TcpSlaveServer::Connection {
     cipher_out_.clear();
   }
   bool handshake_pending() const override { return !handshaken_; }
+  bool waiting_for_worker() const override { return step_out_; }
 
   // RFC 8446 §6.1: a clean close is announced, so the client can tell it from a cut
   // connection. Best effort and never blocking: the alert goes only if the socket takes
@@ -169,17 +172,26 @@ class TlsConnection final : public TcpSlaveServer::Connection {
   // The step on the worker; the loop goes on with other clients meanwhile.
   void handshake_step() {
     const auto worker = worker_.lock();
+    const auto handed_over = Clock::now();
     step_out_ = worker && worker->submit([session = &tls_, status = &step_status_] { *status = session->handshake(); },
-                                         [this, self = shared_from_this()] {
+                                         [this, self = shared_from_this(), handed_over] {
                                            step_out_ = false;
+                                           resume_deadline(Clock::now() - handed_over);
                                            if (finished_) return;
-                                           // Closed by its deadline meanwhile (close_idle closes, it does not finish).
+                                           // Closed meanwhile without finishing (close() alone, as a stopped port does).
                                            if (!socket_.is_open()) return finish("closed while its handshake was computed");
                                            handshake_stepped(step_status_);
                                          });
     // Only when the port is gone: the worker takes as many steps as the limiter lets
     // handshakes be in progress, and each has at most one step out.
     if (!step_out_) finish("TLS: no room to compute the handshake");
+  }
+
+  // The time the step was out is not the client's: its deadline moves on by as much.
+  void resume_deadline(Clock::duration out) {
+    if (adu_started_) *adu_started_ += out;
+    last_activity_ += out;
+    if (socket_.is_open()) idle_.watch();
   }
 
   void handshake_stepped(tls::MemorySession::Status status) {

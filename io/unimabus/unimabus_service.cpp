@@ -8,6 +8,8 @@
 #include "io/unimabus/feed_transport.hpp"
 #include "io/unimabus/replay_transport.hpp"
 #include "io/unimabus/sim_transport.hpp"
+#include "status/activity.hpp"
+#include "unimabus/bus_status.hpp"
 
 namespace unima::io {
 
@@ -150,42 +152,38 @@ void UnimabusService::commit(const Banks& previous) {
   }
 }
 
-void UnimabusService::describe(nlohmann::json& status) const {
+void UnimabusService::describe(status::Document& status) const {
   const auto& config = runtime_.config();
   const auto& intake = *runtime_.banks->intake;
   const auto& store = *runtime_.banks->store;
-  auto& unimabus = status["unimabus"] = activity(age<Clock>(intake.last_telegram()), intake.counts().received, unimabus_led_lit);
-  unimabus["transport"] = config::transport_name(config.unimabus.transport);
-  unimabus["recording"] =
-      config.unimabus.record.file.empty() ? nlohmann::json(nullptr) : nlohmann::json(config.unimabus.record.file);
-  unimabus["telegrams_ignored"] = intake.counts().ignored;
-  unimabus["telegrams_refused"] = intake.counts().refused;
-  if (const auto clients = transport_ ? transport_->clients() : std::nullopt) unimabus["clients"] = *clients;
+  const auto& counts = intake.counts();
+  unimabus::UnimabusStatus bus;
+  bus.led = status::activity(age<Clock>(intake.last_telegram()), counts.received, unimabus_led_lit);
+  bus.transport = config::transport_name(config.unimabus.transport);
+  if (!config.unimabus.record.file.empty()) bus.recording = config.unimabus.record.file;
+  bus.telegrams_ignored = counts.ignored;
+  bus.telegrams_refused = counts.refused;
+  if (transport_) bus.clients = transport_->clients();
+  status.unimabus = std::move(bus);
 
-  status["devices"] = nlohmann::json::array();
+  std::vector<unimabus::DeviceStatus> devices;
   for (unsigned n = 1; n <= 4; ++n) {
     const auto bank = banks::device_bank(n);
-    nlohmann::json d;
-    d["bank"] = banks::bank_name(bank);
+    auto& d = devices.emplace_back(unimabus::DeviceStatus{std::string(banks::bank_name(bank)), {}, {}, false, {}});
     if (const auto& device = config.devices[n - 1]) {
-      d["type"] = device->table->id;
-      d["address"] = device->address;
-      d["online"] = store.online(bank);
-      d["telegrams"] = intake.counts().taken[banks::index_of(bank)];
-    } else {
-      d["type"] = nullptr;
-      d["online"] = false;
+      d.type = device->table->id;
+      d.address = device->address;
+      d.online = store.online(bank);
+      d.telegrams = counts.taken[banks::index_of(bank)];
     }
-    status["devices"].push_back(d);
   }
-  status["modules"] = nlohmann::json::array();
+  status.devices = std::move(devices);
+  std::vector<unimabus::ModuleStatus> modules;
   for (unsigned n = 1; n <= 7; ++n) {
     const auto bank = banks::module_bank(n);
-    status["modules"].push_back(nlohmann::json{{"bank", banks::bank_name(bank)},
-                                               {"slot", n},
-                                               {"online", store.online(bank)},
-                                               {"telegrams", intake.counts().taken[banks::index_of(bank)]}});
+    modules.push_back({std::string(banks::bank_name(bank)), n, store.online(bank), counts.taken[banks::index_of(bank)]});
   }
+  status.modules = std::move(modules);
 }
 
 }  // namespace unima::io

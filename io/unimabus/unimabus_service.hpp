@@ -26,7 +26,7 @@ class UnimabusService final : public Service {
   void stage(const Banks& next) override;
   void abandon() override;
   void commit(const Banks& previous) override;
-  void describe(nlohmann::json& status) const override;
+  void describe(status::Document& status) const override;
 
  private:
   std::unique_ptr<unimabus::Transport> make_transport(const config::Config& config);

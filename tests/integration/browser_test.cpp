@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <chrono>
 #include <future>
+#include <map>
 #include <thread>
 
 #include <nlohmann/json.hpp>
@@ -63,8 +64,8 @@ TEST_F(PageTest, ThePageInChromiumShowsAFedValueD1OnLineAndLaterValuesLive) {
   EXPECT_EQ(shown["feed"], "live") << result.output;
   EXPECT_EQ(shown["online"]["D1"], true) << result.output;
   EXPECT_EQ(shown["online"]["D4"], false) << result.output;
-  // engine_speed, min-1 (seed 004's table for UNIGEN CHP): shown in its unit.
-  EXPECT_EQ(shown["values"]["0x0012"]["text"], "4321 min-1") << result.output;
+  // engine_speed, min-1 (seed 004's table for UNIGEN CHP): shown in its unit, grouped.
+  EXPECT_EQ(shown["values"]["0x0012"]["text"], "4,321 min-1") << result.output;
   // SPEC §17: why a value has none, in words.
   EXPECT_EQ(shown["values"]["0x0032"]["text"], "not measured") << result.output;
   EXPECT_EQ(shown["values"]["0x0100"]["text"], "not set") << result.output;
@@ -108,9 +109,10 @@ TEST_F(PageValuesTest, ThePageShowsEachValueAsTheSeedMeansItAndWhyAValueHasNone)
   ModbusClient client(config.modbus_port);
   ASSERT_TRUE(client.write(0x0101, 0x1234));       // indicator 1: a write
   ASSERT_TRUE(client.read_input(0x0012, 1));       // indicator 2: a read
+  ASSERT_TRUE(client.write(0x3010, 0x0021));       // X: bits 0 and 5
 
   const auto shown = page_shows("--online D1 --online D2 --expect 0x0012=41234 --expect 0x1208=32771 "
-                                "--indicator 1=write --indicator 2=read");
+                                "--expect 0x3010=33 --indicator 1=write --indicator 2=read");
   ASSERT_TRUE(shown.contains("keys")) << shown.dump(1);
   const auto& keys = shown["keys"];
   const auto text = [&](const std::string& key) {
@@ -126,18 +128,30 @@ TEST_F(PageValuesTest, ThePageShowsEachValueAsTheSeedMeansItAndWhyAValueHasNone)
   EXPECT_EQ(text("D2/knock_rank_1.level"), "100 %");
   EXPECT_EQ(text("D2/knock_rank_2.cylinder"), "4");
   EXPECT_EQ(text("D2/knock_rank_2.level"), "not measured");
-  // A 32-bit pair: one value, not two halves.
-  EXPECT_EQ(text("D1/operating_hours"), "1704036 s");
+  // A 32-bit pair: one value, not two halves; a counter of seconds read in hours, the
+  // seconds in its title, grouped as the reader's language groups them.
+  EXPECT_EQ(text("D1/operating_hours"), "473.3 h");
+  EXPECT_NE(keys["D1/operating_hours"]["title"].get<std::string>().find("1,704,036 s"), std::string::npos) << keys["D1/operating_hours"];
   // Unsigned above 32767.
-  EXPECT_EQ(text("D1/engine_speed"), "41234 min-1");
+  EXPECT_EQ(text("D1/engine_speed"), "41,234 min-1");
+  // A number the seed's table gives no unit says so in its title.
+  EXPECT_NE(keys["D1/status.state"]["title"].get<std::string>().find("no unit in the device table"), std::string::npos)
+      << keys["D1/status.state"];
+  EXPECT_EQ(keys["D1/engine_speed"]["title"], "0x0012 = 41234") << "a value in its unit needs no note";
   // By register, the last cell of each: engine_speed, and the byte pair's level.
-  EXPECT_EQ(shown["values"]["0x0012"]["text"], "41234 min-1") << shown["values"];
+  EXPECT_EQ(shown["values"]["0x0012"]["text"], "41,234 min-1") << shown["values"];
   EXPECT_EQ(shown["values"]["0x1208"]["text"], "100 %") << shown["values"];
   // Bit words in hex, whether the seed names their bits (status) or not (status_word); a
   // field of several bits is a number.
   EXPECT_EQ(text("D1/status"), "0x450E");
   EXPECT_EQ(text("D1/status_word"), "0x250D");
   EXPECT_EQ(text("D1/status.state"), "14");
+  // X is a bit word too: the word in hex, each of its sixteen bits on or off.
+  EXPECT_EQ(text("X/x"), "0x0021");
+  EXPECT_EQ(text("X/x.0"), "on");
+  EXPECT_EQ(text("X/x.5"), "on");
+  EXPECT_EQ(text("X/x.4"), "off");
+  EXPECT_EQ(text("X/x.15"), "off");
   for (const auto& [key, cell] : keys.items()) {
     EXPECT_FALSE(key.ends_with("_high") || key.ends_with("_low")) << key;  // no half of a pair
     EXPECT_EQ(cell["text"].get<std::string>().find("32767"), std::string::npos) << key << ": " << cell;
@@ -153,6 +167,35 @@ TEST_F(PageValuesTest, ThePageShowsEachValueAsTheSeedMeansItAndWhyAValueHasNone)
   EXPECT_EQ(shown["indicators"][0]["colour"], "rgb(210, 47, 47)") << shown["indicators"];
   EXPECT_NE(shown["indicators"][1]["class"].get<std::string>().find("access-read"), std::string::npos) << shown["indicators"];
   EXPECT_EQ(shown["indicators"][1]["colour"], "rgb(31, 157, 69)") << shown["indicators"];
+}
+
+// On a phone's width (390 px): the monitor colours each line by its transaction's state
+// (an Err02 unlike a Done) and wraps a long line instead of cutting it at the edge; the
+// Czech labels of the registers stay.
+TEST_F(PageTest, OnAPhoneTheMonitorColoursLinesByStateWrapsThemAndTheLabelsStay) {
+  ASSERT_NO_FATAL_FAILURE(start_with_page());
+  auto feed = feed_client();
+  feed_and_wait(feed, R"({"addr":5,"slot":0,"offset":1,"values":[1234]})", 0x0012, 1234);
+  open_page("--online D1 --expect 0x0012=1234 --window 390,844", "0x0012=1234 --line Done --line Err02");
+  const bool page_ready = page_shows_first_expectations();
+  if (page_ready) {
+    ModbusClient client(config.modbus_port);
+    EXPECT_TRUE(client.read_input(0x0011, 64));        // Done: a long line, 64 registers of hex
+    EXPECT_FALSE(client.read_input(0x0011 + 0x40, 1));  // past D1: Err02
+  }
+  const auto result = browser.get();
+  ASSERT_TRUE(page_ready) << result.output;
+  ASSERT_EQ(result.status, 0) << result.output;
+  const auto shown = nlohmann::json::parse(result.output.substr(result.output.rfind("{\"ok\"")));
+  EXPECT_LE(shown["width"].get<int>(), 390) << result.output;
+  std::map<std::string, std::string> colour;
+  for (const auto& line : shown["monitor"]) colour[line["state"].is_null() ? "" : line["state"].get<std::string>()] = line["colour"];
+  ASSERT_TRUE(colour.contains("Done") && colour.contains("Err02")) << result.output;
+  EXPECT_NE(colour["Done"], colour["Err02"]) << result.output;
+  EXPECT_EQ(colour["Err02"], "rgb(255, 138, 138)") << result.output;
+  EXPECT_EQ(shown["monitor_cut"], false) << "a line cut at the box's right edge: " << result.output;
+  EXPECT_GT(shown["labels"]["with_text"].get<int>(), 10) << result.output;
+  EXPECT_EQ(shown["labels"]["shown"], shown["labels"]["with_text"]) << "labels hidden at 390 px: " << result.output;
 }
 
 // The daemon restarts while the page is open: the page reconnects by itself and shows

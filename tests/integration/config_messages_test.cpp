@@ -3,6 +3,7 @@
 // file:line:column of the line that is wrong, the key, and what to do; warnings are
 // `file:line:column: warning: …`, `check` still exits 0, and the daemon logs them at start.
 
+#include <fmt/format.h>
 #include <signal.h>
 
 #include <algorithm>
@@ -62,6 +63,67 @@ TEST_F(ConfigMessages, ALineIndentedUnlikeItsSiblingsSaysWhereItSeemsToBelong) {
             std::string::npos)
       << result.output;
   expect_refused_start(yaml, ":" + line + ":4: this line is indented by 3 spaces");
+}
+
+// Issue 44, finding 1: the installed config with a `modbus: { rtu: … }` block pasted at its
+// end gave a TCP-only bridge, `check` saying OK. Both refuse it, naming both positions.
+TEST_F(ConfigMessages, ASectionWrittenTwiceIsRefusedByCheckAndTheDaemonNamingBoth) {
+  const auto yaml = config.yaml() + "modbus:\n  rtu: { device: /dev/null }\n";
+  const auto count_lines = [&](std::size_t end) {
+    return std::count(yaml.begin(), yaml.begin() + static_cast<long>(end), '\n') + 1;
+  };
+  const auto first = count_lines(yaml.find("modbus:"));
+  const auto second = count_lines(yaml.rfind("modbus:"));
+  ASSERT_LT(first, second);
+  const auto expected = fmt::format(":{}:1: 'modbus' is written twice in this mapping (first at line {}, column 1); "
+                                    "only one would count: merge the two", second, first);
+  const auto result = check(yaml);
+  EXPECT_EQ(result.status, 1) << result.output;
+  EXPECT_NE(result.output.find(file() + expected), std::string::npos) << result.output;
+  expect_refused_start(yaml, expected);
+}
+
+// Issue 44, finding 2: `check` and the daemon agree on the files a config names. A missing
+// MQTT password file is refused by both at its key (the daemon said "cannot be read", no
+// line, no reason); a state file in a directory that is not there is a warning in both,
+// and the daemon makes the directory (it exited without key or line).
+TEST_F(ConfigMessages, CheckAndTheDaemonAgreeOnAMissingPasswordFileAndAMissingStateDirectory) {
+  const auto password = (dir.path() / "mqtt.pass").string();
+  config.extra = "mqtt:\n  broker: 'mqtt://127.0.0.1:1'\n  username: site\n  password_file: " + password + "\n";
+  auto yaml = config.yaml();
+  const auto line = std::count(yaml.begin(), yaml.begin() + static_cast<long>(yaml.find("  password_file:")), '\n') + 1;
+  const auto refused = fmt::format(":{}:18: mqtt.password_file: {}: no such file: correct the path, or put the file there",
+                                   line, password);
+  auto result = check(yaml);
+  EXPECT_EQ(result.status, 1) << result.output;
+  EXPECT_NE(result.output.find(file() + refused), std::string::npos) << result.output;
+  expect_refused_start(yaml, refused);
+
+  const auto typo = dir.path() / "unima-brige";
+  config.extra = "state:\n  file: " + (typo / "state").string() + "\n";
+  yaml = config.yaml();
+  const auto warned = fmt::format("state.file: {}: the directory {} is not there; the daemon makes it at start",
+                                  (typo / "state").string(), typo.string());
+  result = check(yaml);
+  EXPECT_EQ(result.status, 0) << result.output;
+  EXPECT_NE(result.output.find(warned), std::string::npos) << result.output;
+  test_support::write_file(file(), yaml);
+  daemon = std::make_unique<Daemon>(dir, yaml);
+  ASSERT_TRUE(wait_for_port(config.modbus_port)) << daemon->log();
+  EXPECT_NE(daemon->log().find(warned), std::string::npos) << daemon->log();
+  EXPECT_TRUE(eventually([&] { return fs::is_regular_file(typo / "state"); })) << daemon->log();
+}
+
+// Issue 44, finding 2: a ':' left out gave yaml-cpp's "illegal map value" one line late.
+TEST_F(ConfigMessages, AKeyWithoutItsColonIsNamedAtItsOwnLineByCheckAndTheDaemon) {
+  const auto yaml = with_modbus("  mode slave\n  rtu: { device: /dev/null }\n");
+  const auto line = std::count(yaml.begin(), yaml.begin() + static_cast<long>(yaml.find("  mode slave")), '\n') + 1;
+  const auto expected = fmt::format(":{}:3: this line has no ':' after its key, unlike 'rtu' on line {}: write 'mode: slave'",
+                                    line, line + 1);
+  const auto result = check(yaml);
+  EXPECT_EQ(result.status, 1) << result.output;
+  EXPECT_NE(result.output.find(file() + expected), std::string::npos) << result.output;
+  expect_refused_start(yaml, expected);
 }
 
 TEST_F(ConfigMessages, EveryPemKeyIsCheckedAtItsLineSayingWhatIsWrong) {

@@ -3,6 +3,7 @@
 // Security clients (tests/integration/tls/modbus_tls_client.py) within their roles' rights.
 // What a slave hears and says is checked in the simulator's frame log, byte for byte.
 
+#include <fmt/format.h>
 #include <modbus/modbus.h>
 
 #include <sstream>
@@ -10,6 +11,7 @@
 #include <thread>
 
 #include "tests/integration/certificate_fixture.hpp"
+#include "master/gateway_queue.hpp"
 #include "tests/integration/gateway_fixture.hpp"
 
 namespace unima::test {
@@ -259,6 +261,75 @@ TEST_F(GatewayTest, APriorityPeerGoesFirstAndClientsTakeTurns) {
       << diagnostics();
 }
 
+// Issue 43, finding 5: one host opening 100 connections left another client 3 answers in
+// 10 s. Hosts take turns before their connections do, and a host has at most
+// most_waiting_per_host requests waiting: the rest are answered busy at once.
+TEST_F(GatewayTest, OneHostsManyConnectionsLeaveAnotherHostItsTurns) {
+  start_with("{ units: [5-7], timeout: 2s, wait: 20s }");
+  const Bytes flood_read{0x03, 0x00, 0x00, 0x00, 0x01};
+  const Bytes own_read{0x03, 0x00, 0x09, 0x00, 0x01};
+  // The dead slave holds the line for its time-out while the flood queues up.
+  auto holder = Socket::tcp(config.modbus_port);
+  holder.send(Bytes{0x00, 0x01, 0, 0, 0, 6, dead, 0x03, 0x00, 0x00, 0x00, 0x01});
+  ASSERT_TRUE(sim->wait_for_frame(hex(rtu_frame(dead, {0x03, 0x00, 0x00, 0x00, 0x01})))) << diagnostics();
+  std::vector<Socket> flood;
+  for (int i = 0; i < 100; ++i) {
+    flood.push_back(Socket::tcp(config.modbus_port));
+    ASSERT_TRUE(flood.back().valid());
+  }
+  for (std::size_t i = 0; i < flood.size(); ++i) {
+    Bytes adu{0x00, static_cast<std::uint8_t>(i), 0, 0, 0, 6, plc};
+    adu.insert(adu.end(), flood_read.begin(), flood_read.end());
+    flood[i].send(adu);
+  }
+  ASSERT_TRUE(eventually([&] {
+    const auto unit = unit_status(plc);
+    return unit.is_object() && unit["queue_depth"] == master::GatewayQueue::most_waiting_per_host;
+  })) << status().dump(1);
+
+  auto other = Socket::tcp_from("127.0.0.2", config.modbus_port);
+  ASSERT_TRUE(other.valid());
+  const auto flood_frame = hex(rtu_frame(plc, flood_read));
+  const auto own_frame = hex(rtu_frame(plc, own_read));
+  const auto heard_in_order = [&] {
+    std::vector<bool> own;  // true: the other host's read, false: the flood's
+    for (const auto& f : sim->frames())
+      if (f.rx && (f.hex == flood_frame || f.hex == own_frame)) own.push_back(f.hex == own_frame);
+    return own;
+  };
+  const auto flood_before = heard_in_order().size();
+  for (std::uint16_t t = 1; t <= 3; ++t) {
+    const auto answer = ask(other, t, plc, own_read, 5000ms);
+    ASSERT_TRUE(answer) << diagnostics();
+    EXPECT_EQ(answer->pdu.at(0), 0x03) << hex(answer->pdu);
+  }
+  // Each of its reads waited for at most the flood's transaction on the line and one turn.
+  ASSERT_EQ(flood_before, 0u);
+  const auto order = heard_in_order();
+  std::size_t flood_until_third = 0, own_heard = 0;
+  for (const bool own : order) {
+    if (own && ++own_heard == 3) break;
+    flood_until_third += !own;
+  }
+  EXPECT_EQ(own_heard, 3u);
+  EXPECT_LE(flood_until_third, 4u) << diagnostics();
+
+  // Every flood connection got an answer: the slave's, or busy (at once) past the bound.
+  std::size_t busy = 0;
+  for (auto& socket : flood) {
+    const auto header = socket.receive(9, 10000ms);
+    ASSERT_EQ(header.size(), 9u) << diagnostics();
+    if (header[7] == 0x83) {
+      EXPECT_EQ(header[8], 0x06);
+      ++busy;
+    } else {
+      EXPECT_EQ(socket.receive(2, 1000ms).size(), 2u);
+    }
+  }
+  EXPECT_EQ(busy, 100u - master::GatewayQueue::most_waiting_per_host);
+  EXPECT_EQ(unit_status(plc)["busy"], busy) << status().dump(1);
+}
+
 // The TLS port (SPEC §14 with §11's roles): the gateway beside a Modbus/TCP Security port
 // with the certificates of tests/integration/tls/make_certificates.sh.
 class GatewayTlsTest : public GatewayTest {
@@ -329,6 +400,29 @@ TEST_F(GatewayTlsTest, ReadOnlyForwardsNoWrite) {
   EXPECT_EQ(tls_client("operator", plc, {"06000b04d2", "03000b0001"}), (std::vector<std::string>{"8601", "03020000"}))
       << diagnostics();
   EXPECT_EQ(heard(rtu_frame(plc, write_d11)), 0u) << diagnostics();
+}
+
+// modbus.gateway.functions: read (issue 43, finding 9): the plain port forwards reads, and
+// no write, restart (fn 8) or vendor function to the line, while it keeps writing the
+// bridge's own banks.
+TEST_F(GatewayTest, FunctionsReadForwardsReadsOnlyAndTheOwnBanksStayWritable) {
+  start_with("{ units: [5-7], timeout: 300ms, functions: read }");
+  ASSERT_EQ(sim->control("set 5 10 777"), "ok");
+  auto socket = Socket::tcp(config.modbus_port);
+  const auto read = ask(socket, 0x0101, plc, Bytes{0x03, 0x00, 0x0A, 0x00, 0x01});
+  ASSERT_TRUE(read) << diagnostics();
+  EXPECT_EQ(hex(read->pdu), "03 02 03 09");
+  const Bytes restart{0x08, 0x00, 0x01, 0x00, 0x00};
+  const Bytes vendor{0x41};
+  for (const auto& refused : {write_d11, restart, vendor}) {
+    const auto answer = ask(socket, 0x0102, plc, refused);
+    ASSERT_TRUE(answer) << hex(refused) << diagnostics();
+    EXPECT_EQ(hex(answer->pdu), fmt::format("{:02X} 01", refused[0] | 0x80)) << hex(refused) << " is refused with exception 01";
+    EXPECT_EQ(heard(rtu_frame(plc, refused)), 0u) << hex(refused) << diagnostics();
+  }
+  ModbusClient client(config.modbus_port, 1);
+  ASSERT_TRUE(client.connected());
+  EXPECT_TRUE(client.write(0x3000, 17)) << "the bridge's own W stays writable" << diagnostics();
 }
 
 // The bridge-wide modbus.tcp.read_only holds on the TLS port and for the plain port's

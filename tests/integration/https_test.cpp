@@ -178,8 +178,13 @@ TEST_F(Https, CheckReadsTheUsersFileAndTheCertificateAsTheDaemonWould) {
                                  (certs / "server.pem").string() + ", key: " + (certs / "server.key").string() + " }\n");
   const auto checked = run(std::string(UNIMA_BRIDGE_CLI) + " check --config " + yaml.string() + " 2>&1");
   EXPECT_EQ(checked.status, 1) << checked.output;
-  EXPECT_NE(checked.output.find(yaml.string() + ":4:3: http.users " + users.string() + ":2: 'bob' has no password hash"),
-            std::string::npos) << checked.output;
+  // At the users key itself (issue 44, finding 2: the line above it, http's first key).
+  const auto refused = ":5:10: http.users " + users.string() + ":2: 'bob' has no password hash";
+  EXPECT_NE(checked.output.find(yaml.string() + refused), std::string::npos) << checked.output;
+  // The daemon says the same.
+  daemon = std::make_unique<Daemon>(dir, test_support::read_file(yaml));
+  ASSERT_TRUE(eventually([&] { return !daemon->running(); })) << daemon->log();
+  EXPECT_NE(daemon->log().find(refused), std::string::npos) << daemon->log();
 
   // Beyond loopback without a users file: accepted, with a warning that says what it means.
   test_support::write_file(yaml, "unimabus: { transport: sim }\nmodbus: { tcp: { listen: 127.0.0.1, port: 5020 } }\n"

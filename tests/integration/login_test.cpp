@@ -1,6 +1,7 @@
 // Password guessing against `http.users` (issue 29, row 1) with the real daemon: one peer
 // host (127.0.0.2 — all of 127/8 is the loopback's) keeps guessing, and neither the real
-// user on another host nor a Modbus master notices. The hashes are bcrypt, made by
+// user on another host nor a Modbus master notices; nor does a crowd of connections from
+// one host close a login that waits for its check (issue 43, finding 7). The hashes are bcrypt, made by
 // python3's crypt (glibc's crypt(3), as `htpasswd -B` would), at the cost each test needs.
 // The requests are written by hand (tests/support/peers/http_exchange) so that a test
 // picks each one's source address and sees its reply as it came.
@@ -10,6 +11,7 @@
 #include <atomic>
 #include <map>
 #include <fstream>
+#include <regex>
 #include <thread>
 
 #include "tests/integration/bridge_fixture.hpp"
@@ -58,16 +60,36 @@ class Logins : public BridgeTest {
     std::ofstream(dir.path() / "http-users", std::ios::app) << name << ":" << hashed.output;
   }
 
-  void start_http() {
+  /// `options`: more keys of `http`, e.g. ", max_clients: 4".
+  void start_http(const std::string& options = "") {
     http_port = free_port();
     config.extra += "http: { listen: 127.0.0.1, port: " + std::to_string(http_port) +
-                    ", users: " + (dir.path() / "http-users").string() + " }\n";
+                    ", users: " + (dir.path() / "http-users").string() + options + " }\n";
     start();
     ASSERT_TRUE(wait_for_port(http_port)) << daemon->log();
   }
 
   HttpReply login(const std::string& credentials, const std::string& source = "127.0.0.1") const {
     return http_exchange(http_port, get_request(credentials), source);
+  }
+
+  /// A connection from `source` whose request for a check the daemon has read: it waits for
+  /// the hash now.
+  Socket waiting_login(const std::string& credentials, const std::string& source) const {
+    auto socket = Socket::tcp_from(source, http_port);
+    socket.send(get_request(credentials));
+    EXPECT_TRUE(eventually([&] { return server_read_all(http_port, socket); }, 10s)) << source;
+    return socket;
+  }
+
+  /// unima_bridge_http_password_checks_in_flight, scraped as `scraper` (a user whose header
+  /// the daemon remembers once its first scrape is checked); -1 when unreadable.
+  int checks_in_flight(const std::string& scraper) const {
+    const auto metrics = http_exchange(http_port, "GET /metrics HTTP/1.1\r\nHost: 127.0.0.1\r\nAuthorization: Basic " +
+                                                      base64(scraper) + "\r\nConnection: close\r\n\r\n");
+    std::smatch found;
+    static const std::regex line("\nunima_bridge_http_password_checks_in_flight (\\d+)\n");
+    return metrics.status == 200 && std::regex_search(metrics.body, found, line) ? std::stoi(found[1]) : -1;
   }
 
   std::uint16_t http_port = 0;
@@ -184,6 +206,62 @@ TEST_F(Logins, TheSameCredentialsAtOnceShareOneCheckAndAClientThatLeavesIsForgot
   last.send(get_request("technician:wrong again"));
   ASSERT_TRUE(eventually([&] { return server_read_all(http_port, last); }, 10s));
   // TearDown stops the daemon now, with that check under way.
+}
+
+// Issue 43, finding 7: one host's crowd of idle connections (its newest keep coming while a
+// login waits for its hash, bcrypt cost 13) closed the real user's login, whose request had
+// been read before any of theirs came, so it was "idle the longest". Now a connection with
+// a request in progress never gives way, and the crowd's host, holding the most, does.
+TEST_F(Logins, ACrowdOfConnectionsFromOneHostDoesNotCloseTheRealUsersLogins) {
+  constexpr auto crowd_host = "127.0.0.3";
+  for (int u = 0; u < 3; ++u) add_user("technician" + std::to_string(u), "right", 13);
+  start_http(", max_clients: 4");
+  std::vector<Socket> crowd;
+  for (int c = 0; c < 3; ++c) crowd.push_back(Socket::tcp_from(crowd_host, http_port));
+  for (int u = 0; u < 3; ++u) {
+    auto real_user = waiting_login("technician" + std::to_string(u) + ":right", "127.0.0.1");
+    // Eight more while the hash is computed: the filed daemon closed the login for the fourth.
+    for (int c = 0; c < 8; ++c) crowd.push_back(Socket::tcp_from(crowd_host, http_port));
+    EXPECT_EQ(test_support::parse_http_reply(read_to_end(real_user)).status, 200) << "login " << u << "\n" << daemon->log();
+  }
+  EXPECT_TRUE(daemon->wait_for_log("http: 4 connections is the limit: closing 127.0.0.3:")) << daemon->log();
+  EXPECT_EQ(daemon->log().find("closing 127.0.0.1:"), std::string::npos) << daemon->log();
+}
+
+// Every connection has a request in progress (two logins waiting for their hashes, bcrypt
+// cost 14): a newcomer is turned away rather than either closed. The filed daemon closed
+// the login waiting the longest.
+TEST_F(Logins, WhenEveryConnectionWaitsForItsAnswerANewcomerIsTurnedAway) {
+  add_user("technician", "right", 14);
+  start_http(", max_clients: 2");
+  auto first = waiting_login("technician:wrong", guesser);
+  auto second = waiting_login("technician:right", "127.0.0.1");
+  auto newcomer = Socket::tcp_from("127.0.0.3", http_port);
+  EXPECT_TRUE(newcomer.closed_by_peer(5s)) << daemon->log();  // within the request deadline (10 s)
+  EXPECT_EQ(test_support::parse_http_reply(read_to_end(first)).status, 401) << daemon->log();
+  EXPECT_EQ(test_support::parse_http_reply(read_to_end(second)).status, 200) << daemon->log();
+  EXPECT_TRUE(daemon->wait_for_log("http: 2 connections is the limit and each has a request in progress: 127.0.0.3:"))
+      << daemon->log();
+  EXPECT_EQ(login("technician:right", "127.0.0.3").status, 200) << "with room again, the newcomer gets in";
+}
+
+// A client that leaves while its check waits gives its host's place back at once: the
+// filed daemon kept the check, and its host was told to wait (429) until the hash was
+// computed — a login closed by the eviction above locked its own user out that way.
+TEST_F(Logins, AClientThatLeavesWhileItsCheckWaitsGivesItsHostsPlaceBack) {
+  add_user("technician", "right", 14);
+  add_user("prometheus", "scrape", 4);
+  start_http();
+  ASSERT_EQ(checks_in_flight("prometheus:scrape"), 0) << daemon->log();  // its header remembered from now on
+  // Another host's check holds the worker for about a second; the leaver's queues behind it.
+  auto other = waiting_login("technician:wrong", "127.0.0.4");
+  {
+    auto leaving = waiting_login("technician:wrong too", guesser);
+  }  // closed
+  ASSERT_TRUE(eventually([&] { return checks_in_flight("prometheus:scrape") <= 1; }, 10s)) << daemon->log();
+  EXPECT_EQ(login("technician:wrong again", guesser).status, 401) << "a new check from the same host\n" << daemon->log();
+  EXPECT_EQ(test_support::parse_http_reply(read_to_end(other)).status, 401);
+  EXPECT_EQ(checks_in_flight("prometheus:scrape"), 0) << daemon->log();
 }
 
 }  // namespace

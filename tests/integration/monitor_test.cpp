@@ -207,6 +207,19 @@ TEST_F(Monitor, StatusShowsAFaultAndTwoSecondsLaterNot) {
   EXPECT_NE(panel.output.find("Error     [*]"), std::string::npos) << panel.output;
   EXPECT_NE(panel.output.find("D1 [*] unigen-chp@5"), std::string::npos) << panel.output;
   EXPECT_NE(panel.output.find("Ad=1   Reg=0x0101  0x0929 ( 2345)  write"), std::string::npos) << panel.output;
+  // On a terminal (script(1) gives it one) a lit LED is green and the Err02 counted red
+  // (the Error LED's red is the unit test's: it may have gone out by now); with NO_COLOR,
+  // or into a pipe as above, plain.
+  const auto on_terminal = [&](const std::string& environment) {
+    return run("script -qec '" + environment + std::string(UNIMA_BRIDGE_CLI) + " status --socket " + config.status_socket + "' /dev/null");
+  };
+  const auto coloured = on_terminal("TERM=xterm ");
+  EXPECT_NE(coloured.output.find("D1 \033[32m[*]\033[0m unigen-chp@5"), std::string::npos) << coloured.output;
+  EXPECT_NE(coloured.output.find("\033[1;31m      1\033[0m"), std::string::npos) << "Err02: " << coloured.output;
+  const auto plain = on_terminal("TERM=xterm NO_COLOR=1 ");
+  EXPECT_NE(plain.output.find("D1 [*] unigen-chp@5"), std::string::npos) << plain.output;
+  EXPECT_EQ(plain.output.find("\033["), std::string::npos) << plain.output;
+  EXPECT_EQ(panel.output.find('\033'), std::string::npos) << panel.output;
 
   // The Error LED goes out 2 s after the last fault (seed 004 §8).
   EXPECT_TRUE(eventually([&] { return status()["error"] == false; }, 6000ms));

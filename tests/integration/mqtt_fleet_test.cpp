@@ -35,6 +35,15 @@ class MqttFleet : public BridgeTest {
     return "mqtt: { broker: 'mqtt://127.0.0.1:" + std::to_string(broker->port()) + "', client_id: " + client_id +
            ", topic: fleet/" + client_id + ", publish: { period: 60s }" + more + " }\n";
   }
+  /// Started with MQTT 5 commands (and `more` keys), once it is online: the command line
+  /// of tests/integration/mqtt/mqtt5_request.py for this broker.
+  std::string start_with_mqtt5_commands(const std::string& more = "") {
+    config.extra = mqtt_section("site-17", ", version: 5, commands: true" + more);
+    start();
+    EXPECT_TRUE(eventually([&] { return broker->subscribe("fleet/site-17/status", 1, 1) == "fleet/site-17/status online\n"; }))
+        << daemon->log();
+    return std::string(UNIMA_SOURCE_DIR) + "/tests/integration/mqtt/mqtt5_request.py " + std::to_string(broker->port());
+  }
   std::unique_ptr<Broker> broker;
 };
 
@@ -167,27 +176,62 @@ TEST_F(MqttFleet, TwoBridgesWithOneClientIdDoNotFlap) {
 }
 
 // MQTT 5's request/response: a command with Response Topic and Correlation Data is
-// answered on that topic with the same correlation data; the write is a Modbus write. One
-// without them is answered on set/result as before.
+// answered on that topic (under <prefix>/reply/, the default mqtt.response_topics) with
+// the same correlation data; the write is a Modbus write. One without them is answered on
+// set/result as before.
 TEST_F(MqttFleet, AnMqtt5CommandIsAnsweredWhereItAsksWithItsCorrelationData) {
-  config.extra = mqtt_section("site-17", ", version: 5, commands: true");
-  start();
-  ASSERT_TRUE(eventually([&] { return broker->subscribe("fleet/site-17/status", 1, 1) == "fleet/site-17/status online\n"; }))
-      << daemon->log();
-  const auto request = std::string(UNIMA_SOURCE_DIR) + "/tests/integration/mqtt/mqtt5_request.py " + std::to_string(broker->port());
-  const auto asked = run(request + " fleet/site-17/set/W/3 1234 fleet-app/replies/17 c0ffee0117 2>&1");
+  const auto request = start_with_mqtt5_commands();
+  ASSERT_FALSE(HasFailure());
+  const auto asked = run(request + " fleet/site-17/set/W/3 1234 fleet/site-17/reply/17 c0ffee0117 2>&1");
   EXPECT_EQ(asked.output,
             "answer: {\"topic\":\"fleet/site-17/set/W/3\",\"ok\":true,\"error\":null}\ncorrelation: c0ffee0117\n");
   ModbusClient client(config.modbus_port);
   EXPECT_EQ(client.read_holding(0x0103, 1), std::vector<std::uint16_t>{1234});
 
-  const auto refused = run(request + " fleet/site-17/set/W/16 1 fleet-app/replies/17 0a0b 2>&1");
+  const auto refused = run(request + " fleet/site-17/set/W/16 1 fleet/site-17/reply/17 0a0b 2>&1");
   EXPECT_EQ(refused.output,
             "answer: {\"topic\":\"fleet/site-17/set/W/16\",\"ok\":false,\"error\":\"W has the offsets 0..15, not '16'\"}\n"
             "correlation: 0a0b\n");
 
   const auto plain = run(request + " fleet/site-17/set/X/2 1 fleet/site-17/set/result 00 --no-properties 2>&1");
   EXPECT_EQ(plain.output, "answer: {\"topic\":\"fleet/site-17/set/X/2\",\"ok\":true,\"error\":null}\ncorrelation: none\n");
+}
+
+// Issue 43, finding 2: whoever may publish set/… chose where the bridge published, with
+// its own credentials. A Response Topic that is one of the bridge's own topics, or not in
+// mqtt.response_topics, is not answered on: the answer goes to set/result, nothing with
+// the correlation data goes where it asked, and the refusal is counted and logged once.
+TEST_F(MqttFleet, AnMqtt5CommandIsNeverAnsweredOnTheBridgesOwnTopicsOrOutsideTheList) {
+  const auto request = start_with_mqtt5_commands(", response_topics: ['fleet/site-17/reply/#', 'apps/#']");
+  ASSERT_FALSE(HasFailure());
+  const auto result_topic = std::string(" --answer-on fleet/site-17/set/result");
+  const std::vector<std::string> refused{"fleet/site-17/status", "fleet/site-17/set/W/4", "spBv1.0/plant-7/NCMD/bridge-17",
+                                         "fleet/site-18/set/W/3"};
+  for (const auto& where : refused) {
+    const auto asked = run(request + " fleet/site-17/set/W/3 77 " + where + " c0ffee" + result_topic + " 2>&1");
+    EXPECT_EQ(asked.output, "answer: {\"topic\":\"fleet/site-17/set/W/3\",\"ok\":true,\"error\":null}\n"
+                            "correlation: none\non " + where + ": 0 with the correlation data\n")
+        << where << daemon->log();
+  }
+  // The write itself was taken; only where its answer went was refused.
+  ModbusClient client(config.modbus_port);
+  EXPECT_EQ(client.read_holding(0x0103, 1), std::vector<std::uint16_t>{77});
+
+  // Where the list allows it, the answer goes there.
+  for (const auto* where : {"fleet/site-17/reply/x", "apps/scada/replies"}) {
+    const auto asked = run(request + " fleet/site-17/set/W/5 9 " + where + " 0102 2>&1");
+    EXPECT_EQ(asked.output, "answer: {\"topic\":\"fleet/site-17/set/W/5\",\"ok\":true,\"error\":null}\ncorrelation: 0102\n")
+        << where << daemon->log();
+  }
+
+  const auto status = run(std::string(UNIMA_BRIDGE_CLI) + " status --json --socket " + config.status_socket);
+  ASSERT_EQ(status.status, 0) << status.output;
+  EXPECT_EQ(nlohmann::json::parse(status.output)["mqtt"]["response_topics_refused"], refused.size()) << status.output;
+  EXPECT_EQ(daemon->log_count("mqtt: the Response Topic fleet/site-17/status of a command on fleet/site-17/set/W/3 is "
+                              "one of the bridge's own topics: answered on fleet/site-17/set/result instead"),
+            1u)
+      << daemon->log();
+  EXPECT_EQ(daemon->log_count("mqtt: the Response Topic "), 1u) << daemon->log();  // the rest counted, not logged
 }
 
 }  // namespace

@@ -64,6 +64,8 @@ class MqttHistory : public BridgeTest {
     return r.status == 0 ? nlohmann::json::parse(r.output) : nlohmann::json();
   }
   std::filesystem::path buffer_file() const { return dir.path() / "bridge.mqtt-buffer"; }
+  void fill_small_buffer(const std::string& max_size, std::uintmax_t max_bytes, int values,
+                         std::chrono::milliseconds pace = 120ms);
   std::unique_ptr<Broker> broker;
 };
 
@@ -184,28 +186,28 @@ TEST_F(MqttHistory, AKillDuringTheOutageLosesAtMostTheLastSecond) {
   for (int speed = 1; speed <= last_kept; ++speed) EXPECT_TRUE(speeds.contains(speed)) << speed << reader.lines();
 }
 
-// A small max_size (64 KiB: some eight D1 documents of this config): the newest history is
-// kept, the oldest dropped and counted.
-TEST_F(MqttHistory, AFullBufferDropsTheOldestAndCountsThem) {
+// A small max_size: the newest history is kept, the oldest dropped and counted.
+void MqttHistory::fill_small_buffer(const std::string& max_size, std::uintmax_t max_bytes, int values,
+                                    std::chrono::milliseconds pace) {
   config.extra = "mqtt: { broker: 'mqtt://127.0.0.1:" + std::to_string(broker->port()) +
-                 "', client_id: site-17, topic: fleet/site-17, publish: { period: 60s }, buffer: { max_size: 64KiB } }\n";
+                 "', client_id: site-17, topic: fleet/site-17, publish: { period: 60s }, buffer: { max_size: " + max_size +
+                 " } }\n";
   start();
   wait_online();
   auto feed = feed_client();
   DurableReader reader(*broker, dir.path() / "reader");
   broker->stop();
   ASSERT_TRUE(daemon->wait_for_log("mqtt: the connection to"));
-  constexpr int values = 40;
   for (int speed = 1; speed <= values; ++speed) {
     set_speed(feed, speed);
-    std::this_thread::sleep_for(120ms);
+    std::this_thread::sleep_for(pace);
   }
   ASSERT_TRUE(eventually([&] {
     const auto s = status();
     return s.is_object() && s["mqtt"]["buffer"]["dropped"].get<int>() > 0;
   })) << status().dump() << daemon->log();
   EXPECT_TRUE(daemon->wait_for_log("is full")) << daemon->log();
-  EXPECT_LE(std::filesystem::file_size(buffer_file()), 65536u);
+  EXPECT_LE(std::filesystem::file_size(buffer_file()), max_bytes);
   ASSERT_TRUE(broker->start());
   // The client's back-off after 20 s may take as long again; the feed repeats the last value
   // meanwhile (no change, no document) so that D1 stays on-line.
@@ -213,7 +215,7 @@ TEST_F(MqttHistory, AFullBufferDropsTheOldestAndCountsThem) {
     set_speed(feed, values);
     const auto history = documents(reader.lines(), history_topic);
     return !history.empty() && history.back()["engine_speed"] == values;
-  }, 60000ms)) << reader.lines() << daemon->log();
+  }, 60000ms)) << "the newest must be kept: " << reader.lines() << daemon->log();
   const auto history = documents(reader.lines(), history_topic);
   EXPECT_GT(speed_of(history.front()), 1) << "the oldest are the ones dropped";
   int previous = 0;
@@ -227,6 +229,13 @@ TEST_F(MqttHistory, AFullBufferDropsTheOldestAndCountsThem) {
   const auto text = test_support::run(std::string(UNIMA_BRIDGE_CLI) + " status --socket " + config.status_socket).output;
   EXPECT_NE(text.find("dropped when full"), std::string::npos) << text;
 }
+
+// 64 KiB: some eight D1 documents of this config.
+TEST_F(MqttHistory, AFullBufferDropsTheOldestAndCountsThem) { fill_small_buffer("64KiB", 65536, 40); }
+
+// Issue 43, finding 11: 8 KiB holds one D1 document and not the eighth left free beside it;
+// every entry was dropped and nothing sent after the reconnect. The newest stays.
+TEST_F(MqttHistory, ABufferThatHoldsOneDocumentKeepsTheNewest) { fill_small_buffer("8KiB", 8192, 12); }
 
 // A history longer than the sender holds read ahead (400 entries), as a restart after a
 // long outage finds it, comes whole on one connection: every entry once, oldest first.

@@ -3,6 +3,7 @@
 // status and its will, a bank's document after feed telegrams, a device going off line,
 // and a broker that goes away and comes back while Modbus clients read.
 
+#include <algorithm>
 #include <csignal>
 #include <future>
 #include <thread>
@@ -13,6 +14,7 @@
 #include "tests/integration/state_outage.hpp"
 #include "tests/support/peers/mqtt_broker.hpp"
 #include "tests/support/peers/mqtt_subscription.hpp"
+#include "tests/support/shell_command.hpp"
 
 namespace unima::test {
 namespace {
@@ -348,6 +350,33 @@ TEST_F(Mqtt, CommandsWriteWAndXLikeModbusAndAnswerOnTheResultTopic) {
   EXPECT_EQ(after.read_holding(0x0103, 1), std::vector<std::uint16_t>{1234});
 }
 
+// A retained command sits in the broker's store and would be carried out at every start
+// and reconnection, over what a Modbus master wrote since (issue 43, finding 3): it is
+// dropped, counted and warned about; the same command published live is carried out.
+// With MQTT 5 the broker is asked not to send it at all (Retain Handling 2).
+TEST_F(Mqtt, ARetainedCommandIsNeverCarriedOutFromTheBrokersStore) {
+  const auto without_commands = config.extra;
+  for (const bool mqtt5 : {false, true}) {
+    SCOPED_TRACE(mqtt5 ? "MQTT 5" : "MQTT 3.1.1");
+    config.extra = replaced(without_commands, "publish:", std::string("commands: true, ") + (mqtt5 ? "version: 5, " : "") + "publish:");
+    publish(*broker, "fleet/site-17/set/W/3", "1234", true);
+    start();
+    ASSERT_TRUE(eventually([&] { return broker->subscribe("fleet/site-17/status", 1, 1) == "fleet/site-17/status online\n"; }));
+    auto feed = feed_client();
+    Subscription results(*broker, dir.path() / (mqtt5 ? "results5" : "results"), "fleet/site-17/set/result");
+    publish(*broker, "fleet/site-17/set/W/4", "77");  // live: carried out, and after the retained one had its chance
+    ASSERT_TRUE(eventually([&] { return payloads(results.lines(), "fleet/site-17/set/result").size() == 1; })) << results.lines();
+    EXPECT_EQ(payloads(results.lines(), "fleet/site-17/set/result")[0], R"({"topic":"fleet/site-17/set/W/4","ok":true,"error":null})");
+    ModbusClient client(config.modbus_port);
+    EXPECT_EQ(client.read_holding(0x0103, 2), (std::vector<std::uint16_t>{0x7FFF, 77}));  // W3 never written
+    const auto status = nlohmann::json::parse(
+        test_support::run(std::string(UNIMA_BRIDGE_CLI) + " status --json --socket " + config.status_socket).output)["mqtt"];
+    EXPECT_EQ(status["retained_commands_dropped"], mqtt5 ? 0 : 1) << status.dump();
+    EXPECT_EQ(daemon->log().find("a retained command on fleet/site-17/set/W/3 dropped") != std::string::npos, !mqtt5) << daemon->log();
+    daemon.reset();
+  }
+}
+
 // A command the state file's disk refuses (issue 29, row 2) changes nothing — not the
 // bank, not UnimaBUS — and its result says why; once the disk takes writes again, so does
 // the command. The outage as tests/integration/state_outage.hpp makes it.
@@ -381,6 +410,47 @@ TEST_F(Mqtt, ACommandTheStateFileRefusesChangesNothingAndItsResultSaysWhy) {
   EXPECT_EQ(payloads(results.lines(), "fleet/site-17/set/result")[1], R"({"topic":"fleet/site-17/set/W/3","ok":true,"error":null})");
   // UnimaBUS: the next line after the refusal is the command that was taken.
   EXPECT_EQ(feed.read_line(), R"({"bank":"W","offset":3,"value":54322})");
+}
+
+// A burst of commands (issue 43, finding 6): every one is carried out and answered, and
+// the last value is the one Modbus reads; Modbus is served while the burst goes on;
+// the log holds a line for the first command and not one for each.
+TEST_F(Mqtt, ABurstOfCommandsAllLandsWhileModbusIsServedAndTheLogStaysShort) {
+  constexpr int commands = 5000;
+  broker.reset();
+  // The broker queues what the bridge has not read yet (it stops reading while too many
+  // commands wait): room for the whole burst, where mosquitto's default (1,000) would drop
+  // QoS 1 messages past it — the broker's policy, not the bridge's.
+  broker = std::make_unique<Broker>(dir.path(), "max_queued_messages 20000\n");
+  ASSERT_TRUE(broker->start());
+  config.extra = site_17_mqtt(*broker, true) + "state: { file: " + (dir.path() / "state").string() + " }\n";
+  start();
+  ASSERT_TRUE(eventually([&] { return broker->subscribe("fleet/site-17/status", 1, 1) == "fleet/site-17/status online\n"; }));
+  Subscription results(*broker, dir.path() / "results", "fleet/site-17/set/result");
+  const auto answered = [&] { return payloads(results.lines(), "fleet/site-17/set/result").size(); };
+  auto burst = std::async(std::launch::async, [&] {
+    return test_support::run("seq 1 " + std::to_string(commands) + " | mosquitto_pub -p " + std::to_string(broker->port()) +
+                             " -q 1 -t fleet/site-17/set/W/3 -l 2>&1");
+  });
+  ModbusClient client(config.modbus_port);
+  // Reads until every command is answered: those that went while some were answered and
+  // some were not are reads during the burst.
+  int reads_during_burst = 0;
+  ASSERT_TRUE(eventually([&] {
+    const auto before = answered();
+    if (before == static_cast<std::size_t>(commands)) return true;
+    const auto read = client.read_holding(0x0103, 1);
+    EXPECT_TRUE(read.has_value()) << client.last_error();
+    if (read && before > 0 && answered() < static_cast<std::size_t>(commands)) ++reads_during_burst;
+    return false;
+  }, 60000ms)) << answered() << " answers\n" << daemon->log();
+  EXPECT_EQ(burst.get().status, 0);
+  EXPECT_GT(reads_during_burst, 0);
+  const auto answers = payloads(results.lines(), "fleet/site-17/set/result");
+  EXPECT_EQ(std::count(answers.begin(), answers.end(), R"({"topic":"fleet/site-17/set/W/3","ok":true,"error":null})"),
+            commands);
+  EXPECT_EQ(client.read_holding(0x0103, 1), std::vector<std::uint16_t>{commands});
+  EXPECT_EQ(daemon->log_count("mqtt: fleet/site-17/set/W/3 = "), 1u) << daemon->log();
 }
 
 // commands off (the default): nothing is subscribed, nothing changes.

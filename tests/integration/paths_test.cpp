@@ -73,6 +73,8 @@ TEST_F(Paths, AStatusSocketPathNamingASymbolicLinkOrADirectoryIsRefusedToo) {
 // not removed when it stops.
 TEST_F(Paths, AStaleStatusSocketIsReplacedAndAtStopOnlyASocketIsRemoved) {
   start();
+  // The status socket is bound after the Modbus port start() waits for.
+  ASSERT_TRUE(eventually([&] { return Socket::unix_socket(config.status_socket).valid(); })) << daemon->log();
   daemon->signal(SIGKILL);  // leaves its socket file behind
   ASSERT_TRUE(eventually([&] { return !daemon->running(); }));
   ASSERT_TRUE(fs::is_socket(config.status_socket));

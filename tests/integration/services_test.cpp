@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <fstream>
 #include <memory>
 #include <string>
@@ -12,8 +13,8 @@
 #include "io/master/master_service.hpp"
 #include "io/modbus/tcp_slave_service.hpp"
 #include "io/monitor_service.hpp"
-#include "io/north/http_service.hpp"
-#include "io/north/mqtt_service.hpp"
+#include "io/http/http_service.hpp"
+#include "io/mqtt/mqtt_service.hpp"
 #include "io/state_service.hpp"
 #include "io/status_socket_service.hpp"
 #include "io/unimabus/unimabus_service.hpp"
@@ -52,8 +53,7 @@ struct Services : ::testing::Test {
     service.commit(*previous);
   }
   static nlohmann::json described(const Service& service) {
-    nlohmann::json status;
-    status["ports"] = nlohmann::json::array();
+    status::Document status;
     service.describe(status);
     return status;
   }
@@ -151,7 +151,7 @@ TEST_F(Services, TheMonitorTakesItsNewFilterAtCommitAndKeepsItsLogWhenTheFileSta
 
 TEST_F(Services, AStatusSocketThatCannotListenAtItsNewPathLeavesTheRunningOneAnswering) {
   auto rt = runtime(load(""));
-  rt->status = [] { return nlohmann::json{{"ok", true}}; };
+  rt->status = [] { return status::Document{}; };
   StatusSocketService socket(*rt);
   socket.start();
   std::ofstream(path("file")) << "not a directory";
@@ -210,8 +210,12 @@ TEST_F(Services, HttpKeepsTheUsersReadBeforeWhenTheirFileCannotBeReadAgain) {
 TEST_F(Services, AnMqttClientWhosePasswordCannotBeReadRefusesTheReloadAndTheRunningOneStays) {
   auto rt = runtime(load("mqtt: { broker: \"mqtt://127.0.0.1:1\", client_id: site-1 }\n"));
   MqttService mqtt(*rt);
+  // The file is there when the config is checked (config/host_check refuses it otherwise)
+  // and gone when the service stages it.
+  test_support::write_file(path("missing"), "secret\n");
   const auto banks =
       next(*rt, load("mqtt: { broker: \"mqtt://127.0.0.1:1\", client_id: site-2, username: tech, password_file: " + path("missing") + " }\n"));
+  std::filesystem::remove(path("missing"));
   EXPECT_THROW(mqtt.stage(*banks), std::runtime_error);
   mqtt.abandon();
   EXPECT_EQ(described(mqtt)["mqtt"]["client_id"], "site-1");

@@ -13,6 +13,7 @@
 #include <thread>
 
 #include "tests/integration/bridge_fixture.hpp"
+#include "state/state_journal.hpp"
 #include "tests/integration/state_outage.hpp"
 
 namespace unima::test {
@@ -176,6 +177,21 @@ TEST_F(State, ACorruptFileIsKeptAsideAndTheDaemonStartsWithNothingSet) {
   EXPECT_EQ(read_w()[0], 42);
 }
 
+// A last record whose checksum holds but which names no register (W has 0..15) is no
+// write a crash cut short: the file is not the daemon's to trust, and is kept aside like
+// any other damage (issue 43, finding 13).
+TEST_F(State, ALastRecordForNoRegisterIsDamageAndTheFileIsKeptAside) {
+  const auto text = std::string(state::journal_header) + state::checked_line("W 0 300") + state::checked_line("W 16 5");
+  test_support::write_file(state_file(), text);
+  start();
+  EXPECT_TRUE(daemon->wait_for_log("line 3: bad register or value: kept aside as")) << daemon->log();
+  bool aside = false;
+  for (const auto& entry : std::filesystem::directory_iterator(dir.path()))
+    aside |= entry.path().filename().string().starts_with("bridge.state.corrupt-") && read_file(entry.path()) == text;
+  EXPECT_TRUE(aside);
+  EXPECT_EQ(read_w()[0], 0x7FFF) << "W+0 restored from a file with a forged record";
+}
+
 // Issue 29, row 4: W+0 was set to 200, then to 300 (acknowledged), and a record between
 // them — or after them, with more after it — is damaged. Restoring what came before the
 // damage would bring back 200 and publish it; SPEC §10 says: set the file aside, start
@@ -238,13 +254,16 @@ TEST_F(State, FileNoneKeepsNothing) {
   EXPECT_FALSE(std::filesystem::exists(state_file()));
 }
 
+// Its directory cannot be made: a regular file stands where it would go. (A directory that
+// is merely not there is made, with a warning: config_messages_test.)
 TEST_F(State, AStateFileThatCannotBeWrittenIsAStartUpErrorNamingIt) {
-  config.extra = "state: { file: " + (dir.path() / "no-such-dir" / "state").string() + " }\n";
+  test_support::write_file(dir.path() / "not-a-dir", "a file\n");
+  const auto path = (dir.path() / "not-a-dir" / "state").string();
+  config.extra = "state: { file: " + path + " }\n";
   daemon = std::make_unique<Daemon>(dir, config.yaml());
   ASSERT_TRUE(eventually([&] { return !daemon->running(); }));
   EXPECT_NE(daemon->exit_code(), 0);
-  EXPECT_NE(daemon->log().find("state file " + (dir.path() / "no-such-dir" / "state").string()), std::string::npos)
-      << daemon->log();
+  EXPECT_NE(daemon->log().find("state file " + path), std::string::npos) << daemon->log();
 }
 
 // A disk that refuses the state file's writes (issue 29, row 2): tests/integration/state_outage.hpp.

@@ -175,20 +175,28 @@ TEST_F(TlsHandshakesOffTheLoop, ClientsLeavingAReloadAndAStopDuringHandshakesEnd
   EXPECT_EQ(daemon->exit_code(), 0) << daemon->log();
 }
 
-// Handshakes queued on the worker past the frame deadline: the loop closes their sockets
-// meanwhile, and each step that comes back to a closed connection gives its place back.
-TEST_F(TlsHandshakesOffTheLoop, HandshakesThatOutlastTheFrameDeadlineOnTheWorkerGiveTheirPlaceBack) {
+// Issue 43, finding 12: on a busy box, handshakes queued on the worker past the frame
+// deadline were cut, though their clients were never late. Sixty P-384 steps keep the
+// worker busy well past 200 ms: each handshake still gets its first flight, since the
+// deadline does not run while a step is out. Then the clients say nothing more: their own
+// deadline runs again, and each handshake's place is given back.
+TEST_F(TlsHandshakesOffTheLoop, AHandshakeWaitingForTheWorkerIsNotCutByTheFrameDeadline) {
   start_tls("200ms");
   const auto clients = hellos();
   ASSERT_TRUE(all_read(tls_port, clients)) << daemon->log();
+  int answered_in_all = 0;
+  for (const auto& client : clients) answered_in_all += answered(client) ? 1 : 0;
+  EXPECT_EQ(answered_in_all, hosts * per_host) << daemon->log();
+
   EXPECT_TRUE(daemon->wait_for_log("did not complete the TLS handshake within 200 ms")) << daemon->log();
   const auto in_progress = [&] { return metric(R"(unima_bridge_tls_handshakes_in_progress{port="tls"})"); };
   EXPECT_TRUE(eventually([&] { return in_progress() == 0.0; }, 10s)) << in_progress().value_or(-1) << daemon->log();
   const auto failed = metric(R"(unima_bridge_tls_handshakes_failed_total{port="tls"})").value_or(0);
-  EXPECT_GT(failed, 0);
+  EXPECT_GE(failed, hosts * per_host);
   EXPECT_LE(failed, hosts * per_host + 2);  // and wait_for_port's probes, which said nothing
   ModbusClient master(config.modbus_port);
   EXPECT_TRUE(master.read_input(0x0011, 1));
+  EXPECT_TRUE(tls_master_served()) << daemon->log();
   EXPECT_TRUE(daemon->running());
 }
 

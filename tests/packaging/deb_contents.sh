@@ -22,12 +22,16 @@ expect_entry -rw-r--r-- usr/share/man/man1/unima-bridge.1.gz
 # Every document of docs/, listed from the source tree so a new one cannot be left out.
 sources=("$UNIMA_SOURCE_DIR"/docs/*.md)
 [ "${#sources[@]}" -ge 12 ] || fail "expected the 12 documents of docs/ at least, found ${#sources[@]}"
-docs=(README.md docs/images/front-page.png examples/bridge.yaml examples/chp-site.yaml)
+docs=(copyright README.md docs/images/front-page.png examples/bridge.yaml examples/chp-site.yaml)
 for doc in "${sources[@]}"; do docs+=("$(basename "$doc")"); done
 for doc in "${docs[@]}"; do
   expect_entry -rw-r--r-- "usr/share/doc/unima-bridge/$doc"
 done
 if grep -q '\./usr/local\|\./tmp\|_CPack' "$scratch/contents"; then fail "stray paths in the package"; fi
+# Debian policy 12.5: the copyright file in the machine-readable format, with a license.
+dpkg-deb --fsys-tarfile "$deb" | tar -xO ./usr/share/doc/unima-bridge/copyright >"$scratch/copyright"
+expect_line "$scratch/copyright" "Format: https://www.debian.org/doc/packaging-manuals/copyright-format/1.0/"
+grep -qE '^License: [^ ]' "$scratch/copyright" || fail "the copyright file names no license"
 
 dpkg-deb -I "$deb" >"$scratch/info"
 field() { dpkg-deb -f "$deb" "$1"; }
@@ -37,8 +41,9 @@ field() { dpkg-deb -f "$deb" "$1"; }
 [ "$(field Section)" = net ] || fail "Section: $(field Section)"
 [ -n "$(field Maintainer)" ] || fail "no Maintainer"
 # What the daemon is, not only the Modbus TCP slave it was first.
-description=$(field Description)
-for what in "Modbus RTU and TCP" "slave" "master" "RS-485" "TLS" "captures" "monitor log" "MQTT" "HTTP"; do
+description=$(field Description | tr -s " \n" " ")
+for what in "Modbus RTU and TCP" "slave" "master" "gateway" "RS-485" "TLS" "captures" "monitor log" "MQTT" \
+  "Home Assistant" "Sparkplug B" "HTTP"; do
   grep -qF -- "$what" <<<"$description" || fail "the description does not say '$what': $description"
 done
 depends=$(field Depends)

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Installs the .deb with dpkg into an empty root (dpkg --root, maintainer scripts run
 # with DPKG_ROOT), then upgrades over an edited config, then purges: the user, the enabled
-# unit, the log directory, the conffile kept, everything gone after purge.
+# unit, the log directory, the conffile kept, everything gone after purge but the user.
 . "$(dirname "$0")/lib.sh"
 deb=$(ls "$UNIMA_DEB_DIR"/unima-bridge_*.deb)
 root="$scratch/root"
@@ -35,3 +35,5 @@ for gone in etc/unima-bridge usr/sbin/unima-bridged usr/lib/systemd/system/unima
             etc/systemd/system/multi-user.target.wants/unima-bridge.service; do
   [ ! -e "$root/$gone" ] || fail "/$gone is still there after purge"
 done
+# As docs/operations.md says: the system user stays, as Debian leaves system users behind.
+grep -q '^unima-bridge:' "$root/etc/passwd" || fail "purge removed the system user, which docs/operations.md says stays"

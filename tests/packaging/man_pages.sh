@@ -14,6 +14,7 @@ for page in "$UNIMA_SOURCE_DIR/docs/man/unima-bridged.8" "$UNIMA_SOURCE_DIR/docs
   grep -q "${name%.*} -" "$scratch/$name.txt" || fail "$name: no whatis line"
 done
 # unima-bridged(8) says what the daemon is, not only the Modbus TCP slave it was first.
-for what in "Modbus RTU and TCP" "slave" "master" "RS-485" "TLS" "captures" "monitor log" "MQTT" "HTTP" "front page"; do
+for what in "Modbus RTU and TCP" "slave" "master" "gateway" "RS-485" "TLS" "captures" "monitor log" "MQTT" "Home Assistant" \
+  "Sparkplug B" "HTTP" "front page"; do
   tr -s ' \n' ' ' <"$scratch/unima-bridged.8.txt" | grep -qF -- "$what" || fail "unima-bridged(8) does not say '$what'"
 done

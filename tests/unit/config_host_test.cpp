@@ -103,6 +103,33 @@ TEST(ConfigHostCheck, AcceptsWhatIsFreeOrASocket) {
   EXPECT_NO_THROW(check_on_host(config));
 }
 
+// Issue 44, finding 2: `check` accepted what the daemon refused or did silently. A
+// password file that cannot be read is an error at its key; a state, buffer or monitor
+// file in a directory that is not there is a warning (the daemon makes the directory).
+TEST(ConfigHostCheck, AMissingPasswordFileIsAnErrorAtItsKey) {
+  TempDir dir;
+  const auto missing = (dir.path() / "mqtt.pass").string();
+  auto config = parse_text("mqtt:\n  broker: 'mqtt://127.0.0.1'\n  username: site\n  password_file: " + missing + "\n",
+                           "bridge.yaml", host_called("x"));
+  EXPECT_EQ(host_error(config),
+            "bridge.yaml:4:18: mqtt.password_file: " + missing + ": no such file: correct the path, or put the file there");
+  test_support::write_file(missing, "secret\n");
+  EXPECT_NO_THROW(check_on_host(config));
+}
+
+TEST(ConfigHostCheck, AFileInADirectoryThatIsNotThereIsAWarningAtItsKey) {
+  TempDir dir;
+  const auto typo = (dir.path() / "unima-brige").string();
+  auto config = parse_text("state:\n  file: " + typo + "/state\nmonitor:\n  file: " + typo + "/monitor.log\n",
+                           "bridge.yaml", host_called("x"));
+  check_on_host(config);
+  const auto why = ": the directory " + typo + " is not there; the daemon makes it at start: correct the path if it is mistyped";
+  EXPECT_EQ(warnings(config), (std::vector<std::string>{
+                                  "bridge.yaml:4:9: warning: monitor.file: " + typo + "/monitor.log" + why,
+                                  "bridge.yaml:2:9: warning: state.file: " + typo + "/state" + why,
+                              }));
+}
+
 TEST(ConfigParse, TheHostNameAndMachineIdGiveTheDefaultMqttClient) {
   auto host = host_called("plc-7");
   host.machine_id = "3d1219c7";

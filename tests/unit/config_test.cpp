@@ -10,6 +10,7 @@
 #include <fstream>
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "banks/table_catalog.hpp"
 #include "config/config.hpp"
@@ -554,6 +555,13 @@ TEST(YamlReader, ExpectKeysAndPositions) {
 }
 
 // http (SPEC §13): HTTPS and users, and what a bridge open beyond loopback is warned of.
+// Issue 44, finding 2: the users written in the config instead of a file's path.
+TEST(ConfigErrors, HttpUsersWrittenInPlaceOfTheirFileSayWhatIsMeant) {
+  EXPECT_EQ(load_error("http:\n  listen: 127.0.0.1\n  users:\n    alice: x\n"),
+            "cfg.yaml:4:5: http.users must be the path of a file of name:password-hash lines, not the users themselves "
+            "(docs/security.md: make the hashes with `openssl passwd -6`)");
+}
+
 TEST(ConfigLoad, HttpTlsAndUsers) {
   // The parse alone: the PEM files are check_on_host's (config_host_test).
   const auto c = parse_text("http:\n  listen: 0.0.0.0\n  port: 8443\n  users: /etc/u\n"
@@ -608,6 +616,37 @@ TEST(ConfigLoad, MqttBrokerClientTopicAndTheirDefaults) {
   EXPECT_EQ(load_error("mqtt: { broker: 'mqtt://x', version: 4 }\n"), "cfg.yaml:1:38: mqtt.version must be 3.1.1 or 5");
   EXPECT_EQ(load_error("mqtt: { broker: 'mqtt://x', password_file: p }\n"), "cfg.yaml:1:44: mqtt.password_file needs mqtt.username");
   EXPECT_EQ(load_error("mqtt: { broker: 'mqtt://x:0' }\n").substr(0, 28), "cfg.yaml:1:17: mqtt.broker: ");
+}
+
+// mqtt.response_topics (SPEC §15): topic filters, `<topic>/reply/#` when absent; a
+// filter an MQTT broker would not take, or one reaching the broker's $ topics, names its
+// place in the file.
+TEST(ConfigLoad, MqttResponseTopicsAreTopicFiltersWithReplyAsTheDefault) {
+  EXPECT_EQ(load_text("mqtt: { broker: 'mqtt://x', topic: plant/a }\n", "m.yaml").mqtt->response_topics,
+            std::vector<std::string>{"plant/a/reply/#"});
+  EXPECT_EQ(load_text("mqtt: { broker: 'mqtt://x', topic: plant/a, response_topics: ['apps/+/replies', 'ops/#', plain] }\n",
+                      "m.yaml")
+                .mqtt->response_topics,
+            (std::vector<std::string>{"apps/+/replies", "ops/#", "plain"}));
+  EXPECT_TRUE(load_text("mqtt: { broker: 'mqtt://x', response_topics: [] }\n", "m.yaml").mqtt->response_topics.empty());
+
+  const auto error = [](const std::string& list) {
+    return load_error("mqtt: { broker: 'mqtt://x', response_topics: " + list + " }\n");
+  };
+  EXPECT_EQ(error("'a/#'"), "cfg.yaml:1:46: mqtt.response_topics must be a list of topic filters, e.g. [unima/" +
+                               load_text("mqtt: { broker: 'mqtt://x' }\n", "m.yaml").mqtt->client_id + "/reply/#]");
+  EXPECT_EQ(error("[ok, 'a/#/b']"), "cfg.yaml:1:51: mqtt.response_topics: not a topic filter: # must be the last level");
+  EXPECT_EQ(error("['a/b#']"), "cfg.yaml:1:47: mqtt.response_topics: not a topic filter: + and # must each be a whole level (a/+/b, a/#)");
+  EXPECT_EQ(error("['a+/b']"), "cfg.yaml:1:47: mqtt.response_topics: not a topic filter: + and # must each be a whole level (a/+/b, a/#)");
+  EXPECT_EQ(error("['']"), "cfg.yaml:1:47: mqtt.response_topics: not a topic filter: it is empty");
+  EXPECT_EQ(error("['$SYS/#']"),
+            "cfg.yaml:1:47: mqtt.response_topics: not a topic filter: it starts with $ (the broker's own topics)");
+  EXPECT_EQ(error("[\"a\\0b\"]"), "cfg.yaml:1:47: mqtt.response_topics: not a topic filter: it holds a NUL");
+
+  // A reload that changes only where answers may go keeps the client and its session.
+  const auto before = load_text("mqtt: { broker: 'mqtt://x' }\n", "m.yaml");
+  const auto after = load_text("mqtt: { broker: 'mqtt://x', response_topics: ['apps/#'] }\n", "m.yaml");
+  EXPECT_TRUE(before.mqtt->same_client(*after.mqtt));
 }
 
 TEST(ConfigLoad, SparkplugIdsBrokerAsMqttsAndDefaults) {

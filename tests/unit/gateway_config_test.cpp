@@ -57,7 +57,15 @@ TEST(GatewayConfig, DefaultsAreTwoSecondsOfWaitTheProfilesTimeoutAndNoCache) {
   EXPECT_FALSE(c.modbus.gateway->timeout);
   EXPECT_EQ(c.modbus.gateway->cache, 0ms);
   EXPECT_TRUE(c.modbus.gateway->priority.empty());
+  EXPECT_FALSE(c.modbus.gateway->reads_only) << "every function is forwarded unless functions: read";
   EXPECT_FALSE(load(rtu_master).modbus.gateway);
+}
+
+TEST(GatewayConfig, FunctionsReadForwardsReadsOnlyAndAnotherWordIsAnError) {
+  EXPECT_TRUE(load(rtu_master + "  gateway: { units: [3], functions: read }\n").modbus.gateway->reads_only);
+  EXPECT_FALSE(load(rtu_master + "  gateway: { units: [3], functions: all }\n").modbus.gateway->reads_only);
+  EXPECT_NE(error(rtu_master + "  gateway: { units: [3], functions: writes }\n").find("'writes' is not one of: read, all"),
+            std::string::npos);
 }
 
 TEST(GatewayConfig, WithoutMasterModeIsAnErrorNamingTheKey) {
@@ -76,6 +84,15 @@ TEST(GatewayConfig, TheBridgesOwnAddressIsAnErrorAtTheItemThatNamesIt) {
   // The default address 1.
   EXPECT_NE(error(rtu_master + "  gateway: { units: [1-3] }\n").find("unit 1 is the bridge's own modbus.address"),
             std::string::npos);
+}
+
+// Issue 43, finding 13: `[5, 5]` or a range over an id already listed is a slip, named at
+// its second mention with its first.
+TEST(GatewayConfig, AUnitListedTwiceIsAnErrorNamingBothPlaces) {
+  EXPECT_EQ(error(rtu_master + "  gateway: { units: [5, 5] }\n"),
+            "g.yaml:4:25: modbus.gateway.units: unit 5 is listed twice (first at g.yaml:4:22)");
+  EXPECT_EQ(error(rtu_master + "  gateway: { units: [2-9, 17, 9-12] }\n"),
+            "g.yaml:4:31: modbus.gateway.units: unit 9 is listed twice (first at g.yaml:4:22)");
 }
 
 TEST(GatewayConfig, AUnitOutsideOneTo247IsAnErrorNamingTheKey) {

@@ -20,13 +20,17 @@ const Bytes read_d0{0x03, 0x00, 0x00, 0x00, 0x01};
 const Bytes write_d0{0x06, 0x00, 0x00, 0x00, 0x2A};
 constexpr std::uint8_t plc = 5;
 
+GatewayQueue::Asker asker(std::uint64_t client, bool priority = false) {
+  return GatewayQueue::Asker{client, "192.0.2.1", priority};
+}
+
 Gateway::Settings settings(std::chrono::milliseconds cache = 0ms) {
   return Gateway::Settings{300ms, std::nullopt, cache};
 }
 
 // A request that arrives and takes the line at once; its ticket.
 GatewayQueue::Request take_line(Gateway& gateway, std::uint64_t client, const Bytes& pdu, TimePoint now) {
-  const auto arrival = gateway.arrive(client, false, plc, pdu, now);
+  const auto arrival = gateway.arrive(asker(client), plc, pdu, now);
   EXPECT_FALSE(arrival.cached);
   const auto next = gateway.next(false);
   EXPECT_TRUE(next);
@@ -80,8 +84,8 @@ TEST(GatewayDecisions, NoAnswerABadCrcOrAnotherSlavesAnswerIs0BAndThreeInARowAre
 
 TEST(GatewayDecisions, ARequestThatWaitedTooLongIsCountedBusy) {
   Gateway gateway(settings());
-  const auto first = gateway.arrive(1, false, plc, read_d0, t0).ticket;
-  gateway.arrive(2, false, plc, read_d0, t0 + 100ms);
+  const auto first = gateway.arrive(asker(1), plc, read_d0, t0).ticket;
+  gateway.arrive(asker(2), plc, read_d0, t0 + 100ms);
   EXPECT_EQ(gateway.next_expiry(), t0 + 300ms);
   EXPECT_TRUE(gateway.expire(t0 + 299ms).empty());
   const auto expired = gateway.expire(t0 + 300ms);
@@ -92,9 +96,20 @@ TEST(GatewayDecisions, ARequestThatWaitedTooLongIsCountedBusy) {
   EXPECT_EQ(gateway_exception(0x03, modbus::ExceptionCode::server_device_busy), (Bytes{0x83, 0x06}));
 }
 
+TEST(GatewayDecisions, ARequestBeyondItsHostsShareIsRefusedAtOnceAndCountedBusy) {
+  Gateway gateway(settings());
+  for (std::uint64_t c = 1; c <= GatewayQueue::most_waiting_per_host; ++c)
+    ASSERT_TRUE(gateway.arrive(asker(c), plc, read_d0, t0).ticket);
+  const auto refused = gateway.arrive(asker(99), plc, read_d0, t0);
+  EXPECT_FALSE(refused.ticket);
+  EXPECT_FALSE(refused.cached);
+  EXPECT_EQ(gateway.units().at(plc).busy, 1u);
+  EXPECT_EQ(gateway.queue_depth(plc), GatewayQueue::most_waiting_per_host);
+}
+
 TEST(GatewayDecisions, TheWaitForTheLineIsMeasuredFromArrival) {
   Gateway gateway(settings());
-  gateway.arrive(1, false, plc, read_d0, t0);
+  gateway.arrive(asker(1), plc, read_d0, t0);
   gateway.began(*gateway.next(false), read_d0, t0 + 40ms);
   EXPECT_EQ(gateway.units().at(plc).wait.last(), 40ms);
   EXPECT_EQ(gateway.waiting(), 0u);
@@ -102,9 +117,9 @@ TEST(GatewayDecisions, TheWaitForTheLineIsMeasuredFromArrival) {
 
 TEST(GatewayDecisions, AClientThatWentTakesItsQueuedRequestsWithIt) {
   Gateway gateway(settings());
-  const auto a = gateway.arrive(1, false, plc, read_d0, t0).ticket;
-  gateway.arrive(2, false, plc, read_d0, t0);
-  const auto b = gateway.arrive(1, false, plc, write_d0, t0).ticket;
+  const auto a = gateway.arrive(asker(1), plc, read_d0, t0).ticket.value();
+  gateway.arrive(asker(2), plc, read_d0, t0);
+  const auto b = gateway.arrive(asker(1), plc, write_d0, t0).ticket.value();
   EXPECT_EQ(gateway.client_gone(1), (std::vector<Gateway::Ticket>{a, b}));
   EXPECT_EQ(gateway.waiting(), 1u);
 }
@@ -119,37 +134,37 @@ TEST(GatewayDecisions, TheCacheAnswersAnEqualReadAndAnyWriteEmptiesIt) {
   Gateway gateway(settings(500ms));
   take_line(gateway, 1, read_d0, t0);
   gateway.finished(plc, read_d0, rtu_frame(plc, Bytes{0x03, 0x02, 0x00, 0x07}), t0 + 10ms, sent0);
-  const auto hit = gateway.arrive(2, false, plc, read_d0, t0 + 100ms);
+  const auto hit = gateway.arrive(asker(2), plc, read_d0, t0 + 100ms);
   ASSERT_TRUE(hit.cached);
   EXPECT_EQ(*hit.cached, (Bytes{0x03, 0x02, 0x00, 0x07}));
   EXPECT_EQ(gateway.units().at(plc).cache_hits, 1u);
   EXPECT_EQ(gateway.waiting(), 0u) << "a cached answer takes no turn";
 
   gateway.device_written(plc);  // the master's own send block
-  EXPECT_FALSE(gateway.arrive(2, false, plc, read_d0, t0 + 200ms).cached);
+  EXPECT_FALSE(gateway.arrive(asker(2), plc, read_d0, t0 + 200ms).cached);
 }
 
 TEST(GatewayDecisions, AReadAnsweredWhileAWriteWaitedIsForgottenWhenTheWriteTakesTheLine) {
   Gateway gateway(settings(500ms));
-  const auto write = gateway.arrive(1, false, plc, write_d0, t0);
+  const auto write = gateway.arrive(asker(1), plc, write_d0, t0);
   EXPECT_FALSE(write.cached);
   // The write waits; a read of another client goes first and is answered and kept.
-  const auto read = gateway.arrive(2, true, plc, read_d0, t0);
+  const auto read = gateway.arrive(asker(2, true), plc, read_d0, t0);
   const auto next = gateway.next(false);
   ASSERT_TRUE(next);
   ASSERT_EQ(next->ticket, read.ticket);
   gateway.began(*next, read_d0, t0);
   gateway.finished(plc, read_d0, rtu_frame(plc, Bytes{0x03, 0x02, 0x00, 0x07}), t0 + 10ms, sent0);
-  EXPECT_TRUE(gateway.arrive(3, false, plc, read_d0, t0 + 20ms).cached);
+  EXPECT_TRUE(gateway.arrive(asker(3), plc, read_d0, t0 + 20ms).cached);
   gateway.began(*gateway.next(false), write_d0, t0 + 30ms);
-  EXPECT_FALSE(gateway.arrive(3, false, plc, read_d0, t0 + 40ms).cached);
+  EXPECT_FALSE(gateway.arrive(asker(3), plc, read_d0, t0 + 40ms).cached);
 }
 
 TEST(GatewayDecisions, AnExceptionIsNeverCached) {
   Gateway gateway(settings(500ms));
   take_line(gateway, 1, read_d0, t0);
   gateway.finished(plc, read_d0, rtu_frame(plc, Bytes{0x83, 0x02}), t0 + 10ms, sent0);
-  EXPECT_FALSE(gateway.arrive(2, false, plc, read_d0, t0 + 20ms).cached);
+  EXPECT_FALSE(gateway.arrive(asker(2), plc, read_d0, t0 + 20ms).cached);
 }
 
 // Issue 43: an answer that is not this request's — a late slave's answer to the request
@@ -163,7 +178,7 @@ TEST(GatewayDecisions, ALateAnswerToAnotherRequestIs0BAndNeverCached) {
   EXPECT_EQ(outcome.answer, (Bytes{0x83, 0x0B}));
   EXPECT_EQ(outcome.result.status, ResponseStatus::bad_length);
   EXPECT_EQ(gateway.units().at(plc).bad_frames, 1u);
-  EXPECT_FALSE(gateway.arrive(2, false, plc, read_ten, t0 + 20ms).cached);
+  EXPECT_FALSE(gateway.arrive(asker(2), plc, read_ten, t0 + 20ms).cached);
 }
 
 TEST(GatewayDecisions, TheTransactionAfterATimeOutIsNotCached) {
@@ -171,7 +186,7 @@ TEST(GatewayDecisions, TheTransactionAfterATimeOutIsNotCached) {
   const auto answer = rtu_frame(plc, Bytes{0x03, 0x02, 0x00, 0x07});
   // Another client's equal read: answered from the cache, or else it leaves the queue.
   const auto cached = [&](TimePoint at) {
-    const bool hit = gateway.arrive(2, false, plc, read_d0, at).cached.has_value();
+    const bool hit = gateway.arrive(asker(2), plc, read_d0, at).cached.has_value();
     gateway.client_gone(2);
     return hit;
   };

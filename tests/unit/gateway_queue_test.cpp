@@ -18,6 +18,11 @@ using TimePoint = GatewayQueue::TimePoint;
 
 const TimePoint t0 = TimePoint{} + 1000s;
 
+// Client (a connection) `client` of one host, unless another is named.
+GatewayQueue::Asker asker(std::uint64_t client, bool priority = false, std::string host = "192.0.2.1") {
+  return GatewayQueue::Asker{client, std::move(host), priority};
+}
+
 // Takes requests as the line would, with no poll due, and says whose they were.
 std::vector<std::uint64_t> serve_all(GatewayQueue& queue) {
   std::vector<std::uint64_t> clients;
@@ -38,30 +43,30 @@ TEST(GatewayQueue, EmptyHasNothingAndNoExpiry) {
 TEST(GatewayQueue, ClientsTakeTurnsOneRequestEachPerRound) {
   GatewayQueue queue(2s);
   // Client 1 sends three before clients 2 and 3 send one each.
-  for (int i = 0; i < 3; ++i) queue.push(1, false, 3, t0);
-  queue.push(2, false, 3, t0 + 1ms);
-  queue.push(3, false, 4, t0 + 2ms);
+  for (int i = 0; i < 3; ++i) queue.push(asker(1, false), 3, t0);
+  queue.push(asker(2, false), 3, t0 + 1ms);
+  queue.push(asker(3, false), 4, t0 + 2ms);
   EXPECT_EQ(serve_all(queue), (std::vector<std::uint64_t>{1, 2, 3, 1, 1}));
 }
 
 TEST(GatewayQueue, TheRoundGoesOnAfterTheClientServedLast) {
   GatewayQueue queue(2s);
-  queue.push(2, false, 3, t0);
+  queue.push(asker(2, false), 3, t0);
   queue.began(queue.next(false)->ticket);
   // Client 1 came first this time, but 2 was served last: 3 is next, then 1, then 2.
-  queue.push(1, false, 3, t0 + 1ms);
-  queue.push(2, false, 3, t0 + 2ms);
-  queue.push(3, false, 3, t0 + 3ms);
+  queue.push(asker(1, false), 3, t0 + 1ms);
+  queue.push(asker(2, false), 3, t0 + 2ms);
+  queue.push(asker(3, false), 3, t0 + 3ms);
   EXPECT_EQ(serve_all(queue), (std::vector<std::uint64_t>{3, 1, 2}));
 }
 
 TEST(GatewayQueue, PriorityPeersGoFirstEvenBeforeADuePoll) {
   GatewayQueue queue(2s);
-  queue.push(1, false, 3, t0);
-  queue.push(2, false, 3, t0 + 1ms);
+  queue.push(asker(1, false), 3, t0);
+  queue.push(asker(2, false), 3, t0 + 1ms);
   queue.began(queue.next(false)->ticket);  // client 1: the line's last transaction was forwarded
-  queue.push(9, true, 5, t0 + 2ms);
-  queue.push(9, true, 6, t0 + 3ms);
+  queue.push(asker(9, true), 5, t0 + 2ms);
+  queue.push(asker(9, true), 6, t0 + 3ms);
   // Now a poll is due, but the priority peer still goes, oldest first.
   auto next = queue.next(true);
   ASSERT_TRUE(next);
@@ -77,17 +82,17 @@ TEST(GatewayQueue, PriorityPeersGoFirstEvenBeforeADuePoll) {
 
 TEST(GatewayQueue, PriorityRequestsDoNotTakeAnotherClientsTurn) {
   GatewayQueue queue(2s);
-  queue.push(1, false, 3, t0);
-  queue.push(2, false, 3, t0);
+  queue.push(asker(1, false), 3, t0);
+  queue.push(asker(2, false), 3, t0);
   queue.began(queue.next(false)->ticket);  // client 1
-  queue.push(9, true, 3, t0 + 1ms);
+  queue.push(asker(9, true), 3, t0 + 1ms);
   queue.began(queue.next(false)->ticket);  // the priority peer
   EXPECT_EQ(serve_all(queue), (std::vector<std::uint64_t>{2}));
 }
 
 TEST(GatewayQueue, ADuePollAndForwardedRequestsTakeTurns) {
   GatewayQueue queue(2s);
-  for (int i = 0; i < 4; ++i) queue.push(1, false, 3, t0);
+  for (int i = 0; i < 4; ++i) queue.push(asker(1, false), 3, t0);
   // At first the line's last user counts as a poll: the request may go even with a poll due.
   auto next = queue.next(true);
   ASSERT_TRUE(next);
@@ -108,9 +113,9 @@ TEST(GatewayQueue, ADuePollAndForwardedRequestsTakeTurns) {
 
 TEST(GatewayQueue, RequestsThatWaitedTooLongLeaveOldestFirst) {
   GatewayQueue queue(2s);
-  const auto a = queue.push(1, false, 3, t0);
-  const auto b = queue.push(2, false, 3, t0 + 500ms);
-  queue.push(3, false, 3, t0 + 1500ms);
+  const auto a = queue.push(asker(1, false), 3, t0);
+  const auto b = queue.push(asker(2, false), 3, t0 + 500ms);
+  queue.push(asker(3, false), 3, t0 + 1500ms);
   EXPECT_EQ(queue.next_expiry(), t0 + 2s);
   EXPECT_TRUE(queue.expire(t0 + 2s - 1ms).empty());
   const auto expired = queue.expire(t0 + 2500ms);
@@ -123,11 +128,52 @@ TEST(GatewayQueue, RequestsThatWaitedTooLongLeaveOldestFirst) {
 
 TEST(GatewayQueue, AClientThatLeftLeavesNoRequestBehind) {
   GatewayQueue queue(2s);
-  queue.push(1, false, 3, t0);
-  queue.push(2, false, 3, t0);
-  queue.push(1, false, 4, t0);
+  queue.push(asker(1, false), 3, t0);
+  queue.push(asker(2, false), 3, t0);
+  queue.push(asker(1, false), 4, t0);
   EXPECT_EQ(queue.drop_client(1).size(), 2u);
   EXPECT_EQ(serve_all(queue), (std::vector<std::uint64_t>{2}));
+}
+
+// Issue 43, finding 5: one host with many connections had most of the line. Hosts take
+// turns first, then the connections within a host's turns.
+TEST(GatewayQueue, HostsTakeTurnsBeforeTheirConnectionsDo) {
+  GatewayQueue queue(2s);
+  for (std::uint64_t c = 1; c <= 6; ++c) queue.push(asker(c, false, "192.0.2.1"), 3, t0);
+  queue.push(asker(20, false, "192.0.2.9"), 3, t0 + 1ms);
+  queue.push(asker(21, false, "192.0.2.9"), 3, t0 + 1ms);
+  // 192.0.2.1's six connections get one turn per round, as 192.0.2.9's two do.
+  EXPECT_EQ(serve_all(queue), (std::vector<std::uint64_t>{1, 20, 2, 21, 3, 4, 5, 6}));
+}
+
+TEST(GatewayQueue, AHostsConnectionsTakeTurnsAcrossRounds) {
+  GatewayQueue queue(2s);
+  queue.push(asker(1, false, "192.0.2.1"), 3, t0);
+  queue.push(asker(2, false, "192.0.2.1"), 3, t0);
+  queue.push(asker(9, false, "192.0.2.9"), 3, t0);
+  queue.began(queue.next(false)->ticket);  // connection 1
+  // Connection 1 asks again at once; its host's next turn is still connection 2's.
+  queue.push(asker(1, false, "192.0.2.1"), 3, t0 + 1ms);
+  EXPECT_EQ(serve_all(queue), (std::vector<std::uint64_t>{9, 2, 1}));
+}
+
+TEST(GatewayQueue, AHostHasAtMostSoManyWaitingAndPriorityPeersAreNotCounted) {
+  GatewayQueue queue(2s);
+  for (std::uint64_t c = 1; c <= GatewayQueue::most_waiting_per_host; ++c)
+    ASSERT_TRUE(queue.push(asker(c, false, "192.0.2.1"), 3, t0));
+  EXPECT_FALSE(queue.push(asker(99, false, "192.0.2.1"), 3, t0));  // refused: answered busy
+  EXPECT_TRUE(queue.push(asker(100, false, "192.0.2.2"), 3, t0));  // another host still gets in
+  EXPECT_TRUE(queue.push(asker(101, true, "192.0.2.1"), 3, t0));   // as does a priority peer
+  // One leaving (its turn, its expiry or its connection) frees a place for the host.
+  queue.drop_client(1);
+  EXPECT_TRUE(queue.push(asker(99, false, "192.0.2.1"), 3, t0 + 1ms));
+  EXPECT_FALSE(queue.push(asker(98, false, "192.0.2.1"), 3, t0 + 1ms));
+  queue.began(queue.next(false)->ticket);  // the priority peer
+  EXPECT_FALSE(queue.push(asker(98, false, "192.0.2.1"), 3, t0 + 1ms));
+  queue.began(queue.next(false)->ticket);  // 192.0.2.1's first
+  EXPECT_TRUE(queue.push(asker(98, false, "192.0.2.1"), 3, t0 + 1ms));
+  EXPECT_EQ(queue.expire(t0 + 3s).size(), GatewayQueue::most_waiting_per_host + 1);
+  EXPECT_TRUE(queue.push(asker(97, false, "192.0.2.1"), 3, t0 + 3s));
 }
 
 // The scheduler keeps the line's pacing for a transaction that is not its own.
@@ -154,9 +200,9 @@ TEST(GatewayLine, AForwardedTransactionHoldsTheLineAndTheDevicesGap) {
 // request leaves it when it takes the line, expires or its client goes.
 TEST(GatewayQueue, EachUnitsWaitingRequestsAreCounted) {
   GatewayQueue queue(2s);
-  queue.push(1, false, 5, t0);
-  queue.push(2, false, 5, t0);
-  queue.push(2, false, 7, t0);
+  queue.push(asker(1, false), 5, t0);
+  queue.push(asker(2, false), 5, t0);
+  queue.push(asker(2, false), 7, t0);
   EXPECT_EQ(queue.waiting_for(5), 2u);
   EXPECT_EQ(queue.waiting_for(7), 1u);
   EXPECT_EQ(queue.waiting_for(9), 0u);

@@ -74,8 +74,9 @@ TEST(LiveView, APageGetsEverythingFirstThenOnlyWhatChanged) {
 TEST(LiveView, NamedValuesGoFirstInFullThenOnlyThoseThatChanged) {
   const auto with_values = [](nlohmann::json speed, std::string state) {
     LiveSnapshot s{nlohmann::json::object(), {0x1101}, {1}, {}};
-    s.named_values = {{"D1/engine_speed", {{"value", speed}, {"state", state}}},
-                      {"W/w_00", {{"value", nullptr}, {"state", "not set"}, {"set", false}}}};
+    s.named_banks = {std::make_shared<const NamedValues>(NamedValues{{"D1/engine_speed", {{"value", speed}, {"state", state}}}}),
+                     std::make_shared<const NamedValues>(
+                         NamedValues{{"W/w_00", {{"value", nullptr}, {"state", "not set"}, {"set", false}}}})};
     return s;
   };
   LiveView view;
@@ -91,6 +92,34 @@ TEST(LiveView, NamedValuesGoFirstInFullThenOnlyThoseThatChanged) {
   EXPECT_EQ(page->take(), "event: values\ndata: {\"D1/engine_speed\":{\"state\":\"off-line\",\"value\":null}}\n\n");
   view.update(with_values(nullptr, "off-line"), recent);
   EXPECT_EQ(page->take(), "");
+}
+
+// A bank that did not change is the same object in the next snapshot (HttpAnswers keeps
+// it while the store's count of the bank's changes stays): only the banks that are new
+// objects are looked at, and of them only the values that differ are sent.
+TEST(LiveView, OnlyTheBanksThatAreNewObjectsAreCompared) {
+  const auto bank = [](std::string key, int value) {
+    return std::make_shared<const NamedValues>(NamedValues{{std::move(key), {{"value", value}, {"state", "ok"}}}});
+  };
+  const auto s1 = bank("S1/power", 7);
+  const auto snapshot_with = [&](std::shared_ptr<const NamedValues> d1) {
+    LiveSnapshot s{nlohmann::json::object(), {0x1101}, {1}, {}};
+    s.named_banks = {std::move(d1), s1};
+    return s;
+  };
+  LiveView view;
+  monitor::RecentTransactions recent;
+  auto page = std::make_shared<RecordingSink>();
+  view.subscribe(page, {}, snapshot_with(bank("D1/engine_speed", 1500)), recent);
+  page->take();
+  view.update_values(snapshot_with(bank("D1/engine_speed", 1500)));
+  EXPECT_EQ(page->take(), "") << "a new object with the same values sends nothing";
+  view.update_values(snapshot_with(bank("D1/engine_speed", 1501)));
+  EXPECT_EQ(page->take(), "event: values\ndata: {\"D1/engine_speed\":{\"state\":\"ok\",\"value\":1501}}\n\n");
+  LiveSnapshot renamed{nlohmann::json::object(), {0x1101}, {1}, {}};
+  renamed.named_banks = {bank("D1/speed", 1501), s1};
+  view.update(renamed, recent);
+  EXPECT_NE(page->take().find("event: layout"), std::string::npos) << "a bank whose names changed is a new layout";
 }
 
 // A page that opens between two snapshots gets the last one, so that a value which

@@ -15,6 +15,9 @@
 namespace unima::metrics {
 namespace {
 
+// The exposition of a document as the daemon sends it (JSON), read as its parts.
+std::string exposition(const nlohmann::json& document) { return prometheus_text(document.get<status::Document>()); }
+
 bool has_line(const std::string& text, const std::string& line) {
   return text.find("\n" + line + "\n") != std::string::npos || text.starts_with(line + "\n");
 }
@@ -44,7 +47,7 @@ const auto status = nlohmann::json::parse(R"({
 })");
 
 TEST(Prometheus, EveryFamilyHasHelpAndTypeAndTheStatusValues) {
-  const auto text = prometheus_text(status);
+  const auto text = exposition(status);
   EXPECT_TRUE(has_line(text, "unima_bridge_mqtt_connected 1")) << text;
   EXPECT_TRUE(has_line(text, "# TYPE unima_bridge_mqtt_drops_total counter")) << text;
   EXPECT_TRUE(has_line(text, "unima_bridge_mqtt_drops_total 2")) << text;
@@ -110,7 +113,7 @@ TEST(Prometheus, EveryFamilyHasHelpAndTypeAndTheStatusValues) {
 TEST(Prometheus, LabelValuesAreEscaped) {
   auto odd = status;
   odd["devices"][0]["type"] = "a\"b\\c\nd";
-  const auto text = prometheus_text(odd);
+  const auto text = exposition(odd);
   EXPECT_TRUE(has_line(text, R"(unima_bridge_device_online{bank="D1",type="a\"b\\c\nd"} 1)")) << text;
 }
 
@@ -118,7 +121,7 @@ TEST(Prometheus, LabelValuesAreEscaped) {
 TEST(Prometheus, NoSessionTakeoverYetLeavesItsTimeOut) {
   auto quiet = status;
   quiet["mqtt"]["last_takeover"] = nullptr;
-  const auto text = prometheus_text(quiet);
+  const auto text = exposition(quiet);
   EXPECT_TRUE(has_line(text, "# TYPE unima_bridge_mqtt_last_session_takeover_timestamp_seconds gauge")) << text;
   EXPECT_EQ(text.find("\nunima_bridge_mqtt_last_session_takeover_timestamp_seconds "), std::string::npos) << text;
   EXPECT_TRUE(has_line(text, "unima_bridge_mqtt_state_since_timestamp_seconds 1795775719.5")) << text;
@@ -134,7 +137,7 @@ TEST(Prometheus, TheGatewaysUnitsAreCountedByUnit) {
     {"unit": 7, "state": "not answering", "since": "2026-11-27 08:10:01.532000", "requests": 3, "answered": 0,
      "exceptions": 0, "timeouts": 3, "bad_frames": 0, "busy": 0, "cache_hits": 0, "queue_depth": 0,
      "wait_ms": {"last": 0, "mean": 0, "max": 0, "count": 3, "sum": 0}} ]}})");
-  const auto text = prometheus_text(gateway);
+  const auto text = exposition(gateway);
   EXPECT_TRUE(has_line(text, "# TYPE unima_bridge_gateway_requests_total counter")) << text;
   EXPECT_TRUE(has_line(text, R"(unima_bridge_gateway_requests_total{unit="5"} 12)")) << text;
   EXPECT_TRUE(has_line(text, R"(unima_bridge_gateway_answered_total{unit="5"} 10)")) << text;
@@ -154,7 +157,7 @@ TEST(Prometheus, TheGatewaysUnitsAreCountedByUnit) {
 }
 
 TEST(Prometheus, AnEmptyDocumentGivesOnlyHelpAndType) {
-  const auto text = prometheus_text(nlohmann::json::object());
+  const auto text = exposition(nlohmann::json::object());
   for (std::size_t at = 0; at < text.size();) {
     const auto end = text.find('\n', at);
     EXPECT_EQ(text[at], '#') << text.substr(at, end - at);
@@ -169,7 +172,7 @@ TEST(Prometheus, TheDaemonsDocumentsGiveTheGoldenExposition) {
   const auto golden = std::filesystem::path(UNIMA_SOURCE_DIR) / "tests" / "golden";
   for (const std::string name : {"slave", "master"}) {
     const auto document = nlohmann::json::parse(test_support::read_file(golden / ("status_" + name + ".json")));
-    const auto text = prometheus_text(document);
+    const auto text = exposition(document);
     const auto file = golden / ("prometheus_" + name + ".txt");
     if (const char* update = std::getenv("UNIMA_UPDATE_GOLDEN"); update && *update) test_support::write_file(file, text);
     EXPECT_EQ(text, test_support::read_file(file)) << name;

@@ -204,33 +204,6 @@ TEST(MonitorLine, AJsonLineWithAnythingAfterItIsNotAMonitorLine) {
     EXPECT_FALSE(parse_monitor_line(json + after)) << after.size();
 }
 
-TEST(MonitorLine, UtcTimeIsIsoWithMicroseconds) {
-  std::string out;
-  append_utc_time(out, system_clock::time_point{});
-  EXPECT_EQ(out, "1970-01-01T00:00:00.000000Z");
-  EXPECT_EQ(parse_utc_time(stamp), at);
-  EXPECT_FALSE(parse_utc_time("2026-02-30T00:00:00.000000Z"));
-}
-
-// The date and clock of the last second are kept and reused: times in the same second,
-// the next one, an earlier day and back again each read as themselves.
-TEST(MonitorLine, EachTimeReadsAsItselfInAnyOrder) {
-  const std::vector<std::pair<system_clock::time_point, std::string>> times = {
-      {at, stamp},
-      {at + microseconds(1), "2026-11-22T14:41:23.123457Z"},
-      {at + microseconds(876544), "2026-11-22T14:41:24.000000Z"},
-      {at - days(366), "2025-11-21T14:41:23.123456Z"},
-      {at + microseconds(876544) + hours(10) - microseconds(1), "2026-11-23T00:41:23.999999Z"},
-      {at, stamp},
-      {system_clock::time_point{}, "1970-01-01T00:00:00.000000Z"},
-  };
-  for (const auto& [time, text] : times) {
-    std::string out;
-    append_utc_time(out, time);
-    EXPECT_EQ(out, text);
-  }
-}
-
 // Every byte value reads as its two upper-case digits, spaced, in both formats.
 TEST(MonitorLine, EveryByteValueIsWrittenInHex) {
   Bytes all(256);

@@ -177,6 +177,9 @@ TEST(MqttDiscovery, WNumbersAndXSwitchesOnlyWithCommands) {
   EXPECT_EQ(x15["payload_on"], "1");
   EXPECT_EQ(x15["payload_off"], "0");
   EXPECT_EQ(x15["availability_topic"], "fleet/site-17/status");
+  // One switch per bit the value model gives X (x.0 … x.15), its topic the bit's number.
+  EXPECT_EQ(configs.at("homeassistant/switch/site-17_b/X_x_0/config")["command_topic"], "fleet/site-17/set/X/0");
+  EXPECT_FALSE(configs.contains("homeassistant/switch/site-17_b/X_x/config")) << "the word is no switch";
 }
 
 TEST(MqttDiscovery, NoneWithoutDiscoveryAndTheConfiguredPrefix) {

@@ -87,6 +87,18 @@ TEST(MqttHistoryJournal, ABadLineBeforeTheLastIsDamageAndAnotherFileIsForeign) {
   EXPECT_EQ(parse_history("unima-bridge mqtt hi").status, Status::torn_tail);
 }
 
+// The bank is the topic level the entry is sent under: one that is no bank of the bridge
+// ("D1/x", "#") is no entry of ours, with a good checksum and on the last line too — the
+// file is damaged, not sent under a topic the bridge never owns (issue 43, finding 13).
+TEST(MqttHistoryJournal, AnEntryForNoBankOfTheBridgeIsDamage) {
+  for (const std::string bank : {"D1/x", "#", "+", "D9", "W/../status"}) {
+    const auto loaded = parse_history(journal({encode_history_entry(first), encode_history_entry({2, bank, first.document})}));
+    EXPECT_EQ(loaded.status, Status::damaged) << bank;
+    EXPECT_EQ(loaded.problem, "line 3: not a bank of the bridge") << bank;
+    EXPECT_FALSE(parse_history_entry(encode_history_entry({2, bank, first.document}))) << bank;
+  }
+}
+
 TEST(MqttHistoryJournal, WhenFullTheOldestGoUntilAnEighthIsFree) {
   const std::vector<std::uint64_t> sizes{100, 100, 100, 100, 100, 100, 100, 100};
   EXPECT_EQ(oldest_to_drop(sizes, 800), 0u);
@@ -97,6 +109,20 @@ TEST(MqttHistoryJournal, WhenFullTheOldestGoUntilAnEighthIsFree) {
   EXPECT_EQ(oldest_to_drop(sizes, 400), 5u);  // 300 ≤ 350
   EXPECT_EQ(oldest_to_drop(sizes, 50), 8u) << "an entry larger than the room goes too";
   EXPECT_EQ(oldest_to_drop({}, 0), 0u);
+}
+
+// Issue 43, finding 11: a buffer whose room one bank document nearly fills (8 KiB, a D1
+// document of 7.6 KB) dropped every entry, for no entry fits within the eighth left free;
+// the newest that fit the room stay.
+TEST(MqttHistoryJournal, ABufferThatOneEntryNearlyFillsKeepsTheNewest) {
+  const std::vector<std::uint64_t> d1_documents{7640, 7640, 7640, 7640, 7640};
+  EXPECT_EQ(oldest_to_drop(d1_documents, 8164), 4u);
+  const std::vector<std::uint64_t> c_then_d1{1030, 7640};
+  EXPECT_EQ(oldest_to_drop(c_then_d1, 8164), 1u) << "the newest fits the room, not within the eighth";
+  const std::vector<std::uint64_t> mixed{7640, 1030, 7640, 1030};
+  EXPECT_EQ(oldest_to_drop(mixed, 8164), 3u) << "within the eighth where the target keeps any";
+  EXPECT_EQ(oldest_to_drop(mixed, 16356), 1u);
+  EXPECT_EQ(oldest_to_drop(std::vector<std::uint64_t>{9000}, 8164), 1u) << "one larger than the room cannot stay";
 }
 
 TEST(MqttHistoryWindow, AtMostAHundredInFlightAndDeliveredUpToTheOldestUnacknowledged) {

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "modbus/slave_session.hpp"
+#include "modbus/write_rights.hpp"
 #include "tests/support/map_registers.hpp"
 
 namespace unima::modbus {
@@ -103,6 +104,29 @@ TEST_F(SlaveSessionServing, AWriteTheStateFileRefusedIsExceptionFourAndAFault) {
     EXPECT_EQ(refused.state, TransactionState::err04);
     EXPECT_FALSE(refused.fault);
   }
+}
+
+// One verdict per request (modbus::route): a routed unit's request is forwarded unless the
+// client's rights or the gateway's `functions: read` (issue 43, finding 9: the plain port
+// forwarded restart and vendor functions from anyone) keep it back.
+TEST(SlaveSession, TheGatewayForwardsWhatTheClientAndItsFunctionsAllow) {
+  std::array<bool, 256> routed{};
+  routed[5] = true;
+  using enum Verdict;
+  const auto other = Recipient::another_slave;
+  EXPECT_EQ(route(Recipient::this_slave, 1, 0x06, &routed, nullptr), serve);
+  EXPECT_EQ(route(other, 7, 0x03, &routed, nullptr), serve) << "not routed: answered here (0x0A)";
+  EXPECT_EQ(route(other, 5, 0x03, nullptr, nullptr), serve) << "no gateway";
+  for (const std::uint8_t function : {0x01, 0x02, 0x03, 0x04, 0x06, 0x08, 0x10, 0x11, 0x2B, 0x41})
+    EXPECT_EQ(route(other, 5, function, &routed, nullptr), forward) << int(function);
+  for (const std::uint8_t read : {0x01, 0x02, 0x03, 0x04}) EXPECT_EQ(route(other, 5, read, &routed, nullptr, true), forward);
+  for (const std::uint8_t function : {0x05, 0x06, 0x08, 0x0F, 0x10, 0x11, 0x17, 0x2B, 0x41})
+    EXPECT_EQ(route(other, 5, function, &routed, nullptr, true), refuse_forward) << int(function);
+  const auto everything = WriteRights::everything();
+  EXPECT_EQ(route(other, 5, 0x08, &routed, &everything, true), refuse_forward) << "no role widens functions: read";
+  const auto nothing = WriteRights::nothing();
+  EXPECT_EQ(route(other, 5, 0x06, &routed, &nothing), refuse_forward);
+  EXPECT_EQ(route(other, 5, 0x04, &routed, &nothing), forward);
 }
 
 TEST(RequestHandler, ARefusedWriteIsAnsweredWithTheExceptionItsStatusMeans) {

@@ -4,6 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <deque>
+
 #include "config/config.hpp"
 #include "sparkplug/edge_session.hpp"
 #include "sparkplug/metric_value.hpp"
@@ -55,13 +58,17 @@ class SparkplugEdgeSession : public ::testing::Test {
     for (unsigned n = 1; n <= 7; ++n) store.set_online(banks::module_bank(n), true);
   }
 
+  /// The devices as the service hands them to a step; their values stay with the fixture.
   std::vector<DeviceReading> devices() const {
     const auto snapshot = values::snapshot_of(store);
     std::vector<DeviceReading> all;
-    for (const auto& layout : model.banks())
-      all.push_back({&layout, model.evaluate(layout.bank, snapshot), snapshot[banks::index_of(layout.bank)].online});
+    for (const auto& layout : model.banks()) {
+      const auto& values = evaluated.emplace_back(model.evaluate(layout.bank, snapshot));
+      all.push_back({&layout, values, snapshot[banks::index_of(layout.bank)].online});
+    }
     return all;
   }
+  mutable std::deque<std::vector<values::Value>> evaluated;
 
   EdgeSession connected_session(bool primary_host = false, std::optional<std::uint64_t> last = std::nullopt) {
     EdgeSession session({"plant-7", "bridge-17", primary_host}, last);
@@ -168,25 +175,48 @@ TEST_F(SparkplugEdgeSession, AnOfflineDeviceDiesAndIsBornAgainWhenBack) {
 TEST_F(SparkplugEdgeSession, APrimaryHostHoldsBirthsUntilOnlineAndItsOfflineIsTheNodesDeath) {
   auto session = connected_session(true);
   EXPECT_TRUE(session.step(devices(), now_ms).empty());
-  EXPECT_EQ(session.host_state("not json"), HostVerdict::none);
-  EXPECT_EQ(session.host_state(R"({"online":false,"timestamp":10})"), HostVerdict::none);
+  EXPECT_EQ(session.host_state("not json", std::nullopt), HostVerdict::none);
+  EXPECT_EQ(session.host_state(R"({"online":false,"timestamp":10})", std::nullopt), HostVerdict::none);
   EXPECT_TRUE(session.step(devices(), now_ms).empty());
-  EXPECT_EQ(session.host_state(R"({"online":true,"timestamp":20})"), HostVerdict::birth);
+  EXPECT_EQ(session.host_state(R"({"online":true,"timestamp":20})", std::nullopt), HostVerdict::birth);
   EXPECT_FALSE(session.step(devices(), now_ms).empty());
-  EXPECT_EQ(session.host_state(R"({"online":false,"timestamp":15})"), HostVerdict::none);  // older: ignored
+  EXPECT_EQ(session.host_state(R"({"online":false,"timestamp":15})", std::nullopt), HostVerdict::none);  // older: ignored
   EXPECT_EQ(session.host()  , EdgeSession::HostState::online);
-  EXPECT_EQ(session.host_state(R"({"online":false,"timestamp":30})"), HostVerdict::death);
+  EXPECT_EQ(session.host_state(R"({"online":false,"timestamp":30})", std::nullopt), HostVerdict::death);
   session.disconnected();
   EXPECT_FALSE(session.born());
   // Connected again: the node waits for the host again, the next bdSeq.
   EXPECT_EQ(session.begin_connect(), 1u);
   session.connected();
-  EXPECT_EQ(session.host_state(R"({"online":false,"timestamp":30})"), HostVerdict::none);
+  EXPECT_EQ(session.host_state(R"({"online":false,"timestamp":30})", std::nullopt), HostVerdict::none);
   EXPECT_TRUE(session.step(devices(), now_ms).empty());
-  EXPECT_EQ(session.host_state(R"({"online":true,"timestamp":40})"), HostVerdict::birth);
+  EXPECT_EQ(session.host_state(R"({"online":true,"timestamp":40})", std::nullopt), HostVerdict::birth);
   const auto births = session.step(devices(), now_ms);
   ASSERT_FALSE(births.empty());
   EXPECT_EQ(std::get<std::uint64_t>(find(decoded(births[0]), "bdSeq")->value), 1u);
+}
+
+// A forged STATE stamped far in the future (2^64 - 1) would make every real STATE look
+// old and keep the node dead: one more than a minute ahead of a synchronised clock is
+// ignored, and the newest stamp seen is forgotten at each connection (issue 43, finding 4).
+TEST_F(SparkplugEdgeSession, AStateFromTheFutureIsIgnoredAndNoStampOutlivesItsConnection) {
+  auto session = connected_session(true);
+  const std::uint64_t clock = 1'764'000'000'000;
+  EXPECT_EQ(session.host_state(R"({"online":true,"timestamp":18446744073709551615})", clock), HostVerdict::from_the_future);
+  EXPECT_EQ(session.host(), EdgeSession::HostState::unknown);
+  EXPECT_EQ(session.host_state(R"({"online":true,"timestamp":)" + std::to_string(clock + max_host_clock_lead_ms + 1) + "}", clock),
+            HostVerdict::from_the_future);
+  EXPECT_EQ(session.host_state(R"({"online":true,"timestamp":)" + std::to_string(clock + max_host_clock_lead_ms) + "}", clock),
+            HostVerdict::birth);
+  EXPECT_FALSE(session.step(devices(), now_ms).empty());
+  // A clock that never synchronised judges nothing: the forged stamp is taken, and holds
+  // until the connection ends.
+  EXPECT_EQ(session.host_state(R"({"online":false,"timestamp":18446744073709551615})", std::nullopt), HostVerdict::death);
+  EXPECT_EQ(session.host_state(R"({"online":true,"timestamp":)" + std::to_string(clock) + "}", std::nullopt), HostVerdict::none);
+  session.disconnected();
+  session.begin_connect();
+  session.connected();
+  EXPECT_EQ(session.host_state(R"({"online":true,"timestamp":)" + std::to_string(clock) + "}", std::nullopt), HostVerdict::birth);
 }
 
 TEST_F(SparkplugEdgeSession, RebirthByNcmdRepeatsEveryBirthWithTheSameBdSeqAndSeqFromZero) {
@@ -240,6 +270,104 @@ TEST_F(SparkplugEdgeSession, DcmdToWOrXIsAWriteInTheMetricsUnitOnlyWhenCommandsA
   EXPECT_EQ(huge.malformed, "65537 bytes, more than the 65536 a command may have");
   EXPECT_EQ(session.counters().malformed, 3u);
   EXPECT_EQ(session.counters().taken, 3u);
+}
+
+// X's bits are Boolean metrics (SPEC §16): a DCMD to x.N writes bit N alone — the mask
+// keeps the other bits, which the write path takes from the register as it is then.
+TEST_F(SparkplugEdgeSession, DcmdToABitOfXWritesThatBitAlone) {
+  auto session = connected_session();
+  const auto set = session.command("X", command_of("x.3", DataType::Boolean, true), model, true);
+  ASSERT_EQ(set.writes.size(), 1u) << (set.refused.empty() ? set.malformed : set.refused.front());
+  EXPECT_EQ(set.writes[0].bank, BankId::X);
+  EXPECT_EQ(set.writes[0].offset, 0u);
+  EXPECT_EQ(set.writes[0].mask, 0x0008u);
+  EXPECT_EQ(set.writes[0].raw & set.writes[0].mask, 0x0008u) << "bit 3 set";
+  EXPECT_EQ(set.writes[0].metric, "x.3");
+  EXPECT_EQ(set.writes[0].value, "true");
+
+  const auto cleared = session.command("X", command_of("x.3", DataType::Boolean, false), model, true);
+  ASSERT_EQ(cleared.writes.size(), 1u);
+  EXPECT_EQ(cleared.writes[0].mask, 0x0008u);
+  EXPECT_EQ(cleared.writes[0].raw & cleared.writes[0].mask, 0u) << "bit 3 cleared, and only it";
+  EXPECT_EQ(cleared.writes[0].value, "false");
+
+  // A number is a bit's value too, when it is 0 or 1.
+  const auto one = session.command("X", command_of("x.15", DataType::UInt16, integer_value(DataType::UInt16, 1)), model, true);
+  ASSERT_EQ(one.writes.size(), 1u);
+  EXPECT_EQ(one.writes[0].mask, 0x8000u);
+  EXPECT_EQ(one.writes[0].raw & one.writes[0].mask, 0x8000u);
+  EXPECT_EQ(session.command("X", command_of("x.15", DataType::UInt16, integer_value(DataType::UInt16, 2)), model, true).refused,
+            std::vector<std::string>{"x.15 takes 0…1, not 2"});
+  EXPECT_EQ(session.counters().taken, 3u);
+  EXPECT_EQ(session.counters().refused, 1u);
+}
+
+TEST_F(SparkplugEdgeSession, AStringToABitOfXIsRefusedWithTheReasonAndWritesNothing) {
+  auto session = connected_session();
+  const auto text = session.command("X", command_of("x.3", DataType::String, std::string("true")), model, true);
+  EXPECT_TRUE(text.writes.empty());
+  EXPECT_EQ(text.malformed, "x.3 takes a Boolean (or the number 0 or 1), not a String");
+  EXPECT_EQ(session.counters().malformed, 1u);
+  EXPECT_EQ(session.counters().taken, 0u);
+}
+
+// Several metrics of X in one DCMD are as many writes, in the command's order, each of
+// its own bits: the word first, then a bit over it, is the word with that bit.
+TEST_F(SparkplugEdgeSession, TheWordAndBitsOfXInOneDcmdAreEachAWriteInTheirOrder) {
+  auto session = connected_session();
+  Payload payload;
+  const auto add = [&](std::string name, DataType type, MetricValue value) {
+    Metric metric;
+    metric.name = std::move(name);
+    metric.datatype = type;
+    metric.value = std::move(value);
+    payload.metrics.push_back(std::move(metric));
+  };
+  add("x", DataType::UInt16, integer_value(DataType::UInt16, 0x00F0));
+  add("x.4", DataType::Boolean, false);
+  add("x.0", DataType::Boolean, true);
+  const auto command = session.command("X", encoded(payload), model, true);
+  ASSERT_EQ(command.writes.size(), 3u);
+  std::uint16_t word = 0xFFFF;  // whatever X held before
+  for (const auto& write : command.writes) word = static_cast<std::uint16_t>((word & ~write.mask) | (write.raw & write.mask));
+  EXPECT_EQ(command.writes[0].metric, "x");
+  EXPECT_EQ(command.writes[0].mask, 0xFFFFu);
+  EXPECT_EQ(command.writes[1].metric, "x.4");
+  EXPECT_EQ(command.writes[2].metric, "x.0");
+  EXPECT_EQ(word, 0x00E1u);
+}
+
+TEST_F(SparkplugEdgeSession, XsBitsAreBooleanMetricsInTheBirthAndOnlyTheChangedOnesInData) {
+  auto session = connected_session();
+  const auto births = session.step(devices(), now_ms);
+  const auto x_birth = std::find_if(births.begin(), births.end(),
+                                    [](const Message& m) { return m.topic == "spBv1.0/plant-7/DBIRTH/bridge-17/X"; });
+  ASSERT_NE(x_birth, births.end());
+  const auto birth = decoded(*x_birth);
+  ASSERT_EQ(birth.metrics.size(), 17u) << "the word and its sixteen bits";
+  for (unsigned bit = 0; bit < 16; ++bit) {
+    const auto* metric = find(birth, "x." + std::to_string(bit));
+    ASSERT_NE(metric, nullptr) << bit;
+    EXPECT_EQ(metric->datatype, DataType::Boolean);
+    EXPECT_EQ(metric->is_null, true) << "X was never written";
+  }
+
+  store.write(BankId::X, 0, 0x0021);
+  const auto first = session.step(devices(), now_ms + 1);
+  ASSERT_EQ(first.size(), 1u);
+  EXPECT_EQ(first[0].topic, "spBv1.0/plant-7/DDATA/bridge-17/X");
+  EXPECT_EQ(decoded(first[0]).metrics.size(), 17u) << "every bit had no value before";
+
+  store.write(BankId::X, 0, 0x0025);
+  const auto second = session.step(devices(), now_ms + 2);
+  ASSERT_EQ(second.size(), 1u);
+  const auto data = decoded(second[0]);
+  ASSERT_EQ(data.metrics.size(), 2u) << "the word and bit 2, nothing else";
+  ASSERT_NE(find(data, "x"), nullptr);
+  const auto* bit2 = find(data, "x.2");
+  ASSERT_NE(bit2, nullptr);
+  EXPECT_EQ(bit2->datatype, DataType::Boolean);
+  EXPECT_EQ(bit2->value, MetricValue(true));
 }
 
 // The way back is the value model's (values/value_codec): what would not read back as the

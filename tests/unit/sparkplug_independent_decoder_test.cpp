@@ -147,6 +147,33 @@ TEST_F(SparkplugIndependentDecoder, ReadsADeviceBirthOfTheValueModel) {
   EXPECT_EQ(by_name["mains_reactive_power"]["is_null"], true) << "0x7FFF: not measured";
 }
 
+// X's bits are Boolean metrics beside the word: the decoder reads each in boolean_value.
+TEST_F(SparkplugIndependentDecoder, ReadsXsBitsAsBooleanMetrics) {
+  const auto config = config::load_text("", "sparkplug.yaml");
+  const values::ValueModel model(config);
+  banks::RegisterStore store(config::bank_shapes(config));
+  store.write(banks::BankId::X, 0, 0x0021);
+  Payload birth;
+  birth.timestamp = 1700000000000;
+  birth.seq = 1;
+  birth.metrics = metrics_of(*model.bank(banks::BankId::X), model.evaluate(banks::BankId::X, values::snapshot_of(store)),
+                             1700000000000);
+
+  const auto json = decoded_by_python(birth);
+  ASSERT_EQ(json["metrics"].size(), 17u);
+  EXPECT_EQ(json["metrics"][0]["name"], "x");
+  EXPECT_EQ(json["metrics"][0]["datatype"], "UInt16");
+  EXPECT_EQ(json["metrics"][0]["value"], 0x0021);
+  for (unsigned bit = 0; bit < 16; ++bit) {
+    const auto& metric = json["metrics"][1 + bit];
+    SCOPED_TRACE(bit);
+    EXPECT_EQ(metric["name"], "x." + std::to_string(bit));
+    EXPECT_EQ(metric["datatype"], "Boolean");
+    EXPECT_EQ(metric["field"], "boolean_value");
+    EXPECT_EQ(metric["value"], bit == 0 || bit == 5);
+  }
+}
+
 TEST_F(SparkplugIndependentDecoder, RefusesWhatIsNoPayload) {
   const auto file = dir.path() / "cut.bin";
   test_support::write_file(file, std::string("\x12\x05\x0A", 3));

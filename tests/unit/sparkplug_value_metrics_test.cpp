@@ -70,8 +70,8 @@ TEST_F(SparkplugValueMetrics, EachKindOfValueHasItsDatatypeAndReading) {
   EXPECT_FALSE(speed.is_null.has_value());
 
   const auto& hours = find(d1, "operating_hours");
-  EXPECT_EQ(hours.datatype, DataType::UInt32);
-  EXPECT_EQ(hours.value, MetricValue(std::uint32_t{2 * 65536 + 16}));
+  EXPECT_EQ(hours.datatype, DataType::UInt64) << "read alike by the specification and Tahu's codecs";
+  EXPECT_EQ(hours.value, MetricValue(std::uint64_t{2 * 65536 + 16}));
   EXPECT_EQ(unit_of(hours), "s");
 
   const auto& power = find(d1, "mains_active_power");
@@ -148,12 +148,40 @@ TEST_F(SparkplugValueMetrics, WAndXNeverWrittenAreInTheBirthAsNull) {
   EXPECT_EQ(w[3].datatype, DataType::Float);
   EXPECT_EQ(w[3].is_null, true);
   const auto x = birth(BankId::X);
-  ASSERT_EQ(x.size(), 1u);
+  ASSERT_EQ(x.size(), 17u) << "the word and each of its sixteen bits";
+  EXPECT_EQ(x[0].name, "x");
   EXPECT_EQ(x[0].datatype, DataType::UInt16);
   EXPECT_EQ(x[0].is_null, true);
+  for (unsigned bit = 0; bit < 16; ++bit) {
+    EXPECT_EQ(x[1 + bit].name, "x." + std::to_string(bit));
+    EXPECT_EQ(x[1 + bit].datatype, DataType::Boolean) << "SPEC §16: Boolean for bits";
+    EXPECT_EQ(x[1 + bit].is_null, true);
+    EXPECT_FALSE(x[1 + bit].properties.has_value()) << "a bit has no unit";
+  }
 
   store.write(BankId::W, 3, static_cast<std::uint16_t>(-15));
   EXPECT_EQ(birth(BankId::W)[3].value, MetricValue(-1.5f));
+  store.write(BankId::X, 0, 0x8004);
+  const auto written = birth(BankId::X);
+  EXPECT_EQ(written[0].value, MetricValue(std::uint32_t{0x8004}));
+  EXPECT_EQ(written[1 + 2].value, MetricValue(true));
+  EXPECT_EQ(written[1 + 15].value, MetricValue(true));
+  EXPECT_EQ(written[1 + 3].value, MetricValue(false));
+  EXPECT_FALSE(written[1 + 3].is_null.value_or(false)) << "false, not null";
+}
+
+TEST_F(SparkplugValueMetrics, ADataMessageOfXCarriesTheWordAndTheBitsThatChanged) {
+  const auto& layout = *model.bank(BankId::X);
+  store.write(BankId::X, 0, 0x0001);
+  const auto sent = values_of(BankId::X);
+  store.write(BankId::X, 0, 0x0101);
+  const auto changed = changed_metrics_of(layout, sent, values_of(BankId::X), now_ms);
+  ASSERT_EQ(changed.size(), 2u);
+  EXPECT_EQ(changed[0].name, "x");
+  EXPECT_EQ(changed[0].value, MetricValue(std::uint32_t{0x0101}));
+  EXPECT_EQ(changed[1].name, "x.8");
+  EXPECT_EQ(changed[1].datatype, DataType::Boolean);
+  EXPECT_EQ(changed[1].value, MetricValue(true));
 }
 
 TEST_F(SparkplugValueMetrics, ADataMessageCarriesWhatChangedAndNothingElse) {

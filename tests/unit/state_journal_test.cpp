@@ -159,6 +159,16 @@ TEST(StateJournal, ARecordWithAGoodChecksumButNoSuchRegisterIsRefused) {
   }
 }
 
+// A checksum that holds over a record that is none is no torn write, even on the last
+// line: the file is damaged, and so set aside at start (issue 43, finding 13).
+TEST(StateJournal, ABadRecordWithAGoodChecksumIsDamagedOnTheLastLineToo) {
+  const std::string body = "W 16 5";
+  const auto loaded = parse_journal(journal({{Kind::w, 0, 10}}) + body + " " + fmt_crc(body) + "\n");
+  EXPECT_EQ(loaded.status, LoadedJournal::Status::damaged);
+  EXPECT_EQ(loaded.problem, "line 3: bad register or value");
+  EXPECT_TRUE(loaded.image.empty());
+}
+
 TEST(StateJournal, AnotherFileOrVersionIsForeignAndGivesNothing) {
   EXPECT_EQ(parse_journal("W 3 1234 00000000\n").status, LoadedJournal::Status::foreign);
   const auto other = parse_journal("unima-bridge state 2\nW 3 1234 00000000\n");

@@ -111,12 +111,30 @@ TEST_F(ValueCodec, ABitFieldIsPutIntoTheRegisterKeepingTheOtherBits) {
   EXPECT_EQ(accepted(unit_mode)->max, 7);
 }
 
+// X's bits (x.0 … x.15) are booleans of the one word: a bit written is that bit, with the
+// mask that keeps the other fifteen (the way a Sparkplug DCMD to x.N is written).
+TEST_F(ValueCodec, ABitOfXIsItsBitAloneOneOrZero) {
+  const auto& bit5 = def(BankId::X, "x.5");
+  EXPECT_EQ(bit5.type, ValueType::boolean);
+  EXPECT_EQ(word_mask(bit5), 0x0020u);
+  EXPECT_EQ(word(raw_of(bit5, 1, 0x0003)), 0x0023) << "true: bit 5 set, bits 0 and 1 kept";
+  EXPECT_EQ(word(raw_of(bit5, 0, 0xFFFF)), 0xFFDF) << "false: bit 5 cleared, the rest kept";
+  EXPECT_EQ(word(raw_of(bit5, 1)), 0x0020);
+  EXPECT_EQ(refusal(raw_of(bit5, 2)), "x.5 takes 0…1, not 2");
+  EXPECT_EQ(refusal(raw_of(bit5, -1)), "x.5 takes 0…1, not -1");
+  EXPECT_EQ(refusal(raw_of(bit5, 0.5)), "x.5 takes steps of 1, and 0.5 is between two");
+  EXPECT_EQ(word_mask(def(BankId::X, "x.0")), 0x0001u);
+  EXPECT_EQ(word_mask(def(BankId::X, "x.15")), 0x8000u);
+  EXPECT_EQ(word_mask(def(BankId::X, "x")), 0xFFFFu);
+}
+
 TEST_F(ValueCodec, WhatTakesMoreOrLessThanAWordIsReadOnly) {
   EXPECT_FALSE(writable(def(BankId::D1, "operating_hours")));
   EXPECT_FALSE(accepted(def(BankId::D1, "operating_hours")));
   EXPECT_EQ(refusal(raw_of(def(BankId::D1, "operating_hours"), 1)), "operating_hours is read only");
   EXPECT_TRUE(writable(def(BankId::W, "w_00")));
   EXPECT_TRUE(writable(def(BankId::X, "x")));
+  EXPECT_TRUE(writable(def(BankId::X, "x.15")));
 }
 
 }  // namespace

@@ -64,5 +64,18 @@ TEST(YamlSyntax, WellIndentedFlowAndBlockTextIsNotBlamedAndOtherErrorsStayYamlCp
             "end of sequence flow not found");
 }
 
+// Issue 44, finding 2: a ':' left out ("address 5") gave yaml-cpp's "illegal map value"
+// one line late, or an unknown key, or "must be a mapping".
+TEST(YamlSyntax, AKeyWithoutItsColonIsNamedAtItsLineWithTheFix) {
+  EXPECT_EQ(config_error("modbus:\n  address 5\n  tcp: { port: 5020 }\n"),
+            "bridge.yaml:2:3: this line has no ':' after its key, unlike 'tcp' on line 3: write 'address: 5'");
+  EXPECT_EQ(config_error("modbus:\n  tcp: { port: 5020 }\n  address 5\n"),
+            "bridge.yaml:3:3: 'address 5' has no ':' after its key: write 'address: 5'");
+  EXPECT_EQ(config_error("modbus:\n  address 5\n"), "bridge.yaml:2:3: 'address 5' has no ':' after its key: write 'address: 5'");
+  // After a nested mapping, among the keys it returned to.
+  EXPECT_EQ(config_error("modbus:\n  address: 5\n  tcp:\n    listen: 127.0.0.1\n  mode slave\n  rtu: x\n"),
+            "bridge.yaml:5:3: this line has no ':' after its key, unlike 'rtu' on line 6: write 'mode: slave'");
+}
+
 }  // namespace
 }  // namespace unima::banks

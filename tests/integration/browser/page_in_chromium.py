@@ -8,7 +8,8 @@ screenshot in docs/.
   page_in_chromium.py --url http://127.0.0.1:8080/ [--expect 0x0012=1234 ...] [--online D1 ...]
                       [--indicator 1=write ...] [--ready-file F --then 0x0012=4321 ...]
                       [--gateway 7="not answering" ...] [--north mqtt="not connected" ...]
-                      [--every-value] [--screenshot out.png [--window 1200,1500]] [--timeout 20]
+                      [--line Err02 ...] [--every-value] [--screenshot out.png] [--window 1200,1500]
+                      [--timeout 20]
 
 --indicator N=read|write: capture indicator N shows a value of that access.
 --gateway UNIT=STATE: the gateway table's row of that unit is in that state ("answering",
@@ -19,6 +20,11 @@ JSON line then holds every section (its text, and each line's text and colour).
 
 --ready-file: written once the first expectations hold; the --then expectations are
 awaited after it (the test feeds them a moment after the page showed the first ones).
+--line STATE: with --ready-file, also awaited after it: the monitor box shows a line of
+that state; the JSON line then holds every monitor line (state, colour, whether it is cut
+at the box's edge) and how many of the table's labels are visible.
+The window is --window (e.g. 390,844 for a phone); Chromium's language is en-US, so numbers
+are grouped as "41,234".
 --every-value: the JSON line also holds every value cell by its key ("D1/engine_speed":
 its text, state and address) and the capture indicators (access, class, colour).
 Prints one JSON line with what the page showed; exits 1 when an expectation did not hold.
@@ -37,7 +43,7 @@ import urllib.request
 
 CHROMIUM_FLAGS = [
     "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
-    "--disable-background-networking", "--disable-component-update", "--disable-sync",
+    "--disable-background-networking", "--disable-component-update", "--disable-sync", "--lang=en-US",
 ]
 
 READ_PAGE = """
@@ -49,7 +55,7 @@ for (const chip of document.querySelectorAll('#devices .chip'))
 result.error_led = document.getElementById('led-error').dataset.on === 'true';
 result.keys = {};
 for (const cell of document.querySelectorAll('td.value[data-key]'))
-  result.keys[cell.dataset.key] = { text: cell.textContent, state: cell.dataset.state, address: cell.dataset.address };
+  result.keys[cell.dataset.key] = { text: cell.textContent, state: cell.dataset.state, address: cell.dataset.address, title: cell.title };
 result.indicators = [...document.querySelectorAll('#indicators .indicator')].map(box => {
   const value = box.querySelector('.value');
   return { access: box.dataset.access || null, class: box.className, text: value ? value.textContent : null,
@@ -64,6 +70,14 @@ for (const section of document.querySelectorAll('#north:not([hidden]) [data-sect
   result.north[section.dataset.section] = {
     text: section.textContent, connected: section.dataset.connected,
     lines: [...section.querySelectorAll('p')].map(p => ({ text: p.textContent, colour: getComputedStyle(p).color })) };
+const lines = document.getElementById('lines');
+result.monitor = [...lines.querySelectorAll('.line')].map(line => ({
+  text: line.textContent, state: line.dataset.state || null, colour: getComputedStyle(line).color }));
+result.monitor_cut = lines.scrollWidth > lines.clientWidth;
+const labels = [...document.querySelectorAll('td.label')];
+result.labels = { all: labels.length, shown: labels.filter(td => td.offsetWidth > 0 && td.textContent).length,
+                  with_text: labels.filter(td => td.textContent).length };
+result.width = document.documentElement.clientWidth;
 return result;
 """
 
@@ -98,15 +112,17 @@ def parse_gateway(items):
     return dict(item.split("=", 1) for item in items)
 
 
-def holds(page, values, online, indicators={}, gateway={}, north=[]):
+def holds(page, values, online, indicators={}, gateway={}, north=[], lines=[]):
     shown = page.get("indicators", [])
+    states = {line["state"] for line in page.get("monitor", [])}
     rows = page.get("gateway", {})
     sections = page.get("north", {})
     return (all(page["values"].get(a, {}).get("raw") == v for a, v in values.items())
             and all(page["online"].get(bank) for bank in online)
             and all(n <= len(shown) and shown[n - 1]["access"] == access for n, access in indicators.items())
             and all(rows.get(unit, {}).get("state") == state for unit, state in gateway.items())
-            and all(text in sections.get(section, {}).get("text", "") for section, text in north))
+            and all(text in sections.get(section, {}).get("text", "") for section, text in north)
+            and all(state in states for state in lines))
 
 
 def main():
@@ -119,6 +135,7 @@ def main():
     parser.add_argument("--indicator", action="append", default=[])
     parser.add_argument("--gateway", action="append", default=[])
     parser.add_argument("--north", action="append", default=[])
+    parser.add_argument("--line", action="append", default=[])
     parser.add_argument("--every-value", action="store_true")
     parser.add_argument("--screenshot")
     parser.add_argument("--window", default="1200,1500", help="width,height of the window")
@@ -141,17 +158,20 @@ def main():
                 if time.monotonic() > deadline:
                     raise
                 time.sleep(0.05)
-        capabilities = {"capabilities": {"alwaysMatch": {"browserName": "chrome", "goog:chromeOptions": {
-            "binary": "/usr/bin/chromium", "args": CHROMIUM_FLAGS + [f"--window-size={args.window}", f"--user-data-dir={profile}"]}}}}
+        options = {"binary": "/usr/bin/chromium", "args": CHROMIUM_FLAGS + [f"--window-size={args.window}", f"--user-data-dir={profile}"]}
+        width, height = (int(n) for n in args.window.split(","))
+        if width < 500:  # headless Chromium's window is never narrower: a phone's width is emulated
+            options["mobileEmulation"] = {"deviceMetrics": {"width": width, "height": height, "pixelRatio": 3}}
+        capabilities = {"capabilities": {"alwaysMatch": {"browserName": "chrome", "goog:chromeOptions": options}}}
         session = call(base, "POST", "/session", capabilities)["sessionId"]
         call(base, "POST", f"/session/{session}/url", {"url": args.url})
 
-        def wait_for(values, online, indicators={}, gateway={}, north=[]):
+        def wait_for(values, online, indicators={}, gateway={}, north=[], lines=[]):
             nonlocal page
             deadline = time.monotonic() + args.timeout
             while True:
                 page = call(base, "POST", f"/session/{session}/execute/sync", {"script": READ_PAGE, "args": []})
-                if holds(page, values, online, indicators, gateway, north):
+                if holds(page, values, online, indicators, gateway, north, lines):
                     return True
                 if time.monotonic() > deadline:
                     return False
@@ -162,7 +182,7 @@ def main():
         if ok and args.ready_file:
             with open(args.ready_file, "w") as f:
                 f.write("ready\n")
-            ok = wait_for(parse_expectations(args.then), args.online)
+            ok = wait_for(parse_expectations(args.then), args.online, lines=args.line)
         if args.screenshot:
             time.sleep(1)  # the cells' flash of a change fades
             png = base64.b64decode(call(base, "GET", f"/session/{session}/screenshot"))
@@ -176,6 +196,9 @@ def main():
             report.update(gateway=page.get("gateway", {}))
         if args.north:
             report.update(north=page.get("north", {}))
+        if args.line:
+            report.update(monitor=page.get("monitor", []), monitor_cut=page.get("monitor_cut"), labels=page.get("labels"),
+                          width=page.get("width"))
         if args.every_value:
             report.update(keys=page.get("keys", {}), indicators=page.get("indicators", []),
                           addresses=sorted(page.get("values", {})))

@@ -63,8 +63,9 @@ std::size_t Broker::subscriptions_to(const std::string& topic) const {
   return count;
 }
 
-void publish(const Broker& broker, const std::string& topic, const std::string& payload) {
-  run("mosquitto_pub -p " + std::to_string(broker.port()) + " -q 1 -t '" + topic + "' -m '" + payload + "'");
+void publish(const Broker& broker, const std::string& topic, const std::string& payload, bool retained) {
+  run("mosquitto_pub -p " + std::to_string(broker.port()) + " -q 1 " + (retained ? "-r " : "") + "-t '" + topic + "' -m '" +
+      payload + "'");
 }
 
 }  // namespace unima::test_support

@@ -42,7 +42,7 @@ inline std::string site_17_mqtt(const Broker& broker, bool commands = false) {
          "', client_id: site-17, topic: fleet/site-17, " + (commands ? "commands: true, " : "") + "publish: { period: 60s } }\n";
 }
 
-/// mosquitto_pub: one message, QoS 1.
-void publish(const Broker& broker, const std::string& topic, const std::string& payload);
+/// mosquitto_pub: one message, QoS 1; `retained`: kept in the broker's store too.
+void publish(const Broker& broker, const std::string& topic, const std::string& payload, bool retained = false);
 
 }  // namespace unima::test_support

@@ -1,0 +1,76 @@
+#pragma once
+// Sparkplug B (`sparkplug`, SPEC §16) as a service: an MQTT connection of its own
+// (io/mqtt/mqtt_client) to the section's broker, and the edge node's session
+// (sparkplug/edge_session, which decides) over the value model (values/) that Modbus, the
+// page and MQTT read too. When the banks change (io/store_changes, Runtime::changes) it asks the
+// session what is due — DDATA of what changed, DDEATH/DBIRTH of a device that went or
+// came — at once after a quiet while, else at most every 10 ms (sparkplug/data_pacing),
+// and publishes it (QoS 0, as Sparkplug has births and data); births go the moment they
+// are due. The will of each CONNECT is the NDEATH with that connection's bdSeq, which a
+// small file beside the state file keeps across restarts (`<state file>.sparkplug-bdseq`),
+// written and fdatasync'ed on a worker thread (io/cpu_worker) before the CONNECT goes.
+// NCMD rebirth, DCMD writes through the one write path
+// (as MQTT commands and Modbus writes), the primary host's STATE: all read here, decided
+// by the session. A reload keeps the connection when the section did not change, and
+// sends every birth again (the value model may have changed).
+
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string_view>
+
+#include "io/cpu_worker.hpp"
+#include "io/mqtt/mqtt_client.hpp"
+#include "io/service.hpp"
+#include "sparkplug/data_pacing.hpp"
+#include "sparkplug/edge_session.hpp"
+#include "sparkplug/rebirth_pacing.hpp"
+
+namespace unima::io {
+
+class SparkplugService final : public Service {
+ public:
+  explicit SparkplugService(Runtime& runtime);
+  ~SparkplugService() override { *alive_ = false; }
+
+  void start() override;
+  void stop() override;
+  void stage(const Banks& next) override;
+  void abandon() override;
+  void commit(const Banks& previous) override;
+  void describe(status::Document& status) const override;
+
+ private:
+  std::unique_ptr<MqttClient> make_client(const config::Config& config);
+  /// The banks changed: a look at once, or when the pacing says.
+  void banks_changed();
+  void look_at(sparkplug::DataPacing::Clock::time_point when);
+  void publish_due();
+  /// An NCMD rebirth: now, or once with those asked meanwhile (sparkplug/rebirth_pacing).
+  void rebirth_asked();
+  void take_message(std::string_view topic, std::string_view payload);
+  void take_command(std::string_view device, std::string_view topic, std::string_view payload);
+  /// The host went offline: the node says its death, disconnects, and connects again to
+  /// wait for the host (outside libmosquitto's callback that told it).
+  void die_and_reconnect();
+  void publish_death();
+  void will_of_next_connect(MqttClient::WillReady ready);
+
+  Runtime& runtime_;
+  std::unique_ptr<MqttClient> client_;
+  std::optional<sparkplug::EdgeSession> session_;
+  std::filesystem::path bd_seq_file_;  // empty: no state file, bdSeq counts from 0 at each start
+  sparkplug::DataPacing pacing_;
+  asio::steady_timer look_timer_;
+  sparkplug::RebirthPacing rebirth_pacing_;
+  asio::steady_timer rebirth_timer_;
+  CpuWorker bd_seq_writer_;  // the bdSeq file's fdatasync, off the loop
+  bool started_ = false;
+  std::string dcmd_prefix_;  // spBv1.0/<group>/DCMD/<node>/
+  // Staged by a reload:
+  bool new_client_ = false;
+  std::unique_ptr<MqttClient> next_client_;
+  std::shared_ptr<bool> alive_ = std::make_shared<bool>(true);
+};
+
+}  // namespace unima::io
