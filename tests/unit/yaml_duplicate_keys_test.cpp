@@ -8,16 +8,12 @@
 #include <string>
 
 #include "banks/yaml_duplicate_keys.hpp"
-#include "config/config.hpp"
-#include "tests/support/error_message.hpp"
+#include "tests/support/config_parse_error.hpp"
 
 namespace unima::banks {
 namespace {
 
-std::string config_error(const std::string& text) {
-  return test_support::error_message<config::ConfigError>(
-      [&] { (void)config::parse_text(text, "bridge.yaml", config::Host{}); });
-}
+using test_support::config_parse_error;
 
 TEST(YamlDuplicateKeys, ASectionWrittenTwiceIsRefusedNamingBothPositions) {
   const std::string installed =
@@ -27,16 +23,16 @@ TEST(YamlDuplicateKeys, ASectionWrittenTwiceIsRefusedNamingBothPositions) {
       "\n"
       "modbus:\n"
       "  rtu: { device: /dev/ttyS0 }\n";
-  EXPECT_EQ(config_error(installed),
+  EXPECT_EQ(config_parse_error(installed),
             "bridge.yaml:5:1: 'modbus' is written twice in this mapping (first at line 1, column 1); only one would "
             "count: merge the two");
 }
 
 TEST(YamlDuplicateKeys, AKeyWrittenTwiceDeepInsideOrInAFlowMappingIsFoundToo) {
-  EXPECT_EQ(config_error("modbus:\n  tcp: { port: 502, listen: 0.0.0.0, port: 503 }\n"),
+  EXPECT_EQ(config_parse_error("modbus:\n  tcp: { port: 502, listen: 0.0.0.0, port: 503 }\n"),
             "bridge.yaml:2:38: 'port' is written twice in this mapping (first at line 2, column 10); only one would "
             "count: merge the two");
-  EXPECT_EQ(config_error("banks: { D1: 0x1100 }\n"
+  EXPECT_EQ(config_parse_error("banks: { D1: 0x1100 }\n"
                          "devices:\n"
                          "  D1: { type: unigen-chp, address: 5 }\n"
                          "  D1: { type: unigen-chp, address: 6 }\n"),
