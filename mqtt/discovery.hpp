@@ -8,19 +8,23 @@
 // Every key is Home Assistant's documented discovery schema:
 // - the topic `<discovery prefix>/<component>/<node id>/<object id>/config`, node and
 //   object ids of [a-zA-Z0-9_-] only: home-assistant.io/integrations/mqtt/ "Discovery topic";
-// - `name`, `unique_id`, `availability_topic` with `payload_available` /
-//   `payload_not_available`, `device` (`identifiers`, `name`, `model`, `manufacturer`,
-//   `via_device`) and `origin` (`name`): the same page, "Discovery payload", and the
-//   "Configuration Variables" of each component below;
+// - `name` (the table's label), `default_entity_id` (the entity id the document's key gave),
+//   `unique_id`, `availability_topic` with `payload_available` / `payload_not_available`,
+//   `device` (`identifiers`, `name`, `model`, `manufacturer`, `via_device`) and `origin`
+//   (`name`): the same page, "Discovery payload", and the "Configuration Variables" of each
+//   component below;
 // - sensor (home-assistant.io/integrations/sensor.mqtt/): `state_topic`, `value_template`,
-//   `unit_of_measurement`, `suggested_display_precision`. A JSON null rendered by a
-//   value_template is the text `None`, which sets a sensor that expects a number (one with
-//   a unit or a display precision) to unknown — so every number has a precision;
+//   `unit_of_measurement`, `device_class`, `state_class` (mqtt/home_assistant_classes),
+//   `suggested_display_precision` (the scale's step, values::display_decimals). A JSON null
+//   rendered by a value_template is the text `None`, which sets a sensor that expects a
+//   number (one with a unit or a display precision) to unknown — so every number has a
+//   precision;
 // - binary_sensor (home-assistant.io/integrations/binary_sensor.mqtt/): `state_topic`,
 //   `value_template`, `payload_on`, `payload_off`; the state follows a payload "matching
 //   payload_on, payload_off or None" (None: unknown). The template renders a JSON boolean
 //   as Jinja does, `True` or `False`, so those are payload_on and payload_off (zigbee2mqtt
-//   configures its boolean JSON states the same way);
+//   configures its boolean JSON states the same way). An alarm is `device_class: problem`;
+//   a D_N's other bits `entity_category: diagnostic`, `enabled_by_default: false`;
 // - number (home-assistant.io/integrations/number.mqtt/): `command_topic`,
 //   `command_template`, `min`, `max`, `step`, `mode`, `qos`, `retain`; without a
 //   state_topic it is optimistic (shows what it last sent): W is not published;

@@ -193,6 +193,13 @@ std::vector<ValueDef> x_values() {
 
 }  // namespace
 
+unsigned display_decimals(const ValueDef& def) {
+  unsigned decimals = 0;
+  // The tolerance keeps 0.1 × 10 (0.99999… in binary at worst) at one decimal.
+  for (double step = def.scale; decimals < def.decimals && step < 1 - 1e-9; step *= 10) ++decimals;
+  return decimals;
+}
+
 ValueModel::ValueModel(const config::Config& config) {
   const auto shapes = config::bank_shapes(config);
   for (const BankId bank : banks::all_banks) {

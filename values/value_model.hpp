@@ -82,6 +82,12 @@ struct Value {
 /// (values/value_codec) reads its answer back through it.
 Value read_word(const ValueDef& def, std::uint16_t raw);
 
+/// The decimals that tell two neighbouring readings of `def` apart — its scale's step in
+/// digits (0.1 -> 1, 0.01 -> 2, 1 -> 0, 0.78125 -> 1, 0.00244 -> 3): what a display
+/// shows. `decimals` is what a reading keeps so that it is exact (0.78125 -> 5), which
+/// shown whole would be noise (35.15625 %). Never more than `decimals`.
+unsigned display_decimals(const ValueDef& def);
+
 class ValueModel {
  public:
   ValueModel() = default;

@@ -2,7 +2,7 @@
 // and its `mosquitto_sub` / `mosquitto_pub` in Home Assistant's place — the retained
 // configs, checked against the discovery schema's rules (unique ids, state topics the
 // bridge publishes, templates that reach the value in the real document, availability,
-// devices), W/X entities only with commands and their commands taking effect, the configs
+// devices) and Home Assistant's documented classes, units and categories (tests/data), W/X entities only with commands and their commands taking effect, the configs
 // again when Home Assistant says `online`, and the entities of a D_N a reload drops removed.
 
 #include <cmath>
@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "tests/integration/bridge_fixture.hpp"
+#include "tests/support/home_assistant_schema.hpp"
 #include "tests/support/home_assistant_template.hpp"
 #include "tests/support/peers/mqtt_broker.hpp"
 #include "tests/support/peers/mqtt_subscription.hpp"
@@ -104,6 +105,7 @@ TEST_F(MqttDiscovery, RetainedConfigsFollowHomeAssistantsSchemaAndReachThePublis
   ASSERT_GT(found.size(), 60u) << daemon->log();
   EXPECT_EQ(count_component(found, "number") + count_component(found, "switch"), 0u) << "commands are off";
 
+  const auto schema = test_support::HomeAssistantSchema::documented();
   std::set<std::string> unique_ids;
   std::size_t binary = 0;
   for (const auto& [topic, config] : found) {
@@ -124,7 +126,13 @@ TEST_F(MqttDiscovery, RetainedConfigsFollowHomeAssistantsSchemaAndReachThePublis
     const auto document = Json::parse(published.at(state_topic));
     const auto value = template_value(config["value_template"].get<std::string>(), document);
     ASSERT_TRUE(value) << config["value_template"] << " on " << document.dump();
-    EXPECT_EQ(*value, document[config["name"].get<std::string>()]);
+    const auto bank_of_topic = state_topic.substr(state_topic.rfind('/') + 1);
+    EXPECT_EQ(*value, document[config["unique_id"].get<std::string>().substr(std::string("site-17_" + bank_of_topic + "_").size())])
+        << "the key of its unique id";
+    // Home Assistant's documented schema (tests/data): classes, units, categories, keys.
+    const auto component_start = std::string_view("homeassistant/").size();
+    const auto component = topic.substr(component_start, topic.find('/', component_start) - component_start);
+    EXPECT_EQ(schema.violations(component, config), std::vector<std::string>{});
     if (topic.starts_with("homeassistant/binary_sensor/")) {
       ++binary;
       const auto text = jinja_text(*value);
@@ -143,6 +151,17 @@ TEST_F(MqttDiscovery, RetainedConfigsFollowHomeAssistantsSchemaAndReachThePublis
     }
   }
   EXPECT_GT(binary, 5u);
+  // Statistics: generated energy as the energy dashboard takes it; alarms in sight, the
+  // other bits diagnostic and disabled; names from the table.
+  const auto& energy = found.at("homeassistant/sensor/site-17/D1_generator_energy/config");
+  EXPECT_EQ(energy["device_class"], "energy");
+  EXPECT_EQ(energy["state_class"], "total_increasing");
+  EXPECT_EQ(energy["unit_of_measurement"], "kWh");
+  EXPECT_EQ(found.at("homeassistant/binary_sensor/site-17/D1_state_outputs_fault/config")["device_class"], "problem");
+  const auto& running = found.at("homeassistant/binary_sensor/site-17/D1_state_outputs_running/config");
+  EXPECT_EQ(running["entity_category"], "diagnostic");
+  EXPECT_EQ(running["enabled_by_default"], false);
+  EXPECT_EQ(found.at("homeassistant/sensor/site-17/D1_oil_temperature/config")["name"], "Teplota oleje") << "UTF-8 through the broker";
   // The values fed, as Home Assistant's templates read them from the real documents.
   const auto d1 = Json::parse(published.at("fleet/site-17/D1"));
   const auto& speed = found.at("homeassistant/sensor/site-17/D1_engine_speed/config");

@@ -4,14 +4,17 @@
 
 #include <gtest/gtest.h>
 
+#include <fstream>
 #include <map>
 #include <set>
+#include <sstream>
 
 #include "banks/table_catalog.hpp"
 #include "config/config.hpp"
 #include "mqtt/bank_documents.hpp"
 #include "mqtt/discovery.hpp"
 #include "tests/support/error_message.hpp"
+#include "tests/support/home_assistant_schema.hpp"
 #include "tests/support/home_assistant_template.hpp"
 #include "values/store_snapshot.hpp"
 
@@ -48,7 +51,8 @@ TEST(MqttDiscovery, ASensorPerValueOnItsBankDocumentWithItsUnitAndDevice) {
   const auto configs = configs_of(site(chp_and_uis + site_mqtt));
   ASSERT_TRUE(configs.contains("homeassistant/sensor/site-17_b/D1_engine_speed/config"));
   const auto& speed = configs.at("homeassistant/sensor/site-17_b/D1_engine_speed/config");
-  EXPECT_EQ(speed["name"], "engine_speed");
+  EXPECT_EQ(speed["name"], "Otáčky") << "the table's label";
+  EXPECT_EQ(speed["default_entity_id"], "sensor.site_17_b_d1_engine_speed") << "the entity id of the name it had";
   EXPECT_EQ(speed["unique_id"], "site-17.b_D1_engine_speed") << "<client_id>_<bank>_<identifier>";
   EXPECT_EQ(speed["state_topic"], "fleet/site-17/D1");
   EXPECT_EQ(speed["value_template"], "{{ value_json['engine_speed'] }}");
@@ -227,6 +231,173 @@ TEST(MqttDiscovery, UnitsAndIdsAsHomeAssistantWritesThem) {
   for (const auto unit : {"°C", "%", "kW", "kWh", "V", "A", "h", "s", "kPa", "bar"}) EXPECT_EQ(home_assistant_unit(unit), unit);
   EXPECT_EQ(discovery_id("site 17.b/+#"), "site_17_b___");
   EXPECT_EQ(discovery_id("D1_knock-rank_1"), "D1_knock-rank_1");
+}
+
+// The demo's config (config/examples/demo.yaml: a CHP unit, its USC and UVR) with
+// discovery and commands: everything the bridge would publish for it.
+config::Config demo_with_discovery() {
+  std::ifstream file(std::string(UNIMA_SOURCE_DIR) + "/config/examples/demo.yaml");
+  std::stringstream text;
+  text << file.rdbuf();
+  return site(text.str() + "mqtt: { broker: 'mqtt://127.0.0.1', client_id: site-17.b, commands: true, discovery: {} }\n");
+}
+
+std::string component_of(const std::string& topic) {
+  const auto start = topic.find('/') + 1;
+  return topic.substr(start, topic.find('/', start) - start);
+}
+
+// Home Assistant's documented schema (tests/data) over every config of the demo and of
+// every device type: each is one Home Assistant takes.
+TEST(MqttDiscoverySchema, EveryConfigOfTheDemoAndOfEveryDeviceTypeIsValid) {
+  const auto schema = test_support::HomeAssistantSchema::documented();
+  const auto demo = configs_of(demo_with_discovery());
+  ASSERT_GT(demo.size(), 300u);
+  for (const auto& [topic, payload] : demo) EXPECT_EQ(schema.violations(component_of(topic), payload), std::vector<std::string>{}) << topic;
+  for (const auto type : banks::device_type_ids()) {
+    const auto config = site("devices: { D1: { type: " + std::string(type) + ", address: 5 } }\n" + site_mqtt);
+    for (const auto& [topic, payload] : configs_of(config))
+      EXPECT_EQ(schema.violations(component_of(topic), payload), std::vector<std::string>{}) << type << ": " << topic;
+  }
+}
+
+// Long-term statistics: a counter is total_increasing — generated energy the energy
+// dashboard takes (energy, kWh) — a measured value is a measurement, a state neither.
+TEST(MqttDiscoverySchema, CountersAreTotalsMeasuredValuesMeasurementsStatesNeither) {
+  const auto configs = configs_of(site(chp_and_uis + site_mqtt));
+  const auto sensor = [&](const std::string& object_id) { return configs.at("homeassistant/sensor/site-17_b/" + object_id + "/config"); };
+  const auto energy = sensor("D1_generator_energy");
+  EXPECT_EQ(energy["device_class"], "energy");
+  EXPECT_EQ(energy["state_class"], "total_increasing");
+  EXPECT_EQ(energy["unit_of_measurement"], "kWh");
+  EXPECT_EQ(energy["suggested_display_precision"], 1);
+  const auto hours = sensor("D1_operating_hours");
+  EXPECT_EQ(hours["device_class"], "duration");
+  EXPECT_EQ(hours["state_class"], "total_increasing");
+  EXPECT_EQ(hours["unit_of_measurement"], "s");
+  const auto to_service = sensor("D1_time_to_service");
+  EXPECT_EQ(to_service["device_class"], "duration");
+  EXPECT_EQ(to_service["state_class"], "measurement") << "it counts down";
+  const auto oil = sensor("D1_oil_temperature");
+  EXPECT_EQ(oil["device_class"], "temperature");
+  EXPECT_EQ(oil["state_class"], "measurement");
+  EXPECT_EQ(sensor("D1_generator_active_power")["device_class"], "power");
+  const auto speed = sensor("D1_engine_speed");
+  EXPECT_FALSE(speed.contains("device_class")) << "Home Assistant has no class for rpm";
+  EXPECT_EQ(speed["state_class"], "measurement");
+  EXPECT_FALSE(sensor("D1_generator_reactive_power").contains("device_class")) << "kvar: not in every Home Assistant";
+  const auto knock = sensor("D2_knock_rank_1_level");
+  EXPECT_FALSE(knock.contains("device_class")) << "% is no one class";
+  EXPECT_EQ(knock["state_class"], "measurement");
+  for (const auto* state : {"D1_status", "D1_status_unit_mode", "D1_alarm_inputs"}) {
+    EXPECT_FALSE(sensor(state).contains("state_class")) << state << ": a state, no statistics of it";
+    EXPECT_FALSE(sensor(state).contains("device_class")) << state;
+  }
+  const auto a = sensor("A_D1_oil_temperature");
+  EXPECT_EQ(a["device_class"], "temperature") << "an entry of A is its source's quantity";
+  EXPECT_EQ(a["state_class"], "measurement");
+  std::size_t with_state_class = 0;
+  for (const auto& [topic, payload] : configs) with_state_class += payload.contains("state_class");
+  EXPECT_GT(with_state_class, 100u);
+}
+
+// A D_N's named bit is a diagnostic entity, disabled by default, unless it is an alarm
+// or a fault, which stays in sight as a problem; B's mapped bits stay in sight.
+TEST(MqttDiscoverySchema, BitsAreDiagnosticAndDisabledExceptAlarms) {
+  const auto configs = configs_of(demo_with_discovery());
+  std::size_t alarms = 0, diagnostic = 0;
+  for (const auto& [topic, payload] : configs) {
+    if (component_of(topic) != "binary_sensor") continue;
+    SCOPED_TRACE(topic);
+    if (payload.value("device_class", "") == "problem") {
+      ++alarms;
+      EXPECT_FALSE(payload.contains("entity_category"));
+      EXPECT_FALSE(payload.contains("enabled_by_default")) << "enabled, Home Assistant's default";
+    } else {
+      ++diagnostic;
+      EXPECT_EQ(payload["entity_category"], "diagnostic");
+      EXPECT_EQ(payload["enabled_by_default"], false);
+    }
+  }
+  // The CHP unit's 16 alarm inputs, 14 protections, fault, warning and mains failure; the
+  // USC's 4 faults, the UVR's 6: 43 in sight of 217.
+  EXPECT_EQ(alarms, 43u);
+  EXPECT_EQ(diagnostic, 174u);
+  const auto bit = [&](const std::string& object_id) { return configs.at("homeassistant/binary_sensor/site-17_b/" + object_id + "/config"); };
+  EXPECT_EQ(bit("D1_state_outputs_fault")["device_class"], "problem");
+  EXPECT_EQ(bit("D1_state_outputs_warning")["device_class"], "problem");
+  EXPECT_EQ(bit("D1_alarm_inputs_low_oil_pressure")["device_class"], "problem") << "an alarm input";
+  EXPECT_EQ(bit("D1_mains_generator_protections_generator_overcurrent")["device_class"], "problem") << "a protection";
+  EXPECT_EQ(bit("D2_state_outputs_overspeed_fault")["device_class"], "problem");
+  EXPECT_EQ(bit("D3_state_outputs_undervoltage_fault")["device_class"], "problem");
+  EXPECT_EQ(bit("D1_state_outputs_running")["entity_category"], "diagnostic");
+  EXPECT_EQ(bit("D1_user_binary_inputs_1_16_user_binary_input_1")["enabled_by_default"], false);
+  EXPECT_EQ(bit("D1_status_power_mode")["enabled_by_default"], false);
+  // B: what the integrator mapped stays enabled; a mapped alarm is a problem.
+  const auto b = configs_of(site(chp_and_uis + site_mqtt)).at("homeassistant/binary_sensor/site-17_b/B_D1_0x11_7/config");
+  EXPECT_FALSE(b.contains("enabled_by_default"));
+  EXPECT_FALSE(b.contains("entity_category"));
+  const auto b_fault = configs_of(site("devices: { D1: { type: unigen-chp, address: 5 } }\nmapping: { B: [ D1.fault ] }\n" + site_mqtt))
+                           .at("homeassistant/binary_sensor/site-17_b/B_D1_fault/config");
+  EXPECT_EQ(b_fault["device_class"], "problem");
+}
+
+// The precision a sensor shows is its scale's step (0.1 -> 1, 0.01 -> 2, 1 -> 0), never
+// more decimals than the scale has — for every value of every device type.
+TEST(MqttDiscoverySchema, PrecisionIsTheScalesStepNeverMoreThanItsDecimals) {
+  std::size_t checked = 0;
+  for (const auto type : banks::device_type_ids()) {
+    const auto config = site("devices: { D1: { type: " + std::string(type) + ", address: 5 } }\n" + site_mqtt);
+    const auto configs = configs_of(config);
+    const values::ValueModel model(config);
+    for (const auto& layout : model.banks())
+      for (const auto& def : layout.values) {
+        const auto topic = "homeassistant/sensor/site-17_b/" + discovery_id(std::string(banks::bank_name(layout.bank)) + "_" + def.name) + "/config";
+        if (!configs.contains(topic) || !configs.at(topic).contains("suggested_display_precision")) continue;
+        const auto precision = configs.at(topic)["suggested_display_precision"].get<unsigned>();
+        EXPECT_LE(precision, def.decimals) << topic << " scale " << def.scale;
+        EXPECT_EQ(precision, values::display_decimals(def)) << topic;
+        ++checked;
+      }
+  }
+  EXPECT_GT(checked, 300u);
+  const auto configs = configs_of(site(chp_and_uis + site_mqtt));
+  EXPECT_EQ(configs.at("homeassistant/sensor/site-17_b/D2_knock_rank_1_level/config")["suggested_display_precision"], 1)
+      << "0.78125 % steps: 35.2 %, not 35.15625 %";
+  EXPECT_EQ(configs.at("homeassistant/sensor/site-17_b/D1_engine_speed/config")["suggested_display_precision"], 0);
+  const auto demo = configs_of(demo_with_discovery());
+  EXPECT_EQ(demo.at("homeassistant/sensor/site-17_b/D3_load_current/config")["suggested_display_precision"], 3) << "0.001 A";
+  for (const auto& [topic, payload] : demo) EXPECT_LT(payload.value("suggested_display_precision", 0), 4) << topic;
+}
+
+// Names a person reads — the table's labels — while unique ids, topics and entity ids
+// stay those of the document's keys.
+TEST(MqttDiscoverySchema, NamesAreTheTablesLabelsIdsStayTheKeys) {
+  const auto configs = configs_of(site(chp_and_uis + site_mqtt));
+  const auto at = [&](const std::string& component, const std::string& object_id) {
+    return configs.at("homeassistant/" + component + "/site-17_b/" + object_id + "/config");
+  };
+  EXPECT_EQ(at("sensor", "D1_oil_temperature")["name"], "Teplota oleje");
+  EXPECT_EQ(at("sensor", "D1_operating_hours")["name"], "Motohodiny") << "the pair's quantity";
+  EXPECT_EQ(at("sensor", "D2_knock_rank_1_level")["name"], "První nejvyšší úroveň detonací");
+  const auto power_mode = at("binary_sensor", "D1_status_power_mode");
+  EXPECT_EQ(power_mode["name"], "Režim výkonu (0=MAN, 1=COPY)");
+  EXPECT_EQ(power_mode["default_entity_id"], "binary_sensor.site_17_b_d1_status_power_mode");
+  EXPECT_EQ(power_mode["unique_id"], "site-17.b_D1_status.power_mode");
+  // A label several values share says which value it is.
+  EXPECT_EQ(at("sensor", "D1_control_inputs")["name"], "Binární vstupy (control_inputs)");
+  EXPECT_EQ(at("sensor", "D1_status")["name"], "Stav (status)");
+  EXPECT_EQ(at("sensor", "D1_status_state")["name"], "Stav (status.state)");
+  // A's entry shows another device's value: its source says which.
+  const auto a = at("sensor", "A_D1_oil_temperature");
+  EXPECT_EQ(a["name"], "Teplota oleje (D1.oil_temperature)");
+  EXPECT_EQ(a["default_entity_id"], "sensor.site_17_b_d1_oil_temperature");
+  EXPECT_EQ(at("binary_sensor", "B_D1_0x11_7")["name"], "D1+0x11.7") << "no label: the key";
+  // Within a device, no two names alike.
+  std::map<std::string, std::set<std::string>> names;
+  for (const auto& [topic, payload] : configs)
+    EXPECT_TRUE(names[payload["device"]["name"].get<std::string>()].insert(payload["name"].get<std::string>()).second)
+        << topic << " " << payload["name"];
 }
 
 TEST(MqttDiscoveryConfig, OffUnlessGivenAPrefixOfHomeAssistantByDefault) {
