@@ -68,7 +68,7 @@ void write_table(std::string& out, const DeviceTable& table) {
     const std::string kind = reg.kind == RegisterKind::analog ? (reg.is_signed ? "analog, signed" : "analog, unsigned")
                                                               : std::string(kind_name(reg.kind));
     out += fmt::format("| +0x{:02X} | `{}` | {} | {} | {} | {} | {} | {} |\n", reg.offset, reg.id, register_value_name(reg),
-                       cell(reg.label), kind, cell(reg.unit), reg.scale, cell(note));
+                       cell(reg.label), kind, cell(reg.unit), register_scale(reg), cell(note));
     for (const auto& field : reg.fields) {
       std::string field_note = only_text(field.only);
       if (!field.inferred.empty()) append_note(field_note, fmt::format("Inferred: {}", field.inferred));
@@ -89,7 +89,9 @@ std::string tables_markdown() {
       "# Register tables\n\n"
       "Generated from `banks/tables/*.yaml` by `unima-bridge tables`; do not edit by hand (a test\n"
       "compares this file with the data). Offsets are relative to the bank's base address (SPEC §1).\n"
-      "Labels are the seed's Czech text. Physical value = raw × scale, in the unit given.\n"
+      "Labels are the seed's Czech text. Physical value = raw × scale, in the unit given; a\n"
+      "32-bit pair is (high × 65536 + low) × the low word's scale, so the high word's scale is\n"
+      "65536 times that (the seed's \"65536s\"), and the pair = low + high, each × its own scale.\n"
       "An off-line device reads 0x7FFF in analog registers, 0 in bit registers, 0xFFFF in byte\n"
       "pairs, 0x2020 in ASCII pairs and 0xFFFF/0x7FFF in 32-bit low/high words. In the UIS's\n"
       "byte pairs of firing success and knock, a byte of 255 means \"not measured\" (seed §6.2.4.6).\n\n"
