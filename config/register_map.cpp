@@ -27,6 +27,25 @@ std::string mapped_bits(const std::array<std::optional<banks::SourceRef>, banks:
   return text;
 }
 
+// The fields every row has; what pairs and bytes add is set where they are known.
+MapRow row_of(std::uint16_t address, std::string bank, std::uint16_t offset, std::string id, std::string label,
+              std::string kind, std::string unit, double scale, std::string access, std::string source,
+              std::string data_type = "uint16") {
+  MapRow row;
+  row.address = address;
+  row.bank = std::move(bank);
+  row.offset = offset;
+  row.id = std::move(id);
+  row.label = std::move(label);
+  row.kind = std::move(kind);
+  row.unit = std::move(unit);
+  row.scale = scale;
+  row.access = std::move(access);
+  row.source = std::move(source);
+  row.data_type = std::move(data_type);
+  return row;
+}
+
 // A row that reads `reg`'s raw value (its own bank, a copy in A, a read block) says what
 // the table says of it; a 32-bit half is worth what one unit of that half is worth.
 void describe(MapRow& row, const RegisterDef& reg) {
@@ -66,7 +85,7 @@ void add(std::vector<MapRow>& rows, MapRow row, const RegisterDef* reg, const Ma
 }
 
 MapRow table_row(std::uint16_t address, BankId bank, const RegisterDef& reg, const std::string& access) {
-  MapRow row{address, std::string(banks::bank_name(bank)), reg.offset, reg.id, {}, {}, {}, 1.0, access, {}};
+  auto row = row_of(address, std::string(banks::bank_name(bank)), reg.offset, reg.id, {}, {}, {}, 1.0, access, {});
   describe(row, reg);
   return row;
 }
@@ -140,8 +159,8 @@ std::vector<MapRow> register_map(const Config& config, MapShape shape) {
   const auto map = address_map(config);
   for (const auto& window : map.windows()) {
     if (window.kind == banks::Window::Kind::read_block) {
-      MapRow row{window.first, "read", 0, fmt::format("read_block_0x{:04x}", window.first), "", "analog", "", 1.0,
-                 "R", window.source.text};
+      auto row = row_of(window.first, "read", 0, fmt::format("read_block_0x{:04x}", window.first), "", "analog", "", 1.0,
+                        "R", window.source.text);
       const auto* reg = source_register(shapes, window.source);
       if (reg) describe(row, *reg);
       add(rows, std::move(row), reg, shape);
@@ -149,9 +168,9 @@ std::vector<MapRow> register_map(const Config& config, MapShape shape) {
     }
     if (window.kind == banks::Window::Kind::write_block) {
       // User analog outputs in tenths, which a master may write below zero as into W.
-      rows.push_back(MapRow{window.first, "write", 0, fmt::format("user_analog_output_{}", window.output),
+      rows.push_back(row_of(window.first, "write", 0, fmt::format("user_analog_output_{}", window.output),
                             fmt::format("Uživatelský analogový výstup {}", window.output), "analog", "", 0.1, "W",
-                            fmt::format("C+0x{:02X}", window.output - 1), "int16"});
+                            fmt::format("C+0x{:02X}", window.output - 1), "int16"));
       continue;
     }
     const BankId bank = window.bank;
@@ -167,8 +186,8 @@ std::vector<MapRow> register_map(const Config& config, MapShape shape) {
       if (banks::is_device_bank(bank) && shapes[index_of(bank)].table) {
         // Past the table, inside the D_N window (banks::device_bank_length): a reserve.
         add(rows,
-            MapRow{address, name, offset, fmt::format("reserve_{:02x}", offset), "Rezerva",
-                   std::string(banks::kind_name(RegisterKind::reserve)), "", 1.0, "R", ""},
+            row_of(address, name, offset, fmt::format("reserve_{:02x}", offset), "Rezerva",
+                   std::string(banks::kind_name(RegisterKind::reserve)), "", 1.0, "R", ""),
             nullptr, shape);
         continue;
       }
@@ -176,8 +195,8 @@ std::vector<MapRow> register_map(const Config& config, MapShape shape) {
         case BankId::A: {
           // A holds an analog source (a W entry, and unmapped 0x7FFF) in signed tenths of
           // its unit, anything else as it is.
-          MapRow row{address, name, offset, fmt::format("a_{:02x}", offset), fmt::format("ModBUS[BankA+{:02X}]", offset),
-                     "analog", "", 0.1, "R", "", "int16"};
+          auto row = row_of(address, name, offset, fmt::format("a_{:02x}", offset),
+                            fmt::format("ModBUS[BankA+{:02X}]", offset), "analog", "", 0.1, "R", "", "int16");
           const RegisterDef* copied = nullptr;
           if (const auto& source = config.mapping.analog[offset]) {
             row.source = source->text;
@@ -198,20 +217,20 @@ std::vector<MapRow> register_map(const Config& config, MapShape shape) {
           break;
         }
         case BankId::B:
-          rows.push_back(MapRow{address, name, offset, "b", "ModBUS[BankB.0-15]", "bits", "", 1.0, "R",
-                                mapped_bits(config.mapping.bits)});
+          rows.push_back(row_of(address, name, offset, "b", "ModBUS[BankB.0-15]", "bits", "", 1.0, "R",
+                                mapped_bits(config.mapping.bits)));
           break;
         case BankId::W:
-          rows.push_back(MapRow{address, name, offset, fmt::format("w_{:02x}", offset),
+          rows.push_back(row_of(address, name, offset, fmt::format("w_{:02x}", offset),
                                 fmt::format("ModBUS[BankW+{:02X}]", offset), "analog", "", 0.1, write_access, "",
-                                "int16"});
+                                "int16"));
           break;
         case BankId::X:
-          rows.push_back(MapRow{address, name, offset, "x", "ModBUS[BankX.0-15]", "bits", "", 1.0, write_access, ""});
+          rows.push_back(row_of(address, name, offset, "x", "ModBUS[BankX.0-15]", "bits", "", 1.0, write_access, ""));
           break;
         default:  // a bank whose table this build lacks
-          rows.push_back(MapRow{address, name, offset, fmt::format("{}_{:02x}", name, offset), "", "analog", "", 1.0,
-                                "R", ""});
+          rows.push_back(row_of(address, name, offset, fmt::format("{}_{:02x}", name, offset), "", "analog", "", 1.0,
+                                "R", ""));
       }
     }
   }
