@@ -211,6 +211,16 @@ DeviceTable parse_device_table(std::string_view yaml_text, std::string_view orig
                                        [&](const YAML::Node& root) { return Parser(origin).table(root); });
 }
 
+std::string pair_label(const std::string& low_word_label) {
+  const auto comma = low_word_label.rfind(", ");
+  return comma == std::string::npos ? low_word_label : low_word_label.substr(0, comma);
+}
+
+double register_scale(const RegisterDef& reg) {
+  constexpr double high_word_weight = 65536.0;
+  return reg.kind == RegisterKind::u32_high ? reg.scale * high_word_weight : reg.scale;
+}
+
 std::string field_value_name(const RegisterDef& reg, const Field& field) {
   const auto prefix = reg.id + "_";
   const bool prefixed = field.id.starts_with(prefix) && field.id.size() > prefix.size();

@@ -51,6 +51,15 @@ struct RegisterDef {
   std::string inferred;   // why the offset was reconstructed, when it was
 };
 
+/// The 32-bit quantity a pair's halves make, named after its low half's label: the seed
+/// labels each half "<quantity>, <which word>" ("Motohodiny, nižší slovo").
+std::string pair_label(const std::string& low_word_label);
+
+/// What one unit of a register's raw value is worth, in the register's unit: the table's
+/// scale, which for a 32-bit pair is the whole pair's, times 65536 for its high half
+/// (seed §6.2.4: "65536s" for the operating hours, 0.1 kWh × 65536 for the energy).
+double register_scale(const RegisterDef& reg);
+
 /// The name a field's value goes by outside Modbus (SPEC §17: the page, MQTT):
 /// "knock_rank_1_cylinder" of "knock_rank_1" -> "knock_rank_1.cylinder"; a field whose id
 /// does not start with its register's keeps it whole ("status.state").

@@ -32,7 +32,7 @@ std::string only_text(std::string_view variants) {
   return variants.empty() ? std::string() : fmt::format("Only on {}", variants);
 }
 
-// What the value model (SPEC §17) calls the register's own value: a 32-bit pair once by its
+// What the value model calls the register's own value: a 32-bit pair once by its
 // pair's name, a byte pair only by its bytes (the field rows), a reserve never.
 std::string register_value_name(const RegisterDef& reg) {
   switch (reg.kind) {
@@ -68,7 +68,7 @@ void write_table(std::string& out, const DeviceTable& table) {
     const std::string kind = reg.kind == RegisterKind::analog ? (reg.is_signed ? "analog, signed" : "analog, unsigned")
                                                               : std::string(kind_name(reg.kind));
     out += fmt::format("| +0x{:02X} | `{}` | {} | {} | {} | {} | {} | {} |\n", reg.offset, reg.id, register_value_name(reg),
-                       cell(reg.label), kind, cell(reg.unit), reg.scale, cell(note));
+                       cell(reg.label), kind, cell(reg.unit), register_scale(reg), cell(note));
     for (const auto& field : reg.fields) {
       std::string field_note = only_text(field.only);
       if (!field.inferred.empty()) append_note(field_note, fmt::format("Inferred: {}", field.inferred));
@@ -88,20 +88,22 @@ std::string tables_markdown() {
   std::string out =
       "# Register tables\n\n"
       "Generated from `banks/tables/*.yaml` by `unima-bridge tables`; do not edit by hand (a test\n"
-      "compares this file with the data). Offsets are relative to the bank's base address (SPEC §1).\n"
-      "Labels are the seed's Czech text. Physical value = raw × scale, in the unit given.\n"
+      "compares this file with the data). Offsets are relative to the bank's base address (`banks` in configuration.md).\n"
+      "Labels are the seed's Czech text. Physical value = raw × scale, in the unit given; a\n"
+      "32-bit pair is (high × 65536 + low) × the low word's scale, so the high word's scale is\n"
+      "65536 times that (the seed's \"65536s\"), and the pair = low + high, each × its own scale.\n"
       "An off-line device reads 0x7FFF in analog registers, 0 in bit registers, 0xFFFF in byte\n"
       "pairs, 0x2020 in ASCII pairs and 0xFFFF/0x7FFF in 32-bit low/high words. In the UIS's\n"
       "byte pairs of firing success and knock, a byte of 255 means \"not measured\" (seed §6.2.4.6).\n\n"
-      "The column *Value* names what the page, `/api/registers` and the MQTT documents show\n"
-      "(SPEC §17): a 32-bit pair as one value (both halves name it), a byte pair as one value\n"
+      "The column *Value* names what the page, `/api/registers` and the MQTT documents show:\n"
+      "a 32-bit pair as one value (both halves name it), a byte pair as one value\n"
       "per byte in the byte's own unit, a bit word as the word and each named bit, reserves\n"
       "never; a value is null when its register reads \"not measured\" (0x7FFF, or 255 in a\n"
       "byte) or its device is off-line. docs/mqtt.md shows a document.\n\n"
       "*Signed* analog values are two's complement (−32768..32767); the seed does not say which\n"
       "are, so the tables mark the quantities that can go below zero: temperatures, active and\n"
       "reactive power, angles, power factor, corrections, regulator outputs, level differences,\n"
-      "user analog outputs and IO signals. Bank A converts by this sign (SPEC §1). \"Only on\"\n"
+      "user analog outputs and IO signals. Bank A converts by this sign. \"Only on\"\n"
       "repeats the seed's footnotes: registers and bits that exist on some variants only (a\n"
       "MicroGEN-CHP lacks the UniGEN-CHP's, a UIS1 has the cylinder masks, …); other variants\n"
       "send 0 or do not send them.\n\n";

@@ -31,13 +31,30 @@ PlcNumbers plc_numbers(const config::MapRow& row, ServedFunctions served, modbus
 
 std::string text_of(const std::optional<unsigned>& number) { return number ? fmt::format("{}", *number) : ""; }
 
-constexpr std::array<const char*, 12> csv_headers = {"address", "bank",  "offset", "id",     "label",          "kind",
-                                                     "unit",    "scale", "access", "source", "input_register", "holding_register"};
+// The first twelve as before issue 44, so that an import set up on them keeps working;
+// the columns of pairs and bytes after them.
+constexpr std::array<const char*, 17> csv_headers = {
+    "address", "bank",           "offset",           "id",        "label", "kind", "unit",    "scale",     "access",
+    "source",  "input_register", "holding_register", "data_type", "part",  "bits", "partner", "word_order"};
 
-std::array<std::string, 12> csv_columns(const config::MapRow& row, const PlcNumbers& numbers) {
-  return {fmt::format("0x{:04X}", row.address), row.bank,   fmt::format("0x{:02X}", row.offset), row.id,
-          row.label,                            row.kind,   row.unit,
-          fmt::format("{}", row.scale),         row.access, row.source, text_of(numbers.input), text_of(numbers.holding)};
+std::array<std::string, 17> csv_columns(const config::MapRow& row, const PlcNumbers& numbers) {
+  return {fmt::format("0x{:04X}", row.address),
+          row.bank,
+          fmt::format("0x{:02X}", row.offset),
+          row.id,
+          row.label,
+          row.kind,
+          row.unit,
+          fmt::format("{}", row.scale),
+          row.access,
+          row.source,
+          text_of(numbers.input),
+          text_of(numbers.holding),
+          row.data_type,
+          std::string(config::part_name(row.part)),
+          config::bits_of(row),
+          row.partner ? fmt::format("0x{:04X}", *row.partner) : "",
+          std::string(config::word_order(row))};
 }
 
 // The table's columns; the last, the label (with the source it shows), is cut to fit.
@@ -117,7 +134,8 @@ std::string table(const std::array<const char*, N>& headers, const std::vector<s
 
 }  // namespace
 
-std::string format_register_map(const std::vector<config::MapRow>& rows, MapFormat format, ServedFunctions served) {
+std::string format_register_map(const std::vector<config::MapRow>& rows, MapOutput output, ServedFunctions served) {
+  const auto format = output.format;
   std::uint16_t highest = 0;
   for (const auto& row : rows) highest = std::max(highest, row.address);
   const auto digits = modbus::plc_digits_for(highest);
@@ -133,7 +151,7 @@ std::string format_register_map(const std::vector<config::MapRow>& rows, MapForm
     return array.dump(2) + "\n";
   }
   if (format == MapFormat::csv) {
-    std::string out;
+    std::string out(output.byte_order_mark ? utf8_byte_order_mark : "");
     for (std::size_t c = 0; c < csv_headers.size(); ++c) out += fmt::format("{}{}", c ? "," : "", csv_headers[c]);
     out += "\n";
     for (const auto& row : rows) {

@@ -5,6 +5,7 @@
 // (function 3 reads, 6 and 16 write) the address is served as.
 
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "config/register_map.hpp"
@@ -12,6 +13,16 @@
 namespace unima::cli {
 
 enum class MapFormat { table, csv, json };
+
+/// The output's form: the format and, for csv only (the command line refuses it
+/// otherwise), the UTF-8 byte order mark Excel needs to read the Czech labels as UTF-8.
+struct MapOutput {
+  MapFormat format = MapFormat::table;
+  bool byte_order_mark = false;
+};
+
+/// EF BB BF, the first bytes of a csv with a byte order mark.
+inline constexpr std::string_view utf8_byte_order_mark = "\xEF\xBB\xBF";
 
 /// How the config serves a register besides function 4 (SPEC §3).
 struct ServedFunctions {
@@ -21,6 +32,6 @@ struct ServedFunctions {
 /// The widest line of the table, in characters: long labels are cut to fit (csv and json have them whole).
 inline constexpr std::size_t map_table_width = 100;
 
-std::string format_register_map(const std::vector<config::MapRow>& rows, MapFormat format, ServedFunctions served);
+std::string format_register_map(const std::vector<config::MapRow>& rows, MapOutput output, ServedFunctions served);
 
 }  // namespace unima::cli

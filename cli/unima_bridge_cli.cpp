@@ -1,7 +1,6 @@
 // unima-bridge: the operator's command line (SPEC §8).
 
 #include <cstdio>
-#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -33,10 +32,13 @@ constexpr Command commands[] = {
     {"check", "--config FILE",
      "validate a config; exit 0 when it is good, 1 with the errors when not;\n"
      "in master mode also the merge plan and the estimated bus load"},
-    {"map", "--config FILE [--format table|csv|json]",
+    {"map", "--config FILE [--format table|csv|json] [--bom] [--no-reserved] [--pairs halves|uint32]",
      "every register the config serves: address, its PLC-style input (3xxxx) and\n"
      "holding (4xxxx) register numbers, bank, access, unit, scale, identifier and\n"
-     "label; csv and json add offset, kind and source"},
+     "label, a row per byte of a byte pair; csv and json add offset, kind, source,\n"
+     "data type, part, bits, partner and word order. --bom starts the csv with a\n"
+     "UTF-8 byte order mark (Excel); --no-reserved leaves the reserves out;\n"
+     "--pairs uint32 lists a 32-bit pair as one row in place of its halves"},
     {"tables", "", "the reference of every device table, in Markdown (docs/registers.md)"},
     {"status", "[-w|--watch] [--json] [--socket PATH | --config FILE]",
      "the front panel of the running daemon: mode, activity, Error, D_N/S_N on-line,\n"
@@ -114,11 +116,20 @@ int check(const std::string& path) {
   }
 }
 
-int map(const std::string& path, unima::cli::MapFormat format) {
+// The options every config-reading command takes: --config FILE, and map's own.
+struct Options {
+  std::string config;
+  unima::cli::MapOutput output;
+  unima::config::MapShape shape{.bytes_apart = true};
+  std::string error;
+};
+
+int map(const Options& options) {
   try {
-    const auto config = unima::config::load_file(path);
+    const auto config = unima::config::load_file(options.config);
     const unima::cli::ServedFunctions served{config.modbus.extensions.function_3};
-    fmt::print("{}", unima::cli::format_register_map(unima::config::register_map(config), format, served));
+    const auto rows = unima::config::register_map(config, options.shape);
+    fmt::print("{}", unima::cli::format_register_map(rows, options.output, served));
     return 0;
   } catch (const std::exception& e) {
     fmt::print(stderr, "{}\n", e.what());
@@ -126,14 +137,7 @@ int map(const std::string& path, unima::cli::MapFormat format) {
   }
 }
 
-// The options every config-reading command takes: --config FILE, and for map --format.
-struct Options {
-  std::string config;
-  std::optional<unima::cli::MapFormat> format;
-  std::string error;
-};
-
-Options parse_options(const std::vector<std::string>& args, bool takes_format) {
+Options parse_options(const std::vector<std::string>& args, bool is_map) {
   Options options;
   for (std::size_t i = 1; i < args.size(); ++i) {
     std::string value;
@@ -145,16 +149,26 @@ Options parse_options(const std::vector<std::string>& args, bool takes_format) {
     };
     if (take("--config")) {
       options.config = value;
-    } else if (takes_format && take("--format")) {
-      if (value == "table") options.format = unima::cli::MapFormat::table;
-      else if (value == "csv") options.format = unima::cli::MapFormat::csv;
-      else if (value == "json") options.format = unima::cli::MapFormat::json;
+    } else if (is_map && take("--format")) {
+      if (value == "table") options.output.format = unima::cli::MapFormat::table;
+      else if (value == "csv") options.output.format = unima::cli::MapFormat::csv;
+      else if (value == "json") options.output.format = unima::cli::MapFormat::json;
       else return options.error = "unknown format '" + value + "' (table, csv or json)", options;
+    } else if (is_map && take("--pairs")) {
+      if (value == "halves") options.shape.pairs_joined = false;
+      else if (value == "uint32") options.shape.pairs_joined = true;
+      else return options.error = "unknown --pairs '" + value + "' (halves or uint32)", options;
+    } else if (is_map && arg == "--bom") {
+      options.output.byte_order_mark = true;
+    } else if (is_map && arg == "--no-reserved") {
+      options.shape.reserves = false;
     } else {
       return options.error = "unknown argument '" + arg + "'", options;
     }
   }
   if (options.config.empty()) options.error = "--config FILE is required";
+  else if (options.output.byte_order_mark && options.output.format != unima::cli::MapFormat::csv)
+    options.error = "--bom is for --format csv only (a byte order mark for Excel)";
   return options;
 }
 
@@ -184,8 +198,7 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "unima-bridge %s: %s\n%s", args[0].c_str(), options.error.c_str(), usage.c_str());
       return 2;
     }
-    return is_map ? map(options.config, options.format.value_or(unima::cli::MapFormat::table))
-                  : check(options.config);
+    return is_map ? map(options) : check(options.config);
   }
   if (args[0] == "profiles") {
     const auto text = unima::cli::format_profiles(args.size() > 1 ? args[1] : "");

@@ -51,13 +51,6 @@ ValueDef bit_def(std::string name, std::string label, Decoding decoding, std::ui
   return d;
 }
 
-// The seed labels each half "<quantity>, <which word>" ("Motohodiny, nižší slovo"): the
-// one value of the pair is the quantity.
-std::string pair_label(const std::string& low_word_label) {
-  const auto comma = low_word_label.rfind(", ");
-  return comma == std::string::npos ? low_word_label : low_word_label.substr(0, comma);
-}
-
 void add_bit_word(std::vector<ValueDef>& values, const RegisterDef& reg) {
   values.push_back(def(reg.id, reg.label, "", Decoding::word, {reg.offset}));
   for (const auto& field : reg.fields) {
@@ -105,7 +98,7 @@ std::vector<ValueDef> table_values(const banks::DeviceTable& table, std::uint16_
       case RegisterKind::u32_low:
         // The parser checked that the u32_high of the same pair follows.
         if (reg.offset + 1 < length)
-          values.push_back(def(reg.pair, pair_label(reg.label), reg.unit, Decoding::pair32,
+          values.push_back(def(reg.pair, banks::pair_label(reg.label), reg.unit, Decoding::pair32,
                                {reg.offset, static_cast<std::uint16_t>(reg.offset + 1)}, reg.scale));
         break;
       case RegisterKind::bits: add_bit_word(values, reg); break;

@@ -14,9 +14,12 @@
 #include "tests/integration/cli_under_test.hpp"
 #include "tests/integration/gateway_fixture.hpp"
 #include "tests/support/peers/http_exchange.hpp"
+#include "tests/support/prometheus_sample.hpp"
 
 namespace unima::test {
 namespace {
+
+using test_support::prometheus_sample;
 
 const Bytes read_d0{0x03, 0x00, 0x00, 0x00, 0x01};
 
@@ -31,12 +34,6 @@ Bytes adu(std::uint16_t transaction, std::uint8_t unit, const Bytes& pdu) {
   return out;
 }
 
-std::optional<double> sample(const std::string& metrics, const std::string& series) {
-  std::istringstream lines(metrics);
-  for (std::string line; std::getline(lines, line);)
-    if (line.starts_with(series + " ")) return std::stod(line.substr(series.size() + 1));
-  return std::nullopt;
-}
 
 class GatewayStatusTest : public GatewayTest {
  protected:
@@ -117,10 +114,10 @@ TEST_F(GatewayStatusTest, ADeadUnitIsShownNotAnsweringWhileTheLiveOneIsServedAnd
   test_support::write_file(file, metrics.body);
   const auto checked = run("promtool check metrics < " + file.string());
   EXPECT_EQ(checked.status, 0) << checked.output << metrics.body;
-  EXPECT_EQ(sample(metrics.body, R"(unima_bridge_gateway_answering{unit="7"})"), 0) << metrics.body;
-  EXPECT_EQ(sample(metrics.body, R"(unima_bridge_gateway_answering{unit="5"})"), 1) << metrics.body;
-  EXPECT_EQ(sample(metrics.body, R"(unima_bridge_gateway_timeouts_total{unit="7"})"), 4) << metrics.body;
-  EXPECT_GE(sample(metrics.body, R"(unima_bridge_gateway_requests_total{unit="5"})").value_or(0), 4) << metrics.body;
+  EXPECT_EQ(prometheus_sample(metrics.body, R"(unima_bridge_gateway_answering{unit="7"})"), 0) << metrics.body;
+  EXPECT_EQ(prometheus_sample(metrics.body, R"(unima_bridge_gateway_answering{unit="5"})"), 1) << metrics.body;
+  EXPECT_EQ(prometheus_sample(metrics.body, R"(unima_bridge_gateway_timeouts_total{unit="7"})"), 4) << metrics.body;
+  EXPECT_GE(prometheus_sample(metrics.body, R"(unima_bridge_gateway_requests_total{unit="5"})").value_or(0), 4) << metrics.body;
 
   const auto warning = "modbus gateway: unit 7 is not answering";
   EXPECT_EQ(daemon->log_count(warning), 1u) << "one warning, not one per failure\n" << daemon->log();

@@ -14,20 +14,17 @@
 #include "tests/integration/bridge_fixture.hpp"
 #include "tests/support/peers/event_stream.hpp"
 #include "tests/support/peers/http_exchange.hpp"
+#include "tests/support/prometheus_sample.hpp"
 
 namespace unima::test {
 namespace {
+
+using test_support::prometheus_sample;
 
 using test_support::EventStream;
 using test_support::http_exchange;
 using test_support::http_get;
 
-std::optional<double> sample(const std::string& metrics, const std::string& series) {
-  std::istringstream lines(metrics);
-  for (std::string line; std::getline(lines, line);)
-    if (line.starts_with(series + " ")) return std::stod(line.substr(series.size() + 1));
-  return std::nullopt;
-}
 
 class Http : public BridgeTest {
  protected:
@@ -51,7 +48,7 @@ TEST_F(Http, MetricsPassPromtoolAndCountModbusTraffic) {
   EXPECT_EQ(checked.status, 0) << checked.output << before.body;
 
   const std::string done = R"(unima_bridge_modbus_transactions_total{port="tcp",state="Done"})";
-  const auto done_before = sample(before.body, done);
+  const auto done_before = prometheus_sample(before.body, done);
   ASSERT_TRUE(done_before) << before.body;
   {
     ModbusClient client(config.modbus_port);
@@ -59,10 +56,10 @@ TEST_F(Http, MetricsPassPromtoolAndCountModbusTraffic) {
     EXPECT_FALSE(client.read_input(0x0012 + 0x40, 1));  // past D1: an Err02
   }
   const auto after = http_get(http_port, "/metrics").body;
-  EXPECT_EQ(sample(after, done), *done_before + 5) << after;
-  EXPECT_EQ(sample(after, R"(unima_bridge_modbus_transactions_total{port="tcp",state="Err02"})"), 1) << after;
-  EXPECT_EQ(sample(after, "unima_bridge_feed_clients"), 0) << after;
-  EXPECT_GT(sample(after, "unima_bridge_resident_memory_bytes").value_or(0), 1e6) << after;
+  EXPECT_EQ(prometheus_sample(after, done), *done_before + 5) << after;
+  EXPECT_EQ(prometheus_sample(after, R"(unima_bridge_modbus_transactions_total{port="tcp",state="Err02"})"), 1) << after;
+  EXPECT_EQ(prometheus_sample(after, "unima_bridge_feed_clients"), 0) << after;
+  EXPECT_GT(prometheus_sample(after, "unima_bridge_resident_memory_bytes").value_or(0), 1e6) << after;
 }
 
 TEST_F(Http, HealthStatusAndRegistersWithTheValueFedAMomentBefore) {

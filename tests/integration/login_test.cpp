@@ -69,8 +69,10 @@ class Logins : public BridgeTest {
     ASSERT_TRUE(wait_for_port(http_port)) << daemon->log();
   }
 
+  // A check may wait behind others' slow hashes, which a loaded machine makes slower still
+  // (the worker runs at the lowest priority): as patient as read_to_end.
   HttpReply login(const std::string& credentials, const std::string& source = "127.0.0.1") const {
-    return http_exchange(http_port, get_request(credentials), source);
+    return http_exchange(http_port, get_request(credentials), source, std::chrono::seconds(30));
   }
 
   /// A connection from `source` whose request for a check the daemon has read: it waits for

@@ -14,20 +14,17 @@
 #include "tests/integration/cli_under_test.hpp"
 #include "tests/support/peers/http_exchange.hpp"
 #include "tests/support/peers/mqtt_broker.hpp"
+#include "tests/support/prometheus_sample.hpp"
 
 namespace unima::test {
 namespace {
+
+using test_support::prometheus_sample;
 
 using test_support::Broker;
 
 constexpr auto error_colour = "rgb(210, 47, 47)";  // panel.css --err
 
-std::optional<double> sample(const std::string& metrics, const std::string& series) {
-  std::istringstream lines(metrics);
-  for (std::string line; std::getline(lines, line);)
-    if (line.starts_with(series + " ")) return std::stod(line.substr(series.size() + 1));
-  return std::nullopt;
-}
 
 class PageNorth : public BridgeTest {
  protected:
@@ -122,10 +119,10 @@ TEST_F(PageNorth, AfterTheBrokerStopsTheBoxShowsNotConnectedAndTheMessagesWaitin
   const auto cli = run(bridge_cli() + " status --socket " + config.status_socket).output;
   EXPECT_NE(cli.find("MQTT        not connected to " + broker_url() + " since "), std::string::npos) << cli;
   const auto metrics = test_support::http_get(http_port, "/metrics").body;
-  EXPECT_EQ(sample(metrics, "unima_bridge_mqtt_connected"), 0) << metrics;
-  EXPECT_GE(sample(metrics, "unima_bridge_mqtt_buffer_messages").value_or(0), 2) << metrics;
+  EXPECT_EQ(prometheus_sample(metrics, "unima_bridge_mqtt_connected"), 0) << metrics;
+  EXPECT_GE(prometheus_sample(metrics, "unima_bridge_mqtt_buffer_messages").value_or(0), 2) << metrics;
   // Not connected since the drop: after the daemon started, not before.
-  const auto since = sample(metrics, "unima_bridge_mqtt_state_since_timestamp_seconds");
+  const auto since = prometheus_sample(metrics, "unima_bridge_mqtt_state_since_timestamp_seconds");
   ASSERT_TRUE(since) << metrics;
   const auto now = std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
   EXPECT_LE(*since, now) << metrics;

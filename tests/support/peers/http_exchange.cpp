@@ -16,11 +16,11 @@ HttpReply parse_http_reply(const std::string& all) {
   return reply;
 }
 
-HttpReply http_exchange(std::uint16_t port, const std::string& request, const std::string& source) {
+HttpReply http_exchange(std::uint16_t port, const std::string& request, const std::string& source, std::chrono::seconds patience) {
   HttpReply reply;
   auto socket = source.empty() ? Socket::tcp(port) : Socket::tcp_from(source, port);
   if (!socket.valid()) return reply;
-  timeval timeout{5, 0};
+  timeval timeout{static_cast<time_t>(patience.count()), 0};
   ::setsockopt(socket.fd(), SOL_SOCKET, SO_RCVTIMEO, &timeout, sizeof timeout);
   socket.send(request);
   std::string all;
