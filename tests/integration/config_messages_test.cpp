@@ -110,7 +110,8 @@ TEST_F(ConfigMessages, CheckAndTheDaemonAgreeOnAMissingPasswordFileAndAMissingSt
   test_support::write_file(file(), yaml);
   daemon = std::make_unique<Daemon>(dir, yaml);
   ASSERT_TRUE(wait_for_port(config.modbus_port)) << daemon->log();
-  EXPECT_NE(daemon->log().find(warned), std::string::npos) << daemon->log();
+  // The port listens before the bridge starts and says its warnings: wait for the line.
+  EXPECT_TRUE(eventually([&] { return daemon->log().find(warned) != std::string::npos; })) << daemon->log();
   EXPECT_TRUE(eventually([&] { return fs::is_regular_file(typo / "state"); })) << daemon->log();
 }
 
