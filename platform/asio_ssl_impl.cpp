@@ -3,4 +3,6 @@
 
 #include "platform/asio_ssl.hpp"
 
+#ifdef BOOST_ASIO_SEPARATE_COMPILATION
 #include <boost/asio/ssl/impl/src.hpp>
+#endif
