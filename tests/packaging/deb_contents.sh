@@ -1,11 +1,14 @@
 #!/usr/bin/env bash
-# What the .deb holds (dpkg-deb -c) and declares (dpkg-deb -I), and that Debian 12's apt
-# can satisfy its dependencies here.
+# What the .deb holds (dpkg-deb -c) and declares (dpkg-deb -I), that its programs are built
+# for its architecture, and that Debian 12's apt can satisfy its dependencies here.
+# scripts/package.sh runs it on a package of another architecture too: UNIMA_DEB names the
+# package and UNIMA_DEB_ARCH its architecture (default: this machine's).
 . "$(dirname "$0")/lib.sh"
-deb=$(ls "$UNIMA_DEB_DIR"/unima-bridge_*.deb)
+deb=${UNIMA_DEB:-$(ls "$UNIMA_DEB_DIR"/unima-bridge_*.deb)}
+arch=${UNIMA_DEB_ARCH:-$(dpkg --print-architecture)}
 version=$(sed -n 's/^CPACK_PACKAGE_VERSION "\(.*\)"$/\1/p; s/^set(CPACK_PACKAGE_VERSION "\(.*\)")$/\1/p' \
   "$UNIMA_BUILD_DIR/CPackConfig.cmake" | head -n1)
-[ "$(basename "$deb")" = "unima-bridge_${version}_$(dpkg --print-architecture).deb" ] || fail "file name $(basename "$deb")"
+[ "$(basename "$deb")" = "unima-bridge_${version}_${arch}.deb" ] || fail "file name $(basename "$deb")"
 
 dpkg-deb -c "$deb" | awk '{ print $1, $2, $6 }' >"$scratch/contents"
 expect_entry() {  # mode, path
@@ -37,7 +40,7 @@ dpkg-deb -I "$deb" >"$scratch/info"
 field() { dpkg-deb -f "$deb" "$1"; }
 [ "$(field Package)" = unima-bridge ] || fail "Package: $(field Package)"
 [ "$(field Version)" = "$version" ] || fail "Version: $(field Version)"
-[ "$(field Architecture)" = "$(dpkg --print-architecture)" ] || fail "Architecture: $(field Architecture)"
+[ "$(field Architecture)" = "$arch" ] || fail "Architecture: $(field Architecture)"
 [ "$(field Section)" = net ] || fail "Section: $(field Section)"
 [ -n "$(field Maintainer)" ] || fail "no Maintainer"
 # What the daemon is, not only the Modbus TCP slave it was first.
@@ -47,7 +50,8 @@ for what in "Modbus RTU and TCP" "slave" "master" "gateway" "RS-485" "TLS" "capt
   grep -qF -- "$what" <<<"$description" || fail "the description does not say '$what': $description"
 done
 depends=$(field Depends)
-for lib in libc6 libstdc++6 libyaml-cpp0.7 libspdlog1.10 libfmt9 libsystemd0 "systemd | systemd-standalone-sysusers"; do
+for lib in libc6 libstdc++6 libyaml-cpp0.7 libspdlog1.10 libfmt9 libsystemd0 libssl3 libmosquitto1 \
+  "systemd | systemd-standalone-sysusers"; do
   grep -qF -- "$lib" <<<"$depends" || fail "Depends lacks $lib: $depends"
 done
 for script in postinst prerm postrm; do
@@ -61,4 +65,20 @@ dpkg-deb --fsys-tarfile "$deb" | tar -xO ./usr/lib/systemd/system/unima-bridge.s
 expect_line "$scratch/unit" "ExecStart=/usr/sbin/unima-bridged --config /etc/unima-bridge/bridge.yaml"
 cmp -s "$scratch/unit" "$UNIMA_SOURCE_DIR/systemd/unima-bridge.service" || fail "the packaged unit differs from systemd/"
 
+# Each program is an ELF file for the package's architecture (readelf's name of the machine).
+case $arch in
+  amd64) machine="Advanced Micro Devices X86-64" ;;
+  arm64) machine="AArch64" ;;
+  armhf) machine="ARM" ;;
+  *) fail "no ELF machine known for $arch" ;;
+esac
+for program in usr/sbin/unima-bridged usr/bin/unima-bridge; do
+  dpkg-deb --fsys-tarfile "$deb" | tar -xO "./$program" >"$scratch/program"
+  found=$(readelf -h "$scratch/program" | sed -n 's/^ *Machine: *//p')
+  [ "$found" = "$machine" ] || fail "$program is built for '$found', not $arch ($machine)"
+done
+
+# apt resolves another architecture's dependencies against that architecture's systemd,
+# which this machine does not have: only this machine's package is simulated.
+[ "$arch" = "$(dpkg --print-architecture)" ] || exit 0
 apt-get install --simulate "$deb" >"$scratch/apt" 2>&1 || { cat "$scratch/apt" >&2; fail "apt cannot satisfy the dependencies"; }

@@ -1,0 +1,7 @@
+# Cross build for Debian 12 armhf (ARMv7, hard float): 32-bit Raspberry Pi OS and
+# Revolution Pi images (bookworm), Debian 12 on armhf boxes. Used by scripts/package.sh armhf.
+set(UNIMA_DEB_ARCH armhf)
+set(UNIMA_TARGET_TRIPLET arm-linux-gnueabihf)
+set(UNIMA_QEMU qemu-arm-static)
+set(CMAKE_SYSTEM_PROCESSOR arm)
+include(${CMAKE_CURRENT_LIST_DIR}/debian-cross.cmake)

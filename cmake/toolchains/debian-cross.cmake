@@ -1,0 +1,20 @@
+# What a cross build for a Debian 12 box has in common, whatever its architecture
+# (toolchains/arm64.cmake, toolchains/armhf.cmake set the triplet first). Debian's cross
+# compilers are multiarch: they find the target's headers and libraries where the
+# `:arm64` / `:armhf` packages put them (/usr/lib/<triplet>, /usr/include/<triplet>), so
+# no sysroot is needed; scripts/package.sh installs those packages.
+set(CMAKE_SYSTEM_NAME Linux)
+set(CMAKE_C_COMPILER ${UNIMA_TARGET_TRIPLET}-gcc)
+set(CMAKE_CXX_COMPILER ${UNIMA_TARGET_TRIPLET}-g++)
+set(CMAKE_LIBRARY_ARCHITECTURE ${UNIMA_TARGET_TRIPLET})
+set(PKG_CONFIG_EXECUTABLE ${UNIMA_TARGET_TRIPLET}-pkg-config CACHE FILEPATH "pkg-config of the target")
+# Test programs (and gtest_discover_tests, which lists a test binary's tests at build
+# time) run under qemu-user, with the target's loader and libraries from /usr/<triplet>
+# and the multiarch directories.
+set(CMAKE_CROSSCOMPILING_EMULATOR ${UNIMA_QEMU} -L /usr/${UNIMA_TARGET_TRIPLET})
+# Debian 12's libyaml-cpp-dev is not Multi-Arch: same (installing the target's would
+# remove the host's), so the target's runtime library (libyaml-cpp0.7:<arch>) is used with
+# the host's headers of the same version (cross/yaml-cpp/yaml-cpp-config.cmake).
+set(yaml-cpp_DIR ${CMAKE_CURRENT_LIST_DIR}/../cross/yaml-cpp CACHE PATH "yaml-cpp for the target")
+# The Debian package's Architecture field and file name.
+set(CPACK_DEBIAN_PACKAGE_ARCHITECTURE ${UNIMA_DEB_ARCH} CACHE STRING "Debian architecture of the package")
