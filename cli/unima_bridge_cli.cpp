@@ -10,7 +10,9 @@
 #include "banks/table_reference.hpp"
 #include "config/config.hpp"
 #include "config/register_map.hpp"
+#include "report/deadbands.hpp"
 #include "tls/server_credentials.hpp"
+#include "values/value_model.hpp"
 #include "web/basic_auth.hpp"
 #include "cli/master_format.hpp"
 #include "cli/register_map_format.hpp"
@@ -88,6 +90,8 @@ int check(const std::string& path) {
   try {
     const auto config = unima::config::load_file(path);
     const auto map = unima::config::address_map(config);
+    // The daemon checks these at start: a deadband that names no value is an error here too.
+    (void)unima::report::Deadbands(config.report, unima::values::ValueModel(config));
     // The daemon loads these at start: a file it cannot use is an error here too.
     if (const auto& tls = config.modbus.tls) {
       try {

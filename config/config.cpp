@@ -79,4 +79,9 @@ std::vector<std::string> warnings(const Config& config) {
   return found;
 }
 
+Duration max_report_interval(const Config& config) {
+  if (config.report.max_interval) return *config.report.max_interval;
+  return config.mqtt ? config.mqtt->period : MqttConfig{}.period;
+}
+
 }  // namespace unima::config

@@ -325,6 +325,28 @@ struct SparkplugConfig {
   bool operator==(const SparkplugConfig&) const = default;
 };
 
+/// A deadband of `report.deadband` (SPEC §21) as the file writes it: the value it names is
+/// looked up in the value model (report/deadbands), which fails at `origin` when the bank
+/// has no such value.
+struct DeadbandConfig {
+  banks::BankId bank = banks::BankId::D1;
+  std::string value;   // the value's name in its bank ("engine_speed", "D1.oil_temperature" in A)
+  double deadband = 0;  // in the value's unit
+  std::string origin;   // "file:line:col" of its key
+  bool operator==(const DeadbandConfig&) const = default;
+};
+
+/// report (SPEC §21): when MQTT documents and Sparkplug DDATA count a value as changed and
+/// how often a bank's document goes.
+struct ReportConfig {
+  Duration min_interval{100};           // no bank document sooner than this after its last
+  std::optional<Duration> max_interval;  // a full document at least this often; none: mqtt.publish.period
+  double default_deadband = 0;           // 0: every change counts (what the bridge did before §21)
+  std::vector<DeadbandConfig> deadbands;  // in the order the file writes them
+  std::string origin;                     // "file:line:col" of report; empty: not in the file
+  bool operator==(const ReportConfig&) const = default;
+};
+
 /// A path the config names on this machine: the parse only notes it, check_on_host looks
 /// at what is there.
 struct HostPath {
@@ -362,6 +384,7 @@ struct Config {
   std::optional<HttpConfig> http;  // absent: no HTTP
   std::optional<MqttConfig> mqtt;  // absent: no MQTT
   std::optional<SparkplugConfig> sparkplug;  // absent: no Sparkplug B
+  ReportConfig report;
   std::vector<HostPath> host_paths;  // in the order the file names them
   /// Warnings the parse and check_on_host found (a PLC-style register number, a serial
   /// device not there, an expired certificate), as warning_text writes them; config::warnings
@@ -423,6 +446,10 @@ banks::AddressMap address_map(const Config& config);
 /// (banks::WritePath is frozen by it); `modbus.tls.read_only` is the TLS port's own, in
 /// addition.
 bool writes_frozen(const Config& config);
+
+/// report.max_interval, else mqtt.publish.period (SPEC §21): how often a bank's full
+/// document goes at least.
+Duration max_report_interval(const Config& config);
 
 /// Things that are allowed but probably not meant, for the log at start-up and for
 /// `unima-bridge check`: blocks ignored in this mode, capture blocks without an RTU port,

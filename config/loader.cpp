@@ -26,7 +26,7 @@ Config parse_document(const YAML::Node& root, const std::string& origin, const H
   if (!root.IsNull() && !root.IsMap()) yaml.fail(root, "the config must be a mapping of sections");
   yaml.expect_keys(root, "the config",
                    {"unimabus", "modbus", "banks", "devices", "mapping", "blocks", "log", "monitor", "status", "state",
-                    "http", "mqtt", "sparkplug"});
+                    "http", "mqtt", "sparkplug", "report"});
   for (banks::BankId bank : banks::all_banks) state.config.bank_bases[index_of(bank)] = banks::default_base(bank);
   if (root["unimabus"]) parse_unimabus(state, root["unimabus"]);
   if (root["modbus"]) parse_modbus(state, root["modbus"]);
@@ -42,6 +42,8 @@ Config parse_document(const YAML::Node& root, const std::string& origin, const H
   if (root["http"]) parse_http(state, root["http"]);
   if (root["mqtt"]) parse_mqtt(state, root["mqtt"]);
   if (root["sparkplug"]) parse_sparkplug(state, root["sparkplug"]);
+  // After mqtt: max_interval defaults to its period.
+  if (root["report"]) parse_report(state, root["report"]);
   validate_layout(state, root);
   resolve_tls_roles(state);
   state.config.noted_warnings = yaml.take_warnings();

@@ -68,6 +68,10 @@ void parse_http(ParseState& state, const YAML::Node& node);
 void parse_mqtt(ParseState& state, const YAML::Node& node);
 void parse_sparkplug(ParseState& state, const YAML::Node& node);
 
+// report_section.cpp: deadbands and intervals (SPEC §21); after mqtt, whose period is
+// max_interval's default, and after the devices its deadbands name.
+void parse_report(ParseState& state, const YAML::Node& node);
+
 // layout_sections.cpp: where the banks are and what they hold.
 void parse_bank_bases(ParseState& state, const YAML::Node& node);
 void parse_devices(ParseState& state, const YAML::Node& node);

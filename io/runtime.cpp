@@ -37,6 +37,8 @@ std::unique_ptr<Banks> build_banks(config::Config config, banks::WriteJournal* j
   b->register_rows = config::register_map(config);
   b->value_model = values::ValueModel(config);
   b->values = std::make_unique<values::CurrentValues>(*b->store, b->value_model);
+  // A deadband that names no value fails the start or the reload, at its key.
+  b->deadbands = report::Deadbands(config.report, b->value_model);
   b->config = std::move(config);
   return b;
 }

@@ -23,6 +23,7 @@
 #include "monitor/monitor.hpp"
 #include "status/document.hpp"
 #include "platform/asio.hpp"
+#include "report/deadbands.hpp"
 #include "unimabus/publisher.hpp"
 #include "unimabus/telegram_intake.hpp"
 #include "values/current_values.hpp"
@@ -44,6 +45,8 @@ struct Banks {
   values::ValueModel value_model;
   /// The values now, evaluated once per change for all who show or publish them.
   std::unique_ptr<values::CurrentValues> values;
+  /// What moves each value must make to count as changed (SPEC §21), for MQTT and Sparkplug.
+  report::Deadbands deadbands;
 };
 
 /// `config`'s banks; the writes go to `journal` (null: kept nowhere).

@@ -145,7 +145,7 @@ EdgeSession::Device& EdgeSession::state_of(banks::BankId bank) {
 Message EdgeSession::birth_of(const DeviceReading& device, Device& state, std::uint64_t now_ms) {
   Payload payload;
   payload.timestamp = now_ms;
-  payload.metrics = metrics_of(*device.layout, device.values, now_ms);
+  payload.metrics = metrics_of(*device.layout, device.values, device.measured_ms.value_or(now_ms));
   payload.seq = take_seq();
   state.born = true;
   state.sent.assign(device.values.begin(), device.values.end());
@@ -197,14 +197,16 @@ std::vector<Message> EdgeSession::step(std::span<const DeviceReading> devices, s
     } else if (!state.born && alive) {
       due.push_back(birth_of(device, state, now_ms));
     } else if (state.born) {
-      auto changed = changed_metrics_of(*device.layout, state.sent, device.values, now_ms, state.resend);
+      const auto changed = changed_values(*device.layout, state.sent, device.values, device.deadbands, state.resend);
       state.resend.clear();
       if (changed.empty()) continue;
       Payload payload;
       payload.timestamp = now_ms;
-      payload.metrics = std::move(changed);
+      payload.metrics = metrics_at(*device.layout, device.values, changed, device.measured_ms.value_or(now_ms));
       payload.seq = take_seq();
-      state.sent.assign(device.values.begin(), device.values.end());
+      // Only what went: a move within its deadband is measured from the value the host has.
+      state.sent.resize(device.values.size());
+      for (const auto i : changed) state.sent[i] = device.values[i];
       ++counters_.data;
       due.push_back({device_topic("DDATA", banks::bank_name(bank)), encoded(payload)});
     }

@@ -60,6 +60,8 @@ struct DeviceReading {
   const values::BankValues* layout = nullptr;
   std::span<const values::Value> values;  // ValueModel::evaluate's, kept by the caller for the step
   bool online = true;
+  std::span<const double> deadbands;      // report::Deadbands::of; empty: every change counts
+  std::optional<std::uint64_t> measured_ms;  // when its values were measured (SPEC §21); none: the step's now
 };
 
 /// A write a DCMD asks for: the bits `mask` of a register of W or X set to those of `raw`

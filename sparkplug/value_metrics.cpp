@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "report/change_rule.hpp"
 #include "sparkplug/metric_value.hpp"
 
 namespace unima::sparkplug {
@@ -71,21 +72,31 @@ std::vector<Metric> metrics_of(const values::BankValues& layout, std::span<const
   return metrics;
 }
 
+std::vector<std::size_t> changed_values(const values::BankValues& layout, std::span<const values::Value> sent,
+                                        std::span<const values::Value> values, std::span<const double> deadbands,
+                                        std::span<const std::size_t> also) {
+  std::vector<std::size_t> changed;
+  for (std::size_t i = 0; i < layout.values.size() && i < values.size(); ++i) {
+    if (!has_metric(layout.values[i])) continue;
+    const bool moved = i >= sent.size() ||
+                       report::counts_as_changed(sent[i], values[i], i < deadbands.size() ? deadbands[i] : 0);
+    if (moved || std::find(also.begin(), also.end(), i) != also.end()) changed.push_back(i);
+  }
+  return changed;
+}
+
+std::vector<Metric> metrics_at(const values::BankValues& layout, std::span<const values::Value> values,
+                               std::span<const std::size_t> indices, std::uint64_t timestamp_ms) {
+  std::vector<Metric> metrics;
+  metrics.reserve(indices.size());
+  for (const auto i : indices) metrics.push_back(metric_of(layout.values[i], values[i], timestamp_ms));
+  return metrics;
+}
+
 std::vector<Metric> changed_metrics_of(const values::BankValues& layout, std::span<const values::Value> sent,
                                        std::span<const values::Value> values, std::uint64_t timestamp_ms,
                                        std::span<const std::size_t> also) {
-  std::vector<Metric> metrics;
-  std::size_t changed = 0;
-  for (std::size_t i = 0; i < values.size(); ++i) changed += i >= sent.size() || !(sent[i].reading == values[i].reading);
-  if (changed == 0 && also.empty()) return metrics;
-  metrics.reserve(changed + also.size());
-  for (std::size_t i = 0; i < layout.values.size() && i < values.size(); ++i) {
-    const auto& def = layout.values[i];
-    const bool unchanged = i < sent.size() && sent[i].reading == values[i].reading;
-    if (!has_metric(def) || (unchanged && std::find(also.begin(), also.end(), i) == also.end())) continue;
-    metrics.push_back(metric_of(def, values[i], timestamp_ms));
-  }
-  return metrics;
+  return metrics_at(layout, values, changed_values(layout, sent, values, {}, also), timestamp_ms);
 }
 
 }  // namespace unima::sparkplug

@@ -50,11 +50,21 @@ bool has_metric(const values::ValueDef& def);
 std::vector<Metric> metrics_of(const values::BankValues& layout, std::span<const values::Value> values,
                                std::uint64_t timestamp_ms);
 
-/// The metrics of a DDATA: those whose reading differs from `sent` (what the bank's last
-/// birth or data message carried), with name, timestamp, datatype and reading or is_null;
-/// none when nothing changed. A value that only changed why it is null (not measured to
-/// off-line) is no change on Sparkplug. The values at `also` (indices into the layout) are
-/// sent changed or not: a host told again what a refused command left as it was.
+/// The values of a DDATA, by their index in the layout: those with a metric that count as
+/// changed (report/change_rule, by `deadbands`: report::Deadbands::of, empty: 0 for all)
+/// from `sent` (what the bank's last birth or data message carried of each); none when
+/// nothing changed. A value that only changed why it is null (not measured to off-line)
+/// is no change on Sparkplug. The values at `also` are sent changed or not: a host told
+/// again what a refused command left as it was.
+std::vector<std::size_t> changed_values(const values::BankValues& layout, std::span<const values::Value> sent,
+                                        std::span<const values::Value> values, std::span<const double> deadbands,
+                                        std::span<const std::size_t> also = {});
+
+/// The metrics of the values at `indices`, with name, timestamp, datatype and reading or is_null.
+std::vector<Metric> metrics_at(const values::BankValues& layout, std::span<const values::Value> values,
+                               std::span<const std::size_t> indices, std::uint64_t timestamp_ms);
+
+/// metrics_at(changed_values()) without deadbands: every change counts.
 std::vector<Metric> changed_metrics_of(const values::BankValues& layout, std::span<const values::Value> sent,
                                        std::span<const values::Value> values, std::uint64_t timestamp_ms,
                                        std::span<const std::size_t> also = {});

@@ -16,6 +16,9 @@ namespace unima::io {
 
 namespace {
 
+// How soon a broker that does not keep up, or the buffer's start, is looked at again.
+constexpr std::chrono::milliseconds retry_after{100};
+
 bool same_client(const config::Config& a, const config::Config& b) {
   return a.mqtt.has_value() == b.mqtt.has_value() && (!a.mqtt || a.mqtt->same_client(*b.mqtt));
 }
@@ -87,7 +90,10 @@ void MqttService::lay_out() {
     return;
   }
   banks_ = mqtt::published_banks(running.value_model);
-  schedule_.emplace(banks_.size(), running.config.mqtt->period, running.config.mqtt->on_change);
+  schedule_.emplace(banks_.size(), report::Intervals{.min_interval = running.config.report.min_interval,
+                                                     .max_interval = config::max_report_interval(running.config),
+                                                     .on_change = running.config.mqtt->on_change});
+  measured_ = {};
 }
 
 // A command is a Modbus write by other means: it takes the one write path (rights, the
@@ -197,7 +203,7 @@ std::string MqttService::allowed_response_topic(const MqttMessage& message) {
 
 // Armed only when nothing sooner is: a change that may go at once does not wait for it,
 // and a wake-up too early finds nothing due and arms again.
-void MqttService::wake_at(mqtt::PublishSchedule::Clock::time_point when) {
+void MqttService::wake_at(report::ReportSchedule::Clock::time_point when) {
   if (timer_due_ && *timer_due_ <= when) return;
   timer_due_ = when;
   timer_.expires_at(when);
@@ -214,34 +220,35 @@ bool MqttService::buffering() const { return buffer_ && !client_->connected() &&
 
 void MqttService::publish() {
   if (!client_ || !schedule_) return;
-  const bool live = client_->connected();
-  // A broker that does not keep up gets the latest state once it does, not a queue of states.
-  if (live && client_->backlogged()) return wake_at(mqtt::PublishSchedule::Clock::now() + mqtt::PublishSchedule::min_interval);
-  if (!live && !buffering()) {
-    // The connection publishes everything when it comes; until then, only the buffer's
-    // start (an attempt that fails) is looked for, as often as a document could go.
-    if (buffer_) wake_at(mqtt::PublishSchedule::Clock::now() + mqtt::PublishSchedule::min_interval);
-    return;
-  }
+  // Connected or not: a bank that changed while the broker was away keeps its change's time.
   const auto& running = *runtime_.banks;
   std::vector<std::uint64_t> changes;
   changes.reserve(banks_.size());
   for (const auto bank : banks_) changes.push_back(running.store->changes(bank));
+  measured_.note(changes, runtime_.changes.changed_at());
+  const bool live = client_->connected();
+  // A broker that does not keep up gets the latest state once it does, not a queue of states.
+  const auto retry_at = report::ReportSchedule::Clock::now() + std::max(schedule_->intervals().min_interval, retry_after);
+  if (live && client_->backlogged()) return wake_at(retry_at);
+  if (!live && !buffering()) {
+    // The connection publishes everything when it comes; until then, only the buffer's
+    // start (an attempt that fails) is looked for, as often as a document could go.
+    if (buffer_) wake_at(retry_at);
+    return;
+  }
   // Evaluated only for the banks that may go now, and once for every consumer.
   auto& current = *running.values;
-  const auto state_of = [&](std::size_t index) {
+  const auto bank_now = [&](std::size_t index) {
     const auto bank = banks_[index];
-    const auto state = mqtt::bank_values(*running.value_model.bank(bank), current.of(bank),
-                                         current.snapshot()[banks::index_of(bank)].online);
-    return state.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+    return report::ReportSchedule::BankNow{current.of(bank), current.snapshot()[banks::index_of(bank)].online,
+                                           running.deadbands.of(bank)};
   };
-  const auto due = schedule_->due(changes, mqtt::PublishSchedule::Clock::now(), state_of);
-  const auto now = std::chrono::system_clock::now();
+  const auto due = schedule_->due(changes, report::ReportSchedule::Clock::now(), bank_now);
   const auto& prefix = running.config.mqtt->topic;
   for (const auto index : due) {
     const auto bank = banks_[index];
     const auto document = mqtt::bank_document(*running.value_model.bank(bank), current.of(bank),
-                                              current.snapshot()[banks::index_of(bank)].online, now);
+                                              current.snapshot()[banks::index_of(bank)].online, measured_.of(index));
     auto text = document.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
     if (live) client_->publish(prefix + "/" + std::string(banks::bank_name(bank)), text, true);
     else buffer_->append(banks::bank_name(bank), std::move(text));

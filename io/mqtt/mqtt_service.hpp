@@ -1,9 +1,11 @@
 #pragma once
 // MQTT (`mqtt`, SPEC §12) as a service: the client, what it publishes — a bank whose
-// values or on-line state changed on the leading edge (at once when its last document is
-// 100 ms old, else when its 100 ms are up: mqtt::PublishSchedule), woken by the store's
-// changes (io/store_changes) and by a timer for the next due time only; every `period`
-// and after each (re)connection all of them — from the value model (values/) over the
+// values changed beyond their deadbands or whose on-line state changed, on the leading edge
+// (at once when its last document is `report.min_interval` old, else when it is), each in
+// full every `report.max_interval`, and all of them after each (re)connection
+// (report::ReportSchedule, SPEC §21), woken by the store's changes (io/store_changes) and
+// by a timer for the next due time only; each document timed when its values were
+// measured (report::MeasurementTimes) — from the value model (values/) over the
 // register store that Modbus reads, so a document and a Modbus read never disagree — and the commands
 // it takes (`<prefix>/set/W/<n>`, `set/X/<bit>`), written through the one write path and
 // answered on `<prefix>/set/result` or, for an MQTT 5 request that names one, on its
@@ -35,6 +37,8 @@
 #include "io/service.hpp"
 #include "mqtt/bank_documents.hpp"
 #include "mqtt/command_flow.hpp"
+#include "report/measurement_times.hpp"
+#include "report/report_schedule.hpp"
 
 namespace unima::io {
 
@@ -55,7 +59,7 @@ class MqttService final : public Service {
   void lay_out();
   /// Publishes what is due now and arms the timer for what is due next.
   void publish();
-  void wake_at(mqtt::PublishSchedule::Clock::time_point when);
+  void wake_at(report::ReportSchedule::Clock::time_point when);
   /// A command read from the broker: carried out now, or after those read before it that
   /// wait (`later_commands_`).
   void take_command(const MqttMessage& message);
@@ -76,13 +80,14 @@ class MqttService final : public Service {
   Runtime& runtime_;
   std::unique_ptr<MqttClient> client_;
   std::vector<banks::BankId> banks_;  // the published banks, in the model's order
-  std::optional<mqtt::PublishSchedule> schedule_;
+  std::optional<report::ReportSchedule> schedule_;
+  report::MeasurementTimes measured_;  // of banks_
   DiscoveryAnnouncer discovery_;  // Home Assistant's configs (mqtt.discovery)
   std::unique_ptr<HistoryBuffer> buffer_;  // null: mqtt.buffer.file none, or no mqtt at the start
   std::unique_ptr<HistorySender> history_;
   bool history_waits_ = false;  // a new connection's history goes once its live documents are out
   asio::steady_timer timer_;  // the next due time: a capped change, the period, a backlog's retry
-  std::optional<mqtt::PublishSchedule::Clock::time_point> timer_due_;  // none: not armed
+  std::optional<report::ReportSchedule::Clock::time_point> timer_due_;  // none: not armed
   bool started_ = false;
   std::uint64_t response_topics_refused_ = 0;  // of every client this service had
   mqtt::CommandFlow command_flow_;  // commands of every client this service had, waiting for their answer

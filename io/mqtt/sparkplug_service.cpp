@@ -26,10 +26,11 @@ bool same_client(const config::Config& a, const config::Config& b) {
   return a.sparkplug.has_value() == b.sparkplug.has_value() && (!a.sparkplug || a.sparkplug->same_client(*b.sparkplug));
 }
 
-std::uint64_t now_ms() {
-  return static_cast<std::uint64_t>(
-      std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::system_clock::now().time_since_epoch()).count());
+std::uint64_t ms_since_epoch(std::chrono::system_clock::time_point time) {
+  return static_cast<std::uint64_t>(std::chrono::duration_cast<std::chrono::milliseconds>(time.time_since_epoch()).count());
 }
+
+std::uint64_t now_ms() { return ms_since_epoch(std::chrono::system_clock::now()); }
 
 std::filesystem::path bd_seq_file_of(const config::Config& config) {
   if (config.state.file.empty()) return {};
@@ -201,7 +202,18 @@ void SparkplugService::take_command(std::string_view device, std::string_view to
   if (refused) publish_due();
 }
 
+// At every change, connected or not: a bank that changed while the node was away is born
+// again with the time of its change, not of the birth.
+void SparkplugService::note_measured() {
+  const auto& running = *runtime_.banks;
+  std::vector<std::uint64_t> changes;
+  changes.reserve(running.value_model.banks().size());
+  for (const auto& layout : running.value_model.banks()) changes.push_back(running.store->changes(layout.bank));
+  measured_.note(changes, runtime_.changes.changed_at());
+}
+
 void SparkplugService::banks_changed() {
+  note_measured();
   if (!started_ || !client_ || !session_ || !session_->born()) return;
   if (const auto when = pacing_.changed(sparkplug::DataPacing::Clock::now())) look_at(*when);
 }
@@ -231,10 +243,15 @@ void SparkplugService::publish_due() {
   pacing_.looked(now);
   const auto& running = *runtime_.banks;
   auto& current = *running.values;
+  const auto& layouts = running.value_model.banks();
+  note_measured();
   std::vector<sparkplug::DeviceReading> devices;
-  devices.reserve(running.value_model.banks().size());
-  for (const auto& layout : running.value_model.banks())
-    devices.push_back({&layout, current.of(layout.bank), current.snapshot()[banks::index_of(layout.bank)].online});
+  devices.reserve(layouts.size());
+  for (std::size_t i = 0; i < layouts.size(); ++i) {
+    const auto& layout = layouts[i];
+    devices.push_back({&layout, current.of(layout.bank), current.snapshot()[banks::index_of(layout.bank)].online,
+                       running.deadbands.of(layout.bank), ms_since_epoch(measured_.of(i))});
+  }
   for (const auto& message : session_->step(devices, now_ms())) client_->publish_at_most_once(message.topic, message.payload);
 }
 
@@ -304,6 +321,7 @@ void SparkplugService::abandon() {
 
 void SparkplugService::commit(const Banks&) {
   const auto& config = runtime_.config();
+  measured_ = {};  // another store: its banks' times start again
   bd_seq_file_ = bd_seq_file_of(config);
   if (new_client_) {
     if (client_) {

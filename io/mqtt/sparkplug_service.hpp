@@ -22,6 +22,7 @@
 #include "io/cpu_worker.hpp"
 #include "io/mqtt/mqtt_client.hpp"
 #include "io/service.hpp"
+#include "report/measurement_times.hpp"
 #include "sparkplug/data_pacing.hpp"
 #include "sparkplug/edge_session.hpp"
 #include "sparkplug/rebirth_pacing.hpp"
@@ -44,6 +45,8 @@ class SparkplugService final : public Service {
   std::unique_ptr<MqttClient> make_client(const config::Config& config);
   /// The banks changed: a look at once, or when the pacing says.
   void banks_changed();
+  /// report::MeasurementTimes of the banks now.
+  void note_measured();
   void look_at(sparkplug::DataPacing::Clock::time_point when);
   void publish_due();
   /// An NCMD rebirth: now, or once with those asked meanwhile (sparkplug/rebirth_pacing).
@@ -61,6 +64,7 @@ class SparkplugService final : public Service {
   std::optional<sparkplug::EdgeSession> session_;
   std::filesystem::path bd_seq_file_;  // empty: no state file, bdSeq counts from 0 at each start
   sparkplug::DataPacing pacing_;
+  report::MeasurementTimes measured_;  // of the value model's banks, in its order
   asio::steady_timer look_timer_;
   sparkplug::RebirthPacing rebirth_pacing_;
   asio::steady_timer rebirth_timer_;

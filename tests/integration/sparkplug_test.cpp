@@ -60,6 +60,8 @@ std::string float_metric(const std::string& name, float value) {
   return one_metric(name, 9, tag(12, 5) + bits);
 }
 
+std::string device(const std::string& type, const std::string& name) { return "spBv1.0/plant-7/" + type + "/bridge-17/" + name; }
+
 class Sparkplug : public BridgeTest {
  protected:
   void SetUp() override {
@@ -178,6 +180,15 @@ class Sparkplug : public BridgeTest {
     return json::parse(r.output)["sparkplug"];
   }
 
+  /// D1, off-line until this telegram, is born with engine_speed 1234; its next change is DDATA.
+  bool d1_born_at_1234(Socket& feed, const Subscription& subscription) {
+    feed_and_wait(feed, R"({"addr":5,"slot":0,"offset":1,"values":[1234]})", 0x0012, 1234);
+    return wait_for(subscription, device("DBIRTH", "D1"), [](const json& p) {
+             const auto* speed = metric(p, "engine_speed");
+             return speed && (*speed)["value"] == 1234;
+           }).has_value();
+  }
+
   std::unique_ptr<Broker> broker;
   int taps_ = 0;
 };
@@ -185,7 +196,6 @@ class Sparkplug : public BridgeTest {
 const std::string nbirth = "spBv1.0/plant-7/NBIRTH/bridge-17";
 const std::string ndeath = "spBv1.0/plant-7/NDEATH/bridge-17";
 const std::string ncmd = "spBv1.0/plant-7/NCMD/bridge-17";
-std::string device(const std::string& type, const std::string& name) { return "spBv1.0/plant-7/" + type + "/bridge-17/" + name; }
 
 TEST_F(Sparkplug, BirthsNameEveryMetricWithItsTypeUnitAndNullsAndSeqRunsAcrossThem) {
   const auto t = tap();
@@ -238,12 +248,7 @@ TEST_F(Sparkplug, AFedChangeIsDdataAndSeqWrapsFrom255To0) {
   start_with();
   ASSERT_TRUE(wait_for(*t, nbirth)) << daemon->log();
   auto feed = feed_client();
-  // D1 was off-line until this telegram: it is born with it, its next change is DDATA.
-  feed_and_wait(feed, R"({"addr":5,"slot":0,"offset":1,"values":[1234]})", 0x0012, 1234);
-  ASSERT_TRUE(wait_for(*t, device("DBIRTH", "D1"), [](const json& p) {
-    const auto* speed = metric(p, "engine_speed");
-    return speed && (*speed)["value"] == 1234;
-  })) << daemon->log();
+  ASSERT_TRUE(d1_born_at_1234(feed, *t)) << daemon->log();
   feed_and_wait(feed, R"({"addr":5,"slot":0,"offset":1,"values":[1300]})", 0x0012, 1300);
   const auto data = wait_for(*t, device("DDATA", "D1"), [](const json& p) {
     const auto* speed = metric(p, "engine_speed");
@@ -272,6 +277,35 @@ TEST_F(Sparkplug, AFedChangeIsDdataAndSeqWrapsFrom255To0) {
     wrapped = wrapped || (seq == 0 && all[i].topic != nbirth);
   }
   EXPECT_TRUE(wrapped);
+}
+
+// SPEC §21: DDATA follows the same deadbands as MQTT's documents — a move within one is not
+// sent, the next is measured from what the host has — and a metric carries the time its
+// value was measured (the telegram's arrival) as its timestamp.
+TEST_F(Sparkplug, DdataHoldsBackMovesWithinTheDeadbandAndIsTimedWhenMeasured) {
+  config.extra += "report: { deadband: { D1.engine_speed: 5 } }\n";
+  const auto t = tap();
+  start_with();
+  ASSERT_TRUE(wait_for(*t, nbirth)) << daemon->log();
+  auto feed = feed_client();
+  ASSERT_TRUE(d1_born_at_1234(feed, *t)) << daemon->log();
+  feed_and_wait(feed, R"({"addr":5,"slot":0,"offset":1,"values":[1238]})", 0x0012, 1238);
+  std::this_thread::sleep_for(100ms);  // longer than the node's pacing: 1238 would go alone
+  const auto ms = [] {
+    return static_cast<std::uint64_t>(std::chrono::duration_cast<std::chrono::milliseconds>(
+        std::chrono::system_clock::now().time_since_epoch()).count());
+  };
+  const auto before = ms();
+  feed_and_wait(feed, R"({"addr":5,"slot":0,"offset":1,"values":[1240]})", 0x0012, 1240);
+  const auto after = ms();
+  const auto data = wait_for(*t, device("DDATA", "D1"), [](const json& p) { return metric(p, "engine_speed") != nullptr; });
+  ASSERT_TRUE(data) << daemon->log();
+  const auto& speed = *metric(data->payload, "engine_speed");
+  EXPECT_EQ(speed["value"], 1240) << "1238 is within 5 of 1234; 1240 is not";
+  EXPECT_GE(speed["timestamp"].get<std::uint64_t>(), before) << "the telegram's arrival";
+  EXPECT_LE(speed["timestamp"].get<std::uint64_t>(), after);
+  EXPECT_GE(data->payload["timestamp"].get<std::uint64_t>(), speed["timestamp"].get<std::uint64_t>())
+      << "the message goes after its value was measured";
 }
 
 // Every host must read a metric as the bridge means it. Eclipse Tahu's JavaScript codec

@@ -1,5 +1,5 @@
 // mqtt::bank_documents (SPEC §12, §17): which banks are published and what their
-// documents hold of the value model, and when a bank is due.
+// documents hold of the value model (when a bank is due: report_test).
 
 #include <gtest/gtest.h>
 
@@ -81,101 +81,6 @@ TEST(MqttDocuments, ValuesByTheirNamesFlatAndAByItsMappingSource) {
   EXPECT_EQ(gone["online"], false);
   EXPECT_TRUE(gone["status.power_mode"].is_null()) << "an off-line device's bits are null, not false";
   EXPECT_TRUE(gone["engine_speed"].is_null());
-}
-
-// A schedule's due() over banks whose states are `states` (what state_of says), counting
-// which banks it asked for.
-struct Banks {
-  std::vector<std::string> states;
-  std::vector<std::uint64_t> changes;
-  std::vector<std::size_t> asked;
-
-  std::vector<std::size_t> due(PublishSchedule& schedule, PublishSchedule::Clock::time_point now) {
-    asked.clear();
-    return schedule.due(changes, now, [this](std::size_t i) {
-      asked.push_back(i);
-      return states[i];
-    });
-  }
-  void change(std::size_t i, std::string state) {
-    states[i] = std::move(state);
-    ++changes[i];
-  }
-};
-
-TEST(MqttSchedule, AllFirstAllEveryPeriodAndAfterAReconnect) {
-  PublishSchedule schedule(3, 10s, true);
-  Banks banks{{"a", "b", "c"}, {0, 0, 0}, {}};
-  const auto t0 = PublishSchedule::Clock::now();
-  EXPECT_EQ(banks.due(schedule, t0), (std::vector<std::size_t>{0, 1, 2})) << "everything first";
-  EXPECT_EQ(schedule.next_due(), t0 + 10s) << "nothing changed: the period";
-  EXPECT_TRUE(banks.due(schedule, t0 + 5s).empty());
-  EXPECT_TRUE(banks.asked.empty()) << "no count moved: no bank read";
-  EXPECT_EQ(banks.due(schedule, t0 + 10s), (std::vector<std::size_t>{0, 1, 2})) << "the period";
-  schedule.publish_all();
-  EXPECT_EQ(banks.due(schedule, t0 + 10s + 1ms).size(), 3u) << "a reconnect";
-
-  PublishSchedule periodic_only(2, 10s, false);
-  Banks two{{"a", "b"}, {0, 0}, {}};
-  EXPECT_EQ(two.due(periodic_only, t0).size(), 2u);
-  two.change(0, "x");
-  EXPECT_TRUE(two.due(periodic_only, t0 + 1s).empty()) << "on_change: false";
-  EXPECT_EQ(periodic_only.next_due(), t0 + 10s);
-}
-
-// The leading edge: a change after 100 quiet ms goes at once, whatever the clock's phase.
-TEST(MqttSchedule, AChangeAfterAQuiet100msGoesAtOnce) {
-  PublishSchedule schedule(2, 10s, true);
-  Banks banks{{"a", "b"}, {0, 0}, {}};
-  const auto t0 = PublishSchedule::Clock::now();
-  banks.due(schedule, t0);
-  auto at = t0;
-  for (const auto quiet : {100ms, 137ms, 2500ms}) {
-    at += quiet;
-    banks.change(1, "b" + std::to_string(quiet.count()));
-    EXPECT_EQ(banks.due(schedule, at), (std::vector<std::size_t>{1})) << quiet.count() << " ms after the last";
-    EXPECT_EQ(banks.asked, (std::vector<std::size_t>{1})) << "only the bank that changed is read";
-  }
-}
-
-// The cap: a change within 100 ms of the bank's last document waits until they are up and
-// then goes with the latest state — one document, not one per change.
-TEST(MqttSchedule, ChangesWithin100msGoOnceWhenTheyAreUpWithTheLatestState) {
-  PublishSchedule schedule(3, 10s, true);
-  Banks banks{{"a", "b", "c"}, {0, 0, 0}, {}};
-  const auto t0 = PublishSchedule::Clock::now();
-  banks.due(schedule, t0);
-  banks.change(1, "b1");
-  EXPECT_EQ(banks.due(schedule, t0 + 200ms), (std::vector<std::size_t>{1})) << "the edge";
-  banks.change(1, "b2");
-  EXPECT_TRUE(banks.due(schedule, t0 + 230ms).empty()) << "30 ms after its document";
-  EXPECT_TRUE(banks.asked.empty()) << "a capped bank is not even read";
-  EXPECT_EQ(schedule.next_due(), t0 + 300ms) << "when its 100 ms are up";
-  banks.change(1, "b3");
-  banks.change(2, "c1");
-  EXPECT_EQ(banks.due(schedule, t0 + 260ms), (std::vector<std::size_t>{2})) << "another bank has its own edge";
-  EXPECT_EQ(schedule.next_due(), t0 + 300ms);
-  EXPECT_TRUE(banks.due(schedule, t0 + 299ms).empty());
-  EXPECT_EQ(banks.due(schedule, t0 + 300ms), (std::vector<std::size_t>{1}));
-  EXPECT_EQ(banks.asked, (std::vector<std::size_t>{1}));
-  EXPECT_EQ(schedule.next_due(), t0 + 10s) << "nothing pending: the period";
-  EXPECT_TRUE(banks.due(schedule, t0 + 300ms).empty()) << "published once, with b3";
-}
-
-// A count that moved without changing what the document says (a register no value shows)
-// publishes nothing, and leaves the edge where it was.
-TEST(MqttSchedule, ACountThatMovedWithoutAChangedStatePublishesNothing) {
-  PublishSchedule schedule(1, 10s, true);
-  Banks banks{{"a"}, {0}, {}};
-  const auto t0 = PublishSchedule::Clock::now();
-  banks.due(schedule, t0);
-  banks.change(0, "a");
-  EXPECT_TRUE(banks.due(schedule, t0 + 150ms).empty());
-  EXPECT_EQ(banks.asked.size(), 1u);
-  EXPECT_TRUE(banks.due(schedule, t0 + 160ms).empty());
-  EXPECT_TRUE(banks.asked.empty()) << "compared once per change";
-  banks.change(0, "A");
-  EXPECT_EQ(banks.due(schedule, t0 + 170ms), (std::vector<std::size_t>{0})) << "still on the edge";
 }
 
 }  // namespace

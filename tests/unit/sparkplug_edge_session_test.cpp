@@ -64,7 +64,7 @@ class SparkplugEdgeSession : public ::testing::Test {
     std::vector<DeviceReading> all;
     for (const auto& layout : model.banks()) {
       const auto& values = evaluated.emplace_back(model.evaluate(layout.bank, snapshot));
-      all.push_back({&layout, values, snapshot[banks::index_of(layout.bank)].online});
+      all.push_back({&layout, values, snapshot[banks::index_of(layout.bank)].online, {}, std::nullopt});
     }
     return all;
   }
@@ -77,9 +77,13 @@ class SparkplugEdgeSession : public ::testing::Test {
     return session;
   }
 
+  /// One device's step of `session_` at now_ms.
+  std::vector<Message> session_step_(const DeviceReading& device) { return session_->step(std::span(&device, 1), now_ms); }
+
   config::Config config;
   values::ValueModel model;
   banks::RegisterStore store;
+  std::unique_ptr<EdgeSession> session_;
 };
 
 TEST_F(SparkplugEdgeSession, BdSeqCountsConnectsModulo256AndTheDeathCarriesItAsInt64) {
@@ -139,6 +143,55 @@ TEST_F(SparkplugEdgeSession, DataOnChangeOnlyAndSeqWrapsAfter255) {
     EXPECT_EQ(payload.metrics[0].name, "w_00");
   }
   EXPECT_EQ(session.counters().data, 300u);
+}
+
+// SPEC §21: a DDATA carries the values that moved beyond their deadbands, each compared
+// with what the host was last sent of it, and every metric is timed when its values were
+// measured, not when the message goes.
+TEST_F(SparkplugEdgeSession, DataHoldsMovesBeyondTheDeadbandTimedWhenMeasured) {
+  const auto d1 = [&] {
+    for (auto& device : devices())
+      if (device.layout->bank == BankId::D1) return device;
+    return DeviceReading{};
+  };
+  const auto& layout = *model.bank(BankId::D1);
+  std::vector<double> deadbands(layout.values.size(), 0);
+  for (std::size_t i = 0; i < layout.values.size(); ++i)
+    if (layout.values[i].name == "engine_speed") deadbands[i] = 5;
+  const auto step = [&](std::uint64_t measured_ms) {
+    auto device = d1();
+    device.deadbands = deadbands;
+    device.measured_ms = measured_ms;
+    return session_step_(device);
+  };
+  session_ = std::make_unique<EdgeSession>(connected_session());
+  const std::vector<std::uint16_t> speed_1500 = {1500};
+  store.store_telegram(BankId::D1, 1, speed_1500);
+  const auto births = step(now_ms - 7000);
+  ASSERT_FALSE(births.empty());
+  const auto birth = decoded(births.back());
+  ASSERT_NE(find(birth, "engine_speed"), nullptr);
+  EXPECT_EQ(find(birth, "engine_speed")->timestamp, now_ms - 7000) << "a birth's metrics carry the measurement's time";
+
+  const std::vector<std::uint16_t> speed_1504 = {1504};
+  store.store_telegram(BankId::D1, 1, speed_1504);
+  EXPECT_TRUE(step(now_ms - 5000).empty()) << "4 is within the deadband of 5";
+  const std::vector<std::uint16_t> speed_1506 = {1506};
+  store.store_telegram(BankId::D1, 1, speed_1506);
+  const auto data = step(now_ms - 3000);
+  ASSERT_EQ(data.size(), 1u) << "6 from the 1500 the host has";
+  const auto payload = decoded(data[0]);
+  ASSERT_EQ(payload.metrics.size(), 1u);
+  EXPECT_EQ(payload.metrics[0].name, "engine_speed");
+  EXPECT_EQ(std::get<std::uint32_t>(payload.metrics[0].value), 1506u);
+  EXPECT_EQ(payload.metrics[0].timestamp, now_ms - 3000);
+  EXPECT_EQ(payload.timestamp, now_ms) << "the message's own time is when it goes";
+
+  const std::vector<std::uint16_t> oil = {853};
+  store.store_telegram(BankId::D1, 0x21, oil);
+  const auto oil_data = step(now_ms - 1000);
+  ASSERT_EQ(oil_data.size(), 1u) << "no deadband: every change";
+  EXPECT_EQ(decoded(oil_data[0]).metrics.size(), 1u) << "the speed did not move again";
 }
 
 TEST_F(SparkplugEdgeSession, AnOfflineDeviceDiesAndIsBornAgainWhenBack) {
