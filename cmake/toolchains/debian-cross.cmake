@@ -9,9 +9,14 @@ set(CMAKE_CXX_COMPILER ${UNIMA_TARGET_TRIPLET}-g++)
 set(CMAKE_LIBRARY_ARCHITECTURE ${UNIMA_TARGET_TRIPLET})
 set(PKG_CONFIG_EXECUTABLE ${UNIMA_TARGET_TRIPLET}-pkg-config CACHE FILEPATH "pkg-config of the target")
 # Test programs (and gtest_discover_tests, which lists a test binary's tests at build
-# time) run under qemu-user, with the target's loader and libraries from /usr/<triplet>
-# and the multiarch directories.
-set(CMAKE_CROSSCOMPILING_EMULATOR ${UNIMA_QEMU} -L /usr/${UNIMA_TARGET_TRIPLET})
+# time) run under qemu-user with the target's loader and C library both from libc6:<arch>
+# (/lib/ld-linux-*.so, /lib/<triplet>), as on the box: `-L /` looks nowhere else. Not
+# `-L /usr/<triplet>`: its loader is the cross toolchain's libc6-<arch>-cross, frozen at
+# Debian 12's release, while the C library it then loads (via /etc/ld.so.cache) is
+# libc6:<arch> with its updates. The two share the private _rtld_global, whose layout
+# moved between those versions: the first new thread's stack search loops forever.
+# Cached, so that tests/packaging/cross_smoke.sh runs the daemon with the same emulator.
+set(CMAKE_CROSSCOMPILING_EMULATOR ${UNIMA_QEMU} -L / CACHE STRING "runs the target's programs on this machine")
 # Debian 12's libyaml-cpp-dev is not Multi-Arch: same (installing the target's would
 # remove the host's), so the target's runtime library (libyaml-cpp0.7:<arch>) is used with
 # the host's headers of the same version (cross/yaml-cpp/yaml-cpp-config.cmake).

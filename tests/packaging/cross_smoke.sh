@@ -6,12 +6,10 @@
 . "$(dirname "$0")/lib.sh"
 build=$1
 arch=$2
-case $arch in
-  arm64) emulator=(qemu-aarch64-static -L /usr/aarch64-linux-gnu) ;;
-  armhf) emulator=(qemu-arm-static -L /usr/arm-linux-gnueabihf) ;;
-  "$(dpkg --print-architecture)") emulator=() ;;
-  *) fail "unknown architecture $arch" ;;
-esac
+[ -f "$build/CMakeCache.txt" ] || fail "$build is not a configured build tree"
+# The emulator the tree's unit tests run under (cmake/toolchains/debian-cross.cmake), a
+# CMake list; none in a native build.
+IFS=';' read -r -a emulator <<<"$(sed -n 's/^CMAKE_CROSSCOMPILING_EMULATOR:[A-Z]*=//p' "$build/CMakeCache.txt")"
 source_dir=$(cd "$(dirname "$0")/../.." && pwd)
 free_port() { python3 -c 'import socket; s = socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])'; }
 modbus_port=$(free_port)
@@ -22,8 +20,10 @@ sed -e "s/port: 5020/port: $modbus_port/; s/port: 8080/port: $http_port/" \
     -e "s|/tmp/unima-bridge-demo|$scratch|g" "$source_dir/config/examples/demo.yaml" >"$scratch/demo.yaml"
 "${emulator[@]}" "$build/bin/unima-bridged" --config "$scratch/demo.yaml" >"$scratch/daemon.log" 2>&1 &
 daemon=$!
-stop() { kill -TERM "$daemon" 2>/dev/null || true; }
-trap 'stop; rm -rf "$scratch"' EXIT
+# When a check fails the daemon may be stuck where SIGTERM is not yet handled: it must
+# not outlive the test.
+kill_daemon() { [ -z "$daemon" ] || kill -KILL "$daemon" 2>/dev/null || true; }
+trap 'kill_daemon; rm -rf "$scratch"' EXIT
 # Emulated, the daemon starts in seconds rather than milliseconds: up to 60 s.
 for _ in $(seq 600); do
   if curl -sf "http://127.0.0.1:$http_port/metrics" >"$scratch/metrics" 2>/dev/null; then break; fi
@@ -51,5 +51,7 @@ PY
 kill -TERM "$daemon"
 for _ in $(seq 300); do kill -0 "$daemon" 2>/dev/null || break; sleep 0.1; done
 kill -0 "$daemon" 2>/dev/null && fail "the $arch daemon did not stop within 30 s of SIGTERM"
-wait "$daemon" || { status=$?; cat "$scratch/daemon.log" >&2; fail "the $arch daemon exited with status $status on SIGTERM"; }
+stopped=$daemon
+daemon=""
+wait "$stopped" || { status=$?; cat "$scratch/daemon.log" >&2; fail "the $arch daemon exited with status $status on SIGTERM"; }
 echo "the $arch daemon served D1 to mbpoll and pymodbus and /metrics, and stopped on SIGTERM"
