@@ -29,7 +29,9 @@ else
     arm64|armhf) ;;
     *) echo "unknown architecture $arch (amd64, arm64 or armhf)" >&2; exit 2 ;;
   esac
-  wanted+=("crossbuild-essential-$arch" qemu-user-static "libyaml-cpp0.7:$arch" "pkgconf:$arch")
+  # libc6:<arch> (which the libraries pull in anyway) is the loader and C library qemu runs
+  # the target's programs with (cmake/toolchains/debian-cross.cmake).
+  wanted+=("crossbuild-essential-$arch" qemu-user-static "libc6:$arch" "libyaml-cpp0.7:$arch" "pkgconf:$arch")
   for library in "${target_libraries[@]}"; do wanted+=("$library:$arch"); done
 fi
 
