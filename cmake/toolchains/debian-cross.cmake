@@ -15,8 +15,9 @@ set(PKG_CONFIG_EXECUTABLE ${UNIMA_TARGET_TRIPLET}-pkg-config CACHE FILEPATH "pkg
 # Debian 12's release, while the C library it then loads (via /etc/ld.so.cache) is
 # libc6:<arch> with its updates. The two share the private _rtld_global, whose layout
 # moved between those versions: the first new thread's stack search loops forever.
-# Cached, so that tests/packaging/cross_smoke.sh runs the daemon with the same emulator.
-set(CMAKE_CROSSCOMPILING_EMULATOR ${UNIMA_QEMU} -L / CACHE STRING "runs the target's programs on this machine")
+# Cached, so that tests/packaging/cross_smoke.sh runs the daemon with the same emulator;
+# forced, so that an existing build tree follows an edit of this line.
+set(CMAKE_CROSSCOMPILING_EMULATOR ${UNIMA_QEMU} -L / CACHE STRING "runs the target's programs on this machine" FORCE)
 # Debian 12's libyaml-cpp-dev is not Multi-Arch: same (installing the target's would
 # remove the host's), so the target's runtime library (libyaml-cpp0.7:<arch>) is used with
 # the host's headers of the same version (cross/yaml-cpp/yaml-cpp-config.cmake).
