@@ -32,9 +32,11 @@ std::string format_master_plan(const config::Config& config) {
   std::string out;
   const auto& m = config.modbus.master;
   if (!m.tcp.empty()) out += fmt::format("master: tcp {}\n", m.tcp);
-  else
-    out += fmt::format("master: rtu {} {} baud, {} bits per character, t3.5 = {} us\n", config.modbus.rtu->device,
-                       config.modbus.rtu->baud, setup.serial->bits_per_character, setup.serial->frame_gap.count());
+  else if (const auto* master = config.modbus.line_of(config::LineRole::master)) {
+    const auto& line = *master;  // "rtu" for modbus.rtu, as before lines had names
+    out += fmt::format("master: {} {} {} baud, {} bits per character, t3.5 = {} us\n", line.name, line.serial.device,
+                       line.serial.baud, setup.serial->bits_per_character, setup.serial->frame_gap.count());
+  }
   out += fmt::format("  {} blocks in {} requests (merge_gap {})\n", setup.blocks.size(), plan.size(), m.merge_gap);
   for (std::size_t n = 0; n < plan.size(); ++n) {
     const auto& r = plan[n];

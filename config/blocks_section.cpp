@@ -42,15 +42,15 @@ class BlockReader {
         yaml_.expect_keys(b, "a write block", {"type", "register", "output"});
       } else if (type == "capture") {
         block.type = Block::Type::capture;
-        yaml_.expect_keys(b, "a capture block", {"type", "device", "register", "output"});
+        yaml_.expect_keys(b, "a capture block", {"type", "device", "register", "output", "line"});
       } else if (type == "poll") {
         block.type = Block::Type::poll;
         yaml_.expect_keys(b, "a poll block", {"type", "device", "register", "period", "output", "function", "data_type",
-                                              "count", "word_order", "scale", "profile", "point", "operand"});
+                                              "count", "word_order", "scale", "profile", "point", "operand", "line"});
       } else {
         block.type = Block::Type::send;
         yaml_.expect_keys(b, "a send block", {"type", "device", "register", "period", "source", "function", "data_type",
-                                              "word_order", "scale", "profile", "point", "operand"});
+                                              "word_order", "scale", "profile", "point", "operand", "line"});
       }
       const auto required = [&](const char* key) {
         if (!b[key]) yaml_.fail(b, fmt::format("a {} block needs '{}'", type, key));
@@ -69,11 +69,10 @@ class BlockReader {
         output_users[block.output] = &b;
       }
       if (block.type == Block::Type::capture || block.type == Block::Type::poll || block.type == Block::Type::send) {
+        block.line = line_of_block(b, block);
         const auto& device = required("device");
         block.device = static_cast<std::uint8_t>(yaml_.number(device, 1, 247));
-        if (block.type == Block::Type::capture && block.device == state_.config.modbus.address)
-          yaml_.fail(device, fmt::format("a capture block listens to another device; {} is the bridge's own "
-                                         "Modbus address (modbus.address)", block.device));
+        if (block.type == Block::Type::capture) capture_device(device, block);
       }
       if (block.type == Block::Type::poll || block.type == Block::Type::send) {
         const auto& period = required("period");
@@ -86,6 +85,43 @@ class BlockReader {
   }
 
  private:
+  // SPEC §18: a capture block listens on a slave line, poll and send blocks go out on a
+  // master line: the one `line:` names, else the only line of that role. Empty when there
+  // is none (the block is then inactive, or the master drives modbus.master.tcp).
+  std::string line_of_block(const YAML::Node& b, const Block& block) const {
+    const auto& modbus = state_.config.modbus;
+    const auto role = block.type == Block::Type::capture ? LineRole::slave : LineRole::master;
+    const auto type = block_type_name(block.type);
+    std::vector<std::string> names;  // the lines of `role`
+    for (const auto& line : modbus.lines)
+      if (line.role == role) names.push_back(line.name);
+    if (const auto line = b["line"]) {
+      const auto name = yaml_.text(line);
+      const auto* found = modbus.find_line(name);
+      if (!found)
+        yaml_.fail(line, fmt::format("no line is named '{}' ({} lines: {})", name, line_role_name(role),
+                                     names.empty() ? std::string("none") : fmt::format("{}", fmt::join(names, ", "))));
+      if (found->role != role)
+        yaml_.fail(line, fmt::format("the line {} is a {} line; a {} block goes on a {} line", name,
+                                     line_role_name(found->role), type, line_role_name(role)));
+      return name;
+    }
+    if (names.size() > 1)
+      yaml_.fail(b, fmt::format("a {} block needs 'line': {} lines are {} lines ({})", type, names.size(),
+                                line_role_name(role), fmt::join(names, ", ")));
+    return names.empty() ? std::string() : names.front();
+  }
+
+  // A capture block listens to another device than the bridge answers as on its line.
+  void capture_device(const YAML::Node& device, const Block& block) const {
+    const auto* line = state_.config.modbus.find_line(block.line);
+    const bool own_line = line && line->key != "modbus.rtu";
+    const auto own = own_line ? line->address : state_.config.modbus.address;
+    if (block.device == own)
+      yaml_.fail(device, fmt::format("a capture block listens to another device; {} is the bridge's own Modbus address "
+                                     "({})", block.device, own_line ? line->key + ".address" : "modbus.address"));
+  }
+
   // What a poll or send block reads or writes on the foreign slave: a profile point, or a
   // register with function, data type, word order and scale (SPEC §4 extensions).
   void master_point(const YAML::Node& b, Block& block) {

@@ -28,10 +28,37 @@ std::uint16_t Block::extent() const {
   return static_cast<std::uint16_t>(master::register_span(data_type));
 }
 
+const LineConfig* ModbusConfig::line_of(LineRole role) const {
+  for (const auto& line : lines)
+    if (line.role == role) return &line;
+  return nullptr;
+}
+
+const LineConfig* ModbusConfig::find_line(std::string_view name) const {
+  for (const auto& line : lines)
+    if (line.name == name) return &line;
+  return nullptr;
+}
+
+bool ModbusConfig::serves_slave_blocks() const { return mode == ModbusMode::slave || line_of(LineRole::slave); }
+
+const GatewayConfig* ModbusConfig::gateway() const {
+  const auto* line = line_of(LineRole::master);
+  return line && line->gateway ? &*line->gateway : nullptr;
+}
+
+namespace {
+
+bool block_acts(const ModbusConfig& modbus, const Block& block) {
+  return block.is_slave_block() ? modbus.serves_slave_blocks() : modbus.mode == ModbusMode::master;
+}
+
+}  // namespace
+
 std::vector<const Block*> Config::active_blocks() const {
   std::vector<const Block*> active;
   for (const auto& block : blocks)
-    if (block.is_slave_block() == (modbus.mode == ModbusMode::slave)) active.push_back(&block);
+    if (block_acts(modbus, block)) active.push_back(&block);
   return active;
 }
 
@@ -48,12 +75,12 @@ std::vector<std::string> warnings(const Config& config) {
     found.push_back(warning_text(config.modbus.master.origin,
                                  "modbus.master is set, but this bridge is a slave; the master settings are unused"));
   for (const auto& block : config.blocks) {
-    if (block.is_slave_block() != slave)
+    if (!block_acts(config.modbus, block))
       found.push_back(warning_text(block.origin, fmt::format("{} block ignored: {} blocks act in {} mode only, this bridge is a {}",
                                                              block_type_name(block.type), block_type_name(block.type),
                                                              block.is_slave_block() ? "slave" : "master",
                                                              slave ? "slave" : "master")));
-    else if (block.type == Block::Type::capture && !config.modbus.rtu)
+    else if (block.type == Block::Type::capture && block.line.empty())
       found.push_back(warning_text(block.origin, "capture block inactive: capture listens on a Modbus RTU line, and "
                                                  "modbus.rtu is not set"));
   }

@@ -166,16 +166,43 @@ struct GatewayConfig {
   bool routes(std::uint8_t unit) const { return units[unit]; }
 };
 
+enum class LineRole { slave, master };
+constexpr const char* line_role_name(LineRole role) { return role == LineRole::master ? "master" : "slave"; }
+
+/// An RS-485 line of modbus.lines (SPEC §18), or modbus.rtu as the one line named `rtu`.
+struct LineConfig {
+  std::string name;                      // [a-z0-9_-]{1,16}; "rtu" for modbus.rtu
+  LineRole role = LineRole::slave;
+  RtuConfig serial;                      // device, baud, parity, stop bits, frame_gap
+  std::uint8_t address = 1;              // a slave line: the address it answers (default modbus.address)
+  std::optional<GatewayConfig> gateway;  // a master line: the unit ids TCP and TLS clients reach through it
+  std::string key;                       // "modbus.lines.<name>", or "modbus.rtu": what messages name
+};
+
 struct ModbusConfig {
+  /// master: the master runs (on a master line, or on modbus.master.tcp); slave: it does not.
+  /// For modbus.rtu as written; for modbus.lines, master when a line is a master.
   ModbusMode mode = ModbusMode::slave;
   std::uint8_t address = 1;  // seed "MBSAddr"
   std::optional<TcpSlaveConfig> tcp;
   std::optional<TlsSlaveConfig> tls;
-  std::optional<RtuConfig> rtu;
+  /// modbus.lines in the file's order, or modbus.rtu as one line named `rtu` with the
+  /// mode's role: every RTU line the bridge serves. Names, devices and routed units differ.
+  std::vector<LineConfig> lines;
   MasterConfig master;
-  std::optional<GatewayConfig> gateway;
   bool readable_write_banks = true;
   Extensions extensions;
+
+  /// The line of this role the bridge serves; null when there is none. The parse lets at
+  /// most one line have each role (config/modbus_section.cpp says why).
+  const LineConfig* line_of(LineRole role) const;
+  /// The line named `name`; null when there is none.
+  const LineConfig* find_line(std::string_view name) const;
+  /// Whether the blocks of this kind act: slave blocks without a master or beside a slave
+  /// line, master blocks with one (SPEC §4, §18).
+  bool serves_slave_blocks() const;
+  /// The master line's gateway (SPEC §14); null without one.
+  const GatewayConfig* gateway() const;
 };
 
 struct DeviceConfig {
@@ -201,6 +228,10 @@ struct Block {
   std::uint16_t count = 1;                 // bits read together (functions 1, 2)
   const master::DeviceProfile* profile = nullptr;
   std::string point;                       // the profile point named, if any
+  /// capture: the slave line it listens on; poll, send: the master line they go out on.
+  /// `line:` as written, else the only line of that role; empty when there is none (a
+  /// capture without a slave line, a master on modbus.master.tcp).
+  std::string line;
 
   bool is_slave_block() const { return type == Type::read || type == Type::write || type == Type::capture; }
   /// Registers (or coils) on the foreign slave.

@@ -113,7 +113,7 @@ std::optional<std::string> doubt(const Config& config, const HostPath& path) {
     return tls::certificate_out_of_date(path.path, std::time(nullptr));
   if (path.use != HostPath::Use::serial_device || ::access(path.path.c_str(), R_OK | W_OK) == 0) return std::nullopt;
   const auto why = errno == ENOENT ? std::string("no such device") : std::string(std::strerror(errno));
-  if (config.modbus.mode == ModbusMode::master)
+  if (const auto* master = config.modbus.line_of(LineRole::master); master && master->serial.device == path.path)
     return fmt::format("{}; the master needs its line: the daemon will not start until it can open it", why);
   return fmt::format("{}; the daemon starts without it and tries to open it again every {} s (an adapter not plugged "
                      "in yet is fine)",

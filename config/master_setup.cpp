@@ -39,18 +39,18 @@ char parity_letter(Parity parity) { return parity == Parity::even ? 'E' : parity
 std::vector<std::string> foreign_slave_warnings(const Config& config) {
   std::vector<std::string> found;
   const auto& m = config.modbus.master;
-  const auto& rtu = config.modbus.rtu;
+  const auto* line = config.modbus.line_of(LineRole::master);
   for (const auto& [address, use] : device_profiles(config)) {
     const auto& p = *use.profile;
     const auto device = m.devices.find(address);
     const auto* set = device != m.devices.end() && device->second.line ? &*device->second.line : nullptr;
     if (!set && !p.line) continue;  // nothing known to compare with
-    const auto& line = set ? *set : *p.line;
-    if (rtu && m.tcp.empty() &&
-        (rtu->baud != line.baud || parity_letter(rtu->parity) != line.parity || rtu->stop_bits != line.stop_bits))
-      found.push_back(warning_text(rtu->origin, fmt::format("modbus.rtu is {} baud 8{}{}, but device {} ({} at {}) {} {} baud 8{}{}{}",
-                                  rtu->baud, parity_letter(rtu->parity), rtu->stop_bits, address, p.id,
-                                  use.origin, set ? "is set to" : "talks at", line.baud, line.parity, line.stop_bits,
+    const auto& wire = set ? *set : *p.line;  // the device's character format
+    if (const auto* rtu = line ? &line->serial : nullptr;
+        rtu && (rtu->baud != wire.baud || parity_letter(rtu->parity) != wire.parity || rtu->stop_bits != wire.stop_bits))
+      found.push_back(warning_text(rtu->origin, fmt::format("{} is {} baud 8{}{}, but device {} ({} at {}) {} {} baud 8{}{}{}",
+                                  line->key, rtu->baud, parity_letter(rtu->parity), rtu->stop_bits, address, p.id,
+                                  use.origin, set ? "is set to" : "talks at", wire.baud, wire.parity, wire.stop_bits,
                                   set ? "" : fmt::format(" by default ({}); if it was set to the line's, say so in "
                                                          "modbus.master.devices.{}.line", p.source, address))));
     if (p.min_reply_time.count() == 0) continue;
@@ -72,8 +72,10 @@ MasterSetup master_setup(const Config& config) {
   std::map<std::uint8_t, const master::DeviceProfile*> profiles;
   for (const auto& [address, use] : device_profiles(config)) profiles[address] = use.profile;
 
+  const auto* line = config.modbus.line_of(LineRole::master);
   for (const Block* block : config.active_blocks()) {
     if (block->type != Block::Type::poll && block->type != Block::Type::send) continue;
+    if (block->line != (line ? line->name : std::string())) continue;  // another line's
     master::MasterBlock b;
     b.kind = block->type == Block::Type::poll ? master::MasterBlock::Kind::poll : master::MasterBlock::Kind::send;
     b.device = block->device;
@@ -102,8 +104,8 @@ MasterSetup master_setup(const Config& config) {
   s.backoff = m.backoff;
   s.backoff_max = m.backoff_max;
   s.default_timing = {m.min_gap, m.response_timeout};
-  if (const auto& rtu = config.modbus.rtu; rtu && m.tcp.empty()) {
-    setup.serial = line_timing(*rtu);
+  if (line) {
+    setup.serial = line_timing(line->serial);
     s.frame_gap = setup.serial->frame_gap;
     s.char_time = setup.serial->character;
     for (const auto& [address, profile] : profiles) s.frame_gap = std::max<master::MasterScheduler::Duration>(s.frame_gap, profile->frame_gap);

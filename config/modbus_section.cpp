@@ -4,6 +4,11 @@
 #include <algorithm>
 #include <array>
 #include <cctype>
+#include <initializer_list>
+#include <iterator>
+#include <optional>
+#include <string_view>
+#include <vector>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -16,14 +21,19 @@ namespace unima::config::sections {
 
 namespace {
 
-RtuConfig parse_rtu_line(ParseState& state, const YAML::Node& node) {
+// The serial keys of modbus.rtu and of a line of modbus.lines; `key` names the line in
+// messages, `other_keys` are the line's keys besides them.
+RtuConfig parse_serial(ParseState& state, const YAML::Node& node, const std::string& key,
+                       std::initializer_list<std::string_view> other_keys) {
   const auto& yaml = state.yaml;
-  yaml.expect_keys(node, "modbus.rtu", {"device", "baud", "parity", "stop_bits", "rs485", "low_latency", "frame_gap"});
+  std::vector<std::string_view> allowed{"device", "baud", "parity", "stop_bits", "rs485", "low_latency", "frame_gap"};
+  allowed.insert(allowed.end(), other_keys.begin(), other_keys.end());
+  yaml.expect_keys(node, key, allowed);
   RtuConfig r;
   r.origin = yaml.position(node);
-  if (!node["device"]) yaml.fail(node, "modbus.rtu needs the serial device, e.g. device: /dev/ttyUSB0");
+  if (!node["device"]) yaml.fail(node, fmt::format("{} needs the serial device, e.g. device: /dev/ttyUSB0", key));
   r.device = yaml.text(node["device"]);
-  note_host_path(state, HostPath::Use::serial_device, node["device"], "modbus.rtu.device", r.device);
+  note_host_path(state, HostPath::Use::serial_device, node["device"], key + ".device", r.device);
   if (const auto baud = node["baud"]) {
     r.baud = static_cast<unsigned>(yaml.number(baud, 0, 115200));
     // The seed's rates (4800..19200) and the usual ones above, up to 115200 (SPEC §3).
@@ -116,33 +126,34 @@ void parse_master(ParseState& state, const YAML::Node& node) {
 }
 
 // One item of modbus.gateway.units: an id, or a range "2-9".
-void parse_gateway_unit(const YamlReader& yaml, const YAML::Node& item, GatewayConfig& gateway) {
-  const auto [first, last] = parse_unit_range(yaml, item, yaml.text(item), "modbus.gateway.units", "3 or 2-9");
+void parse_gateway_unit(const YamlReader& yaml, const YAML::Node& item, const std::string& key, GatewayConfig& gateway) {
+  const auto [first, last] = parse_unit_range(yaml, item, yaml.text(item), key + ".units", "3 or 2-9");
   for (unsigned unit = first; unit <= last; ++unit) gateway.units[unit] = true;
 }
 
-GatewayConfig parse_gateway(const YamlReader& yaml, const YAML::Node& node) {
-  yaml.expect_keys(node, "modbus.gateway", {"units", "priority", "wait", "timeout", "cache", "functions"});
+// `key`: "modbus.gateway", or a line's "modbus.lines.<name>.gateway".
+GatewayConfig parse_gateway(const YamlReader& yaml, const YAML::Node& node, const std::string& key) {
+  yaml.expect_keys(node, key, {"units", "priority", "wait", "timeout", "cache", "functions"});
   GatewayConfig gateway;
   gateway.origin = yaml.position(node);
   const auto units = node["units"];
   if (!units || !units.IsSequence() || units.size() == 0)
-    yaml.fail(units ? units : node, "modbus.gateway.units must list the unit ids forwarded to the line, e.g. [2-9, 17]");
+    yaml.fail(units ? units : node, fmt::format("{}.units must list the unit ids forwarded to the line, e.g. [2-9, 17]", key));
   // A unit listed twice is a slip that hides another (a range typed 5-5 for 5-6): named
   // at its second mention, with its first.
   std::array<std::string, 256> listed_at;  // the item's position; empty: not listed
   for (const auto& item : units) {
     GatewayConfig one;
-    parse_gateway_unit(yaml, item, one);
+    parse_gateway_unit(yaml, item, key, one);
     for (unsigned unit = 0; unit < one.units.size(); ++unit) {
       if (!one.units[unit]) continue;
       if (!listed_at[unit].empty())
-        yaml.fail(item, fmt::format("modbus.gateway.units: unit {} is listed twice (first at {})", unit, listed_at[unit]));
+        yaml.fail(item, fmt::format("{}.units: unit {} is listed twice (first at {})", key, unit, listed_at[unit]));
       listed_at[unit] = yaml.position(item);
       gateway.units[unit] = true;
     }
   }
-  if (node["priority"]) gateway.priority = parse_allow_list(yaml, node["priority"], "modbus.gateway.priority");
+  if (node["priority"]) gateway.priority = parse_allow_list(yaml, node["priority"], key + ".priority");
   if (node["wait"]) gateway.wait = positive_duration(yaml, node["wait"]);
   if (node["timeout"]) gateway.timeout = positive_duration(yaml, node["timeout"]);
   if (node["cache"]) gateway.cache = yaml.duration(node["cache"]);
@@ -150,26 +161,156 @@ GatewayConfig parse_gateway(const YamlReader& yaml, const YAML::Node& node) {
   return gateway;
 }
 
-// SPEC §14: the gateway forwards to the line the master owns, and never the bridge's own
-// unit id, which keeps serving the banks.
-void check_gateway(const YamlReader& yaml, const YAML::Node& modbus, const ModbusConfig& m) {
+// Fails at the item of `gateway_node`'s units that names `unit` (else at the list).
+[[noreturn]] void fail_at_unit(const YamlReader& yaml, const YAML::Node& gateway_node, const std::string& key,
+                               std::uint8_t unit, std::string_view message) {
+  for (const auto& item : gateway_node["units"]) {
+    GatewayConfig one;
+    parse_gateway_unit(yaml, item, key, one);
+    if (one.routes(unit)) yaml.fail(item, message);
+  }
+  yaml.fail(gateway_node["units"], message);
+}
+
+// The legacy modbus.gateway (SPEC §14) forwards to the line the master owns: modbus.rtu.
+void check_legacy_gateway(const YamlReader& yaml, const YAML::Node& modbus, const ModbusConfig& m) {
   const auto node = modbus["gateway"];
   if (m.mode != ModbusMode::master)
     yaml.fail(node, "modbus.gateway forwards to the line the master drives: it needs modbus.mode: master");
   if (!m.master.tcp.empty())
     yaml.fail(node, "modbus.gateway forwards RTU frames to modbus.rtu; a master driving modbus.master.tcp cannot "
                     "forward yet");
-  if (!m.gateway->routes(m.address)) return;
-  const auto message = fmt::format("modbus.gateway.units: unit {} is the bridge's own modbus.address, which serves the "
-                                   "banks: leave it out",
-                                   m.address);
-  // At the item that names it.
-  for (const auto& item : node["units"]) {
-    GatewayConfig one;
-    parse_gateway_unit(yaml, item, one);
-    if (one.routes(m.address)) yaml.fail(item, message);
+}
+
+// A line's name goes into monitor port names (`rtu:<name>`), metrics labels and the
+// status document: short, and nothing that needs quoting.
+bool valid_line_name(std::string_view name) {
+  return !name.empty() && name.size() <= 16 && std::all_of(name.begin(), name.end(), [](char c) {
+    return (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_' || c == '-';
+  });
+}
+
+// An RTU slave answers one address of 1..247 (0 is broadcast, 248..255 reserved).
+bool slave_address(unsigned address) { return address >= 1 && address <= 247; }
+
+LineConfig parse_line(ParseState& state, const YAML::Node& name_node, const YAML::Node& node) {
+  const auto& yaml = state.yaml;
+  const auto& m = state.config.modbus;
+  LineConfig line;
+  line.name = yaml.text(name_node);
+  if (!valid_line_name(line.name))
+    yaml.fail(name_node, fmt::format("modbus.lines: '{}' is not a line name (1 to 16 of a-z, 0-9, _ and -)", line.name));
+  line.key = "modbus.lines." + line.name;
+  if (!node.IsMap())
+    yaml.fail(node, fmt::format("{} must be a mapping, e.g. {{ device: /dev/ttyS1, baud: 9600, role: master }}", line.key));
+  line.serial = parse_serial(state, node, line.key, {"role", "address", "gateway"});
+  if (!node["role"])
+    yaml.fail(node, fmt::format("{} needs its role: slave (a master such as a SCADA polls the bridge on it) or master "
+                                "(the bridge polls the foreign slaves on it)", line.key));
+  line.role = yaml.choice(node["role"], {"slave", "master"}) == "master" ? LineRole::master : LineRole::slave;
+  if (const auto address = node["address"]) {
+    if (line.role == LineRole::master)
+      yaml.fail(address, fmt::format("{}.address is the address a slave line answers; this line is a master", line.key));
+    line.address = static_cast<std::uint8_t>(yaml.number(address, 1, 247));
+  } else {
+    line.address = m.address;
+    if (line.role == LineRole::slave && !slave_address(m.address))
+      yaml.fail(node, fmt::format("modbus.address {} cannot be the address of the slave line {} (1..247): set {}.address",
+                                  m.address, line.name, line.key));
   }
-  yaml.fail(node["units"], message);
+  if (const auto gateway = node["gateway"]) {
+    if (line.role == LineRole::slave)
+      yaml.fail(gateway, fmt::format("{}.gateway forwards TCP clients' requests to the slaves on a master line; this "
+                                     "line is a slave", line.key));
+    line.gateway = parse_gateway(yaml, gateway, line.key + ".gateway");
+  }
+  for (const auto& other : m.lines)
+    if (other.serial.device == line.serial.device)
+      yaml.fail(node["device"], fmt::format("{}.device: {} is already the device of the line {} ({}); a serial port "
+                                            "carries one line", line.key, line.serial.device, other.name,
+                                            other.serial.origin));
+  return line;
+}
+
+// What the lines must not share (SPEC §14, §18): a unit id routed by two gateways, a unit
+// that is the bridge's own address or a slave line's. `gateway_nodes` go with m.lines, in
+// order (a null node: the line has no gateway).
+void check_routes(const YamlReader& yaml, const ModbusConfig& m, const std::vector<YAML::Node>& gateway_nodes) {
+  std::array<const LineConfig*, 256> routed_by{};
+  const auto gateway_key = [](const LineConfig& line) {
+    return line.key == "modbus.rtu" ? std::string("modbus.gateway") : line.key + ".gateway";
+  };
+  for (std::size_t n = 0; n < m.lines.size(); ++n) {
+    const auto& line = m.lines[n];
+    if (!line.gateway) continue;
+    const auto key = gateway_key(line);
+    if (line.gateway->routes(m.address))
+      fail_at_unit(yaml, gateway_nodes[n], key, m.address,
+                   fmt::format("{}.units: unit {} is the bridge's own modbus.address, which serves the banks: leave it out",
+                               key, m.address));
+    for (unsigned unit = 1; unit <= 247; ++unit) {
+      if (!line.gateway->routes(static_cast<std::uint8_t>(unit))) continue;
+      if (const auto* other = routed_by[unit])
+        fail_at_unit(yaml, gateway_nodes[n], key, static_cast<std::uint8_t>(unit),
+                     fmt::format("{}.units: unit {} is routed by the line {} too ({}); a unit id reaches one line", key,
+                                 unit, other->name, other->gateway->origin));
+      routed_by[unit] = &line;
+    }
+  }
+  for (const auto& line : m.lines) {
+    if (line.role != LineRole::slave || !routed_by[line.address]) continue;
+    const auto& master = *routed_by[line.address];
+    const auto n = static_cast<std::size_t>(&master - m.lines.data());
+    const auto key = gateway_key(master);
+    fail_at_unit(yaml, gateway_nodes[n], key, line.address,
+                 fmt::format("{}.units: unit {} is the address of the slave line {}, which the bridge answers itself: "
+                             "leave it out", key, line.address, line.name));
+  }
+}
+
+void parse_lines(ParseState& state, const YAML::Node& modbus) {
+  const auto& yaml = state.yaml;
+  auto& m = state.config.modbus;
+  const auto node = modbus["lines"];
+  if (modbus["rtu"])
+    yaml.fail(node, "modbus.lines and modbus.rtu are both set; modbus.rtu is the one line named rtu: move it into "
+                    "modbus.lines with its role");
+  if (modbus["mode"])
+    yaml.fail(modbus["mode"], "modbus.mode is the role of modbus.rtu; each line of modbus.lines has its own role");
+  if (modbus["gateway"])
+    yaml.fail(modbus["gateway"], "modbus.gateway goes with modbus.rtu; with modbus.lines each master line has its own "
+                                 "(modbus.lines.<name>.gateway)");
+  if (!node.IsMap() || node.size() == 0)
+    yaml.fail(node, "modbus.lines must map line names to lines, e.g. scada: { device: /dev/ttyS0, role: slave }");
+  std::vector<YAML::Node> gateway_nodes;
+  for (const auto& entry : node) {
+    m.lines.push_back(parse_line(state, entry.first, entry.second));
+    gateway_nodes.push_back(entry.second["gateway"]);
+  }
+  const auto* master = m.line_of(LineRole::master);
+  if (master) m.mode = ModbusMode::master;
+  if (master && !m.master.tcp.empty())
+    yaml.fail(modbus["master"]["tcp"], fmt::format("modbus.master.tcp and the master line {} are both set; the master "
+                                                   "drives one line: remove one of them", master->name));
+  check_routes(yaml, m, gateway_nodes);
+}
+
+// modbus.rtu with modbus.mode (SPEC §3, §18): one line named `rtu` with the mode's role.
+void parse_legacy_line(ParseState& state, const YAML::Node& modbus) {
+  const auto& yaml = state.yaml;
+  auto& m = state.config.modbus;
+  const auto rtu = modbus["rtu"];
+  if (!rtu) return;
+  LineConfig line;
+  line.name = "rtu";
+  line.key = "modbus.rtu";
+  line.role = m.mode == ModbusMode::master ? LineRole::master : LineRole::slave;
+  line.serial = parse_serial(state, rtu, line.key, {});
+  line.address = m.address;
+  m.lines.push_back(std::move(line));
+  if (m.mode == ModbusMode::slave && !slave_address(m.address))
+    yaml.fail(modbus["address"] ? modbus["address"] : modbus,
+              fmt::format("modbus.address {} cannot be an RTU slave's address (1..247)", m.address));
 }
 
 }  // namespace
@@ -201,10 +342,21 @@ const master::DeviceProfile* parse_profile(const ParseState& state, const YAML::
   return found;
 }
 
+// The runtime serves one RTU line so far (io/modbus/rtu_slave_service or
+// io/master/master_service, by its role): a config with more must not start with part of
+// them served. Last, so that every other error of several lines is found first.
+void refuse_unserved_lines(const ParseState& state, const YAML::Node& root) {
+  const auto& lines = state.config.modbus.lines;
+  if (lines.size() < 2) return;
+  state.yaml.fail(std::next(root["modbus"]["lines"].begin())->first,
+                  fmt::format("{}: this bridge serves one RTU line so far; a second line ({} besides {}) is not served "
+                              "yet (issue 39)", lines[1].key, lines[1].name, lines[0].name));
+}
+
 void parse_modbus(ParseState& state, const YAML::Node& node) {
   const auto& yaml = state.yaml;
-  yaml.expect_keys(node, "modbus", {"mode", "address", "tcp", "tls", "rtu", "readable_write_banks", "extensions", "master",
-                                     "gateway"});
+  yaml.expect_keys(node, "modbus", {"mode", "address", "tcp", "tls", "rtu", "lines", "readable_write_banks", "extensions",
+                                     "master", "gateway"});
   auto& m = state.config.modbus;
   if (node["mode"]) {
     const auto mode = yaml.choice(node["mode"], {"slave", "master"});
@@ -220,23 +372,27 @@ void parse_modbus(ParseState& state, const YAML::Node& node) {
   }
   if (node["tcp"]) m.tcp = parse_modbus_tcp(state, node["tcp"]);
   if (node["tls"]) m.tls = parse_modbus_tls(state, node["tls"]);
-  if (node["rtu"]) m.rtu = parse_rtu_line(state, node["rtu"]);
-  // An RTU slave answers one address of 1..247 (0 is broadcast, 248..255 reserved).
-  if (m.rtu && m.mode == ModbusMode::slave && (m.address < 1 || m.address > 247))
-    yaml.fail(node["address"] ? node["address"] : node,
-              fmt::format("modbus.address {} cannot be an RTU slave's address (1..247)", m.address));
+  if (!node["lines"]) parse_legacy_line(state, node);
   if (node["master"]) parse_master(state, node["master"]);
-  if (node["gateway"]) m.gateway = parse_gateway(yaml, node["gateway"]);
+  if (node["lines"]) {
+    parse_lines(state, node);
+    return;
+  }
+  std::optional<GatewayConfig> gateway;
+  if (node["gateway"]) gateway = parse_gateway(yaml, node["gateway"], "modbus.gateway");
   if (m.mode == ModbusMode::master) {
     // SPEC §3: in master mode the RTU line belongs to the master; a TCP target is the extension.
-    if (!m.rtu && m.master.tcp.empty())
+    if (m.lines.empty() && m.master.tcp.empty())
       yaml.fail(node["mode"] ? node["mode"] : node,
                 "master mode needs the line to drive: modbus.rtu, or modbus.master.tcp (host:port)");
-    if (m.rtu && !m.master.tcp.empty())
+    if (!m.lines.empty() && !m.master.tcp.empty())
       yaml.fail(node["master"]["tcp"], "modbus.master.tcp and modbus.rtu are both set; the master drives one "
                                        "line: remove one of them");
   }
-  if (m.gateway) check_gateway(yaml, node, m);
+  if (!gateway) return;
+  check_legacy_gateway(yaml, node, m);
+  m.lines.front().gateway = std::move(gateway);  // master mode on modbus.rtu, checked above
+  check_routes(yaml, m, {node["gateway"]});
 }
 
 }  // namespace unima::config::sections

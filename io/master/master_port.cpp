@@ -50,8 +50,10 @@ std::shared_ptr<MasterPort> MasterPort::create(asio::io_context& io, const confi
   if (const auto& master = config.modbus.master; !master.tcp.empty())
     link = std::make_shared<MasterTcpLink>(io, master.tcp, master.tcp_target);
   else
-    link = std::make_shared<MasterRtuLink>(io, *config.modbus.rtu);
-  return std::make_shared<MasterPort>(io, std::move(setup), std::move(link), std::move(hooks), config.modbus.gateway);
+    link = std::make_shared<MasterRtuLink>(io, config.modbus.line_of(config::LineRole::master)->serial);
+  std::optional<config::GatewayConfig> gateway;
+  if (const auto* routes = config.modbus.gateway()) gateway = *routes;
+  return std::make_shared<MasterPort>(io, std::move(setup), std::move(link), std::move(hooks), std::move(gateway));
 }
 
 MasterPort::MasterPort(asio::io_context& io, config::MasterSetup setup, std::shared_ptr<MasterLink> link, Hooks hooks,

@@ -114,7 +114,7 @@ void MasterService::describe(status::Document& status) const {
   for (const auto& [device, c] : master_->counters())
     devices.push_back({device, c.requests, c.answered, c.timeouts, c.exceptions, c.bad_frames, c.retries});
   status.master = std::move(devices);
-  if (const auto& gateway = runtime_.config().modbus.gateway) status.gateway = gateway_status(*gateway, *master_);
+  if (const auto* gateway = runtime_.config().modbus.gateway()) status.gateway = gateway_status(*gateway, *master_);
 }
 
 }  // namespace unima::io

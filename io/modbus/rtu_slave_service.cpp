@@ -19,8 +19,9 @@ bool same_line(const std::optional<config::RtuConfig>& a, const std::optional<co
 }  // namespace
 
 std::optional<config::RtuConfig> slave_line(const config::Config& config) {
-  if (config.modbus.mode != config::ModbusMode::slave) return std::nullopt;
-  return config.modbus.rtu;
+  const auto* line = config.modbus.line_of(config::LineRole::slave);
+  if (!line) return std::nullopt;
+  return line->serial;
 }
 
 RtuSlaveService::RtuSlaveService(Runtime& runtime) : runtime_(runtime), port_(make_port(runtime.config())) {}
@@ -28,6 +29,8 @@ RtuSlaveService::RtuSlaveService(Runtime& runtime) : runtime_(runtime), port_(ma
 SlaveContext RtuSlaveService::context() const {
   auto context = slave_context(runtime_);
   context.options.max_read_registers = modbus::max_read_registers_rtu;
+  // The line's own address (SPEC §18); modbus.address for modbus.rtu.
+  if (const auto* line = runtime_.config().modbus.line_of(config::LineRole::slave)) context.unit_id = line->address;
   return context;
 }
 

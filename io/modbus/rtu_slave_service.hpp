@@ -35,7 +35,8 @@ class RtuSlaveService final : public Service {
   bool reopen_ = false;  // staged: the line's settings changed
 };
 
-/// The line an RTU slave serves in `config`: none in master mode, where it is the master's.
+/// The line an RTU slave serves in `config`: its slave line; none without one (in master
+/// mode modbus.rtu is the master's).
 std::optional<config::RtuConfig> slave_line(const config::Config& config);
 
 }  // namespace unima::io

@@ -19,7 +19,7 @@ SlaveContext slave_context(Runtime& runtime) {
   // The error hold and the monitor live as long as the runtime, which outlives the ports.
   context.on_fault = [&runtime] { runtime.error_hold.fault(); };
   context.on_transaction = [monitor = runtime.monitor.get()](const modbus::Transaction& t) { monitor->observe(t); };
-  if (const auto& gateway = runtime.config().modbus.gateway) {
+  if (const auto* gateway = runtime.config().modbus.gateway()) {
     context.gateway = std::make_shared<const config::GatewayConfig>(*gateway);
     context.line = &runtime.gateway_line;  // lives as long as the runtime, which outlives the ports
   }

@@ -37,8 +37,8 @@ TEST(GatewayConfig, UnitsAsIdsAndRangesWithPriorityWaitTimeoutAndCache) {
                       "    wait: 3s\n"
                       "    timeout: 400ms\n"
                       "    cache: 250ms\n");
-  ASSERT_TRUE(c.modbus.gateway);
-  const auto& g = *c.modbus.gateway;
+  ASSERT_TRUE(c.modbus.gateway());
+  const auto& g = *c.modbus.gateway();
   for (unsigned unit = 0; unit < 256; ++unit)
     EXPECT_EQ(g.routes(static_cast<std::uint8_t>(unit)), (unit >= 2 && unit <= 9) || unit == 17) << unit;
   EXPECT_TRUE(g.priority.allows(address("10.0.0.5")));
@@ -52,18 +52,18 @@ TEST(GatewayConfig, UnitsAsIdsAndRangesWithPriorityWaitTimeoutAndCache) {
 
 TEST(GatewayConfig, DefaultsAreTwoSecondsOfWaitTheProfilesTimeoutAndNoCache) {
   const auto c = load(rtu_master + "  gateway: { units: [3] }\n");
-  ASSERT_TRUE(c.modbus.gateway);
-  EXPECT_EQ(c.modbus.gateway->wait, 2s);
-  EXPECT_FALSE(c.modbus.gateway->timeout);
-  EXPECT_EQ(c.modbus.gateway->cache, 0ms);
-  EXPECT_TRUE(c.modbus.gateway->priority.empty());
-  EXPECT_FALSE(c.modbus.gateway->reads_only) << "every function is forwarded unless functions: read";
-  EXPECT_FALSE(load(rtu_master).modbus.gateway);
+  ASSERT_TRUE(c.modbus.gateway());
+  EXPECT_EQ(c.modbus.gateway()->wait, 2s);
+  EXPECT_FALSE(c.modbus.gateway()->timeout);
+  EXPECT_EQ(c.modbus.gateway()->cache, 0ms);
+  EXPECT_TRUE(c.modbus.gateway()->priority.empty());
+  EXPECT_FALSE(c.modbus.gateway()->reads_only) << "every function is forwarded unless functions: read";
+  EXPECT_FALSE(load(rtu_master).modbus.gateway());
 }
 
 TEST(GatewayConfig, FunctionsReadForwardsReadsOnlyAndAnotherWordIsAnError) {
-  EXPECT_TRUE(load(rtu_master + "  gateway: { units: [3], functions: read }\n").modbus.gateway->reads_only);
-  EXPECT_FALSE(load(rtu_master + "  gateway: { units: [3], functions: all }\n").modbus.gateway->reads_only);
+  EXPECT_TRUE(load(rtu_master + "  gateway: { units: [3], functions: read }\n").modbus.gateway()->reads_only);
+  EXPECT_FALSE(load(rtu_master + "  gateway: { units: [3], functions: all }\n").modbus.gateway()->reads_only);
   EXPECT_NE(error(rtu_master + "  gateway: { units: [3], functions: writes }\n").find("'writes' is not one of: read, all"),
             std::string::npos);
 }

@@ -14,8 +14,8 @@ config::Config load(const std::string& yaml) { return config::parse_text(yaml, "
 TEST(RtuConfig, AServedLineIsNoWarning) {
   const auto c = load("modbus:\n  rtu: { device: /dev/ttyUSB0, baud: 14400, parity: even, stop_bits: 2 }\n"
                       "blocks:\n  - { type: capture, device: 3, register: 0x0202, output: 2 }\n");
-  ASSERT_TRUE(c.modbus.rtu);
-  EXPECT_EQ(c.modbus.rtu->baud, 14400u);
+  ASSERT_EQ(c.modbus.lines.size(), 1u);
+  EXPECT_EQ(c.modbus.lines.at(0).serial.baud, 14400u);
   EXPECT_TRUE(config::warnings(c).empty());
 }
 
@@ -37,11 +37,11 @@ std::string load_error(const std::string& yaml) {
 }
 
 TEST(RtuConfig, FrameGapIsAutoOrADurationOfAtLeastT35) {
-  EXPECT_FALSE(load("modbus:\n  rtu: { device: /dev/ttyS0 }\n").modbus.rtu->frame_gap);
-  EXPECT_FALSE(load("modbus:\n  rtu: { device: /dev/ttyS0, frame_gap: auto }\n").modbus.rtu->frame_gap);
-  EXPECT_EQ(load("modbus:\n  rtu: { device: /dev/ttyS0, frame_gap: 2ms }\n").modbus.rtu->frame_gap,
+  EXPECT_FALSE(load("modbus:\n  rtu: { device: /dev/ttyS0 }\n").modbus.lines.at(0).serial.frame_gap);
+  EXPECT_FALSE(load("modbus:\n  rtu: { device: /dev/ttyS0, frame_gap: auto }\n").modbus.lines.at(0).serial.frame_gap);
+  EXPECT_EQ(load("modbus:\n  rtu: { device: /dev/ttyS0, frame_gap: 2ms }\n").modbus.lines.at(0).serial.frame_gap,
             std::chrono::microseconds(2000));
-  EXPECT_EQ(load("modbus:\n  rtu: { device: /dev/ttyS0, baud: 115200, frame_gap: 1750us }\n").modbus.rtu->frame_gap,
+  EXPECT_EQ(load("modbus:\n  rtu: { device: /dev/ttyS0, baud: 115200, frame_gap: 1750us }\n").modbus.lines.at(0).serial.frame_gap,
             std::chrono::microseconds(1750));
   EXPECT_EQ(load_error("modbus:\n  rtu: { device: /dev/ttyS0, baud: 9600, frame_gap: 2ms }\n"),
             "t.yaml:2:53: frame_gap 2000 µs is shorter than t3.5 at 9600 baud (3646 µs)");
