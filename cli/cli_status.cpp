@@ -5,6 +5,7 @@
 #include <sys/un.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <cstdio>
@@ -147,6 +148,30 @@ bool colour_on_stdout() {
          (term == nullptr || std::string_view(term) != "dumb");
 }
 
+namespace {
+
+// A row per RS-485 line (SPEC §18): a line that is not open, or that counts errors, is
+// what an operator looks for.
+std::string render_lines(const std::vector<status::LineStatus>& lines, PanelStyle style) {
+  std::size_t name_width = 8, device_width = 12;
+  for (const auto& l : lines) {
+    name_width = std::max(name_width, l.name.size());
+    device_width = std::max(device_width, l.device.size());
+  }
+  std::string out = fmt::format("{:<{}}  role    {:<{}}  settings     open      sent  received   errors  queue\n", "Line",
+                                name_width + 2, "device", device_width);
+  for (const auto& l : lines) {
+    const auto errors = fmt::format("{:>8}", l.counters.errors);
+    out += fmt::format("  {:<{}}  {:<6}  {:<{}}  {:<11}  {}  {:>8}  {:>8} {}  {:>5}\n", l.name, name_width, l.role,
+                       l.device, device_width, l.settings, l.open ? "yes " : painted("no  ", Paint::problem, style),
+                       l.counters.frames_sent, l.counters.frames_received,
+                       l.counters.errors ? painted(errors, Paint::problem, style) : errors, l.queue);
+  }
+  return out;
+}
+
+}  // namespace
+
 std::string render_status_panel(const status::Document& s, PanelStyle style) {
   const auto& bridge = required(s.bridge, "pid");
   const auto& modbus = required(s.modbus, "modbus");
@@ -181,8 +206,13 @@ std::string render_status_panel(const status::Document& s, PanelStyle style) {
       out += fmt::format("0x{:04X} ({:5})  {:<5}  {}\n", *i.value, *i.value, i.access.value_or(""), i.time.value_or(""));
   }
 
-  out += "Port        frames    Done  Not4Me   Err01   Err02   Err03   Err04  Timeout  clients\n";
+  if (const auto& lines = s.lines) out += render_lines(*lines, style);
+
   const auto& ports = s.ports;
+  std::size_t port_width = 8;  // a line's port ("master:field") is wider
+  for (const auto& p : ports) port_width = std::max(port_width, p.port.size());
+  out += fmt::format("Port    {:{}}frames    Done  Not4Me   Err01   Err02   Err03   Err04  Timeout  clients\n", "",
+                     port_width - 4);
   if (ports.empty()) out += "  none\n";
   for (const auto& p : ports) {
     // An exception or a time-out counted is what an operator looks for: in colour, once padded.
@@ -191,7 +221,7 @@ std::string render_status_panel(const status::Document& s, PanelStyle style) {
       const auto padded = fmt::format("{:>{}}", count, width);
       return count == "-" || count == "0" ? padded : painted(padded, paint, style);
     };
-    out += fmt::format("  {:<8} {:>8} {:>7} {:>7} {} {} {} {} {} {:>8}", p.port, p.transactions, state_count(p, "Done"),
+    out += fmt::format("  {:<{}} {:>8} {:>7} {:>7} {} {} {} {} {} {:>8}", p.port, port_width, p.transactions, state_count(p, "Done"),
                        state_count(p, "Not4Me"), cell("Err01", 7, Paint::problem), cell("Err02", 7, Paint::problem),
                        cell("Err03", 7, Paint::problem), cell("Err04", 7, Paint::problem), cell("Timeout", 8, Paint::warning),
                        counted(p.clients));

@@ -26,6 +26,21 @@ std::string span_text(const master::PlannedRequest& r) {
 
 }  // namespace
 
+std::string format_lines(const config::Config& config) {
+  const auto& lines = config.modbus.lines;
+  if (lines.size() < 2) return {};
+  std::string out;
+  for (const auto& line : lines) {
+    const auto timing = config::line_timing(line.serial);
+    const auto parity = config::parity_letter(line.serial.parity);
+    out += fmt::format("line {}: {}, {} {} baud 8{}{}, t3.5 = {} us, ", line.name, config::line_role_name(line.role),
+                       line.serial.device, line.serial.baud, parity, line.serial.stop_bits, timing.frame_gap.count());
+    if (line.role == config::LineRole::slave) out += fmt::format("address {}\n", line.address);
+    else out += line.gateway ? fmt::format("gateway units {}\n", config::unit_ranges_text(*line.gateway)) : "no gateway\n";
+  }
+  return out;
+}
+
 std::string format_master_plan(const config::Config& config) {
   const auto setup = config::master_setup(config);
   const auto plan = config::master_plan(setup);

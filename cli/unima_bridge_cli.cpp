@@ -112,6 +112,7 @@ int check(const std::string& path) {
     fmt::print("{}: OK\n", path);
     for (const auto& window : map.windows())
       fmt::print("  0x{:04X}..0x{:04X}  {}\n", window.first, window.end() - 1, window.name);
+    fmt::print("{}", unima::cli::format_lines(config));
     if (config.modbus.mode == unima::config::ModbusMode::master) fmt::print("{}", unima::cli::format_master_plan(config));
     return 0;
   } catch (const std::exception& e) {

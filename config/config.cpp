@@ -8,6 +8,15 @@
 
 namespace unima::config {
 
+char parity_letter(Parity parity) {
+  switch (parity) {
+    case Parity::even: return 'E';
+    case Parity::odd: return 'O';
+    case Parity::none: break;
+  }
+  return 'N';
+}
+
 modbus::RtuTiming line_timing(const RtuConfig& line) {
   return modbus::rtu_timing(line.baud, line.parity != Parity::none, line.stop_bits);
 }
@@ -47,6 +56,10 @@ const GatewayConfig* ModbusConfig::gateway() const {
   return line && line->gateway ? &*line->gateway : nullptr;
 }
 
+std::string_view ModbusConfig::shown_name(const LineConfig& line) const {
+  return lines.size() > 1 ? std::string_view(line.name) : std::string_view();
+}
+
 namespace {
 
 bool block_acts(const ModbusConfig& modbus, const Block& block) {
@@ -60,6 +73,18 @@ std::vector<const Block*> Config::active_blocks() const {
   for (const auto& block : blocks)
     if (block_acts(modbus, block)) active.push_back(&block);
   return active;
+}
+
+std::string unit_ranges_text(const GatewayConfig& gateway) {
+  std::string text;
+  for (unsigned first = 1; first <= 247; ++first) {
+    if (!gateway.units[first]) continue;
+    auto last = first;
+    while (last < 247 && gateway.units[last + 1]) ++last;
+    text += (text.empty() ? "" : ", ") + (last == first ? std::to_string(first) : fmt::format("{}-{}", first, last));
+    first = last;
+  }
+  return text;
 }
 
 bool writes_frozen(const Config& config) { return config.modbus.tcp && config.modbus.tcp->read_only; }

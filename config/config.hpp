@@ -100,6 +100,9 @@ struct RtuConfig {
   std::string origin;  // "file:line:col" of modbus.rtu
 };
 
+/// "N", "E" or "O", as in "8N1".
+char parity_letter(Parity parity);
+
 /// The character and gap times of `line` (modbus/rtu/rtu_timing: the one computation).
 modbus::RtuTiming line_timing(const RtuConfig& line);
 
@@ -166,6 +169,9 @@ struct GatewayConfig {
   bool routes(std::uint8_t unit) const { return units[unit]; }
 };
 
+/// "2-9, 17": the routed unit ids as the config writes them.
+std::string unit_ranges_text(const GatewayConfig& gateway);
+
 enum class LineRole { slave, master };
 constexpr const char* line_role_name(LineRole role) { return role == LineRole::master ? "master" : "slave"; }
 
@@ -203,6 +209,9 @@ struct ModbusConfig {
   bool serves_slave_blocks() const;
   /// The master line's gateway (SPEC §14); null without one.
   const GatewayConfig* gateway() const;
+  /// What a line's monitor port names and status rows carry (SPEC §18): its name when the
+  /// bridge has several lines; empty with one, whose names stay `rtu`, `master`, `gw:`.
+  std::string_view shown_name(const LineConfig& line) const;
 };
 
 struct DeviceConfig {

@@ -30,12 +30,6 @@ std::map<std::uint8_t, DeviceProfileUse> device_profiles(const Config& config) {
   return profiles;
 }
 
-namespace {
-
-char parity_letter(Parity parity) { return parity == Parity::even ? 'E' : parity == Parity::odd ? 'O' : 'N'; }
-
-}  // namespace
-
 std::vector<std::string> foreign_slave_warnings(const Config& config) {
   std::vector<std::string> found;
   const auto& m = config.modbus.master;

@@ -342,15 +342,22 @@ const master::DeviceProfile* parse_profile(const ParseState& state, const YAML::
   return found;
 }
 
-// The runtime serves one RTU line so far (io/modbus/rtu_slave_service or
-// io/master/master_service, by its role): a config with more must not start with part of
-// them served. Last, so that every other error of several lines is found first.
+// The runtime serves one slave line and one master line so far
+// (io/modbus/rtu_slave_service, io/master/master_service): a config with a second line of
+// a role must not start with part of its lines served. Last, so that every other error of
+// several lines is found first.
 void refuse_unserved_lines(const ParseState& state, const YAML::Node& root) {
-  const auto& lines = state.config.modbus.lines;
-  if (lines.size() < 2) return;
-  state.yaml.fail(std::next(root["modbus"]["lines"].begin())->first,
-                  fmt::format("{}: this bridge serves one RTU line so far; a second line ({} besides {}) is not served "
-                              "yet (issue 39)", lines[1].key, lines[1].name, lines[0].name));
+  const auto& m = state.config.modbus;
+  if (m.lines.size() < 2) return;  // modbus.rtu, or one line of modbus.lines
+  auto entry = root["modbus"]["lines"].begin();
+  for (const auto& line : m.lines) {
+    const auto* first = m.line_of(line.role);
+    if (first != &line)
+      state.yaml.fail(entry->first, fmt::format("{}: this bridge serves one {} line so far; a second one ({} besides {}) "
+                                                "is not served yet (issue 39)", line.key, line_role_name(line.role),
+                                                line.name, first->name));
+    ++entry;
+  }
 }
 
 void parse_modbus(ParseState& state, const YAML::Node& node) {

@@ -117,6 +117,7 @@ const std::vector<Part>& registry() {
       part<status::BridgeStatus>([](const Document& s) { return one(s.bridge); }, status::bridge_statistics()),
       part<status::PortStatus>([](const Document& s) { return s.ports; }, status::port_statistics()),
       part<status::PortHandshakes>(handshakes, status::handshake_statistics()),
+      part<status::LineStatus>([](const Document& s) { return each(s.lines); }, status::line_statistics(), true),
       part<unimabus::DeviceStatus>([](const Document& s) { return each(s.devices); }, unimabus::device_statistics()),
       part<unimabus::ModuleStatus>([](const Document& s) { return each(s.modules); }, unimabus::module_statistics()),
       part<unimabus::UnimabusStatus>([](const Document& s) { return one(s.unimabus); }, unimabus::unimabus_statistics()),

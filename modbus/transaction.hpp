@@ -34,6 +34,9 @@ struct Transaction {
   /// The response is the bridge's own, sent on its port — not one heard from another
   /// slave, nor none: what lights the Modbus LED in slave mode (SPEC §8).
   bool answered_by_bridge = false;
+  /// rtu, master, gateway: the line's name when the bridge has several (SPEC §18: the port
+  /// reads `rtu:<name>`); empty with one line, whose names stay `rtu`, `master`, `gw:`.
+  std::string_view line{};
 };
 
 /// The state a response PDU implies: done, or the Err code of its exception.

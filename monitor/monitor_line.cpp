@@ -426,7 +426,13 @@ std::optional<modbus::TransactionState> parse_state(std::string_view name) {
   return std::nullopt;
 }
 
-void append_port_name(std::string& out, modbus::PortKind port, std::string_view peer) {
+void append_port_name(std::string& out, modbus::PortKind port, std::string_view peer, std::string_view line) {
+  const auto named = [&](const char* kind) {
+    out += kind;
+    if (line.empty()) return;
+    out += ':';
+    out += line;
+  };
   switch (port) {
     case modbus::PortKind::tcp:
       out += "tcp:";
@@ -436,10 +442,11 @@ void append_port_name(std::string& out, modbus::PortKind port, std::string_view 
       out += "tls:";
       out += peer;
       return;
-    case modbus::PortKind::rtu: out += "rtu"; return;
-    case modbus::PortKind::master: out += "master"; return;
+    case modbus::PortKind::rtu: named("rtu"); return;
+    case modbus::PortKind::master: named("master"); return;
     case modbus::PortKind::gateway:  // the client whose request went on the line
-      out += "gw:";
+      named("gw");
+      out += ':';
       out += peer;
       return;
   }

@@ -30,8 +30,9 @@ namespace unima::monitor {
 std::string_view state_name(modbus::TransactionState state);
 std::optional<modbus::TransactionState> parse_state(std::string_view name);
 
-/// "tcp:<peer ip>:<peer port>", "rtu" or "master" (SPEC §5).
-void append_port_name(std::string& out, modbus::PortKind port, std::string_view peer);
+/// "tcp:<peer ip>:<peer port>", "rtu" or "master" (SPEC §5); with a line's name (SPEC §18)
+/// "rtu:<line>", "master:<line>", "gw:<line>:<peer>".
+void append_port_name(std::string& out, modbus::PortKind port, std::string_view peer, std::string_view line = {});
 
 /// Everything a line says, as views into the transaction's bytes.
 struct MonitorFields {

@@ -14,7 +14,7 @@ constexpr std::size_t write_slice = 128 * 1024;
 // monitor_line_bound() of the longest transaction an Entry holds: "tcp:" and the peer,
 // and every byte of both frames.
 constexpr std::size_t MonitorWriter::max_line =
-    256 + 6 * (4 + sizeof(Entry::peer)) + 3 * sizeof(Entry::frames) + 2;
+    256 + 6 * (4 + sizeof(Entry::peer) + 1 + sizeof(Entry::line)) + 3 * sizeof(Entry::frames) + 2;
 
 MonitorWriter::MonitorWriter(std::vector<std::unique_ptr<MonitorSink>> sinks, Options options)
     : sinks_(std::move(sinks)), options_(options), capacity_(std::max<std::size_t>(options.capacity, 1)),
@@ -50,6 +50,8 @@ bool MonitorWriter::push(const modbus::Transaction& t, std::uint8_t ix) {
   e.peer_size = static_cast<std::uint8_t>(std::min(t.peer.size(), sizeof e.peer));
   // An empty span may have no data pointer, which memcpy must not get even for 0 bytes.
   if (e.peer_size > 0) std::memcpy(e.peer, t.peer.data(), e.peer_size);
+  e.line_size = static_cast<std::uint8_t>(std::min(t.line.size(), sizeof e.line));
+  if (e.line_size > 0) std::memcpy(e.line, t.line.data(), e.line_size);
   if (e.query_size > 0) std::memcpy(e.frames, t.query.data(), e.query_size);
   if (e.response_size > 0) std::memcpy(e.frames + e.query_size, t.response.data(), e.response_size);
   tail_slot_ = next_slot(tail_slot_);
@@ -116,12 +118,16 @@ char* MonitorWriter::format(const Entry& e, char* out, PortName& port) const {
                               std::chrono::system_clock::time_point(std::chrono::system_clock::duration(e.time)),
                               e.state,
                               std::span<const std::uint8_t>(e.frames, e.query_size),
-                              std::span<const std::uint8_t>(e.frames + e.query_size, e.response_size)};
-  if (port.name.empty() || port.port != t.port || port.peer != t.peer) {
+                              std::span<const std::uint8_t>(e.frames + e.query_size, e.response_size),
+                              false,
+                              std::string_view(e.line, e.line_size)};
+  const auto line = t.line;
+  if (port.name.empty() || port.port != t.port || port.peer != t.peer || port.line != line) {
     port.port = t.port;
     port.peer.assign(t.peer);
+    port.line.assign(line);
     port.name.clear();
-    monitor::append_port_name(port.name, t.port, t.peer);
+    monitor::append_port_name(port.name, t.port, t.peer, line);
   }
   auto fields = monitor::monitor_fields(t, e.ix, port.name);
   fields.rc = e.rc;

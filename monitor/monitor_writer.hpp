@@ -88,7 +88,9 @@ class MonitorWriter {
     modbus::TransactionState state;
     std::uint8_t ix;
     std::uint8_t peer_size;
+    std::uint8_t line_size;
     char peer[64];  // "address:port" of a TCP client; longer is cut
+    char line[16];  // the line's name when there are several (config: at most 16 characters)
     std::uint8_t frames[2 * max_frame];  // the query, then the response
 
     // How far into the slot this transaction reaches.
@@ -104,6 +106,7 @@ class MonitorWriter {
   struct PortName {
     modbus::PortKind port{};
     std::string peer;
+    std::string line;
     std::string name;
   };
   // Writes the entry's line at `out`, which has room for max_line bytes; returns its end.

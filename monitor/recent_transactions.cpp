@@ -14,6 +14,7 @@ void RecentTransactions::push(const modbus::Transaction& t, std::uint8_t ix) {
   entry.number = next_++;
   entry.port = t.port;
   entry.peer.assign(t.peer);
+  entry.line.assign(t.line);
   entry.time = t.time;
   entry.state = t.state;
   entry.ix = ix;
@@ -31,7 +32,7 @@ bool RecentTransactions::passes(const Entry& entry, const CommandFilter& filter)
 std::string RecentTransactions::line(const Entry& entry) const {
   const modbus::Transaction t{entry.port, entry.peer, entry.time, entry.state, entry.query, entry.response};
   std::string port;
-  append_port_name(port, entry.port, entry.peer);
+  append_port_name(port, entry.port, entry.peer, entry.line);
   std::string out;
   append_monitor_line(out, monitor_fields(t, entry.ix, port), MonitorFormat::text);
   if (!out.empty() && out.back() == '\n') out.pop_back();

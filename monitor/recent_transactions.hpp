@@ -37,6 +37,7 @@ class RecentTransactions {
     std::uint64_t number = 0;
     modbus::PortKind port = modbus::PortKind::tcp;
     std::string peer;
+    std::string line;
     std::chrono::system_clock::time_point time;
     modbus::TransactionState state = modbus::TransactionState::done;
     std::uint8_t ix = 0;

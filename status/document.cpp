@@ -19,6 +19,7 @@ void take(const nlohmann::json& j, const char* key, std::optional<Part>& part) {
 void to_json(nlohmann::json& j, const Document& d) {
   j = d.bridge ? nlohmann::json(*d.bridge) : nlohmann::json::object();
   j["ports"] = d.ports;
+  put(j, "lines", d.lines);
   put(j, "modbus", d.modbus);
   put(j, "indicators", d.indicators);
   put(j, "monitor", d.monitor);
@@ -44,6 +45,7 @@ void from_json(const nlohmann::json& j, Document& d) {
   std::optional<std::vector<PortStatus>> ports;
   take(j, "ports", ports);
   d.ports = ports.value_or(std::vector<PortStatus>{});
+  take(j, "lines", d.lines);
   take(j, "modbus", d.modbus);
   take(j, "indicators", d.indicators);
   take(j, "monitor", d.monitor);

@@ -23,6 +23,7 @@
 #include "state/state_status.hpp"
 #include "status/activity.hpp"
 #include "status/bridge_status.hpp"
+#include "status/line_status.hpp"
 #include "status/port_status.hpp"
 #include "unimabus/bus_status.hpp"
 #include "web/login_status.hpp"
@@ -38,6 +39,7 @@ struct HttpStatus {
 struct Document {
   std::optional<BridgeStatus> bridge;  // the top-level keys; absent only in a document read from nothing
   std::vector<PortStatus> ports;       // always there, empty before any port counts
+  std::optional<std::vector<LineStatus>> lines;  // each RS-485 line, modbus.rtu as `rtu`; absent without one
   std::optional<Activity> modbus;      // the Modbus LED
   std::optional<std::vector<monitor::IndicatorStatus>> indicators;
   std::optional<monitor::MonitorStatus> monitor;

@@ -170,6 +170,24 @@ function indicatorBox(indicator, i) {
   return box;
 }
 
+// A box per RS-485 line (SPEC §18): its role, device and settings, what it sent and
+// received; a line whose device is not open, or that counts errors, in the error colour.
+function serialLineBox(line) {
+  const box = element('div', { class: 'serial-line', 'data-line': line.line, 'data-open': String(line.open) });
+  box.append(element('h4', {}, `${line.line}: ${line.role}`),
+             element('p', line.open ? {} : { class: 'problem' }, `${line.device} ${line.settings}${line.open ? '' : ' — not open'}`),
+             element('p', line.errors > 0 ? { class: 'problem' } : {},
+                     `${line.frames_sent} sent, ${line.frames_received} received, ${line.errors} errors, ${line.queue} queued`));
+  return box;
+}
+
+function showSerialLines(lines) {
+  const box = document.getElementById('serial-lines');
+  box.hidden = !lines || lines.length === 0;
+  if (box.hidden) return;
+  box.replaceChildren(element('h3', {}, 'RS-485 lines'), ...lines.map(serialLineBox));
+}
+
 // The gateway's units (SPEC §14): one row each, a unit that stopped answering in red with
 // since when, so a technician sees a silent slave without reading the monitor.
 function gatewayTable(units) {
@@ -263,6 +281,7 @@ function showPanel(panel) {
   document.getElementById('devices').replaceChildren(...panel.devices.map(d => chip(d.bank, d.type, d.online, d.type !== null)));
   document.getElementById('modules').replaceChildren(...panel.modules.map(m => chip(m.bank, null, m.online)));
   document.getElementById('indicators').replaceChildren(...panel.indicators.map(indicatorBox));
+  showSerialLines(panel.serial_lines);
   showGateway(panel.gateway);
   showNorth(panel);
 }

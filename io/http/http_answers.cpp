@@ -110,6 +110,7 @@ nlohmann::json panel_of(const status::Document& document) {
   for (const auto& module : document.modules.value_or(std::vector<unimabus::ModuleStatus>{}))
     panel["modules"].push_back({{"bank", module.bank}, {"online", module.online}});
   panel["indicators"] = document.indicators.value_or(std::vector<monitor::IndicatorStatus>{});
+  if (document.lines) panel["serial_lines"] = *document.lines;
   if (document.gateway) panel["gateway"] = gateway_panel(*document.gateway);
   if (document.mqtt) panel["mqtt"] = mqtt_panel(*document.mqtt);
   if (document.sparkplug) panel["sparkplug"] = sparkplug_panel(*document.sparkplug);

@@ -187,6 +187,15 @@ void MasterPort::send(const MasterScheduler::Choice& choice) {
                   });
 }
 
+void MasterPort::count_on_line(const master::Bytes& query, const master::MasterResponse& result) {
+  if (!query.empty()) ++line_counters_.frames_sent;
+  switch (result.status) {
+    case ResponseStatus::ok:
+    case ResponseStatus::exception: ++line_counters_.frames_received; break;
+    default: ++line_counters_.errors; break;
+  }
+}
+
 void MasterPort::finished(const MasterScheduler::Choice& choice, const master::Bytes& pdu,
                           std::chrono::system_clock::time_point sent, master::Bytes query, master::Bytes response) {
   if (!running_) return;
@@ -195,6 +204,7 @@ void MasterPort::finished(const MasterScheduler::Choice& choice, const master::B
   const auto request = scheduler_->request(choice.request);  // a copy: replace() below may move it
   const auto result = link_->check(response, request.device, pdu);
   const auto state = master::transaction_state(result);
+  count_on_line(query, result);
   const auto peer = link_->peer();
   if (hooks_.on_transaction)
     hooks_.on_transaction(modbus::Transaction{modbus::PortKind::master, peer, sent, state, query, response, false});
@@ -316,6 +326,7 @@ void MasterPort::forwarded(const Forwarded& forwarded, Clock::time_point started
   auto outcome = gateway_->finished(request.unit, request.pdu, response, now, sent);
   if (outcome.result.status == ResponseStatus::timeout) scheduler_->timed_out(now, waiting_for_answer_);
   const auto state = master::transaction_state(outcome.result);
+  count_on_line(query, outcome.result);
   if (hooks_.on_transaction)
     hooks_.on_transaction(modbus::Transaction{modbus::PortKind::gateway, request.peer, sent, state, query, response, false});
   if (is_fault(state) && hooks_.on_fault) hooks_.on_fault();

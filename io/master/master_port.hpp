@@ -34,6 +34,7 @@
 #include "master/staleness.hpp"
 #include "master/master_scheduler.hpp"
 #include "modbus/transaction.hpp"
+#include "status/line_status.hpp"
 
 namespace unima::io {
 
@@ -89,6 +90,10 @@ class MasterPort final : public LineGateway, public std::enable_shared_from_this
   const std::map<std::uint8_t, GatewayUnitCounters>& gateway_units() const;
   /// The requests for `unit` waiting for the line now.
   std::size_t queue_depth(std::uint8_t unit) const { return gateway_ ? gateway_->queue_depth(unit) : 0; }
+  /// Every client request waiting for the line now.
+  std::size_t queue_depth() const { return gateway_ ? gateway_->waiting() : 0; }
+  /// The line's frames: each query sent, each answer heard whole, each time-out or bad answer.
+  const status::LineCounters& line_counters() const { return line_counters_; }
   const std::optional<config::GatewayConfig>& gateway_config() const { return gateway_config_; }
 
   MasterPort(asio::io_context& io, config::MasterSetup setup, std::shared_ptr<MasterLink> link, Hooks hooks,
@@ -130,6 +135,8 @@ class MasterPort final : public LineGateway, public std::enable_shared_from_this
   std::map<unsigned, std::uint16_t> published_;
   std::vector<bool> skip_warned_;
   std::map<std::uint8_t, MasterDeviceCounters> counters_;
+  status::LineCounters line_counters_;
+  void count_on_line(const master::Bytes& query, const master::MasterResponse& result);
   bool in_flight_ = false;
   std::chrono::milliseconds waiting_for_answer_{0};  // the time-out of the transaction on the line
   bool running_ = false;

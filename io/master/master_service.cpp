@@ -3,27 +3,16 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include "io/modbus/line_row.hpp"
 #include "master/gateway_status.hpp"
 #include "modbus/request_handler.hpp"
+#include "monitor/monitor_line.hpp"
 #include "platform/utc_time.hpp"
 #include "status/port_status.hpp"
 
 namespace unima::io {
 
 namespace {
-
-// "2-9, 17": the routed unit ids as the config writes them.
-std::string unit_ranges(const config::GatewayConfig& gateway) {
-  std::string text;
-  for (unsigned first = 1; first <= 247; ++first) {
-    if (!gateway.units[first]) continue;
-    auto last = first;
-    while (last < 247 && gateway.units[last + 1]) ++last;
-    text += (text.empty() ? "" : ", ") + (last == first ? std::to_string(first) : fmt::format("{}-{}", first, last));
-    first = last;
-  }
-  return text;
-}
 
 double milliseconds(master::WaitTime::Duration duration) {
   // To the microsecond: the JSON stays short, and a line's waits are milliseconds long.
@@ -50,7 +39,7 @@ master::GatewayUnitStatus gateway_unit_status(std::uint8_t unit, const GatewayUn
 
 // modbus.gateway as it runs, and each unit a client has asked for.
 master::GatewayStatus gateway_status(const config::GatewayConfig& config, const MasterPort& master) {
-  master::GatewayStatus gateway{.routes = unit_ranges(config),
+  master::GatewayStatus gateway{.routes = config::unit_ranges_text(config),
                                 .priority = {},
                                 .wait_ms = config.wait.count(),
                                 .timeout_ms = {},
@@ -79,7 +68,10 @@ std::shared_ptr<MasterPort> MasterService::make_master(const config::Config& con
   };
   hooks.set_output = [this](unsigned output, std::uint16_t value) { runtime_.banks->store->set_user_output(output, value); };
   hooks.on_fault = [this] { runtime_.error_hold.fault(); };
-  hooks.on_transaction = [this](const modbus::Transaction& t) {
+  const auto* line = config.modbus.line_of(config::LineRole::master);
+  hooks.on_transaction = [this, name = std::string(line ? config.modbus.shown_name(*line) : std::string_view())](
+                             modbus::Transaction t) {
+    t.line = name;
     runtime_.monitor->observe(t);
     if (spdlog::should_log(spdlog::level::debug)) spdlog::debug("modbus master: {}", describe_master_transaction(t));
   };
@@ -107,8 +99,18 @@ void MasterService::commit(const Banks&) {
 }
 
 void MasterService::describe(status::Document& status) const {
+  const auto& served = runtime_.config().modbus;
+  const auto* line = served.line_of(config::LineRole::master);
+  if (line && master_) {
+    if (!status.lines) status.lines.emplace();
+    status.lines->push_back(line_row(*line, true, master_->line_counters(), master_->queue_depth()));
+  }
   const auto& counters = runtime_.monitor->counters(modbus::PortKind::master);
-  if (counters.transactions > 0) status.ports.push_back(status::port_status("master", counters));
+  if (counters.transactions > 0) {
+    std::string name;
+    monitor::append_port_name(name, modbus::PortKind::master, {}, line ? served.shown_name(*line) : std::string_view());
+    status.ports.push_back(status::port_status(name.c_str(), counters));
+  }
   if (!master_) return;
   std::vector<master::MasterDeviceStatus> devices;
   for (const auto& [device, c] : master_->counters())

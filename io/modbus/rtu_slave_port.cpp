@@ -140,6 +140,8 @@ void RtuSlavePort::read() {
 
 void RtuSlavePort::handle(const std::vector<RtuFrame>& frames) {
   for (const auto& frame : frames) {
+    ++(frame.kind == RtuFrame::Kind::bad || frame.kind == RtuFrame::Kind::faulty_response ? counters_.errors
+                                                                                           : counters_.frames_received);
     switch (frame.kind) {
       case RtuFrame::Kind::query: {
         flush_foreign_query();
@@ -276,6 +278,7 @@ void RtuSlavePort::write_next() {
                     [this, g = guard()](const boost::system::error_code& ec, std::size_t) {
                       if (!HandlerGuard::alive(g) || !guard_.current(g) || ec == asio::error::operation_aborted) return;
                       if (ec) return lost(ec.message());
+                      ++counters_.frames_sent;
                       if (line_.rs485 == config::Rs485Direction::rts) return release_line_after_sending();
                       out_.pop_front();
                       sending_ = false;

@@ -29,6 +29,7 @@
 #include "modbus/rtu/rtu_framer.hpp"
 #include "modbus/slave_session.hpp"
 #include "modbus/rtu/rtu_timing.hpp"
+#include "status/line_status.hpp"
 
 namespace unima::io {
 
@@ -56,6 +57,9 @@ class RtuSlavePort {
   void set_foreign_listener(ForeignListener listener) { foreign_ = std::move(listener); }
   const config::RtuConfig& line() const { return line_; }
   bool is_open() const { return port_.is_open(); }
+  const status::LineCounters& counters() const { return counters_; }
+  /// Answers waiting for their turn on the line.
+  std::size_t queue_depth() const { return out_.size(); }
 
  private:
   HandlerGuard::Token guard() const { return guard_.token(); }
@@ -103,6 +107,7 @@ class RtuSlavePort {
   std::array<std::uint8_t, 512> in_{};
   std::deque<Outgoing> out_;
   std::chrono::milliseconds reopen_delay_ = first_reopen_delay;
+  status::LineCounters counters_;
   bool sending_ = false;
   bool running_ = false;
   bool failing_ = false;  // the last open failed: log again only when it works

@@ -2,8 +2,10 @@
 
 #include <spdlog/spdlog.h>
 
+#include "io/modbus/line_row.hpp"
 #include "io/modbus/slave_context.hpp"
 #include "modbus/capture.hpp"
+#include "monitor/monitor_line.hpp"
 #include "status/port_status.hpp"
 
 namespace unima::io {
@@ -29,8 +31,15 @@ RtuSlaveService::RtuSlaveService(Runtime& runtime) : runtime_(runtime), port_(ma
 SlaveContext RtuSlaveService::context() const {
   auto context = slave_context(runtime_);
   context.options.max_read_registers = modbus::max_read_registers_rtu;
-  // The line's own address (SPEC §18); modbus.address for modbus.rtu.
-  if (const auto* line = runtime_.config().modbus.line_of(config::LineRole::slave)) context.unit_id = line->address;
+  const auto& served = runtime_.config().modbus;
+  if (const auto* line = served.line_of(config::LineRole::slave)) {
+    context.unit_id = line->address;  // the line's own (SPEC §18); modbus.address for modbus.rtu
+    if (const auto name = served.shown_name(*line); !name.empty())
+      context.on_transaction = [monitor = runtime_.monitor.get(), name = std::string(name)](modbus::Transaction t) {
+        t.line = name;
+        monitor->observe(t);
+      };
+  }
   return context;
 }
 
@@ -79,10 +88,19 @@ void RtuSlaveService::commit(const Banks&) {
   if (port_ && started_) port_->start();
 }
 
-// Listed once it has seen traffic.
+// The line's row always; its port's transactions once it has seen traffic.
 void RtuSlaveService::describe(status::Document& status) const {
+  const auto& served = runtime_.config().modbus;
+  const auto* line = served.line_of(config::LineRole::slave);
+  if (line && port_) {
+    if (!status.lines) status.lines.emplace();
+    status.lines->push_back(line_row(*line, port_->is_open(), port_->counters(), port_->queue_depth()));
+  }
   const auto& counters = runtime_.monitor->counters(modbus::PortKind::rtu);
-  if (counters.transactions > 0) status.ports.push_back(status::port_status("rtu", counters));
+  if (counters.transactions == 0) return;
+  std::string name;
+  monitor::append_port_name(name, modbus::PortKind::rtu, {}, line ? served.shown_name(*line) : std::string_view());
+  status.ports.push_back(status::port_status(name.c_str(), counters));
 }
 
 }  // namespace unima::io

@@ -112,15 +112,6 @@ OpenedLine open_serial_line(Port& port, const config::RtuConfig& line) {
   return opened;
 }
 
-char parity_letter(config::Parity parity) {
-  switch (parity) {
-    case config::Parity::even: return 'E';
-    case config::Parity::odd: return 'O';
-    case config::Parity::none: break;
-  }
-  return 'N';
-}
-
 bool set_rts(int fd, bool asserted) {
   int bits = TIOCM_RTS;
   return ::ioctl(fd, asserted ? TIOCMBIS : TIOCMBIC, &bits) == 0;

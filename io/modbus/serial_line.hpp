@@ -27,8 +27,7 @@ struct OpenedLine {
 /// failed.
 OpenedLine open_serial_line(asio::serial_port& port, const config::RtuConfig& line);
 
-/// "N", "E" or "O", as in "8N1".
-char parity_letter(config::Parity parity);
+using config::parity_letter;
 
 /// Asserts (true) or releases RTS; false when the driver refuses.
 bool set_rts(int fd, bool asserted);

@@ -86,6 +86,28 @@ TEST(CliStatus, APortWithoutClientsOrAStateShowsADash) {
                        "  rtu             2       2       -       -       -       -       -        -        -"));
 }
 
+// A row per RS-485 line (SPEC §18), and the ports' table as wide as a line's port name.
+TEST(CliStatus, EachLineHasARowAndItsPortsAName) {
+  auto document = golden_slave();
+  document["lines"] = nlohmann::json::parse(R"([
+    {"line": "scada", "role": "slave", "device": "/dev/ttyRS485-0", "settings": "19200 8E1", "open": true,
+     "frames_sent": 10, "frames_received": 12, "errors": 0, "queue": 0},
+    {"line": "field", "role": "master", "device": "/dev/ttyRS485-1", "settings": "9600 8N1", "open": false,
+     "frames_sent": 30, "frames_received": 27, "errors": 3, "queue": 4}])");
+  document["ports"] = nlohmann::json::parse(R"([{"port": "rtu:scada", "transactions": 2, "Done": 2},
+                                                {"port": "master:field", "transactions": 30, "Done": 27, "Timeout": 3}])");
+  const auto text = render_status_panel(document.get<status::Document>());
+  EXPECT_TRUE(has_line(text, "Line        role    device           settings     open      sent  received   errors  queue")) << text;
+  EXPECT_TRUE(has_line(text, "  scada     slave   /dev/ttyRS485-0  19200 8E1    yes         10        12        0      0")) << text;
+  EXPECT_TRUE(has_line(text, "  field     master  /dev/ttyRS485-1  9600 8N1     no          30        27        3      4")) << text;
+  EXPECT_TRUE(has_line(text, "Port            frames    Done  Not4Me   Err01   Err02   Err03   Err04  Timeout  clients")) << text;
+  EXPECT_TRUE(has_line(text, "  rtu:scada           2       2       -       -       -       -       -        -        -")) << text;
+  EXPECT_TRUE(has_line(text, "  master:field       30      27       -       -       -       -       -        3        -")) << text;
+  const auto coloured = render_status_panel(document.get<status::Document>(), PanelStyle{true});
+  EXPECT_NE(coloured.find("\033[1;31mno  \033[0m"), std::string::npos) << coloured;
+  EXPECT_NE(coloured.find("\033[1;31m       3\033[0m"), std::string::npos) << coloured;
+}
+
 // `status` says so (an unexpected document) rather than draw a panel of zeros.
 TEST(CliStatus, ADocumentWithoutAPartIsAnError) {
   auto document = golden_slave();

@@ -220,11 +220,37 @@ TEST(LinesConfig, ACaptureBlockListensToAnotherDeviceThanItsLinesAddress) {
             "(modbus.lines.scada.address)");
 }
 
-// The runtime serves one line so far: a second is refused, after every other check.
-TEST(LinesConfig, ASecondLineIsRefusedUntilTheRuntimeServesIt) {
-  EXPECT_EQ(lines_error(two_port_modbus),
-            "l.yaml:4:5: modbus.lines.field: this bridge serves one RTU line so far; a second line (field besides scada) "
-            "is not served yet (issue 39)");
+TEST(LinesConfig, ASlaveLineAndAMasterLineServeTogether) {
+  const auto c = lines_parse(two_port_modbus +
+                             "blocks:\n  - { type: capture, device: 3, register: 0x0202, output: 2 }\n"
+                             "  - { type: poll, device: 2, register: 0x10, period: 1s, output: 1 }\n"
+                             "  - { type: read, register: 0x0200, source: C+0x00 }\n");
+  ASSERT_EQ(c.modbus.lines.size(), 2u);
+  EXPECT_EQ(c.modbus.line_of(LineRole::slave), &c.modbus.lines[0]);
+  EXPECT_EQ(c.modbus.line_of(LineRole::master), &c.modbus.lines[1]);
+  EXPECT_EQ(c.modbus.find_line("field"), &c.modbus.lines[1]);
+  EXPECT_EQ(c.modbus.find_line("rtu"), nullptr);
+  EXPECT_EQ(c.modbus.mode, ModbusMode::master);
+  EXPECT_TRUE(c.modbus.serves_slave_blocks());
+  EXPECT_EQ(c.active_blocks().size(), 3u) << "the slave line's blocks and the master line's";
+  EXPECT_EQ(c.blocks[0].line, "scada");
+  EXPECT_EQ(c.blocks[1].line, "field");
+  EXPECT_EQ(c.modbus.shown_name(c.modbus.lines[0]), "scada") << "several lines: names show";
+  const auto one = lines_parse("modbus:\n  rtu: { device: /dev/ttyS0 }\n");
+  EXPECT_EQ(one.modbus.shown_name(one.modbus.lines[0]), "") << "one line keeps today's port names";
+  EXPECT_TRUE(warnings(c).empty());
+  ASSERT_TRUE(c.modbus.gateway());
+  EXPECT_TRUE(c.modbus.gateway()->routes(2));
+}
+
+// The runtime serves one line of each role so far: a second of a role is refused, after
+// every other check.
+TEST(LinesConfig, ASecondLineOfARoleIsRefusedUntilTheRuntimeServesIt) {
+  EXPECT_EQ(lines_error("modbus:\n  lines:\n    scada: { device: /dev/ttyS0, role: slave }\n"
+                        "    field: { device: /dev/ttyS1, role: master }\n"
+                        "    panel: { device: /dev/ttyS2, role: slave, address: 2 }\n"),
+            "l.yaml:5:5: modbus.lines.panel: this bridge serves one slave line so far; a second one (panel besides "
+            "scada) is not served yet (issue 39)");
 }
 
 }  // namespace

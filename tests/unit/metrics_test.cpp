@@ -156,6 +156,27 @@ TEST(Prometheus, TheGatewaysUnitsAreCountedByUnit) {
   EXPECT_TRUE(has_line(text, R"(unima_bridge_gateway_wait_max_seconds{unit="5"} 0.04)")) << text;
 }
 
+// Each RS-485 line's families are labelled by the line and its role (SPEC §18); a
+// bridge without a line has none of them.
+TEST(Prometheus, EachLineIsCountedByItsLabel) {
+  auto document = status;
+  document["lines"] = nlohmann::json::parse(R"([
+    {"line": "scada", "role": "slave", "device": "/dev/ttyS0", "settings": "19200 8E1", "open": true,
+     "frames_sent": 10, "frames_received": 12, "errors": 1, "queue": 0},
+    {"line": "field", "role": "master", "device": "/dev/ttyS1", "settings": "9600 8N1", "open": false,
+     "frames_sent": 30, "frames_received": 27, "errors": 3, "queue": 4}])");
+  const auto text = exposition(document);
+  EXPECT_TRUE(has_line(text, "# TYPE unima_bridge_line_frames_sent_total counter")) << text;
+  EXPECT_TRUE(has_line(text, R"(unima_bridge_line_open{line="scada",role="slave"} 1)")) << text;
+  EXPECT_TRUE(has_line(text, R"(unima_bridge_line_open{line="field",role="master"} 0)")) << text;
+  EXPECT_TRUE(has_line(text, R"(unima_bridge_line_frames_sent_total{line="scada",role="slave"} 10)")) << text;
+  EXPECT_TRUE(has_line(text, R"(unima_bridge_line_frames_received_total{line="field",role="master"} 27)")) << text;
+  EXPECT_TRUE(has_line(text, R"(unima_bridge_line_errors_total{line="field",role="master"} 3)")) << text;
+  EXPECT_TRUE(has_line(text, "# TYPE unima_bridge_line_queue gauge")) << text;
+  EXPECT_TRUE(has_line(text, R"(unima_bridge_line_queue{line="field",role="master"} 4)")) << text;
+  EXPECT_EQ(exposition(status).find("unima_bridge_line_"), std::string::npos);
+}
+
 TEST(Prometheus, AnEmptyDocumentGivesOnlyHelpAndType) {
   const auto text = exposition(nlohmann::json::object());
   for (std::size_t at = 0; at < text.size();) {

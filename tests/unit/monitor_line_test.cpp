@@ -49,6 +49,21 @@ TEST(MonitorLine, SeedRtuReadIsDoneWithItsCrc) {
             line_stamp + " rtu Ix=7 Rc=8 State=Done Ad=1 PDU=04 00 11 00 02 CRC=21CE Response=01 04 04 00 50 7F FF 9B E5\n");
 }
 
+// SPEC §18: with several lines a line's ports carry its name; with one, today's names.
+TEST(MonitorLine, PortNamesCarryTheLineWhenThereAreSeveral) {
+  const auto port_name = [](PortKind port, std::string_view peer, std::string_view line_name) {
+    std::string out;
+    append_port_name(out, port, peer, line_name);
+    return out;
+  };
+  EXPECT_EQ(port_name(PortKind::rtu, "", ""), "rtu");
+  EXPECT_EQ(port_name(PortKind::rtu, "", "scada"), "rtu:scada");
+  EXPECT_EQ(port_name(PortKind::master, "", ""), "master");
+  EXPECT_EQ(port_name(PortKind::master, "", "field"), "master:field");
+  EXPECT_EQ(port_name(PortKind::gateway, "10.0.0.5:40000", ""), "gw:10.0.0.5:40000");
+  EXPECT_EQ(port_name(PortKind::gateway, "10.0.0.5:40000", "field"), "gw:field:10.0.0.5:40000");
+}
+
 TEST(MonitorLine, Not4MeShowsTheForeignResponseWhenHeard) {
   const Bytes query = {0x03, 0x04, 0x02, 0x02, 0x00, 0x01, 0x90, 0x50};
   const Bytes foreign = {0x03, 0x04, 0x02, 0x12, 0x34, 0xCD, 0x87};

@@ -17,6 +17,7 @@
 #include "status/activity.hpp"
 #include "status/bridge_status.hpp"
 #include "status/document.hpp"
+#include "status/line_status.hpp"
 #include "status/port_status.hpp"
 #include "tests/support/temp_files.hpp"
 #include "unimabus/bus_status.hpp"
@@ -41,7 +42,7 @@ void expect_round_trip(const nlohmann::json& part) {
 void expect_bridge_round_trip(const nlohmann::json& document) {
   auto own = document;
   for (const auto* service_key : {"ports", "devices", "modules", "unimabus", "modbus", "indicators", "monitor", "state", "mqtt",
-                                  "sparkplug", "http", "master", "gateway"})
+                                  "sparkplug", "http", "master", "gateway", "lines"})
     own.erase(service_key);
   ASSERT_TRUE(own.contains("uptime_s"));
   EXPECT_EQ(nlohmann::json(document.get<status::BridgeStatus>()), own);
@@ -80,6 +81,8 @@ TEST(StatusParts, TheMastersPartsReadAndWriteTheDocumentExactly) {
   for (const auto& device : s["master"]) expect_round_trip<master::MasterDeviceStatus>(device);
   expect_round_trip<master::GatewayStatus>(s["gateway"]);
   ASSERT_FALSE(s["gateway"]["units"].empty());
+  ASSERT_EQ(s["lines"].size(), 1u) << "modbus.rtu, the master's line";
+  expect_round_trip<status::LineStatus>(s["lines"][0]);
 }
 
 // The whole document, as the services fill it and /metrics, the CLI and the page read it,

@@ -8,6 +8,7 @@ screenshot in docs/.
   page_in_chromium.py --url http://127.0.0.1:8080/ [--expect 0x0012=1234 ...] [--online D1 ...]
                       [--indicator 1=write ...] [--ready-file F --then 0x0012=4321 ...]
                       [--gateway 7="not answering" ...] [--north mqtt="not connected" ...]
+                      [--serial-line scada="19200 8E1" ...]
                       [--line Err02 ...] [--every-value] [--screenshot out.png] [--window 1200,1500]
                       [--timeout 20]
 
@@ -17,6 +18,9 @@ screenshot in docs/.
 
 --north SECTION=TEXT: the northbound box's section ("mqtt", "sparkplug") shows TEXT; the
 JSON line then holds every section (its text, and each line's text and colour).
+
+--serial-line NAME=TEXT: the RS-485 line NAME's box shows TEXT; the JSON line then holds
+every line's box (text, open, each paragraph's text and colour).
 
 --ready-file: written once the first expectations hold; the --then expectations are
 awaited after it (the test feeds them a moment after the page showed the first ones).
@@ -65,6 +69,11 @@ result.gateway = {};
 for (const row of document.querySelectorAll('#gateway tr[data-unit]'))
   result.gateway[row.dataset.unit] = { state: row.dataset.state, text: row.textContent,
                                        colour: getComputedStyle(row.querySelector('td.state')).color };
+result.serial_lines = {};
+for (const box of document.querySelectorAll('#serial-lines:not([hidden]) [data-line]'))
+  result.serial_lines[box.dataset.line] = {
+    text: box.textContent, open: box.dataset.open,
+    lines: [...box.querySelectorAll('p')].map(p => ({ text: p.textContent, colour: getComputedStyle(p).color })) };
 result.north = {};
 for (const section of document.querySelectorAll('#north:not([hidden]) [data-section]'))
   result.north[section.dataset.section] = {
@@ -112,12 +121,13 @@ def parse_gateway(items):
     return dict(item.split("=", 1) for item in items)
 
 
-def holds(page, values, online, indicators={}, gateway={}, north=[], lines=[]):
+def holds(page, values, online, indicators={}, gateway={}, north=[], lines=[], serial_lines=[]):
     shown = page.get("indicators", [])
     states = {line["state"] for line in page.get("monitor", [])}
     rows = page.get("gateway", {})
     sections = page.get("north", {})
-    return (all(page["values"].get(a, {}).get("raw") == v for a, v in values.items())
+    boxes = page.get("serial_lines", {})
+    return (all(text in boxes.get(name, {}).get("text", "") for name, text in serial_lines) and all(page["values"].get(a, {}).get("raw") == v for a, v in values.items())
             and all(page["online"].get(bank) for bank in online)
             and all(n <= len(shown) and shown[n - 1]["access"] == access for n, access in indicators.items())
             and all(rows.get(unit, {}).get("state") == state for unit, state in gateway.items())
@@ -135,6 +145,7 @@ def main():
     parser.add_argument("--indicator", action="append", default=[])
     parser.add_argument("--gateway", action="append", default=[])
     parser.add_argument("--north", action="append", default=[])
+    parser.add_argument("--serial-line", action="append", default=[])
     parser.add_argument("--line", action="append", default=[])
     parser.add_argument("--every-value", action="store_true")
     parser.add_argument("--screenshot")
@@ -166,19 +177,20 @@ def main():
         session = call(base, "POST", "/session", capabilities)["sessionId"]
         call(base, "POST", f"/session/{session}/url", {"url": args.url})
 
-        def wait_for(values, online, indicators={}, gateway={}, north=[], lines=[]):
+        def wait_for(values, online, indicators={}, gateway={}, north=[], lines=[], serial_lines=[]):
             nonlocal page
             deadline = time.monotonic() + args.timeout
             while True:
                 page = call(base, "POST", f"/session/{session}/execute/sync", {"script": READ_PAGE, "args": []})
-                if holds(page, values, online, indicators, gateway, north, lines):
+                if holds(page, values, online, indicators, gateway, north, lines, serial_lines):
                     return True
                 if time.monotonic() > deadline:
                     return False
                 time.sleep(0.1)
 
         ok = wait_for(parse_expectations(args.expect), args.online, parse_indicators(args.indicator),
-                      parse_gateway(args.gateway), [tuple(item.split("=", 1)) for item in args.north])
+                      parse_gateway(args.gateway), [tuple(item.split("=", 1)) for item in args.north],
+                      serial_lines=[tuple(item.split("=", 1)) for item in args.serial_line])
         if ok and args.ready_file:
             with open(args.ready_file, "w") as f:
                 f.write("ready\n")
@@ -196,6 +208,8 @@ def main():
             report.update(gateway=page.get("gateway", {}))
         if args.north:
             report.update(north=page.get("north", {}))
+        if args.serial_line:
+            report.update(serial_lines=page.get("serial_lines", {}))
         if args.line:
             report.update(monitor=page.get("monitor", []), monitor_cut=page.get("monitor_cut"), labels=page.get("labels"),
                           width=page.get("width"))

@@ -1,0 +1,182 @@
+// Several lines (SPEC §18, issue 39): one daemon answers the SCADA on one RS-485 line and
+// polls the foreign slaves on another, whose gateway TCP clients reach. Two pseudo-terminal
+// pairs: the foreign-slave simulator on the master line, a libmodbus RTU master (the
+// SCADA) through socat on the slave line.
+
+#include <algorithm>
+#include <optional>
+
+#include "tests/integration/cli_under_test.hpp"
+#include "tests/integration/gateway_fixture.hpp"
+#include "tests/integration/rtu_line.hpp"
+#include "tests/support/peers/http_exchange.hpp"
+
+namespace unima::test {
+namespace {
+
+class LinesTest : public GatewayTest {
+ protected:
+  /// The stepper driver polled every 200 ms on the `field` line (its SUBDIVISION, 8, into
+  /// output 1), the PLC behind its gateway; the SCADA's line `scada` at 19200 baud.
+  void start_two_lines() {
+    ASSERT_TRUE(scada_link->ready());
+    simulate({"5=wecon-lx5v", "6=stepper-driver"});
+    config.mode.clear();
+    config.line.clear();
+    config.master = "retries: 1, response_timeout: 300ms";
+    config.blocks = "  - { type: poll, device: 6, profile: stepper-driver, point: SUBDIVISION, period: 200ms, output: 1 }\n";
+    config.modbus_extra = "  lines:\n"
+                          "    scada: { device: " + bridge_end.string() + ", baud: 19200, role: slave }\n"
+                          "    field: { device: " + sim->pty() + ", baud: " + std::to_string(line_baud) +
+                          ", role: master, gateway: { units: [5], timeout: 300ms } }\n";
+    start();
+  }
+  /// The row of `name` in the status document's "lines"; null when there is none.
+  nlohmann::json line_row(const nlohmann::json& s, const std::string& name) const {
+    for (const auto& row : s.value("lines", nlohmann::json::array()))
+      if (row["line"] == name) return row;
+    return nullptr;
+  }
+  std::filesystem::path scada_end = dir.path() / "scada";
+  std::filesystem::path bridge_end = dir.path() / "bridge";
+  std::optional<SocatLink> scada_link{std::in_place, scada_end, bridge_end};
+};
+
+TEST_F(LinesTest, TheScadaPollsTheSlaveLineWhileAClientReachesAForeignSlaveOnTheMasterLine) {
+  start_two_lines();
+  ASSERT_TRUE(output_becomes(1, 8)) << diagnostics();  // the master line polls
+  ASSERT_EQ(sim->control("set 5 0 4660"), "ok");       // the PLC's D0 = 0x1234
+  RtuMaster scada(scada_end, 19200);
+  ASSERT_TRUE(scada.connected());
+  auto client = Socket::tcp(config.modbus_port);
+  for (int round = 0; round < 10; ++round) {
+    EXPECT_EQ(scada.read_input(c_bank, 1), std::vector<std::uint16_t>{8}) << "round " << round << "\n" << diagnostics();
+    const auto answer = ask(client, static_cast<std::uint16_t>(0x5100 + round), plc, {0x03, 0x00, 0x00, 0x00, 0x01});
+    ASSERT_TRUE(answer) << "round " << round << "\n" << diagnostics();
+    EXPECT_EQ(answer->pdu, (Bytes{0x03, 0x02, 0x12, 0x34})) << hex(answer->pdu);
+  }
+  EXPECT_EQ(heard(rtu_frame(plc, {0x03, 0x00, 0x00, 0x00, 0x01})), 10u) << "every request on the master line, once";
+  EXPECT_TRUE(scada.write(w_bank + 1, 77)) << "the slave line takes the SCADA's writes";
+  ModbusClient tcp(config.modbus_port);
+  EXPECT_EQ(tcp.read_input(w_bank + 1, 1), std::vector<std::uint16_t>{77});
+
+  // Each line's port is named by the line, as there are two (SPEC §18).
+  std::string log;
+  ASSERT_TRUE(eventually([&] {
+    log = read_file(monitor_log());
+    return log.find(" rtu:scada ") != std::string::npos && log.find(" master:field ") != std::string::npos &&
+           log.find(" gw:field:127.0.0.1:") != std::string::npos;
+  })) << log;
+  EXPECT_EQ(log.find(" rtu "), std::string::npos) << log;
+  EXPECT_EQ(log.find(" master "), std::string::npos) << log;
+  EXPECT_EQ(log.find(" gw:127.0.0.1:"), std::string::npos) << log;
+
+  // The status document's port rows, by line.
+  const auto s = status();
+  std::vector<std::string> ports;
+  for (const auto& port : s["ports"]) ports.push_back(port["port"].get<std::string>());
+  EXPECT_NE(std::find(ports.begin(), ports.end(), "rtu:scada"), ports.end()) << s.dump();
+  EXPECT_NE(std::find(ports.begin(), ports.end(), "master:field"), ports.end()) << s.dump();
+
+  // A row per line: its role, device, settings, and what it carried.
+  const auto scada_row = line_row(s, "scada");
+  ASSERT_TRUE(scada_row.is_object()) << s.dump();
+  EXPECT_EQ(scada_row["role"], "slave");
+  EXPECT_EQ(scada_row["device"], bridge_end.string());
+  EXPECT_EQ(scada_row["settings"], "19200 8N1");
+  EXPECT_EQ(scada_row["open"], true);
+  EXPECT_GE(scada_row["frames_received"].get<int>(), 11) << "ten reads and a write";
+  EXPECT_GE(scada_row["frames_sent"].get<int>(), 11);
+  EXPECT_EQ(scada_row["errors"], 0);
+  const auto field_row = line_row(s, "field");
+  ASSERT_TRUE(field_row.is_object()) << s.dump();
+  EXPECT_EQ(field_row["role"], "master");
+  EXPECT_EQ(field_row["device"], sim->pty());
+  EXPECT_GE(field_row["frames_sent"].get<int>(), 10) << "the forwarded reads and the polls";
+  EXPECT_EQ(field_row["frames_sent"], field_row["frames_received"].get<int>() + field_row["errors"].get<int>());
+
+  // `unima-bridge status`: the lines' table.
+  const auto panel = run(bridge_cli() + " status --socket " + config.status_socket).output;
+  EXPECT_NE(panel.find("\n  scada     slave   " + bridge_end.string()), std::string::npos) << panel;
+  EXPECT_NE(panel.find("\n  field     master  " + sim->pty()), std::string::npos) << panel;
+}
+
+// The SCADA's line unplugged (its device gone) and plugged back: the master line and the
+// gateway go on meanwhile, the status says the line is not open, and the SCADA is served
+// again once its device is back.
+TEST_F(LinesTest, AnUnpluggedSlaveLineStopsNothingElseAndServesAgainWhenPluggedBack) {
+  start_two_lines();
+  ASSERT_TRUE(output_becomes(1, 8)) << diagnostics();
+  ASSERT_EQ(sim->control("set 5 0 4660"), "ok");
+  scada_link.reset();  // socat gone: the bridge's end of the line with it
+  ASSERT_TRUE(eventually([&] { return line_row(status(), "scada")["open"] == false; }, 10s)) << status().dump(1);
+  auto client = Socket::tcp(config.modbus_port);
+  const auto polls_before = polls();
+  for (std::uint16_t round = 0; round < 5; ++round) {
+    const auto answer = ask(client, round, plc, {0x03, 0x00, 0x00, 0x00, 0x01});
+    ASSERT_TRUE(answer) << "round " << round << "\n" << diagnostics();
+    EXPECT_EQ(answer->pdu, (Bytes{0x03, 0x02, 0x12, 0x34})) << hex(answer->pdu);
+  }
+  EXPECT_TRUE(eventually([&] { return polls() > polls_before; })) << "the master line polls on";
+  EXPECT_EQ(line_row(status(), "field")["open"], true);
+
+  scada_link.emplace(scada_end, bridge_end);
+  ASSERT_TRUE(scada_link->ready());
+  ASSERT_TRUE(eventually([&] { return line_row(status(), "scada")["open"] == true; }, 15s)) << status().dump(1);
+  RtuMaster scada(scada_end, 19200);
+  ASSERT_TRUE(scada.connected());
+  EXPECT_EQ(scada.read_input(c_bank, 1), std::vector<std::uint16_t>{8}) << diagnostics();
+}
+
+// The page has a box per line; /metrics counts each line by its label.
+TEST_F(LinesTest, ThePageHasABoxPerLineAndMetricsALineLabel) {
+  const auto http_port = free_port();
+  config.extra += "http: { listen: 127.0.0.1, port: " + std::to_string(http_port) + " }\n";
+  start_two_lines();
+  ASSERT_TRUE(wait_for_port(http_port)) << diagnostics();
+  ASSERT_TRUE(output_becomes(1, 8)) << diagnostics();
+  const auto metrics = test_support::http_get(http_port, "/metrics").body;
+  EXPECT_NE(metrics.find("unima_bridge_line_open{line=\"scada\",role=\"slave\"} 1\n"), std::string::npos) << metrics;
+  EXPECT_NE(metrics.find("unima_bridge_line_frames_sent_total{line=\"field\",role=\"master\"} "), std::string::npos) << metrics;
+
+  const auto command = std::string(UNIMA_SOURCE_DIR) + "/tests/integration/browser/page_in_chromium.py --url http://127.0.0.1:" +
+                       std::to_string(http_port) + "/ --serial-line 'scada=19200 8N1' --serial-line 'field=" + sim->pty() +
+                       "' --timeout 30 2>&1";
+  const auto result = run(command);
+  ASSERT_EQ(result.status, 0) << result.output;
+  const auto shown = nlohmann::json::parse(result.output.substr(result.output.rfind("{\"ok\"")), nullptr, false);
+  ASSERT_TRUE(shown.contains("serial_lines")) << result.output;
+  const auto& boxes = shown["serial_lines"];
+  EXPECT_EQ(boxes["scada"]["open"], "true") << boxes;
+  EXPECT_NE(boxes["scada"]["text"].get<std::string>().find("scada: slave"), std::string::npos) << boxes;
+  EXPECT_NE(boxes["field"]["text"].get<std::string>().find("field: master"), std::string::npos) << boxes;
+}
+
+// docs/lines.md's two-port site (a Revolution Pi Compact) is what `check` accepts as written.
+TEST(LinesDoc, CheckAcceptsTheTwoPortSiteAsWritten) {
+  const auto guide = read_file(std::string(UNIMA_SOURCE_DIR) + "/docs/lines.md");
+  const std::string fence = "```yaml\n";
+  const auto begin = guide.find(fence);
+  ASSERT_NE(begin, std::string::npos);
+  const auto end = guide.find("```\n", begin + fence.size());
+  ASSERT_NE(end, std::string::npos);
+  TempDir dir;
+  const auto file = dir.path() / "bridge.yaml";
+  test_support::write_file(file, guide.substr(begin + fence.size(), end - begin - fence.size()));
+  const auto [status, output] = run(bridge_cli() + " check --config " + file.string());
+  EXPECT_EQ(status, 0) << output;
+  EXPECT_NE(output.find("line scada: slave, /dev/ttyRS485-0 19200 baud 8E1, t3.5 = "), std::string::npos) << output;
+  EXPECT_NE(output.find("line field: master, /dev/ttyRS485-1 9600 baud 8N1, t3.5 = "), std::string::npos) << output;
+  EXPECT_NE(output.find(", gateway units 5-6\n"), std::string::npos) << output;
+  EXPECT_NE(output.find("master: field /dev/ttyRS485-1 9600 baud"), std::string::npos) << output;
+  EXPECT_NE(output.find("  3 blocks in 3 requests"), std::string::npos) << "the master line's blocks\n" << output;
+  // The warnings a machine without the ports gives, and no other.
+  std::size_t warnings = 0;
+  for (auto at = output.find("warning"); at != std::string::npos; at = output.find("warning", at + 1)) ++warnings;
+  EXPECT_NE(output.find("warning: modbus.lines.scada.device: /dev/ttyRS485-0: "), std::string::npos) << output;
+  EXPECT_NE(output.find("warning: modbus.lines.field.device: /dev/ttyRS485-1: "), std::string::npos) << output;
+  EXPECT_EQ(warnings, 2u) << output;
+}
+
+}  // namespace
+}  // namespace unima::test
