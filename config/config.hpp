@@ -199,8 +199,8 @@ struct ModbusConfig {
   bool readable_write_banks = true;
   Extensions extensions;
 
-  /// The line of this role the bridge serves; null when there is none. The parse lets at
-  /// most one line have each role (config/modbus_section.cpp says why).
+  /// The first line of this role; null when there is none. The parse lets at most one
+  /// line be a master (config/modbus_section.cpp says why); slave lines may be several.
   const LineConfig* line_of(LineRole role) const;
   /// The line named `name`; null when there is none.
   const LineConfig* find_line(std::string_view name) const;

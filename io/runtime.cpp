@@ -13,10 +13,10 @@ std::vector<std::pair<banks::BankId, std::uint8_t>> device_addresses(const confi
   return addresses;
 }
 
-std::vector<modbus::CaptureRule> capture_rules(const config::Config& config) {
-  std::vector<modbus::CaptureRule> rules;
+CaptureRules capture_rules(const config::Config& config) {
+  CaptureRules rules;
   for (const auto* block : config.active_blocks())
-    if (block->type == config::Block::Type::capture) rules.push_back({block->device, block->reg, block->output});
+    if (block->type == config::Block::Type::capture) rules[block->line].push_back({block->device, block->reg, block->output});
   return rules;
 }
 

@@ -5,7 +5,9 @@
 
 #include <chrono>
 #include <functional>
+#include <map>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -31,6 +33,9 @@
 
 namespace unima::io {
 
+/// The capture blocks by the slave line they listen on (SPEC §4, §18).
+using CaptureRules = std::map<std::string, std::vector<modbus::CaptureRule>, std::less<>>;
+
 /// One config and everything derived from it once: the register store and space, the
 /// one write path, the telegram intake, the capture rules, the register map and the
 /// value model (SPEC §17).
@@ -40,7 +45,7 @@ struct Banks {
   std::unique_ptr<banks::RegisterSpace> space;
   std::unique_ptr<banks::WritePath> writes;
   std::unique_ptr<unimabus::TelegramIntake> intake;
-  std::vector<modbus::CaptureRule> capture_rules;
+  CaptureRules capture_rules;
   std::vector<config::MapRow> register_rows;  // in address order: the page, /api/registers
   values::ValueModel value_model;
   /// The values now, evaluated once per change for all who show or publish them.

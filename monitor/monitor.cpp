@@ -52,8 +52,22 @@ void Monitor::replace_writer(std::unique_ptr<MonitorWriter> writer) {
   writer_ = std::move(writer);
 }
 
+const modbus::TransactionCounters& Monitor::counters(modbus::PortKind port, std::string_view line) const {
+  static const PortCounters none{};
+  const auto index = static_cast<std::size_t>(port);
+  if (line.empty()) return counters_[index];
+  const auto found = line_counters_.find(line);
+  return (found == line_counters_.end() ? none : found->second)[index];
+}
+
+Monitor::PortCounters& Monitor::counters_of(std::string_view line) {
+  if (line.empty()) return counters_;
+  if (const auto found = line_counters_.find(line); found != line_counters_.end()) return found->second;
+  return line_counters_.emplace(std::string(line), PortCounters{}).first->second;
+}
+
 void Monitor::observe(const modbus::Transaction& t) {
-  counters_[static_cast<std::size_t>(t.port)].count(t.state);
+  counters_of(t.line)[static_cast<std::size_t>(t.port)].count(t.state);
   if (t.answered_by_bridge) frame_sent(t.time);  // the port read the clock already
   if (!indicators_.empty())
     if (const auto captured = modbus::captured_registers(t)) indicators_.observe(*captured, t.time);

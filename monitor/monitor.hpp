@@ -9,7 +9,10 @@
 #include <array>
 #include <chrono>
 #include <memory>
+#include <map>
 #include <optional>
+#include <string>
+#include <string_view>
 
 #include "monitor/monitor_config.hpp"
 #include "monitor/monitor_writer.hpp"
@@ -45,9 +48,9 @@ class Monitor {
   const MonitorConfig& config() const { return config_; }
   const monitor::CommandFilter& filter() const { return filter_; }
   const monitor::CaptureIndicators& indicators() const { return indicators_; }
-  const modbus::TransactionCounters& counters(modbus::PortKind port) const {
-    return counters_[static_cast<std::size_t>(port)];
-  }
+  /// A port's transactions; a line's (`line`: its name as Transaction::line carries it)
+  /// when the bridge has several (SPEC §18).
+  const modbus::TransactionCounters& counters(modbus::PortKind port, std::string_view line = {}) const;
   /// When the bridge last sent a frame (wall clock: the one ports stamp with), and how many.
   std::optional<std::chrono::system_clock::time_point> last_frame_sent() const { return last_frame_sent_; }
   std::uint64_t frames_sent() const { return frames_sent_; }
@@ -59,11 +62,14 @@ class Monitor {
 
  private:
   void replace_writer(std::unique_ptr<MonitorWriter> writer);
+  using PortCounters = std::array<modbus::TransactionCounters, 5>;  // by PortKind
+  PortCounters& counters_of(std::string_view line);
 
   MonitorConfig config_;
   monitor::CommandFilter filter_;
   monitor::CaptureIndicators indicators_;
-  std::array<modbus::TransactionCounters, 5> counters_{};  // by PortKind
+  PortCounters counters_{};                                          // of the ports without a line name
+  std::map<std::string, PortCounters, std::less<>> line_counters_;   // by line name, with several lines
   std::optional<std::chrono::system_clock::time_point> last_frame_sent_;
   std::uint64_t frames_sent_ = 0;
   std::uint8_t next_ix_ = 0;

@@ -105,10 +105,11 @@ void MasterService::describe(status::Document& status) const {
     if (!status.lines) status.lines.emplace();
     status.lines->push_back(line_row(*line, true, master_->line_counters(), master_->queue_depth()));
   }
-  const auto& counters = runtime_.monitor->counters(modbus::PortKind::master);
+  const auto shown = line ? served.shown_name(*line) : std::string_view();
+  const auto& counters = runtime_.monitor->counters(modbus::PortKind::master, shown);
   if (counters.transactions > 0) {
     std::string name;
-    monitor::append_port_name(name, modbus::PortKind::master, {}, line ? served.shown_name(*line) : std::string_view());
+    monitor::append_port_name(name, modbus::PortKind::master, {}, shown);
     status.ports.push_back(status::port_status(name.c_str(), counters));
   }
   if (!master_) return;

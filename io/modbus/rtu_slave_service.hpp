@@ -1,13 +1,17 @@
 #pragma once
-// The RTU slave port (`modbus.rtu` in slave mode, SPEC §3) as a service, with the
-// capture blocks it feeds (SPEC §4: what another master writes to, or reads from, a
-// foreign slave goes to a user output). In master mode the line is the master's. The
-// line is reopened on a reload only when its settings changed; opening never throws (a
-// line that cannot be opened is retried), so nothing here can refuse a reload.
+// The RTU slave lines (`modbus.rtu` in slave mode, each `role: slave` line of
+// modbus.lines; SPEC §3, §18) as a service: a port per line, each with its own address,
+// its own capture blocks (SPEC §4: what another master writes to, or reads from, a foreign
+// slave goes to a user output) and its own counters. A reload reopens only the lines whose
+// settings changed and closes the lines that went: a line whose keys are unchanged keeps
+// its port, its queue and its counters. Opening never throws (a line that cannot be opened
+// is retried), so nothing here can refuse a reload.
 
+#include <map>
 #include <memory>
-#include <optional>
+#include <set>
 #include <span>
+#include <string>
 
 #include "io/modbus/rtu_slave_port.hpp"
 #include "io/service.hpp"
@@ -25,18 +29,14 @@ class RtuSlaveService final : public Service {
   void describe(status::Document& status) const override;
 
  private:
-  std::unique_ptr<RtuSlavePort> make_port(const config::Config& config);
-  SlaveContext context() const;
-  void capture(std::span<const std::uint8_t> query, std::span<const std::uint8_t> response);
+  std::unique_ptr<RtuSlavePort> make_port(const config::LineConfig& line);
+  SlaveContext context(const config::LineConfig& line) const;
+  void capture(const std::string& line, std::span<const std::uint8_t> query, std::span<const std::uint8_t> response);
 
   Runtime& runtime_;
-  std::unique_ptr<RtuSlavePort> port_;
+  std::map<std::string, std::unique_ptr<RtuSlavePort>> ports_;  // by line name
   bool started_ = false;
-  bool reopen_ = false;  // staged: the line's settings changed
+  std::set<std::string> reopen_;  // staged: the lines whose settings changed, or that went
 };
-
-/// The line an RTU slave serves in `config`: its slave line; none without one (in master
-/// mode modbus.rtu is the master's).
-std::optional<config::RtuConfig> slave_line(const config::Config& config);
 
 }  // namespace unima::io

@@ -25,12 +25,16 @@ class LinesTest : public GatewayTest {
     config.line.clear();
     config.master = "retries: 1, response_timeout: 300ms";
     config.blocks = "  - { type: poll, device: 6, profile: stepper-driver, point: SUBDIVISION, period: 200ms, output: 1 }\n";
-    config.modbus_extra = "  lines:\n"
-                          "    scada: { device: " + bridge_end.string() + ", baud: 19200, role: slave }\n"
-                          "    field: { device: " + sim->pty() + ", baud: " + std::to_string(line_baud) +
-                          ", role: master, gateway: { units: [5], timeout: 300ms } }\n";
+    config.modbus_extra = lines_yaml();
     start();
   }
+  std::string lines_yaml() const {
+    return "  lines:\n"
+           "    scada: { device: " + bridge_end.string() + ", baud: 19200, role: slave }\n"
+           "    field: { device: " + sim->pty() + ", baud: " + std::to_string(line_baud) +
+           ", role: master, gateway: { units: [5], timeout: 300ms } }\n" + more_lines;
+  }
+  std::string more_lines;  // more lines of modbus.lines
   /// The row of `name` in the status document's "lines"; null when there is none.
   nlohmann::json line_row(const nlohmann::json& s, const std::string& name) const {
     for (const auto& row : s.value("lines", nlohmann::json::array()))
@@ -150,6 +154,63 @@ TEST_F(LinesTest, ThePageHasABoxPerLineAndMetricsALineLabel) {
   EXPECT_EQ(boxes["scada"]["open"], "true") << boxes;
   EXPECT_NE(boxes["scada"]["text"].get<std::string>().find("scada: slave"), std::string::npos) << boxes;
   EXPECT_NE(boxes["field"]["text"].get<std::string>().find("field: master"), std::string::npos) << boxes;
+}
+
+// Two slave lines (a SCADA and an operator panel, each its own RS-485 port) and the master
+// line: each slave line answers as its own address and counts on its own; a reload that
+// changes the panel's line reopens it alone, the SCADA's keeps its port and its counters.
+TEST_F(LinesTest, TwoSlaveLinesAnswerEachAsItsAddressAndAReloadOfOneLeavesTheOther) {
+  const auto panel_end = dir.path() / "panel";
+  const auto panel_bridge_end = dir.path() / "panel-bridge";
+  SocatLink panel_link(panel_end, panel_bridge_end);
+  ASSERT_TRUE(panel_link.ready());
+  const auto panel_line = [&](unsigned baud) {
+    return "    panel: { device: " + panel_bridge_end.string() + ", baud: " + std::to_string(baud) +
+           ", role: slave, address: 2 }\n";
+  };
+  more_lines = panel_line(9600);
+  start_two_lines();
+  ASSERT_TRUE(output_becomes(1, 8)) << diagnostics();
+  RtuMaster scada(scada_end, 19200, 1);
+  ASSERT_TRUE(scada.connected());
+  {
+    RtuMaster panel(panel_end, 9600, 2);
+    ASSERT_TRUE(panel.connected());
+    for (int round = 0; round < 5; ++round) {
+      EXPECT_EQ(scada.read_input(c_bank, 1), std::vector<std::uint16_t>{8}) << "round " << round << "\n" << diagnostics();
+      EXPECT_EQ(panel.read_input(c_bank, 1), std::vector<std::uint16_t>{8}) << "round " << round << "\n" << diagnostics();
+    }
+  }
+  {
+    RtuMaster panel_as_1(panel_end, 9600, 1);
+    ASSERT_TRUE(panel_as_1.connected());
+    EXPECT_FALSE(panel_as_1.read_input(c_bank, 1)) << "address 1 is the SCADA line's, not the panel's";
+  }
+
+  auto s = status();
+  const auto scada_before = line_row(s, "scada");
+  ASSERT_TRUE(scada_before.is_object()) << s.dump(1);
+  EXPECT_GE(scada_before["frames_received"].get<int>(), 5);
+  EXPECT_GE(line_row(s, "panel")["frames_received"].get<int>(), 6);
+  std::vector<std::string> ports;
+  for (const auto& port : s["ports"]) ports.push_back(port["port"].get<std::string>());
+  EXPECT_NE(std::find(ports.begin(), ports.end(), "rtu:panel"), ports.end()) << s.dump();
+
+  // The panel's line to 19200 baud: reopened; the SCADA's untouched.
+  more_lines = panel_line(19200);
+  config.modbus_extra = lines_yaml();
+  daemon->rewrite_config(config.yaml());
+  daemon->signal(SIGHUP);
+  ASSERT_TRUE(daemon->wait_for_log("reloaded")) << daemon->log();
+  s = status();
+  EXPECT_EQ(line_row(s, "panel")["settings"], "19200 8N1") << s.dump(1);
+  EXPECT_EQ(line_row(s, "panel")["frames_received"], 0) << "a reopened line counts anew";
+  EXPECT_GE(line_row(s, "scada")["frames_received"].get<int>(), scada_before["frames_received"].get<int>())
+      << "the SCADA's line kept its counters";
+  EXPECT_EQ(scada.read_input(c_bank, 1), std::vector<std::uint16_t>{8}) << "the SCADA's connection was never closed";
+  RtuMaster faster_panel(panel_end, 19200, 2);
+  ASSERT_TRUE(faster_panel.connected());
+  EXPECT_EQ(faster_panel.read_input(c_bank, 1), std::vector<std::uint16_t>{8}) << diagnostics();
 }
 
 // docs/lines.md's two-port site (a Revolution Pi Compact) is what `check` accepts as written.

@@ -243,14 +243,27 @@ TEST(LinesConfig, ASlaveLineAndAMasterLineServeTogether) {
   EXPECT_TRUE(c.modbus.gateway()->routes(2));
 }
 
-// The runtime serves one line of each role so far: a second of a role is refused, after
-// every other check.
-TEST(LinesConfig, ASecondLineOfARoleIsRefusedUntilTheRuntimeServesIt) {
+// The runtime serves every slave line but one master line so far: a second master line is
+// refused, after every other check.
+TEST(LinesConfig, ASecondMasterLineIsRefusedUntilTheRuntimeServesIt) {
   EXPECT_EQ(lines_error("modbus:\n  lines:\n    scada: { device: /dev/ttyS0, role: slave }\n"
                         "    field: { device: /dev/ttyS1, role: master }\n"
-                        "    panel: { device: /dev/ttyS2, role: slave, address: 2 }\n"),
-            "l.yaml:5:5: modbus.lines.panel: this bridge serves one slave line so far; a second one (panel besides "
-            "scada) is not served yet (issue 39)");
+                        "    meters: { device: /dev/ttyS2, role: master }\n"),
+            "l.yaml:5:5: modbus.lines.meters: this bridge serves one master line so far; a second one (meters besides "
+            "field) is not served yet (issue 39)");
+}
+
+// Several slave lines: each answers as its own address, with its own capture blocks.
+TEST(LinesConfig, SeveralSlaveLinesAreServedEachWithItsAddressAndCaptures) {
+  const auto c = lines_parse("modbus:\n  address: 1\n  lines:\n    scada: { device: /dev/ttyS0, role: slave }\n"
+                              "    panel: { device: /dev/ttyS2, role: slave, address: 2 }\n"
+                              "blocks:\n  - { type: capture, line: panel, device: 9, register: 0x10, output: 1 }\n");
+  ASSERT_EQ(c.modbus.lines.size(), 2u);
+  EXPECT_EQ(c.modbus.lines[0].address, 1);
+  EXPECT_EQ(c.modbus.lines[1].address, 2);
+  EXPECT_EQ(c.modbus.shown_name(c.modbus.lines[1]), "panel");
+  ASSERT_EQ(c.blocks.size(), 1u);
+  EXPECT_EQ(c.blocks[0].line, "panel");
 }
 
 }  // namespace
