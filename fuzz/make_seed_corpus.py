@@ -216,7 +216,7 @@ def source_ref() -> None:
 def config_loader() -> None:
     for path in sorted((ROOT / "config" / "examples").glob("*.yaml")):
         write("config_loader", f"example-{path.stem}", path.read_bytes())
-    for doc in ("configuration", "master", "quickstart", "rtu"):
+    for doc in ("configuration", "lines", "master", "quickstart", "rtu"):
         text = (ROOT / "docs" / f"{doc}.md").read_text()
         for n, block in enumerate(re.findall(r"```yaml\n(.*?)```", text, re.S)):
             write("config_loader", f"docs-{doc}-{n}", block.encode())
