@@ -41,13 +41,16 @@ std::string format_lines(const config::Config& config) {
   return out;
 }
 
-std::string format_master_plan(const config::Config& config) {
-  const auto setup = config::master_setup(config);
+namespace {
+
+// One master's plan: the line's (`line`), or modbus.master.tcp's (null).
+std::string format_line_plan(const config::Config& config, const config::LineConfig* master) {
+  const auto setup = config::master_setup(config, master);
   const auto plan = config::master_plan(setup);
   std::string out;
   const auto& m = config.modbus.master;
-  if (!m.tcp.empty()) out += fmt::format("master: tcp {}\n", m.tcp);
-  else if (const auto* master = config.modbus.line_of(config::LineRole::master)) {
+  if (!master) out += fmt::format("master: tcp {}\n", m.tcp);
+  else {
     const auto& line = *master;  // "rtu" for modbus.rtu, as before lines had names
     out += fmt::format("master: {} {} {} baud, {} bits per character, t3.5 = {} us\n", line.name, line.serial.device,
                        line.serial.baud, setup.serial->bits_per_character, setup.serial->frame_gap.count());
@@ -90,6 +93,16 @@ std::string format_master_plan(const config::Config& config) {
     out += fmt::format("bus load: {:.1f} requests/s\n", rate);
   }
   for (const auto& w : warnings) out += fmt::format("warning: {}\n", w);
+  return out;
+}
+
+}  // namespace
+
+std::string format_master_plan(const config::Config& config) {
+  const auto lines = config.modbus.lines_of(config::LineRole::master);
+  if (lines.empty()) return format_line_plan(config, nullptr);
+  std::string out;
+  for (const auto* line : lines) out += format_line_plan(config, line);
   return out;
 }
 

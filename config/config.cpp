@@ -56,6 +56,29 @@ const GatewayConfig* ModbusConfig::gateway() const {
   return line && line->gateway ? &*line->gateway : nullptr;
 }
 
+std::optional<GatewayRoutes> ModbusConfig::gateway_routes() const {
+  GatewayRoutes routes;
+  for (const auto& line : lines) {
+    if (line.role != LineRole::master || !line.gateway) continue;
+    const auto index = static_cast<std::uint8_t>(routes.gateways.size());
+    routes.gateways.emplace_back(line.name, *line.gateway);
+    for (unsigned unit = 0; unit < 256; ++unit)
+      if (line.gateway->units[unit]) {
+        routes.units[unit] = true;
+        routes.gateway_of[unit] = index;
+      }
+  }
+  if (routes.gateways.empty()) return std::nullopt;
+  return routes;
+}
+
+std::vector<const LineConfig*> ModbusConfig::lines_of(LineRole role) const {
+  std::vector<const LineConfig*> found;
+  for (const auto& line : lines)
+    if (line.role == role) found.push_back(&line);
+  return found;
+}
+
 std::string_view ModbusConfig::shown_name(const LineConfig& line) const {
   return lines.size() > 1 ? std::string_view(line.name) : std::string_view();
 }

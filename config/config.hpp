@@ -169,6 +169,17 @@ struct GatewayConfig {
   bool routes(std::uint8_t unit) const { return units[unit]; }
 };
 
+/// Every master line's gateway by the unit ids it routes (SPEC §14, §18): what the TCP and
+/// TLS ports forward, and with which line's settings (`priority`, `functions`). Owns
+/// copies, so that the ports may keep it across a reload.
+struct GatewayRoutes {
+  std::array<bool, 256> units{};  // the union of every master line's units
+  std::vector<std::pair<std::string, GatewayConfig>> gateways;  // by line name
+  std::array<std::uint8_t, 256> gateway_of{};  // an index into `gateways`, for a routed unit
+
+  const GatewayConfig& of(std::uint8_t unit) const { return gateways[gateway_of[unit]].second; }
+};
+
 /// "2-9, 17": the routed unit ids as the config writes them.
 std::string unit_ranges_text(const GatewayConfig& gateway);
 
@@ -207,8 +218,12 @@ struct ModbusConfig {
   /// Whether the blocks of this kind act: slave blocks without a master or beside a slave
   /// line, master blocks with one (SPEC §4, §18).
   bool serves_slave_blocks() const;
-  /// The master line's gateway (SPEC §14); null without one.
+  /// The first master line's gateway (SPEC §14); null without one.
   const GatewayConfig* gateway() const;
+  /// Every master line's gateway; nullopt when no line has one.
+  std::optional<GatewayRoutes> gateway_routes() const;
+  /// The lines of a role, in the file's order.
+  std::vector<const LineConfig*> lines_of(LineRole role) const;
   /// What a line's monitor port names and status rows carry (SPEC §18): its name when the
   /// bridge has several lines; empty with one, whose names stay `rtu`, `master`, `gw:`.
   std::string_view shown_name(const LineConfig& line) const;

@@ -46,7 +46,6 @@ Config parse_document(const YAML::Node& root, const std::string& origin, const H
   if (root["report"]) parse_report(state, root["report"]);
   validate_layout(state, root);
   resolve_tls_roles(state);
-  refuse_unserved_lines(state, root);
   state.config.noted_warnings = yaml.take_warnings();
   return std::move(state.config);
 }

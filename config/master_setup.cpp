@@ -30,11 +30,24 @@ std::map<std::uint8_t, DeviceProfileUse> device_profiles(const Config& config) {
   return profiles;
 }
 
+namespace {
+
+// The master line a device is polled on: its first poll or send block's; null when none
+// names a line (modbus.master.tcp).
+const LineConfig* line_of_device(const Config& config, std::uint8_t address) {
+  for (const Block* block : config.active_blocks())
+    if ((block->type == Block::Type::poll || block->type == Block::Type::send) && block->device == address)
+      return config.modbus.find_line(block->line);
+  return config.modbus.line_of(LineRole::master);
+}
+
+}  // namespace
+
 std::vector<std::string> foreign_slave_warnings(const Config& config) {
   std::vector<std::string> found;
   const auto& m = config.modbus.master;
-  const auto* line = config.modbus.line_of(LineRole::master);
   for (const auto& [address, use] : device_profiles(config)) {
+    const auto* line = line_of_device(config, address);
     const auto& p = *use.profile;
     const auto device = m.devices.find(address);
     const auto* set = device != m.devices.end() && device->second.line ? &*device->second.line : nullptr;
@@ -60,13 +73,14 @@ std::vector<std::string> foreign_slave_warnings(const Config& config) {
   return found;
 }
 
-MasterSetup master_setup(const Config& config) {
+MasterSetup master_setup(const Config& config) { return master_setup(config, config.modbus.line_of(LineRole::master)); }
+
+MasterSetup master_setup(const Config& config, const LineConfig* line) {
   const auto& m = config.modbus.master;
   MasterSetup setup;
   std::map<std::uint8_t, const master::DeviceProfile*> profiles;
   for (const auto& [address, use] : device_profiles(config)) profiles[address] = use.profile;
 
-  const auto* line = config.modbus.line_of(LineRole::master);
   for (const Block* block : config.active_blocks()) {
     if (block->type != Block::Type::poll && block->type != Block::Type::send) continue;
     if (block->line != (line ? line->name : std::string())) continue;  // another line's

@@ -24,6 +24,9 @@ struct MasterSetup {
 };
 
 /// Everything the master needs from `config` (which is in master mode).
+/// `line`: the master line whose blocks, timing and devices it takes; null: the master
+/// without a line (modbus.master.tcp). The overload without it takes the first master line.
+MasterSetup master_setup(const Config& config, const LineConfig* line);
 MasterSetup master_setup(const Config& config);
 
 /// The profile of each polled device: modbus.master.devices.N.profile, else the first

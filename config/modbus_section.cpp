@@ -342,24 +342,6 @@ const master::DeviceProfile* parse_profile(const ParseState& state, const YAML::
   return found;
 }
 
-// The runtime serves every slave line (io/modbus/rtu_slave_service) but one master line
-// so far (io/master/master_service): a config with a second master line must not start
-// with part of its lines served. Last, so that every other error of several lines is
-// found first.
-void refuse_unserved_lines(const ParseState& state, const YAML::Node& root) {
-  const auto& m = state.config.modbus;
-  if (m.lines.size() < 2) return;  // modbus.rtu, or one line of modbus.lines
-  const auto* first = m.line_of(LineRole::master);
-  auto entry = root["modbus"]["lines"].begin();
-  for (const auto& line : m.lines) {
-    if (line.role == LineRole::master && first != &line)
-      state.yaml.fail(entry->first, fmt::format("{}: this bridge serves one master line so far; a second one ({} "
-                                                "besides {}) is not served yet (issue 39)", line.key, line.name,
-                                                first->name));
-    ++entry;
-  }
-}
-
 void parse_modbus(ParseState& state, const YAML::Node& node) {
   const auto& yaml = state.yaml;
   yaml.expect_keys(node, "modbus", {"mode", "address", "tcp", "tls", "rtu", "lines", "readable_write_banks", "extensions",

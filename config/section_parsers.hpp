@@ -48,8 +48,6 @@ void parse_state(ParseState& state, const YAML::Node& node, const YAML::Node& ro
 
 // modbus_section.cpp: modbus, its RTU line and the master's settings.
 void parse_modbus(ParseState& state, const YAML::Node& node);
-/// Fails when the config has more lines than the runtime serves: after every other check.
-void refuse_unserved_lines(const ParseState& state, const YAML::Node& root);
 /// A device profile named in the config (modbus.master.devices.N.profile, a block's profile).
 const master::DeviceProfile* parse_profile(const ParseState& state, const YAML::Node& node);
 /// Unit ids of foreign slaves (modbus.gateway.units, a TLS role's "units 5-9"): `written`

@@ -44,15 +44,16 @@ std::string describe_master_transaction(const modbus::Transaction& t) {
   return fmt::format("{} {}{} {} -> {}", monitor::state_name(t.state), port, t.peer, hex(t.query), hex(t.response));
 }
 
-std::shared_ptr<MasterPort> MasterPort::create(asio::io_context& io, const config::Config& config, Hooks hooks) {
-  auto setup = config::master_setup(config);
+std::shared_ptr<MasterPort> MasterPort::create(asio::io_context& io, const config::Config& config,
+                                               const config::LineConfig* line, Hooks hooks) {
+  auto setup = config::master_setup(config, line);
   std::shared_ptr<MasterLink> link;
-  if (const auto& master = config.modbus.master; !master.tcp.empty())
-    link = std::make_shared<MasterTcpLink>(io, master.tcp, master.tcp_target);
+  if (line)
+    link = std::make_shared<MasterRtuLink>(io, line->serial);
   else
-    link = std::make_shared<MasterRtuLink>(io, config.modbus.line_of(config::LineRole::master)->serial);
+    link = std::make_shared<MasterTcpLink>(io, config.modbus.master.tcp, config.modbus.master.tcp_target);
   std::optional<config::GatewayConfig> gateway;
-  if (const auto* routes = config.modbus.gateway()) gateway = *routes;
+  if (line && line->gateway) gateway = *line->gateway;
   return std::make_shared<MasterPort>(io, std::move(setup), std::move(link), std::move(hooks), std::move(gateway));
 }
 

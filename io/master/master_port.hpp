@@ -69,8 +69,10 @@ class MasterPort final : public LineGateway, public std::enable_shared_from_this
     std::function<void(std::chrono::system_clock::time_point)> on_query_sent;
   };
 
-  /// Opens the line of `config` (in master mode); throws std::runtime_error when it cannot.
-  static std::shared_ptr<MasterPort> create(asio::io_context& io, const config::Config& config, Hooks hooks);
+  /// Opens `line` of `config` (null: modbus.master.tcp); throws std::runtime_error when it
+  /// cannot.
+  static std::shared_ptr<MasterPort> create(asio::io_context& io, const config::Config& config,
+                                            const config::LineConfig* line, Hooks hooks);
   ~MasterPort();
 
   void start();

@@ -54,12 +54,13 @@ master::GatewayStatus gateway_status(const config::GatewayConfig& config, const 
 
 }  // namespace
 
-MasterService::MasterService(Runtime& runtime) : runtime_(runtime), master_(make_master(runtime.config())) {
-  runtime_.gateway_line.attach(master_.get());
+MasterService::MasterService(Runtime& runtime) : runtime_(runtime), masters_(make_masters(runtime.config())) {
+  attach_gateways();
 }
 
-std::shared_ptr<MasterPort> MasterService::make_master(const config::Config& config) {
-  if (config.modbus.mode != config::ModbusMode::master) return nullptr;
+MasterService::~MasterService() { runtime_.gateway_line.detach_all(); }
+
+std::shared_ptr<MasterPort> MasterService::make_master(const config::Config& config, const config::LineConfig* line) {
   MasterPort::Hooks hooks;
   hooks.read_source = [this](const banks::SourceRef& source) -> std::optional<std::uint16_t> {
     const auto value = runtime_.banks->store->read_source(source);
@@ -68,7 +69,6 @@ std::shared_ptr<MasterPort> MasterService::make_master(const config::Config& con
   };
   hooks.set_output = [this](unsigned output, std::uint16_t value) { runtime_.banks->store->set_user_output(output, value); };
   hooks.on_fault = [this] { runtime_.error_hold.fault(); };
-  const auto* line = config.modbus.line_of(config::LineRole::master);
   hooks.on_transaction = [this, name = std::string(line ? config.modbus.shown_name(*line) : std::string_view())](
                              modbus::Transaction t) {
     t.line = name;
@@ -76,48 +76,82 @@ std::shared_ptr<MasterPort> MasterService::make_master(const config::Config& con
     if (spdlog::should_log(spdlog::level::debug)) spdlog::debug("modbus master: {}", describe_master_transaction(t));
   };
   hooks.on_query_sent = [this](std::chrono::system_clock::time_point time) { runtime_.monitor->frame_sent(time); };
-  return MasterPort::create(runtime_.io, config, std::move(hooks));
+  return MasterPort::create(runtime_.io, config, line, std::move(hooks));
+}
+
+// A master per master line; in master mode without one, the master of modbus.master.tcp.
+MasterService::Masters MasterService::make_masters(const config::Config& config) {
+  Masters masters;
+  if (config.modbus.mode != config::ModbusMode::master) return masters;
+  const auto lines = config.modbus.lines_of(config::LineRole::master);
+  if (lines.empty()) masters.emplace(std::string(), make_master(config, nullptr));
+  for (const auto* line : lines) masters.emplace(line->name, make_master(config, line));
+  return masters;
+}
+
+// The ports' requests go to the line whose gateway routes their unit.
+void MasterService::attach_gateways() {
+  runtime_.gateway_line.detach_all();
+  for (const auto& [name, master] : masters_)
+    if (const auto& gateway = master->gateway_config()) runtime_.gateway_line.attach(gateway->units, master.get());
 }
 
 void MasterService::start() {
   started_ = true;
-  if (master_) master_->start();
+  for (auto& [name, master] : masters_) master->start();
 }
 
 void MasterService::stop() {
   started_ = false;
-  if (master_) master_->stop();
+  for (auto& [name, master] : masters_) master->stop();
 }
 
-void MasterService::stage(const Banks& next) { next_ = make_master(next.config); }
+// Every line of the new config opened before anything is switched: one that cannot be
+// opened fails the reload and leaves the running masters as they are.
+void MasterService::stage(const Banks& next) { next_ = make_masters(next.config); }
 
 void MasterService::commit(const Banks&) {
-  if (master_) master_->stop();
-  master_ = std::move(next_);
-  runtime_.gateway_line.attach(master_.get());  // the ports' requests go to the new line
-  if (master_ && started_) master_->start();
+  for (auto& [name, master] : masters_) master->stop();
+  masters_ = std::move(next_);
+  next_.clear();
+  attach_gateways();
+  if (started_)
+    for (auto& [name, master] : masters_) master->start();
 }
+
+const MasterPort* MasterService::master() const { return masters_.empty() ? nullptr : masters_.begin()->second.get(); }
 
 void MasterService::describe(status::Document& status) const {
   const auto& served = runtime_.config().modbus;
-  const auto* line = served.line_of(config::LineRole::master);
-  if (line && master_) {
-    if (!status.lines) status.lines.emplace();
-    status.lines->push_back(line_row(*line, true, master_->line_counters(), master_->queue_depth()));
+  std::optional<std::vector<master::MasterDeviceStatus>> devices;
+  for (const auto& [name, master] : masters_) {
+    const auto* line = name.empty() ? nullptr : served.find_line(name);
+    if (line) {
+      if (!status.lines) status.lines.emplace();
+      status.lines->push_back(line_row(*line, true, master->line_counters(), master->queue_depth()));
+    }
+    const auto shown = line ? served.shown_name(*line) : std::string_view();
+    const auto& counters = runtime_.monitor->counters(modbus::PortKind::master, shown);
+    if (counters.transactions > 0) {
+      std::string port;
+      monitor::append_port_name(port, modbus::PortKind::master, {}, shown);
+      status.ports.push_back(status::port_status(port.c_str(), counters));
+    }
+    if (!devices) devices.emplace();
+    for (const auto& [device, c] : master->counters())
+      devices->push_back({device, c.requests, c.answered, c.timeouts, c.exceptions, c.bad_frames, c.retries});
+    // The gateway part: every line's units, the first line's settings with every line's routes.
+    if (const auto& gateway = master->gateway_config()) {
+      auto part = gateway_status(*gateway, *master);
+      if (!status.gateway) {
+        status.gateway = std::move(part);
+      } else {
+        status.gateway->routes += ", " + part.routes;
+        for (auto& unit : part.units) status.gateway->units.push_back(std::move(unit));
+      }
+    }
   }
-  const auto shown = line ? served.shown_name(*line) : std::string_view();
-  const auto& counters = runtime_.monitor->counters(modbus::PortKind::master, shown);
-  if (counters.transactions > 0) {
-    std::string name;
-    monitor::append_port_name(name, modbus::PortKind::master, {}, shown);
-    status.ports.push_back(status::port_status(name.c_str(), counters));
-  }
-  if (!master_) return;
-  std::vector<master::MasterDeviceStatus> devices;
-  for (const auto& [device, c] : master_->counters())
-    devices.push_back({device, c.requests, c.answered, c.timeouts, c.exceptions, c.bad_frames, c.retries});
-  status.master = std::move(devices);
-  if (const auto* gateway = runtime_.config().modbus.gateway()) status.gateway = gateway_status(*gateway, *master_);
+  if (devices) status.master = std::move(*devices);
 }
 
 }  // namespace unima::io

@@ -19,8 +19,8 @@ SlaveContext slave_context(Runtime& runtime) {
   // The error hold and the monitor live as long as the runtime, which outlives the ports.
   context.on_fault = [&runtime] { runtime.error_hold.fault(); };
   context.on_transaction = [monitor = runtime.monitor.get()](const modbus::Transaction& t) { monitor->observe(t); };
-  if (const auto* gateway = runtime.config().modbus.gateway()) {
-    context.gateway = std::make_shared<const config::GatewayConfig>(*gateway);
+  if (auto routes = runtime.config().modbus.gateway_routes()) {
+    context.gateway = std::make_shared<const config::GatewayRoutes>(std::move(*routes));
     context.line = &runtime.gateway_line;  // lives as long as the runtime, which outlives the ports
   }
   return context;

@@ -29,11 +29,12 @@ struct SlaveContext {
   std::function<void()> on_fault;
   /// Called after every transaction, when set (the monitor, indicators). Must not block.
   std::function<void(const modbus::Transaction&)> on_transaction;
-  /// modbus.gateway (SPEC §14), a copy that lives as long as this context: the unit ids
-  /// the TCP and TLS ports forward to the master's line; null without a gateway.
-  std::shared_ptr<const config::GatewayConfig> gateway;
-  /// The way to the line (io::GatewayLine: answers 0x0B while no master runs); null
-  /// without a gateway.
+  /// Every master line's gateway (SPEC §14, §18), a copy that lives as long as this
+  /// context: the unit ids the TCP and TLS ports forward, each with its line's settings;
+  /// null without a gateway.
+  std::shared_ptr<const config::GatewayRoutes> gateway;
+  /// The way to the lines (io::GatewayLine: to the unit's line, 0x0B while none runs);
+  /// null without a gateway.
   LineGateway* line = nullptr;
   /// config::writes_frozen: no port takes a write, forwarded ones included.
   bool writes_frozen = false;

@@ -94,7 +94,8 @@ bool TcpSlaveServer::Connection::process() {
     const auto recipient = modbus::recipient_of(modbus::Link::tcp, unit, context.unit_id);
     const auto* rights = server_.write_rights(role_);
     const auto& gateway = server_.context_.gateway;
-    const auto verdict = modbus::route(recipient, unit, adu.pdu[0], routed_units(), rights, gateway && gateway->reads_only);
+    const auto verdict = modbus::route(recipient, unit, adu.pdu[0], routed_units(), rights,
+                                       gateway && gateway->units[unit] && gateway->of(unit).reads_only);
     if (verdict == modbus::Verdict::forward) {
       auto& forwarding = forwarding_.emplace();
       forwarding.header = adu.header;
@@ -197,7 +198,7 @@ void TcpSlaveServer::Connection::forward() {
   const auto& f = *forwarding_;
   const auto pdu = std::span(f.request.data() + modbus::mbap_header_size, f.request_size - modbus::mbap_header_size);
   // An empty allow list lets everyone in; an empty priority list puts nobody first.
-  const auto& priority = context.gateway->priority;
+  const auto& priority = context.gateway->of(f.header.unit_id).priority;
   GatewayRequest request{client_id_, peer_, !priority.empty() && priority.allows(peer_address(address_)),
                          f.header.unit_id, std::vector<std::uint8_t>(pdu.begin(), pdu.end())};
   context.line->forward(std::move(request), [this, self = shared_from_this()](std::span<const std::uint8_t> answer) {

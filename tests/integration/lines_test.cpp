@@ -24,7 +24,8 @@ class LinesTest : public GatewayTest {
     config.mode.clear();
     config.line.clear();
     config.master = "retries: 1, response_timeout: 300ms";
-    config.blocks = "  - { type: poll, device: 6, profile: stepper-driver, point: SUBDIVISION, period: 200ms, output: 1 }\n";
+    config.blocks = "  - { type: poll, line: field, device: 6, profile: stepper-driver, point: SUBDIVISION, period: 200ms, "
+                    "output: 1 }\n" + extra_blocks;
     config.modbus_extra = lines_yaml();
     start();
   }
@@ -34,7 +35,8 @@ class LinesTest : public GatewayTest {
            "    field: { device: " + sim->pty() + ", baud: " + std::to_string(line_baud) +
            ", role: master, gateway: { units: [5], timeout: 300ms } }\n" + more_lines;
   }
-  std::string more_lines;  // more lines of modbus.lines
+  std::string more_lines;    // more lines of modbus.lines
+  std::string extra_blocks;  // more blocks
   /// The row of `name` in the status document's "lines"; null when there is none.
   nlohmann::json line_row(const nlohmann::json& s, const std::string& name) const {
     for (const auto& row : s.value("lines", nlohmann::json::array()))
@@ -211,6 +213,48 @@ TEST_F(LinesTest, TwoSlaveLinesAnswerEachAsItsAddressAndAReloadOfOneLeavesTheOth
   RtuMaster faster_panel(panel_end, 19200, 2);
   ASSERT_TRUE(faster_panel.connected());
   EXPECT_EQ(faster_panel.read_input(c_bank, 1), std::vector<std::uint16_t>{8}) << diagnostics();
+}
+
+// Two master lines, each its own simulator: the bridge polls a device on each, and a TCP
+// client reaches unit 5 through `field` and unit 9 through `meters` — each answered by the
+// slave on its own line, each line counted on its own.
+TEST_F(LinesTest, TwoMasterLinesEachPollTheirDevicesAndForwardTheirUnits) {
+  TempDir meters_dir;
+  SlaveSim meters(meters_dir, {"9=wecon-lx5v"});
+  ASSERT_TRUE(meters.ready());
+  more_lines = "    meters: { device: " + meters.pty() + ", baud: " + std::to_string(line_baud) +
+               ", role: master, gateway: { units: [9], timeout: 300ms } }\n";
+  extra_blocks = "  - { type: poll, line: meters, device: 9, profile: wecon-lx5v, operand: D1, period: 200ms, output: 2 }\n";
+  ASSERT_EQ(meters.control("set 9 1 4242"), "ok");
+  start_two_lines();
+  ASSERT_TRUE(output_becomes(1, 8)) << "the field line's poll\n" << diagnostics();
+  ASSERT_TRUE(output_becomes(2, 4242)) << "the meters line's poll\n" << diagnostics();
+  ASSERT_EQ(sim->control("set 5 0 4660"), "ok");
+  ASSERT_EQ(meters.control("set 9 0 22136"), "ok");
+  auto client = Socket::tcp(config.modbus_port);
+  for (std::uint16_t round = 0; round < 5; ++round) {
+    const auto field_answer = ask(client, round, plc, {0x03, 0x00, 0x00, 0x00, 0x01});
+    ASSERT_TRUE(field_answer) << diagnostics();
+    EXPECT_EQ(field_answer->pdu, (Bytes{0x03, 0x02, 0x12, 0x34})) << hex(field_answer->pdu);
+    const auto meters_answer = ask(client, static_cast<std::uint16_t>(100 + round), 9, {0x03, 0x00, 0x00, 0x00, 0x01});
+    ASSERT_TRUE(meters_answer) << diagnostics();
+    EXPECT_EQ(meters_answer->pdu, (Bytes{0x03, 0x02, 0x56, 0x78})) << hex(meters_answer->pdu);
+  }
+  EXPECT_EQ(heard(rtu_frame(9, {0x03, 0x00, 0x00, 0x00, 0x01})), 0u) << "unit 9 never on the field line";
+
+  const auto s = status();
+  const auto field_row = line_row(s, "field");
+  const auto meters_row = line_row(s, "meters");
+  ASSERT_TRUE(field_row.is_object() && meters_row.is_object()) << s.dump(1);
+  EXPECT_EQ(meters_row["role"], "master");
+  EXPECT_EQ(meters_row["device"], meters.pty());
+  EXPECT_GE(meters_row["frames_sent"].get<int>(), 6) << "five forwarded reads and a poll";
+  EXPECT_GE(field_row["frames_sent"].get<int>(), 6);
+  std::vector<std::string> ports;
+  for (const auto& port : s["ports"]) ports.push_back(port["port"].get<std::string>());
+  EXPECT_NE(std::find(ports.begin(), ports.end(), "master:meters"), ports.end()) << s.dump();
+  EXPECT_NE(std::find(ports.begin(), ports.end(), "master:field"), ports.end()) << s.dump();
+  EXPECT_NE(s["gateway"]["routes"].get<std::string>().find("9"), std::string::npos) << s["gateway"].dump();
 }
 
 // docs/lines.md's two-port site (a Revolution Pi Compact) is what `check` accepts as written.

@@ -243,14 +243,34 @@ TEST(LinesConfig, ASlaveLineAndAMasterLineServeTogether) {
   EXPECT_TRUE(c.modbus.gateway()->routes(2));
 }
 
-// The runtime serves every slave line but one master line so far: a second master line is
-// refused, after every other check.
-TEST(LinesConfig, ASecondMasterLineIsRefusedUntilTheRuntimeServesIt) {
-  EXPECT_EQ(lines_error("modbus:\n  lines:\n    scada: { device: /dev/ttyS0, role: slave }\n"
-                        "    field: { device: /dev/ttyS1, role: master }\n"
-                        "    meters: { device: /dev/ttyS2, role: master }\n"),
-            "l.yaml:5:5: modbus.lines.meters: this bridge serves one master line so far; a second one (meters besides "
-            "field) is not served yet (issue 39)");
+// Two master lines: each its own blocks and timing, each unit routed to its line's gateway
+// with that gateway's settings.
+TEST(LinesConfig, TwoMasterLinesEachHaveTheirBlocksAndRouteTheirUnits) {
+  const auto c = lines_parse("modbus:\n  lines:\n"
+                             "    field: { device: /dev/ttyS1, baud: 9600, role: master, gateway: { units: [5-6] } }\n"
+                             "    meters: { device: /dev/ttyS2, baud: 19200, role: master,\n"
+                             "              gateway: { units: [9], functions: read } }\n"
+                             "blocks:\n"
+                             "  - { type: poll, line: field, device: 6, function: 3, register: 0, period: 1s, output: 1 }\n"
+                             "  - { type: poll, line: meters, device: 9, function: 3, register: 0, period: 1s, output: 2 }\n"
+                             "  - { type: poll, line: meters, device: 10, function: 3, register: 0, period: 1s, output: 3 }\n");
+  const auto lines = c.modbus.lines_of(LineRole::master);
+  ASSERT_EQ(lines.size(), 2u);
+  const auto field = master_setup(c, lines[0]);
+  const auto meters = master_setup(c, lines[1]);
+  ASSERT_EQ(field.blocks.size(), 1u);
+  EXPECT_EQ(field.blocks[0].device, 6);
+  ASSERT_EQ(meters.blocks.size(), 2u);
+  EXPECT_EQ(meters.blocks[1].device, 10);
+  ASSERT_TRUE(field.serial && meters.serial);
+  EXPECT_GT(field.serial->frame_gap, meters.serial->frame_gap) << "each line's own t3.5";
+  const auto routes = c.modbus.gateway_routes();
+  ASSERT_TRUE(routes);
+  EXPECT_TRUE(routes->units[5] && routes->units[6] && routes->units[9]);
+  EXPECT_FALSE(routes->units[7]);
+  EXPECT_FALSE(routes->of(5).reads_only);
+  EXPECT_TRUE(routes->of(9).reads_only);
+  EXPECT_EQ(routes->gateways[routes->gateway_of[9]].first, "meters");
 }
 
 // Several slave lines: each answers as its own address, with its own capture blocks.
