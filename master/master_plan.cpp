@@ -155,31 +155,34 @@ std::chrono::microseconds transaction_estimate(const PlannedRequest& request, co
 void assign_phases(std::vector<PlannedRequest>& requests, std::span<const std::chrono::microseconds> slots,
                    const std::map<std::uint8_t, std::chrono::microseconds>& min_gaps) {
   using std::chrono::microseconds;
+  // Microseconds as the count chrono keeps them in: 64 bits everywhere, where `long` is 32
+  // bits on armhf and a period of more than 35 minutes would not fit.
+  using Micros = microseconds::rep;
   std::vector<std::size_t> order(requests.size());
   std::iota(order.begin(), order.end(), 0);
   std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return requests[a].period < requests[b].period; });
-  constexpr long step = 500;                   // µs between the offsets tried
-  constexpr long longest_search = 2'000'000;   // µs: phases beyond two seconds buy nothing
+  constexpr Micros step = 500;                 // µs between the offsets tried
+  constexpr Micros longest_search = 2'000'000; // µs: phases beyond two seconds buy nothing
   std::vector<std::size_t> placed;
   for (const auto i : order) {
-    const long period = std::chrono::duration_cast<microseconds>(requests[i].period).count();
-    const long limit = std::min(period, longest_search);
-    long best = 0;
+    const Micros period = std::chrono::duration_cast<microseconds>(requests[i].period).count();
+    const Micros limit = std::min(period, longest_search);
+    Micros best = 0;
     double best_score = -1;
-    for (long offset = 0; offset < limit; offset += step) {
+    for (Micros offset = 0; offset < limit; offset += step) {
       double score = std::numeric_limits<double>::infinity();
       for (const auto j : placed) {
-        const long other = std::chrono::duration_cast<microseconds>(requests[j].period).count();
-        const long circle = std::gcd(period, other);
-        long distance = (offset - requests[j].phase.count()) % circle;
+        const Micros other = std::chrono::duration_cast<microseconds>(requests[j].period).count();
+        const Micros circle = std::gcd(period, other);
+        Micros distance = (offset - requests[j].phase.count()) % circle;
         if (distance < 0) distance += circle;
         distance = std::min(distance, circle - distance);
-        long need = std::max(slots[i].count(), slots[j].count());
+        Micros need = std::max(slots[i].count(), slots[j].count());
         if (requests[i].device == requests[j].device) {
           const auto gap = min_gaps.find(requests[i].device);
           if (gap != min_gaps.end()) need = std::max(need, gap->second.count());
         }
-        score = std::min(score, static_cast<double>(distance) / static_cast<double>(std::max(need, 1L)));
+        score = std::min(score, static_cast<double>(distance) / static_cast<double>(std::max(need, Micros{1})));
       }
       if (score > best_score) {
         best_score = score;

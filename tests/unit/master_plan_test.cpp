@@ -181,13 +181,15 @@ PlannedRequest periodic(std::uint8_t device, std::chrono::milliseconds period) {
   return r;
 }
 
-// The distance between two requests' occurrences, at their closest, in µs.
-long closest(const PlannedRequest& a, const PlannedRequest& b) {
-  const long pa = std::chrono::duration_cast<std::chrono::microseconds>(a.period).count();
-  const long pb = std::chrono::duration_cast<std::chrono::microseconds>(b.period).count();
-  long best = pa * pb;
-  for (long ta = a.phase.count(); ta < 10'000'000; ta += pa)
-    for (long tb = b.phase.count(); tb < 10'000'000; tb += pb) best = std::min(best, std::abs(ta - tb));
+// The distance between two requests' occurrences, at their closest, in µs (chrono's count:
+// 64 bits also where `long` has 32, as on armhf).
+std::chrono::microseconds::rep closest(const PlannedRequest& a, const PlannedRequest& b) {
+  using Micros = std::chrono::microseconds::rep;
+  const Micros pa = std::chrono::duration_cast<std::chrono::microseconds>(a.period).count();
+  const Micros pb = std::chrono::duration_cast<std::chrono::microseconds>(b.period).count();
+  Micros best = pa * pb;
+  for (Micros ta = a.phase.count(); ta < 10'000'000; ta += pa)
+    for (Micros tb = b.phase.count(); tb < 10'000'000; tb += pb) best = std::min(best, std::abs(ta - tb));
   return best;
 }
 
@@ -199,9 +201,20 @@ TEST(MasterPhases, RequestsThatWouldComeDueTogetherAreSpreadApart) {
   EXPECT_EQ(plan[0].phase, 0us);  // the shortest period goes first, at once
   for (std::size_t i = 0; i < plan.size(); ++i)
     for (std::size_t j = i + 1; j < plan.size(); ++j) {
-      const long need = plan[i].device == 3 && plan[j].device == 3 ? 35000 : 6000;
+      const std::chrono::microseconds::rep need = plan[i].device == 3 && plan[j].device == 3 ? 35000 : 6000;
       EXPECT_GE(closest(plan[i], plan[j]), need) << i << " and " << j;
     }
+}
+
+TEST(MasterPhases, PeriodsLongerThan35MinutesAreSpreadAsWell) {
+  // 40 min is 2.4e9 µs, past a 32-bit long (armhf): counted so, the period went negative,
+  // no offset was tried and both requests came due at once.
+  std::vector<PlannedRequest> plan{periodic(1, 40min), periodic(1, 40min)};
+  const std::vector<std::chrono::microseconds> slots(plan.size(), 5000us);
+  assign_phases(plan, slots, {});
+  EXPECT_EQ(plan[0].phase, 0us);
+  EXPECT_GE(plan[1].phase, 5000us);
+  EXPECT_LT(plan[1].phase, 2s);
 }
 
 TEST(MasterPhases, AnOverfullPlanStillGetsTheBestSpreadItCan) {
@@ -210,7 +223,7 @@ TEST(MasterPhases, AnOverfullPlanStillGetsTheBestSpreadItCan) {
   std::vector<PlannedRequest> plan(10, periodic(1, 20ms));
   const std::vector<std::chrono::microseconds> slots(plan.size(), 5000us);
   assign_phases(plan, slots, {});
-  std::set<long> phases;
+  std::set<std::chrono::microseconds::rep> phases;
   for (const auto& r : plan) phases.insert(r.phase.count());
   EXPECT_GE(phases.size(), 4u);
   for (const auto& r : plan) EXPECT_LT(r.phase, 20ms);
