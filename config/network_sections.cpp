@@ -85,10 +85,10 @@ std::optional<std::string_view> unit_words(std::string_view text) {
 // gets 0x0A before anyone asks for rights. Not an error (the gateway's units may be cut
 // down on purpose for a while), but said, at the item.
 void warn_units_not_routed(const YamlReader& yaml, const YAML::Node& item, std::string_view key, unsigned first,
-                           unsigned last, const GatewayConfig* gateway) {
+                           unsigned last, const GatewayRoutes* gateway) {
   std::vector<unsigned> unrouted;
   for (auto unit = first; unit <= last; ++unit)
-    if (!gateway || !gateway->routes(static_cast<std::uint8_t>(unit))) unrouted.push_back(unit);
+    if (!gateway || !gateway->units[unit]) unrouted.push_back(unit);
   if (unrouted.empty()) return;
   const auto which = unrouted.size() == 1 ? fmt::format("unit {} is", unrouted.front())
                      : unrouted.size() == last - first + 1 ? fmt::format("units {}-{} are", first, last)
@@ -103,7 +103,7 @@ void warn_units_not_routed(const YamlReader& yaml, const YAML::Node& item, std::
 // A role's `write: [W, X, 0x0201, "unit 3", "units 5-9"]`: banks by name, registers by
 // address, and the foreign slaves behind the gateway it may send writes to (SPEC §14).
 modbus::WriteRights parse_role(const YamlReader& yaml, const std::string& name, const YAML::Node& node,
-                               const banks::AddressMap& map, const GatewayConfig* gateway) {
+                               const banks::AddressMap& map, const GatewayRoutes* gateway) {
   if (!node.IsMap()) yaml.fail(node, fmt::format("modbus.tls.roles.{} must be {{ write: [...] }}", name));
   yaml.expect_keys(node, fmt::format("modbus.tls.roles.{}", name), {"write"});
   auto rights = modbus::WriteRights::nothing();
@@ -174,7 +174,10 @@ void resolve_tls_roles(ParseState& state) {
   auto& tls = state.config.modbus.tls;
   if (!tls) return;
   const auto map = address_map(state.config);
-  for (const auto& [name, node] : state.tls_roles) tls->roles.insert_or_assign(name, parse_role(state.yaml, name, node, map, state.config.modbus.gateway()));
+  // Every master line's units: a right to write to a unit any line routes is used.
+  const auto routes = state.config.modbus.gateway_routes();
+  for (const auto& [name, node] : state.tls_roles)
+    tls->roles.insert_or_assign(name, parse_role(state.yaml, name, node, map, routes ? &*routes : nullptr));
 }
 
 void parse_http(ParseState& state, const YAML::Node& node) {

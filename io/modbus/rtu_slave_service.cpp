@@ -19,17 +19,11 @@ bool same_serial(const config::RtuConfig& a, const config::RtuConfig& b) {
          a.rs485 == b.rs485 && a.low_latency == b.low_latency && a.frame_gap == b.frame_gap;
 }
 
-std::vector<const config::LineConfig*> slave_lines(const config::Config& config) {
-  std::vector<const config::LineConfig*> lines;
-  for (const auto& line : config.modbus.lines)
-    if (line.role == config::LineRole::slave) lines.push_back(&line);
-  return lines;
-}
-
 }  // namespace
 
 RtuSlaveService::RtuSlaveService(Runtime& runtime) : runtime_(runtime) {
-  for (const auto* line : slave_lines(runtime.config())) ports_.emplace(line->name, make_port(*line));
+  for (const auto* line : runtime.config().modbus.lines_of(config::LineRole::slave))
+    ports_.emplace(line->name, make_port(*line));
 }
 
 SlaveContext RtuSlaveService::context(const config::LineConfig& line) const {
@@ -82,7 +76,7 @@ void RtuSlaveService::stop() {
 
 void RtuSlaveService::stage(const Banks& next) {
   reopen_.clear();
-  const auto coming = slave_lines(next.config);
+  const auto coming = next.config.modbus.lines_of(config::LineRole::slave);
   for (const auto& [name, port] : ports_) {
     const auto same = std::find_if(coming.begin(), coming.end(), [&](const config::LineConfig* line) {
       return line->name == name && same_serial(line->serial, port->line());
@@ -97,7 +91,7 @@ void RtuSlaveService::commit(const Banks&) {
     ports_.erase(name);
   }
   reopen_.clear();
-  for (const auto* line : slave_lines(runtime_.config())) {
+  for (const auto* line : runtime_.config().modbus.lines_of(config::LineRole::slave)) {
     if (const auto kept = ports_.find(line->name); kept != ports_.end()) {
       kept->second->set_context(context(*line));  // the new banks, address and monitor name
       continue;
@@ -110,7 +104,7 @@ void RtuSlaveService::commit(const Banks&) {
 // Each line's row always; its port's transactions once it has seen traffic.
 void RtuSlaveService::describe(status::Document& status) const {
   const auto& served = runtime_.config().modbus;
-  for (const auto* line : slave_lines(runtime_.config())) {
+  for (const auto* line : runtime_.config().modbus.lines_of(config::LineRole::slave)) {
     const auto port = ports_.find(line->name);
     if (port == ports_.end()) continue;
     if (!status.lines) status.lines.emplace();

@@ -62,6 +62,20 @@ TEST(GatewayRights, ARoleNamesUnitsBesideBanksAndRegisters) {
   EXPECT_FALSE(operator_rights(load("[]")).may_forward(3, 0x10));
 }
 
+// With several master lines a role's unit may be routed by any of them (SPEC §18): no
+// warning for a unit the second line's gateway forwards.
+TEST(GatewayRights, AUnitAnyMasterLineRoutesIsNoWarning) {
+  const auto c = config::parse_text("modbus:\n"
+                                    "  lines:\n"
+                                    "    field: { device: /dev/ttyS1, role: master, gateway: { units: [3] } }\n"
+                                    "    meters: { device: /dev/ttyS2, role: master, gateway: { units: [9] } }\n"
+                                    "  tls: { certificate: s.pem, key: s.key, ca: ca.pem,\n"
+                                    "         roles: { operator: { write: [\"unit 3\", \"unit 9\"] } } }\n",
+                                    "r.yaml", config::Host{});
+  EXPECT_TRUE(config::warnings(c).empty()) << config::warnings(c).front();
+  EXPECT_TRUE(operator_rights(c).may_forward(9, 0x06));
+}
+
 // A right to a unit the gateway does not forward is never used: said at the item, and the
 // config still loads (the units may be cut down on purpose for a while).
 TEST(GatewayRights, AUnitTheGatewayDoesNotForwardIsWarnedOfAtItsItem) {
