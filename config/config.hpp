@@ -98,6 +98,7 @@ struct RtuConfig {
   /// (modbus::RtuFramerTiming::for_line, t3.5 plus the adapter's latency and a margin).
   std::optional<std::chrono::microseconds> frame_gap;
   std::string origin;  // "file:line:col" of modbus.rtu
+  bool operator==(const RtuConfig&) const = default;
 };
 
 /// "N", "E" or "O", as in "8N1".
@@ -167,6 +168,7 @@ struct GatewayConfig {
   bool reads_only = false;              // `functions: read`: only functions 1-4 are forwarded, from every port
   std::string origin;                   // "file:line:col" of the section
   bool routes(std::uint8_t unit) const { return units[unit]; }
+  bool operator==(const GatewayConfig&) const = default;
 };
 
 /// Every master line's gateway by the unit ids it routes (SPEC §14, §18): what the TCP and

@@ -131,4 +131,37 @@ MasterSetup master_setup(const Config& config, const LineConfig* line) {
   return setup;
 }
 
+MasterRecipe master_recipe(const Config& config, const LineConfig* line) {
+  MasterRecipe recipe{.setup = master_setup(config, line),
+                      .serial = {},
+                      .tcp = {},
+                      .tcp_target = {},
+                      .gateway = {},
+                      .shown_name = {}};
+  if (line) {
+    recipe.serial = line->serial;
+    recipe.gateway = line->gateway;
+    recipe.shown_name = config.modbus.shown_name(*line);
+  } else {
+    recipe.tcp = config.modbus.master.tcp;
+    recipe.tcp_target = config.modbus.master.tcp_target;
+  }
+  return recipe;
+}
+
+namespace {
+
+MasterRecipe without_positions(MasterRecipe recipe) {
+  for (auto& block : recipe.setup.blocks) block.origin.clear();
+  if (recipe.serial) recipe.serial->origin.clear();
+  if (recipe.gateway) recipe.gateway->origin.clear();
+  return recipe;
+}
+
+}  // namespace
+
+bool same_master_port(const MasterRecipe& running, const MasterRecipe& next) {
+  return without_positions(running) == without_positions(next);
+}
+
 }  // namespace unima::config

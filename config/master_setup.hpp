@@ -21,6 +21,7 @@ struct MasterSetup {
   master::MasterScheduler::Options scheduler;
   std::map<std::uint8_t, master::MasterScheduler::DeviceTiming> devices;
   std::optional<modbus::RtuTiming> serial;            // the RTU line; nullopt for a TCP target
+  bool operator==(const MasterSetup&) const = default;
 };
 
 /// Everything the master needs from `config` (which is in master mode).
@@ -28,6 +29,24 @@ struct MasterSetup {
 /// without a line (modbus.master.tcp). The overload without it takes the first master line.
 MasterSetup master_setup(const Config& config, const LineConfig* line);
 MasterSetup master_setup(const Config& config);
+
+/// Everything a master port (io/master/master_port) is made of: its setup, its line or its
+/// TCP target, its gateway and the line name its transactions carry.
+struct MasterRecipe {
+  MasterSetup setup;
+  std::optional<RtuConfig> serial;  // the line; nullopt for modbus.master.tcp
+  std::string tcp;                  // modbus.master.tcp as written, and parsed
+  HostPort tcp_target;
+  std::optional<GatewayConfig> gateway;
+  std::string shown_name;           // ModbusConfig::shown_name of the line
+  bool operator==(const MasterRecipe&) const = default;
+};
+MasterRecipe master_recipe(const Config& config, const LineConfig* line);
+
+/// Whether a reload keeps the port made of `running` for `next` (SPEC §18: a line whose
+/// keys are unchanged keeps its port, its queue and its counters). The positions in the
+/// file are left out of the comparison: a line above that was added or removed moves them.
+bool same_master_port(const MasterRecipe& running, const MasterRecipe& next);
 
 /// The profile of each polled device: modbus.master.devices.N.profile, else the first
 /// active block naming one.

@@ -37,6 +37,7 @@ struct MasterBlock {
   std::string origin;                      // "file:line:column" of the block
 
   bool is_read() const { return kind == Kind::poll; }
+  bool operator==(const MasterBlock&) const = default;
   std::uint32_t end() const { return std::uint32_t{reg} + count; }
 };
 
@@ -44,6 +45,7 @@ struct PlanOptions {
   unsigned merge_gap = 0;                  // registers (or bits) a merged read may skip
   std::uint16_t max_read_registers = 125;  // Modbus Application Protocol V1.1b3 §6.3
   std::uint16_t max_read_bits = 2000;      // §6.1
+  bool operator==(const PlanOptions&) const = default;
 };
 
 /// One request the master sends every `period`: a merged read, or one write.

@@ -231,6 +231,14 @@ MasterScheduler::Transition MasterScheduler::end(const Choice& choice, Outcome o
   return Transition::none;
 }
 
+void MasterScheduler::line_back(TimePoint now) {
+  for (auto& [address, d] : devices_) {
+    if (!d.degraded) continue;
+    d.interval = options_.backoff;
+    d.next_probe = now;
+  }
+}
+
 std::size_t MasterScheduler::replace(std::size_t index, std::vector<PlannedRequest> parts) {
   slots_[index].active = false;
   if (retry_ && retry_->request == index) retry_.reset();

@@ -52,6 +52,7 @@ class MasterScheduler {
   struct DeviceTiming {
     Duration min_gap{0};
     Duration response_timeout{std::chrono::milliseconds(500)};
+    bool operator==(const DeviceTiming&) const = default;
   };
 
   struct Options {
@@ -67,6 +68,7 @@ class MasterScheduler {
     /// adapter's lateness.
     Duration guard{std::chrono::milliseconds(2)};
     DeviceTiming default_timing;
+    bool operator==(const Options&) const = default;
   };
 
   /// A request to send: which, whether it is a retry or a degraded device's probe, and how
@@ -113,6 +115,10 @@ class MasterScheduler {
   /// A transaction, the scheduler's or a forwarded one, got no answer within `waited`,
   /// ending at `now`: the line is quiet until now + min(waited, longest_quiet) (at the least).
   void timed_out(TimePoint now, Duration waited);
+  /// The line's device was lost and is back (a USB adapter plugged in again): every
+  /// degraded device is probed from `now`, its backoff starting again, instead of after
+  /// the long interval its probes on the lost line have reached.
+  void line_back(TimePoint now);
   /// Whether `unit` is a device the master polls (its profile's timing applies).
   bool knows(std::uint8_t unit) const { return devices_.contains(unit); }
 

@@ -37,6 +37,13 @@ class MasterLink : public std::enable_shared_from_this<MasterLink> {
   virtual std::string describe() const = 0;
   /// The peer for the monitor's Transaction: "host:port" of a TCP target, empty for RTU.
   virtual std::string peer() const = 0;
+  /// False while the serial device is lost and being reopened (the status' `open`).
+  virtual bool is_open() const { return true; }
+  /// Called when a lost device has been opened again; null: nobody is told.
+  void on_reopened(std::function<void()> reopened) { reopened_ = std::move(reopened); }
+
+ protected:
+  std::function<void()> reopened_;
 };
 
 }  // namespace unima::io

@@ -44,17 +44,18 @@ std::string describe_master_transaction(const modbus::Transaction& t) {
   return fmt::format("{} {}{} {} -> {}", monitor::state_name(t.state), port, t.peer, hex(t.query), hex(t.response));
 }
 
-std::shared_ptr<MasterPort> MasterPort::create(asio::io_context& io, const config::Config& config,
-                                               const config::LineConfig* line, Hooks hooks) {
-  auto setup = config::master_setup(config, line);
+std::shared_ptr<MasterPort> MasterPort::create(asio::io_context& io, const config::MasterRecipe& recipe, Hooks hooks) {
   std::shared_ptr<MasterLink> link;
-  if (line)
-    link = std::make_shared<MasterRtuLink>(io, line->serial);
+  if (recipe.serial)
+    link = std::make_shared<MasterRtuLink>(io, *recipe.serial);
   else
-    link = std::make_shared<MasterTcpLink>(io, config.modbus.master.tcp, config.modbus.master.tcp_target);
-  std::optional<config::GatewayConfig> gateway;
-  if (line && line->gateway) gateway = *line->gateway;
-  return std::make_shared<MasterPort>(io, std::move(setup), std::move(link), std::move(hooks), std::move(gateway));
+    link = std::make_shared<MasterTcpLink>(io, recipe.tcp, recipe.tcp_target);
+  return std::make_shared<MasterPort>(io, recipe.setup, std::move(link), std::move(hooks), recipe.gateway);
+}
+
+void MasterPort::take_positions(const config::MasterSetup& setup) {
+  for (std::size_t i = 0; i < setup_.blocks.size() && i < setup.blocks.size(); ++i)
+    setup_.blocks[i].origin = setup.blocks[i].origin;
 }
 
 MasterPort::MasterPort(asio::io_context& io, config::MasterSetup setup, std::shared_ptr<MasterLink> link, Hooks hooks,
@@ -87,12 +88,18 @@ void MasterPort::start() {
   spdlog::info("modbus master: {}, {} requests for {} blocks", link_->describe(), scheduler_->request_count(),
                setup_.blocks.size());
   stale_timer_.watch();
+  link_->on_reopened([this] {
+    if (!running_) return;
+    scheduler_->line_back(Clock::now());
+    if (!in_flight_) pump();
+  });
   pump();
 }
 
 void MasterPort::stop() {
   if (!running_) return;
   running_ = false;
+  link_->on_reopened(nullptr);
   link_->close();
   wake_timer_.cancel();
   stale_timer_.cancel();

@@ -69,14 +69,16 @@ class MasterPort final : public LineGateway, public std::enable_shared_from_this
     std::function<void(std::chrono::system_clock::time_point)> on_query_sent;
   };
 
-  /// Opens `line` of `config` (null: modbus.master.tcp); throws std::runtime_error when it
-  /// cannot.
-  static std::shared_ptr<MasterPort> create(asio::io_context& io, const config::Config& config,
-                                            const config::LineConfig* line, Hooks hooks);
+  /// Opens the line of `recipe` (or connects to its TCP target); throws std::runtime_error
+  /// when it cannot.
+  static std::shared_ptr<MasterPort> create(asio::io_context& io, const config::MasterRecipe& recipe, Hooks hooks);
   ~MasterPort();
 
   void start();
   void stop();
+  /// A reload kept this port (config::same_master_port): its blocks' positions in the file,
+  /// which its warnings name, become those of `setup`.
+  void take_positions(const config::MasterSetup& setup);
 
   /// A TCP client's request for a foreign slave (modbus.gateway): queued for the line and
   /// answered once; 0x06 when it could not start within `wait`, 0x0B when the slave did
@@ -87,6 +89,8 @@ class MasterPort final : public LineGateway, public std::enable_shared_from_this
   void client_gone(std::uint64_t client) override;
 
   std::string describe() const { return link_->describe(); }
+  /// False while the line's serial device is lost and being reopened.
+  bool line_open() const { return link_->is_open(); }
   const std::map<std::uint8_t, MasterDeviceCounters>& counters() const { return counters_; }
   /// Each unit id a client has asked the gateway for; empty without modbus.gateway.
   const std::map<std::uint8_t, GatewayUnitCounters>& gateway_units() const;

@@ -2,6 +2,7 @@
 
 #include <termios.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 
@@ -19,7 +20,8 @@ MasterRtuLink::MasterRtuLink(asio::io_context& io, const config::RtuConfig& line
       port_(io),
       deadline_(io),
       silence_(io),
-      rts_timer_(io) {
+      rts_timer_(io),
+      reopen_timer_(io) {
   try {
     const auto opened = open_serial_line(port_, line);
     for (const auto& note : opened.notes) spdlog::info("modbus master: {}", note);
@@ -54,20 +56,21 @@ void MasterRtuLink::transact(std::uint8_t unit, const master::Bytes& pdu, std::c
   query_ = master::rtu_frame(unit, pdu);
   response_.clear();
   function_ = pdu[0];
-  // Whatever a slave said after its time-out is not the answer to this request.
-  ::tcflush(port_.native_handle(), TCIFLUSH);
-  if (line_.rs485 == config::Rs485Direction::rts) set_rts(true);
   const auto frame_time = timing_.character * static_cast<long>(query_.size());
   deadline_.expires_after(frame_time + timeout);
   auto self = shared_from_this();
   deadline_.async_wait([this, self, generation](const boost::system::error_code& ec) {
     if (!ec) finish(generation);
   });
+  if (!open_) return;  // the device is being reopened: nothing can answer
+  // Whatever a slave said after its time-out is not the answer to this request.
+  ::tcflush(port_.native_handle(), TCIFLUSH);
+  if (line_.rs485 == config::Rs485Direction::rts) set_rts(true);
   asio::async_write(port_, asio::buffer(query_), [this, self, generation, frame_time](const boost::system::error_code& ec,
                                                                                      std::size_t) {
     if (generation != generation_) return;
     if (ec) {
-      spdlog::warn("modbus master: {}: write failed: {}", line_.device, ec.message());
+      lost("write failed: " + ec.message());
       return;  // the deadline ends the transaction: no answer
     }
     if (line_.rs485 == config::Rs485Direction::rts) {
@@ -88,7 +91,7 @@ void MasterRtuLink::read(unsigned generation) {
   port_.async_read_some(asio::buffer(chunk_), [this, self, generation](const boost::system::error_code& ec, std::size_t n) {
     if (generation != generation_ || !done_) return;
     if (ec) {
-      if (ec != asio::error::operation_aborted) spdlog::warn("modbus master: {}: read failed: {}", line_.device, ec.message());
+      if (ec != asio::error::operation_aborted) lost("read failed: " + ec.message());
       return;  // the deadline ends the transaction
     }
     response_.insert(response_.end(), chunk_.begin(), chunk_.begin() + static_cast<std::ptrdiff_t>(n));
@@ -119,12 +122,46 @@ void MasterRtuLink::finish(unsigned generation) {
   done(std::move(query_), std::move(response_));
 }
 
+void MasterRtuLink::lost(const std::string& why) {
+  if (!open_ || closed_) return;
+  open_ = false;
+  spdlog::warn("modbus master: {} lost: {}; reopening, every {} s at most", line_.device, why,
+               config::serial_reopen_longest_delay.count() / 1000);
+  boost::system::error_code ignored;
+  port_.close(ignored);
+  reopen_delay_ = std::chrono::milliseconds(200);
+  schedule_reopen();
+}
+
+void MasterRtuLink::schedule_reopen() {
+  reopen_timer_.expires_after(reopen_delay_);
+  reopen_delay_ = std::min(reopen_delay_ * 2, config::serial_reopen_longest_delay);
+  reopen_timer_.async_wait([this, self = shared_from_this()](const boost::system::error_code& ec) {
+    if (ec || closed_) return;
+    try {
+      const auto opened = open_serial_line(port_, line_);
+      for (const auto& warning : opened.warnings) spdlog::warn("modbus master: {}", warning);
+    } catch (const std::exception& e) {
+      boost::system::error_code ignored;
+      port_.close(ignored);
+      spdlog::debug("modbus master: {}", e.what());
+      return schedule_reopen();
+    }
+    if (line_.rs485 == config::Rs485Direction::rts) set_rts(false);
+    open_ = true;
+    spdlog::info("modbus master: {} back", describe());
+    if (reopened_) reopened_();
+  });
+}
+
 void MasterRtuLink::close() {
+  closed_ = true;
   ++generation_;
   done_ = nullptr;
   deadline_.cancel();
   silence_.cancel();
   rts_timer_.cancel();
+  reopen_timer_.cancel();
   boost::system::error_code ignored;
   port_.close(ignored);
 }

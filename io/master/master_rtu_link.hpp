@@ -4,6 +4,12 @@
 // frame whose length cannot be known (wrong function, garbage) or that stops short ends
 // at a silence of t3.5 — stretched to `late_byte_tolerance`, because USB adapters deliver
 // bytes in bursts with gaps of their latency timer.
+//
+// The device must open when the config is applied (start, reload): a wrong path is caught
+// at once. Lost later (a USB adapter unplugged, a read or write that fails), it is reopened
+// as the slave line's is, every 5 s at most; meanwhile each transaction ends as a time-out
+// without touching the line, so the master's scheduler and gateway go on as with a silent
+// slave and no other line waits for this one.
 
 #include <chrono>
 #include <memory>
@@ -29,11 +35,14 @@ class MasterRtuLink final : public MasterLink {
                                std::span<const std::uint8_t> request_pdu) const override;
   std::string describe() const override;
   std::string peer() const override { return {}; }
+  bool is_open() const override { return open_; }
 
  private:
   void read(unsigned generation);
   void finish(unsigned generation);
   void set_rts(bool on);
+  void lost(const std::string& why);
+  void schedule_reopen();
 
   config::RtuConfig line_;
   modbus::RtuTiming timing_;
@@ -41,6 +50,10 @@ class MasterRtuLink final : public MasterLink {
   asio::steady_timer deadline_;
   asio::steady_timer silence_;
   asio::steady_timer rts_timer_;
+  asio::steady_timer reopen_timer_;
+  std::chrono::milliseconds reopen_delay_{200};
+  bool open_ = true;
+  bool closed_ = false;  // by close(): never reopened
   std::array<std::uint8_t, 512> chunk_{};
   master::Bytes query_;
   master::Bytes response_;

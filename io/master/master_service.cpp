@@ -54,13 +54,13 @@ master::GatewayStatus gateway_status(const config::GatewayConfig& config, const 
 
 }  // namespace
 
-MasterService::MasterService(Runtime& runtime) : runtime_(runtime), masters_(make_masters(runtime.config())) {
+MasterService::MasterService(Runtime& runtime) : runtime_(runtime), masters_(make_masters(runtime.config(), {})) {
   attach_gateways();
 }
 
 MasterService::~MasterService() { runtime_.gateway_line.detach_all(); }
 
-std::shared_ptr<MasterPort> MasterService::make_master(const config::Config& config, const config::LineConfig* line) {
+std::shared_ptr<MasterPort> MasterService::make_master(const config::MasterRecipe& recipe) {
   MasterPort::Hooks hooks;
   hooks.read_source = [this](const banks::SourceRef& source) -> std::optional<std::uint16_t> {
     const auto value = runtime_.banks->store->read_source(source);
@@ -69,23 +69,32 @@ std::shared_ptr<MasterPort> MasterService::make_master(const config::Config& con
   };
   hooks.set_output = [this](unsigned output, std::uint16_t value) { runtime_.banks->store->set_user_output(output, value); };
   hooks.on_fault = [this] { runtime_.error_hold.fault(); };
-  hooks.on_transaction = [this, name = std::string(line ? config.modbus.shown_name(*line) : std::string_view())](
-                             modbus::Transaction t) {
+  hooks.on_transaction = [this, name = recipe.shown_name](modbus::Transaction t) {
     t.line = name;
     runtime_.monitor->observe(t);
     if (spdlog::should_log(spdlog::level::debug)) spdlog::debug("modbus master: {}", describe_master_transaction(t));
   };
   hooks.on_query_sent = [this](std::chrono::system_clock::time_point time) { runtime_.monitor->frame_sent(time); };
-  return MasterPort::create(runtime_.io, config, line, std::move(hooks));
+  return MasterPort::create(runtime_.io, recipe, std::move(hooks));
 }
 
 // A master per master line; in master mode without one, the master of modbus.master.tcp.
-MasterService::Masters MasterService::make_masters(const config::Config& config) {
+MasterService::Masters MasterService::make_masters(const config::Config& config, const Masters& running) {
   Masters masters;
   if (config.modbus.mode != config::ModbusMode::master) return masters;
+  const auto add = [&](const std::string& name, const config::LineConfig* line) {
+    auto recipe = config::master_recipe(config, line);
+    const auto same = running.find(name);
+    if (same != running.end() && config::same_master_port(same->second.recipe, recipe)) {
+      masters.emplace(name, Running{std::move(recipe), same->second.port});
+      return;
+    }
+    auto port = make_master(recipe);
+    masters.emplace(name, Running{std::move(recipe), std::move(port)});
+  };
   const auto lines = config.modbus.lines_of(config::LineRole::master);
-  if (lines.empty()) masters.emplace(std::string(), make_master(config, nullptr));
-  for (const auto* line : lines) masters.emplace(line->name, make_master(config, line));
+  if (lines.empty()) add(std::string(), nullptr);
+  for (const auto* line : lines) add(line->name, line);
   return masters;
 }
 
@@ -93,42 +102,52 @@ MasterService::Masters MasterService::make_masters(const config::Config& config)
 void MasterService::attach_gateways() {
   runtime_.gateway_line.detach_all();
   for (const auto& [name, master] : masters_)
-    if (const auto& gateway = master->gateway_config()) runtime_.gateway_line.attach(gateway->units, master.get());
+    if (const auto& gateway = master.port->gateway_config()) runtime_.gateway_line.attach(gateway->units, master.port.get());
 }
 
 void MasterService::start() {
   started_ = true;
-  for (auto& [name, master] : masters_) master->start();
+  for (auto& [name, master] : masters_) master.port->start();
 }
 
 void MasterService::stop() {
   started_ = false;
-  for (auto& [name, master] : masters_) master->stop();
+  for (auto& [name, master] : masters_) master.port->stop();
 }
 
-// Every line of the new config opened before anything is switched: one that cannot be
-// opened fails the reload and leaves the running masters as they are.
-void MasterService::stage(const Banks& next) { next_ = make_masters(next.config); }
+// Every changed or added line of the new config opened before anything is switched: one
+// that cannot be opened fails the reload and leaves the running masters as they are.
+void MasterService::stage(const Banks& next) { next_ = make_masters(next.config, masters_); }
 
 void MasterService::commit(const Banks&) {
-  for (auto& [name, master] : masters_) master->stop();
+  for (auto& [name, master] : masters_) {
+    const auto kept = next_.find(name);
+    if (kept != next_.end() && kept->second.port == master.port) {
+      spdlog::info("modbus master: {} unchanged, kept with its queue and counters",
+                   name.empty() ? std::string("modbus.master.tcp") : "line " + name);
+      continue;
+    }
+    master.port->stop();
+  }
   masters_ = std::move(next_);
   next_.clear();
+  for (auto& [name, master] : masters_) master.port->take_positions(master.recipe.setup);
   attach_gateways();
   if (started_)
-    for (auto& [name, master] : masters_) master->start();
+    for (auto& [name, master] : masters_) master.port->start();  // a kept one runs on
 }
 
-const MasterPort* MasterService::master() const { return masters_.empty() ? nullptr : masters_.begin()->second.get(); }
+const MasterPort* MasterService::master() const { return masters_.empty() ? nullptr : masters_.begin()->second.port.get(); }
 
 void MasterService::describe(status::Document& status) const {
   const auto& served = runtime_.config().modbus;
   std::optional<std::vector<master::MasterDeviceStatus>> devices;
-  for (const auto& [name, master] : masters_) {
+  for (const auto& [name, running] : masters_) {
+    const auto* master = running.port.get();
     const auto* line = name.empty() ? nullptr : served.find_line(name);
     if (line) {
       if (!status.lines) status.lines.emplace();
-      status.lines->push_back(line_row(*line, true, master->line_counters(), master->queue_depth()));
+      status.lines->push_back(line_row(*line, master->line_open(), master->line_counters(), master->queue_depth()));
     }
     const auto shown = line ? served.shown_name(*line) : std::string_view();
     const auto& counters = runtime_.monitor->counters(modbus::PortKind::master, shown);

@@ -4,8 +4,10 @@
 // modbus.master.tcp), whose poll and send blocks read and write the running banks through
 // hooks that look them up at each call, so they follow a reload. The TCP and TLS ports'
 // gateway requests reach the master of the line whose gateway routes their unit
-// (io/gateway_line). A reload opens the new config's lines before anything is switched (a
-// serial device may be missing) and swaps masters at commit.
+// (io/gateway_line). A reload keeps the master of a line whose keys, blocks and gateway are
+// unchanged (config::same_master_port), with its port, queue and counters; it opens every
+// other line of the new config before anything is switched (a serial device may be
+// missing), and at commit stops the masters it replaces or removes and starts the new ones.
 
 #include <map>
 #include <memory>
@@ -32,9 +34,14 @@ class MasterService final : public Service {
   const MasterPort* master() const;
 
  private:
-  using Masters = std::map<std::string, std::shared_ptr<MasterPort>>;  // by line name; "" for modbus.master.tcp
-  std::shared_ptr<MasterPort> make_master(const config::Config& config, const config::LineConfig* line);
-  Masters make_masters(const config::Config& config);
+  struct Running {
+    config::MasterRecipe recipe;
+    std::shared_ptr<MasterPort> port;
+  };
+  using Masters = std::map<std::string, Running>;  // by line name; "" for modbus.master.tcp
+  std::shared_ptr<MasterPort> make_master(const config::MasterRecipe& recipe);
+  /// The masters of `config`; those whose recipe is one of `running`'s are taken from it.
+  Masters make_masters(const config::Config& config, const Masters& running);
   void attach_gateways();
 
   Runtime& runtime_;

@@ -17,6 +17,7 @@ struct RtuTiming {
   /// The least wait between a request's last byte and the reply's first (seed §4.1:
   /// 2.5 characters); fixed at 1250 µs above 19200 baud, in proportion to t3.5.
   std::chrono::microseconds reply_delay{0};
+  bool operator==(const RtuTiming&) const = default;
 };
 
 /// Rounded up to whole microseconds, so that a wait is never shorter than the rule.

@@ -4,6 +4,8 @@
 // SCADA) through socat on the slave line.
 
 #include <algorithm>
+#include <atomic>
+#include <thread>
 #include <optional>
 
 #include "tests/integration/cli_under_test.hpp"
@@ -255,6 +257,112 @@ TEST_F(LinesTest, TwoMasterLinesEachPollTheirDevicesAndForwardTheirUnits) {
   EXPECT_NE(std::find(ports.begin(), ports.end(), "master:meters"), ports.end()) << s.dump();
   EXPECT_NE(std::find(ports.begin(), ports.end(), "master:field"), ports.end()) << s.dump();
   EXPECT_NE(s["gateway"]["routes"].get<std::string>().find("9"), std::string::npos) << s["gateway"].dump();
+}
+
+// The field line unplugged (the simulator and its pty gone) and plugged back: the SCADA's
+// line serves on, the gateway answers 0x0B for the unit it cannot reach, the status says
+// the line is not open, and the master polls and forwards again once the device is back.
+TEST_F(LinesTest, AnUnpluggedMasterLineStopsNothingElseAndPollsAgainWhenPluggedBack) {
+  start_two_lines();
+  ASSERT_TRUE(output_becomes(1, 8)) << diagnostics();
+  RtuMaster scada(scada_end, 19200);
+  ASSERT_TRUE(scada.connected());
+  // The link goes first: a pty number freed by the simulator may be another test's next,
+  // and the bridge must not reopen that one through a link left behind.
+  std::filesystem::remove(sim->pty());
+  sim.reset();
+  ASSERT_TRUE(eventually([&] { return line_row(status(), "field")["open"] == false; }, 10s))
+      << status().dump(1) << "\n" << daemon->log();
+  EXPECT_TRUE(daemon->wait_for_log(" lost: ")) << daemon->log();
+  auto client = Socket::tcp(config.modbus_port);
+  for (std::uint16_t round = 0; round < 3; ++round) {
+    EXPECT_TRUE(scada.read_input(c_bank, 1)) << "round " << round << "\n" << daemon->log();
+    EXPECT_TRUE(scada.write(w_bank + 1, static_cast<std::uint16_t>(100 + round))) << daemon->log();
+    const auto answer = ask(client, round, plc, {0x03, 0x00, 0x00, 0x00, 0x01});
+    ASSERT_TRUE(answer) << "round " << round << "\n" << daemon->log();
+    EXPECT_EQ(answer->pdu, (Bytes{0x83, 0x0B})) << "nothing on the line can answer: " << hex(answer->pdu);
+  }
+  ModbusClient tcp(config.modbus_port);
+  EXPECT_EQ(tcp.read_input(w_bank + 1, 1), std::vector<std::uint16_t>{102}) << "the SCADA's writes reached the banks";
+  EXPECT_EQ(line_row(status(), "scada")["open"], true);
+
+  simulate({"5=wecon-lx5v", "6=stepper-driver"});  // at the same path
+  ASSERT_TRUE(eventually([&] { return line_row(status(), "field")["open"] == true; }, 15s))
+      << status().dump(1) << "\n" << daemon->log();
+  EXPECT_TRUE(daemon->wait_for_log("modbus master: rtu " + sim->pty() + " " + std::to_string(line_baud) + " 8N1 back"))
+      << daemon->log();
+  EXPECT_TRUE(eventually([&] { return polls() > 0; })) << "the master polls the device again\n" << diagnostics();
+  ASSERT_EQ(sim->control("set 5 0 4660"), "ok");
+  const auto answer = ask(client, 99, plc, {0x03, 0x00, 0x00, 0x00, 0x01});
+  ASSERT_TRUE(answer) << diagnostics();
+  EXPECT_EQ(answer->pdu, (Bytes{0x03, 0x02, 0x12, 0x34})) << hex(answer->pdu);
+}
+
+// Two master lines, a client keeping `field` busy through its gateway; a reload changes the
+// `meters` line's poll alone: `meters` is reopened and counts anew, `field` keeps its port,
+// its queue and its counters, and not one of the busy client's requests goes wrong.
+TEST_F(LinesTest, AReloadOfOneMasterLineLeavesTheOtherBusyLineItsPortQueueAndCounters) {
+  TempDir meters_dir;
+  SlaveSim meters(meters_dir, {"9=wecon-lx5v"});
+  ASSERT_TRUE(meters.ready());
+  more_lines = "    meters: { device: " + meters.pty() + ", baud: " + std::to_string(line_baud) +
+               ", role: master, gateway: { units: [9], timeout: 300ms } }\n";
+  const auto meters_poll = [](const char* period) {
+    return std::string("  - { type: poll, line: meters, device: 9, profile: wecon-lx5v, operand: D1, period: ") + period +
+           ", output: 2 }\n";
+  };
+  extra_blocks = meters_poll("200ms");
+  ASSERT_EQ(meters.control("set 9 1 4242"), "ok");
+  start_two_lines();
+  ASSERT_TRUE(output_becomes(2, 4242)) << diagnostics();
+  ASSERT_EQ(sim->control("set 5 0 4660"), "ok");
+  auto meters_client = Socket::tcp(config.modbus_port);
+  for (std::uint16_t round = 0; round < 12; ++round)
+    ASSERT_TRUE(ask(meters_client, round, 9, {0x03, 0x00, 0x00, 0x00, 0x01})) << diagnostics();
+
+  // The busy client: bounded by a count and by the flag.
+  std::atomic<bool> stop{false};
+  std::atomic<int> right{0};
+  std::atomic<int> wrong{0};
+  std::string first_wrong;  // read after the join
+  std::thread busy([&] {
+    auto client = Socket::tcp(config.modbus_port);
+    for (std::uint16_t id = 0; id < 5000 && !stop; ++id) {
+      const auto answer = ask(client, id, plc, {0x03, 0x00, 0x00, 0x00, 0x01});
+      if (answer && answer->transaction == id && answer->pdu == Bytes{0x03, 0x02, 0x12, 0x34}) {
+        ++right;
+      } else {
+        if (wrong++ == 0) first_wrong = answer ? hex(answer->pdu) : std::string("no answer");
+      }
+    }
+  });
+  const auto busy_until = [&](int count) { return eventually([&] { return right >= count || wrong > 0; }, 10s); };
+  EXPECT_TRUE(busy_until(20));
+  auto s = status();
+  const auto field_before = line_row(s, "field")["frames_sent"].get<int>();
+  const auto meters_before = line_row(s, "meters")["frames_sent"].get<int>();
+  EXPECT_GE(meters_before, 12) << s.dump(1);
+
+  const auto at = config.blocks.find(extra_blocks);
+  ASSERT_NE(at, std::string::npos);
+  config.blocks.replace(at, extra_blocks.size(), meters_poll("300ms"));
+  daemon->rewrite_config(config.yaml());
+  daemon->signal(SIGHUP);
+  const auto reloaded = daemon->wait_for_log("reloaded");
+  const auto right_at_reload = right.load();
+  EXPECT_TRUE(busy_until(right_at_reload + 20)) << "the field line served on through the reload";
+  stop = true;
+  busy.join();
+  ASSERT_TRUE(reloaded) << daemon->log();
+  EXPECT_EQ(wrong, 0) << "wrong answers, the first: " << first_wrong;
+
+  s = status();
+  EXPECT_GT(line_row(s, "field")["frames_sent"].get<int>(), field_before + 20) << "field kept its counters\n" << s.dump(1);
+  EXPECT_LT(line_row(s, "meters")["frames_sent"].get<int>(), meters_before) << "meters counts anew\n" << s.dump(1);
+  EXPECT_NE(daemon->log().find("modbus master: line field unchanged, kept with its queue and counters"), std::string::npos) << daemon->log();
+  EXPECT_EQ(daemon->log().find("modbus master: line meters unchanged"), std::string::npos) << daemon->log();
+  ASSERT_EQ(meters.control("set 9 1 4343"), "ok");
+  EXPECT_TRUE(output_becomes(2, 4343)) << "the new meters poll\n" << diagnostics();
 }
 
 // docs/lines.md's two-port site (a Revolution Pi Compact) is what `check` accepts as written.

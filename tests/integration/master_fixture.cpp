@@ -17,6 +17,7 @@ SlaveSim::SlaveSim(const TempDir& dir, const std::vector<std::string>& slaves, b
   if (tcp) args.insert(args.end(), {"--tcp", "0"});
   if (wire_baud) args.insert(args.end(), {"--baud", std::to_string(wire_baud)});
   for (const auto& s : slaves) args.insert(args.end(), {"--slave", s});
+  std::filesystem::remove(out_path_);  // a simulator started again in `dir` says "ready" anew
   process_ = std::make_unique<test_support::ChildProcess>(args, test_support::writing_to(out_path_));
   ready_ = eventually([&] { return output().find("ready ") != std::string::npos; });
   if (!ready_) return;

@@ -286,5 +286,46 @@ TEST(LinesConfig, SeveralSlaveLinesAreServedEachWithItsAddressAndCaptures) {
   EXPECT_EQ(c.blocks[0].line, "panel");
 }
 
+// A reload keeps a master line whose keys, blocks and gateway are unchanged, wherever they
+// moved in the file, and only that line (SPEC §18).
+TEST(LinesConfig, AReloadKeepsTheMasterLinesWhoseKeysBlocksAndGatewayAreUnchanged) {
+  const std::string field = "    field: { device: /dev/ttyS1, baud: 9600, role: master, gateway: { units: [5-6] } }\n";
+  const std::string meters = "    meters: { device: /dev/ttyS2, baud: 19200, role: master, gateway: { units: [9] } }\n";
+  const std::string field_poll = "  - { type: poll, line: field, device: 6, function: 3, register: 0, period: 1s, output: 1 }\n";
+  const std::string meters_poll = "  - { type: poll, line: meters, device: 9, function: 3, register: 0, period: 1s, output: 2 }\n";
+  const auto recipe = [](const std::string& yaml, const char* name) {
+    const auto c = lines_parse(yaml);
+    return master_recipe(c, c.modbus.find_line(name));
+  };
+  const auto running = "modbus:\n  lines:\n" + field + meters + "blocks:\n" + field_poll + meters_poll;
+  // The same lines and blocks, moved down by a slave line and in another order.
+  const auto moved = "modbus:\n  lines:\n    scada: { device: /dev/ttyS0, role: slave }\n" + meters + field + "blocks:\n" +
+                     meters_poll + field_poll;
+  EXPECT_TRUE(same_master_port(recipe(running, "field"), recipe(moved, "field")));
+  EXPECT_TRUE(same_master_port(recipe(running, "meters"), recipe(moved, "meters")));
+  EXPECT_FALSE(recipe(running, "field") == recipe(moved, "field")) << "the positions moved";
+
+  // One line's baud, block period, gateway units: only that line changes.
+  auto meters_at_9600 = meters;
+  meters_at_9600.replace(meters_at_9600.find("19200"), 5, "9600");
+  const auto slower = "modbus:\n  lines:\n" + field + meters_at_9600 + "blocks:\n" + field_poll + meters_poll;
+  EXPECT_TRUE(same_master_port(recipe(running, "field"), recipe(slower, "field")));
+  EXPECT_FALSE(same_master_port(recipe(running, "meters"), recipe(slower, "meters")));
+  auto field_poll_2s = field_poll;
+  field_poll_2s.replace(field_poll_2s.find("1s"), 2, "2s");
+  const auto repolled = "modbus:\n  lines:\n" + field + meters + "blocks:\n" + field_poll_2s + meters_poll;
+  EXPECT_FALSE(same_master_port(recipe(running, "field"), recipe(repolled, "field")));
+  EXPECT_TRUE(same_master_port(recipe(running, "meters"), recipe(repolled, "meters")));
+  auto field_units = field;
+  field_units.replace(field_units.find("5-6"), 3, "5-7");
+  const auto rerouted = "modbus:\n  lines:\n" + field_units + meters + "blocks:\n" + field_poll + meters_poll;
+  EXPECT_FALSE(same_master_port(recipe(running, "field"), recipe(rerouted, "field")));
+  EXPECT_TRUE(same_master_port(recipe(running, "meters"), recipe(rerouted, "meters")));
+
+  // From two lines to one, the port's monitor name changes (`master:field` to `master`).
+  const auto alone = "modbus:\n  lines:\n" + field + "blocks:\n" + field_poll;
+  EXPECT_FALSE(same_master_port(recipe(running, "field"), recipe(alone, "field")));
+}
+
 }  // namespace
 }  // namespace unima::config

@@ -207,6 +207,27 @@ TEST(MasterScheduler, OneAnswerMakesADegradedDeviceHealthy) {
   EXPECT_EQ(s.due(0), t0 + 1100ms);  // back on its grid
 }
 
+TEST(MasterScheduler, ALineBackProbesEveryDegradedDeviceAtOnceWithItsBackoffAnew) {
+  Scheduler::Options options;
+  options.retries = 0;
+  options.degrade_after = 1;
+  options.backoff = 1s;
+  options.backoff_max = 30s;
+  Scheduler s({request(1, 0, 100ms)}, options, {}, t0);
+  const auto sent = run(s, t0 + 60s, always(Outcome::failed, 10ms));
+  ASSERT_TRUE(s.degraded(1));
+  EXPECT_EQ(s.probe_interval(1), 30s) << "the probes on the lost line have backed off";
+  const auto back = sent.back().at + 1s;
+  EXPECT_FALSE(s.decide(back).send) << "without line_back, the next probe is up to 30 s away";
+  s.line_back(back);
+  const auto decision = s.decide(back);
+  ASSERT_TRUE(decision.send);
+  EXPECT_TRUE(decision.send->probe);
+  s.begin(*decision.send, back);
+  EXPECT_EQ(s.end(*decision.send, Outcome::failed, back + 10ms), Scheduler::Transition::none);
+  EXPECT_EQ(s.probe_interval(1), 2s) << "the backoff starts again";
+}
+
 TEST(MasterScheduler, ProbesWaitForAPlaceWhereTheyDelayNobody) {
   Scheduler::Options options;
   options.retries = 0;
