@@ -389,7 +389,10 @@ TEST_F(Sparkplug, AFullDdataEveryMaxIntervalKeepsTheMetricsTimeOfMeasurement) {
   ASSERT_TRUE(eventually([&] { return ddata_of(messages(*t), "D1").size() >= 2; }, 8000ms)) << daemon->log();
   EXPECT_GE(std::chrono::steady_clock::now() - began, 1s) << "the second a max_interval after the first";
   const auto all = messages(*t);
-  const auto birth = wait_for(*t, device("DBIRTH", "D1"));
+  const auto birth = wait_for(*t, device("DBIRTH", "D1"), [](const json& p) {
+    const auto* speed = metric(p, "engine_speed");
+    return speed && (*speed)["value"] == 1234;
+  });
   ASSERT_TRUE(birth);
   const auto measured = (*metric(birth->payload, "engine_speed"))["timestamp"].get<std::uint64_t>();
   EXPECT_GE(measured, before) << "the telegram's arrival";
@@ -404,6 +407,40 @@ TEST_F(Sparkplug, AFullDdataEveryMaxIntervalKeepsTheMetricsTimeOfMeasurement) {
     EXPECT_GT(sent_at(data), measured);
     previous = sent_at(data);
   }
+}
+
+// A reload that changes `report` takes effect on the same connection: with the births it
+// sends, D1's full DDATA comes every new max_interval, its metrics still timed when measured.
+TEST_F(Sparkplug, AReloadThatChangesReportTakesEffect) {
+  config.unimabus_extra = "  offline_after: 60s\n";
+  config.extra += "report: { max_interval: 60s }\n";
+  const auto t = tap();
+  start_with();
+  ASSERT_TRUE(wait_for(*t, nbirth)) << daemon->log();
+  auto feed = feed_client();
+  ASSERT_TRUE(d1_born_at_1234(feed, *t)) << daemon->log();
+  std::this_thread::sleep_for(1500ms);
+  EXPECT_TRUE(ddata_of(messages(*t), "D1").empty()) << "nothing new, and max_interval 60 s";
+
+  const auto at = config.extra.find("max_interval: 60s");
+  ASSERT_NE(at, std::string::npos);
+  config.extra.replace(at, 17, "max_interval: 1s");
+  daemon->rewrite_config(config.yaml());
+  daemon->signal(SIGHUP);
+  ASSERT_TRUE(eventually([&] { return count_of(*t, nbirth) == 2; }, 6000ms)) << daemon->log();
+  ASSERT_TRUE(eventually([&] { return !ddata_of(messages(*t), "D1").empty(); }, 6000ms)) << daemon->log();
+  EXPECT_EQ(status()["connections"], 1) << "the same connection";
+  const auto all = messages(*t);
+  std::optional<Message> reborn;  // D1's birth of the reload
+  for (const auto& m : all)
+    if (m.topic == device("DBIRTH", "D1")) reborn = m;
+  ASSERT_TRUE(reborn);
+  const auto data = ddata_of(all, "D1").front();
+  EXPECT_GE(sent_at(data), sent_at(*reborn) + 950) << "a max_interval after the birth (the slack as above)";
+  const auto* speed = metric(data.payload, "engine_speed");
+  ASSERT_TRUE(speed) << data.payload.dump();
+  EXPECT_EQ((*speed)["value"], 1234);
+  EXPECT_EQ((*speed)["timestamp"], (*metric(reborn->payload, "engine_speed"))["timestamp"]) << "no new measurement, the same time";
 }
 
 // Every host must read a metric as the bridge means it. Eclipse Tahu's JavaScript codec
