@@ -24,7 +24,7 @@ std::vector<std::size_t> ReportSchedule::due(std::span<const std::uint64_t> chan
     auto& bank = banks_[i];
     bank.latest = changes[i];
     const bool full = all || !bank.went || now - *bank.went >= intervals_.max_interval;
-    const bool moved = intervals_.on_change && bank.latest != bank.examined;
+    const bool moved = (intervals_.on_change && bank.latest != bank.examined) || bank.asked;
     if (!full && moved && now < *bank.went + intervals_.min_interval) {
       // Within its min_interval: it goes then, with the values it has then.
       next_due_ = std::min(next_due_, *bank.went + intervals_.min_interval);
@@ -33,11 +33,13 @@ std::vector<std::size_t> ReportSchedule::due(std::span<const std::uint64_t> chan
     if (full || moved) {
       bank.examined = bank.latest;
       const auto state = bank_now(i);
-      if (full || changed(bank, state)) {
+      if (full || bank.asked || changed(bank, state)) {
         due.push_back(i);
         bank.published.assign(state.values.begin(), state.values.end());
         bank.published_online = state.online;
         bank.went = now;
+        bank.asked = false;
+        bank.in_full = full;
       }
     }
     next_due_ = std::min(next_due_, *bank.went + intervals_.max_interval);

@@ -136,10 +136,16 @@ bool EdgeSession::may_publish() const {
 
 std::uint64_t EdgeSession::take_seq() { return seq_++; }  // uint8_t: 255 is followed by 0
 
-EdgeSession::Device& EdgeSession::state_of(banks::BankId bank) {
+void EdgeSession::resend(banks::BankId bank, std::size_t value_index) {
   const auto found = std::find_if(devices_.begin(), devices_.end(), [&](const Device& d) { return d.bank == bank; });
-  if (found != devices_.end()) return *found;
-  return devices_.emplace_back(Device{bank, false, {}, {}});
+  if (found == devices_.end()) return;  // not born yet: its birth will carry every value
+  found->resend.push_back(value_index);
+  if (schedule_) schedule_->republish(static_cast<std::size_t>(found - devices_.begin()));
+}
+
+std::optional<EdgeSession::Clock::time_point> EdgeSession::next_due() const {
+  if (!node_born_ || !schedule_) return std::nullopt;
+  return schedule_->next_due();
 }
 
 Message EdgeSession::birth_of(const DeviceReading& device, Device& state, std::uint64_t now_ms) {
@@ -149,68 +155,93 @@ Message EdgeSession::birth_of(const DeviceReading& device, Device& state, std::u
   payload.seq = take_seq();
   state.born = true;
   state.sent.assign(device.values.begin(), device.values.end());
+  state.resend.clear();
   ++counters_.births;
   return {device_topic("DBIRTH", banks::bank_name(state.bank)), encoded(payload)};
 }
 
-Message EdgeSession::device_death(banks::BankId bank, std::uint64_t now_ms) {
+Message EdgeSession::device_death(Device& state, std::uint64_t now_ms) {
   Payload payload;
   payload.timestamp = now_ms;
   payload.seq = take_seq();
-  state_of(bank).born = false;
+  state.born = false;
   ++counters_.deaths;
-  return {device_topic("DDEATH", banks::bank_name(bank)), encoded(payload)};
+  return {device_topic("DDEATH", banks::bank_name(state.bank)), encoded(payload)};
 }
 
-std::vector<Message> EdgeSession::step(std::span<const DeviceReading> devices, std::uint64_t now_ms) {
+std::vector<Message> EdgeSession::births(const Devices& devices, Clock::time_point now, std::uint64_t now_ms) {
+  births_due_ = false;
+  node_born_ = true;
+  seq_ = 0;
   std::vector<Message> due;
-  if (!may_publish()) return due;
-  if (births_due_) {
-    births_due_ = false;
-    node_born_ = true;
-    devices_.clear();
-    seq_ = 0;
-    Payload payload;
-    payload.timestamp = now_ms;
-    payload.metrics.push_back(bd_seq_metric(bd_seq_.value_or(0), now_ms));
-    Metric rebirth;
-    rebirth.name = std::string(rebirth_metric);
-    rebirth.timestamp = now_ms;
-    rebirth.datatype = DataType::Boolean;
-    rebirth.value = false;
-    payload.metrics.push_back(std::move(rebirth));
-    payload.seq = take_seq();
-    ++counters_.births;
-    due.push_back({node_topic("NBIRTH"), encoded(payload)});
-    for (const auto& device : devices) {
-      due.push_back(birth_of(device, state_of(device.layout->bank), now_ms));
-      if (may_die(device.layout->bank) && !device.online) due.push_back(device_death(device.layout->bank, now_ms));
-    }
-    return due;
+  Payload payload;
+  payload.timestamp = now_ms;
+  payload.metrics.push_back(bd_seq_metric(bd_seq_.value_or(0), now_ms));
+  Metric rebirth;
+  rebirth.name = std::string(rebirth_metric);
+  rebirth.timestamp = now_ms;
+  rebirth.datatype = DataType::Boolean;
+  rebirth.value = false;
+  payload.metrics.push_back(std::move(rebirth));
+  payload.seq = take_seq();
+  ++counters_.births;
+  due.push_back({node_topic("NBIRTH"), encoded(payload)});
+  // A new schedule has every device due in full at its first call: the births are those
+  // messages, and each device's min_interval and max_interval count from them.
+  const auto count = devices.changes.size();
+  std::vector<std::optional<DeviceReading>> readings(count);
+  schedule_.emplace(count, settings_.intervals);
+  (void)schedule_->due(devices.changes, now, [&](std::size_t i) {
+    const auto& device = readings[i].emplace(devices.now(i));
+    return report::ReportSchedule::BankNow{device.values, device.online, device.deadbands};
+  });
+  devices_.clear();
+  devices_.reserve(count);
+  for (std::size_t i = 0; i < count; ++i) {
+    const auto& device = readings[i] ? *readings[i] : readings[i].emplace(devices.now(i));
+    auto& state = devices_.emplace_back(Device{device.layout->bank, false, {}, {}});
+    due.push_back(birth_of(device, state, now_ms));
+    if (may_die(state.bank) && !device.online) due.push_back(device_death(state, now_ms));
   }
-  for (const auto& device : devices) {
-    const auto bank = device.layout->bank;
-    auto& state = state_of(bank);
-    const bool alive = device.online || !may_die(bank);
-    if (state.born && !alive) {
-      due.push_back(device_death(bank, now_ms));
-    } else if (!state.born && alive) {
-      due.push_back(birth_of(device, state, now_ms));
-    } else if (state.born) {
-      const auto changed = changed_values(*device.layout, state.sent, device.values, device.deadbands, state.resend);
-      state.resend.clear();
-      if (changed.empty()) continue;
-      Payload payload;
-      payload.timestamp = now_ms;
-      payload.metrics = metrics_at(*device.layout, device.values, changed, device.measured_ms.value_or(now_ms));
-      payload.seq = take_seq();
-      // Only what went: a move within its deadband is measured from the value the host has.
-      state.sent.resize(device.values.size());
-      for (const auto i : changed) state.sent[i] = device.values[i];
-      ++counters_.data;
-      due.push_back({device_topic("DDATA", banks::bank_name(bank)), encoded(payload)});
-    }
-  }
+  return due;
+}
+
+std::optional<Message> EdgeSession::message_of(std::size_t index, const DeviceReading& device, std::uint64_t now_ms) {
+  auto& state = devices_[index];
+  const bool alive = device.online || !may_die(state.bank);
+  if (state.born && !alive) return device_death(state, now_ms);
+  if (!state.born) return alive ? std::optional<Message>(birth_of(device, state, now_ms)) : std::nullopt;
+  const auto& layout = *device.layout;
+  // In full: every metric. For a change: every metric the host has another value of (the
+  // schedule judged the deadbands; a move within one rides along), and those to resend.
+  const auto carried = schedule_->went_in_full(index) ? changed_values(layout, {}, device.values, {})
+                                                      : changed_values(layout, state.sent, device.values, {}, state.resend);
+  state.resend.clear();
+  if (carried.empty()) return std::nullopt;  // a bank that never dies, whose on-line state alone changed
+  Payload payload;
+  payload.timestamp = now_ms;
+  payload.metrics = metrics_at(layout, device.values, carried, device.measured_ms.value_or(now_ms));
+  payload.seq = take_seq();
+  state.sent.assign(device.values.begin(), device.values.end());
+  ++counters_.data;
+  return Message{device_topic("DDATA", banks::bank_name(state.bank)), encoded(payload)};
+}
+
+std::vector<Message> EdgeSession::step(const Devices& devices, Clock::time_point now, std::uint64_t now_ms) {
+  if (!may_publish()) return {};
+  // A value model of another size than the births named: born again.
+  if (births_due_ || !schedule_ || devices.changes.size() != devices_.size()) return births(devices, now, now_ms);
+  std::vector<std::optional<DeviceReading>> readings(devices.changes.size());
+  const auto reading = [&](std::size_t i) -> const DeviceReading& {
+    return readings[i] ? *readings[i] : readings[i].emplace(devices.now(i));
+  };
+  const auto went = schedule_->due(devices.changes, now, [&](std::size_t i) {
+    const auto& device = reading(i);
+    return report::ReportSchedule::BankNow{device.values, device.online, device.deadbands};
+  });
+  std::vector<Message> due;
+  for (const auto i : went)
+    if (auto message = message_of(i, reading(i), now_ms)) due.push_back(std::move(*message));
   return due;
 }
 

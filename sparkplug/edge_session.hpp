@@ -21,6 +21,18 @@
 //     seen before on this connection is ignored, and so is one stamped further ahead of the
 //     bridge's synchronised clock than max_host_clock_lead: a forged STATE stamped far in
 //     the future would otherwise make every real one look old (issue 43).
+//   - When a device's messages go is report::ReportSchedule's (SPEC §21), the rule MQTT's
+//     bank documents follow, with one schedule for the node's devices: a DDATA, DDEATH or
+//     DBIRTH on the leading edge, no sooner than `min_interval` after the device's last
+//     message (those within it go together when it is up, as the device is then: never a
+//     backlog); a device changed only within its deadbands sends nothing. A born device
+//     sends a DDATA of all its metrics at least every `max_interval` after its last
+//     message (a birth is one). A DDATA carries every metric whose value differs from
+//     what the host was last sent of it, so a move within its deadband rides along with
+//     the next DDATA of its device and the host's values are what the schedule compares
+//     with. Every metric carries the time its device's values were measured, a re-send
+//     too; the payload's own timestamp is when it goes. Births of the node (on connecting,
+//     a rebirth) carry every device at once and start the schedule again.
 //   - NCMD `Node Control/Rebirth` = true: every birth again, the same bdSeq.
 //   - DCMD to a metric of W or X, when commands are taken: a write of its register in
 //     the value's unit (W in tenths), or of one bit of X (`x.5`, a Boolean: that bit
@@ -32,6 +44,7 @@
 // else the bridge does not do is refused. Both are counted, nothing is answered.
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <span>
 #include <string>
@@ -39,6 +52,7 @@
 #include <vector>
 
 #include "banks/bank_id.hpp"
+#include "report/report_schedule.hpp"
 #include "sparkplug/payload.hpp"
 #include "values/value_model.hpp"
 
@@ -62,6 +76,15 @@ struct DeviceReading {
   bool online = true;
   std::span<const double> deadbands;      // report::Deadbands::of; empty: every change counts
   std::optional<std::uint64_t> measured_ms;  // when its values were measured (SPEC §21); none: the step's now
+};
+
+/// The devices at a step, in the value model's order: how often each changed
+/// (banks::RegisterStore::changes) and each as it is now — asked only of a device that may
+/// have a message due, so a device changing a thousand times a second is read once per
+/// message, not once per change.
+struct Devices {
+  std::span<const std::uint64_t> changes;
+  std::function<DeviceReading(std::size_t device)> now;
 };
 
 /// A write a DCMD asks for: the bits `mask` of a register of W or X set to those of `raw`
@@ -98,7 +121,9 @@ class EdgeSession {
     std::string group_id;
     std::string edge_node_id;
     bool primary_host = false;  // births wait for the host's STATE
+    report::Intervals intervals;  // `report`: min_interval, max_interval (on_change: always)
   };
+  using Clock = report::ReportSchedule::Clock;
   struct Counters {
     std::uint64_t births = 0;     // NBIRTH and DBIRTH
     std::uint64_t data = 0;       // DDATA
@@ -131,15 +156,25 @@ class EdgeSession {
   /// The primary host's STATE payload; `trusted_now_ms`: the bridge's clock when it is
   /// synchronised (nullopt: it is not, and no STATE is judged by it).
   HostVerdict host_state(std::string_view payload, std::optional<std::uint64_t> trusted_now_ms);
-  /// Every birth again at the next step (a rebirth request, a new value model).
+  /// Every birth again at the next step (a rebirth request).
   void rebirth() { births_due_ = true; }
-  /// The value `value_index` of `bank`'s layout in the next DDATA, changed or not: a DCMD
-  /// the write path refused left it as it was, which the host is told.
-  void resend(banks::BankId bank, std::size_t value_index) { state_of(bank).resend.push_back(value_index); }
+  /// A reload that keeps the connection: every birth again (the value model may have
+  /// changed), and the devices' messages on `intervals` from them on.
+  void reload(const report::Intervals& intervals) {
+    settings_.intervals = intervals;
+    rebirth();
+  }
+  /// The value `value_index` of `bank`'s layout in the next DDATA of its device (when its
+  /// min_interval allows), changed or not: a DCMD the write path refused left it as it
+  /// was, which the host is told.
+  void resend(banks::BankId bank, std::size_t value_index);
 
-  /// The messages due now, in order, for the devices as they are now (in the model's
-  /// order); their seq numbers taken.
-  std::vector<Message> step(std::span<const DeviceReading> devices, std::uint64_t now_ms);
+  /// The messages due at `now` (`now_ms`: the same moment on the system clock, which
+  /// payloads carry), in order; their seq numbers taken.
+  std::vector<Message> step(const Devices& devices, Clock::time_point now, std::uint64_t now_ms);
+  /// When a step has a message due without a new change (a held-back change, a
+  /// max_interval): none while the node is not born.
+  std::optional<Clock::time_point> next_due() const;
 
   /// What an NCMD (`device` empty) or a DCMD to `device` means; `commands`: DCMD writes
   /// are taken. `model` names the metrics. Counts it (a write the write path then refuses
@@ -161,14 +196,17 @@ class EdgeSession {
   struct Device {
     banks::BankId bank;
     bool born = false;
-    std::vector<values::Value> sent;
+    std::vector<values::Value> sent;  // what the host was last sent of each value
     std::vector<std::size_t> resend;  // values sent in the next DDATA, changed or not
   };
 
   std::uint64_t take_seq();
+  /// NBIRTH, then every device's DBIRTH (and DDEATH for one off-line), a schedule anew.
+  std::vector<Message> births(const Devices& devices, Clock::time_point now, std::uint64_t now_ms);
+  /// What device `index` (due by the schedule) sends: DDEATH, DBIRTH, DDATA, or nothing.
+  std::optional<Message> message_of(std::size_t index, const DeviceReading& device, std::uint64_t now_ms);
   Message birth_of(const DeviceReading& device, Device& state, std::uint64_t now_ms);
-  Message device_death(banks::BankId bank, std::uint64_t now_ms);
-  Device& state_of(banks::BankId bank);
+  Message device_death(Device& state, std::uint64_t now_ms);
   bool may_publish() const;
   Command dcmd(const values::BankValues& layout, const Payload& payload, bool commands);
 
@@ -181,7 +219,8 @@ class EdgeSession {
   bool births_due_ = true;
   HostState host_ = HostState::unknown;
   std::optional<std::uint64_t> host_timestamp_;  // the newest STATE's on this connection
-  std::vector<Device> devices_;
+  std::vector<Device> devices_;  // in the value model's order, as the schedule's banks
+  std::optional<report::ReportSchedule> schedule_;  // from the first births on
   Counters counters_;
 };
 

@@ -18,6 +18,9 @@ namespace unima::io {
 
 namespace {
 
+// How soon a broker that does not keep up is looked at again (or min_interval, if longer).
+constexpr std::chrono::milliseconds retry_after{10};
+
 // Writes of the bdSeq file waiting for the worker: one per CONNECT, and CONNECTs are a
 // second apart at least (MqttClient's back-off).
 constexpr std::size_t bd_seq_writes_queued = 4;
@@ -55,21 +58,27 @@ std::optional<std::uint64_t> read_bd_seq(const std::filesystem::path& file) {
   return std::nullopt;
 }
 
-sparkplug::EdgeSession session_of(const config::SparkplugConfig& config, std::optional<std::uint64_t> last_bd_seq) {
-  return sparkplug::EdgeSession({config.group_id, config.edge_node_id, !config.primary_host.empty()}, last_bd_seq);
+// `report` as Sparkplug's devices follow it: on change always (mqtt.publish.on_change is MQTT's).
+report::Intervals intervals_of(const config::Config& config) {
+  return {.min_interval = config.report.min_interval, .max_interval = config::max_report_interval(config), .on_change = true};
+}
+
+sparkplug::EdgeSession session_of(const config::Config& config, std::optional<std::uint64_t> last_bd_seq) {
+  const auto& s = *config.sparkplug;
+  return sparkplug::EdgeSession({s.group_id, s.edge_node_id, !s.primary_host.empty(), intervals_of(config)}, last_bd_seq);
 }
 
 }  // namespace
 
 SparkplugService::SparkplugService(Runtime& runtime)
-    : runtime_(runtime), look_timer_(runtime.io), rebirth_timer_(runtime.io), bd_seq_writer_(runtime.io, bd_seq_writes_queued) {
+    : runtime_(runtime), due_timer_(runtime.io), rebirth_timer_(runtime.io), bd_seq_writer_(runtime.io, bd_seq_writes_queued) {
   runtime.changes.listen([this, alive = alive_] {
     if (*alive) banks_changed();
   });
   const auto& config = runtime.config();
   if (!config.sparkplug) return;
   bd_seq_file_ = bd_seq_file_of(config);
-  session_.emplace(session_of(*config.sparkplug, read_bd_seq(bd_seq_file_)));
+  session_.emplace(session_of(config, read_bd_seq(bd_seq_file_)));
   client_ = make_client(config);
 }
 
@@ -204,32 +213,31 @@ void SparkplugService::take_command(std::string_view device, std::string_view to
 
 // At every change, connected or not: a bank that changed while the node was away is born
 // again with the time of its change, not of the birth.
-void SparkplugService::note_measured() {
+std::vector<std::uint64_t> SparkplugService::note_measured() {
   const auto& running = *runtime_.banks;
   std::vector<std::uint64_t> changes;
   changes.reserve(running.value_model.banks().size());
   for (const auto& layout : running.value_model.banks()) changes.push_back(running.store->changes(layout.bank));
   measured_.note(changes, runtime_.changes.changed_at());
+  return changes;
 }
 
 void SparkplugService::banks_changed() {
   note_measured();
   if (!started_ || !client_ || !session_ || !session_->born()) return;
-  if (const auto when = pacing_.changed(sparkplug::DataPacing::Clock::now())) look_at(*when);
+  publish_due();
 }
 
-void SparkplugService::look_at(sparkplug::DataPacing::Clock::time_point when) {
-  if (when <= sparkplug::DataPacing::Clock::now()) {
-    // The loop's next turn: the rest of what came with this change (a feed's batch of
-    // telegrams) joins the same look.
-    asio::post(runtime_.io, [this, alive = alive_] {
-      if (*alive && started_) publish_due();
-    });
-    return;
-  }
-  look_timer_.expires_at(when);
-  look_timer_.async_wait([this](const boost::system::error_code& ec) {
-    if (!ec && started_) publish_due();
+// Armed only when nothing sooner is: a change that may go at once does not wait for it,
+// and a wake-up too early finds nothing due and arms again.
+void SparkplugService::wake_at(sparkplug::EdgeSession::Clock::time_point when) {
+  if (timer_due_ && *timer_due_ <= when) return;
+  timer_due_ = when;
+  due_timer_.expires_at(when);
+  due_timer_.async_wait([this](const boost::system::error_code& ec) {
+    if (ec) return;
+    timer_due_.reset();
+    if (started_) publish_due();
   });
 }
 
@@ -237,22 +245,23 @@ void SparkplugService::publish_due() {
   if (!client_ || !session_) return;
   if (session_->connected_now() && !client_->connected()) session_->disconnected();
   if (!client_->connected()) return;  // the connection's births take it all
-  const auto now = sparkplug::DataPacing::Clock::now();
+  const auto now = sparkplug::EdgeSession::Clock::now();
   // A broker that does not keep up gets the latest values once it does, not a queue.
-  if (client_->backlogged()) return look_at(pacing_.retry(now));
-  pacing_.looked(now);
+  if (client_->backlogged())
+    return wake_at(now + std::max<std::chrono::steady_clock::duration>(runtime_.config().report.min_interval, retry_after));
   const auto& running = *runtime_.banks;
   auto& current = *running.values;
   const auto& layouts = running.value_model.banks();
-  note_measured();
-  std::vector<sparkplug::DeviceReading> devices;
-  devices.reserve(layouts.size());
-  for (std::size_t i = 0; i < layouts.size(); ++i) {
+  const auto changes = note_measured();
+  // Evaluated only for the devices that may have a message now, and once for every consumer.
+  const auto device_now = [&](std::size_t i) {
     const auto& layout = layouts[i];
-    devices.push_back({&layout, current.of(layout.bank), current.snapshot()[banks::index_of(layout.bank)].online,
-                       running.deadbands.of(layout.bank), ms_since_epoch(measured_.of(i))});
-  }
-  for (const auto& message : session_->step(devices, now_ms())) client_->publish_at_most_once(message.topic, message.payload);
+    return sparkplug::DeviceReading{&layout, current.of(layout.bank), current.snapshot()[banks::index_of(layout.bank)].online,
+                                    running.deadbands.of(layout.bank), ms_since_epoch(measured_.of(i))};
+  };
+  for (const auto& message : session_->step({changes, device_now}, now, now_ms()))
+    client_->publish_at_most_once(message.topic, message.payload);
+  if (const auto next = session_->next_due()) wake_at(*next);
 }
 
 void SparkplugService::publish_death() {
@@ -282,7 +291,8 @@ void SparkplugService::stop() {
     publish_death();
     client_->stop();
   }
-  look_timer_.cancel();
+  due_timer_.cancel();
+  timer_due_.reset();
   rebirth_timer_.cancel();
 }
 
@@ -329,16 +339,17 @@ void SparkplugService::commit(const Banks&) {
       client_->stop();
     }
     const auto last = session_ ? session_->bd_seq() : read_bd_seq(bd_seq_file_);
-    if (config.sparkplug) session_.emplace(session_of(*config.sparkplug, last));
+    if (config.sparkplug) session_.emplace(session_of(config, last));
     else session_.reset();
     client_ = std::move(next_client_);
     new_client_ = false;
     if (client_ && started_) client_->start();
     return;
   }
-  // The same broker and node: the banks may have changed, the births say what they are.
+  // The same broker and node: the banks may have changed, the births say what they are,
+  // and the devices' messages follow the new `report` from them on.
   if (session_) {
-    session_->rebirth();
+    session_->reload(intervals_of(config));
     publish_due();
   }
 }

@@ -3,7 +3,8 @@
 // tests/support/sparkplug_decode.py — a decoder written from the specification, not the
 // bridge's own — reading them. Commands are encoded here by hand from protobuf's encoding
 // guide and the specification's field numbers. Births and their metrics, DDATA of a fed
-// change, seq across messages and its wrap, NDEATH by the will and bdSeq across restarts,
+// change, DDATA paced by report.min_interval and sent in full every report.max_interval with
+// its measurement times, seq across messages and its wrap, NDEATH by the will and bdSeq across restarts,
 // devices dying and coming back, the primary host, rebirth, DCMD writes and malformed ones.
 
 #include <cmath>
@@ -279,9 +280,9 @@ TEST_F(Sparkplug, AFedChangeIsDdataAndSeqWrapsFrom255To0) {
   EXPECT_TRUE(wrapped);
 }
 
-// SPEC §21: DDATA follows the same deadbands as MQTT's documents — a move within one is not
-// sent, the next is measured from what the host has — and a metric carries the time its
-// value was measured (the telegram's arrival) as its timestamp.
+// SPEC §21: DDATA follows the same deadbands as MQTT's documents — a move within one does
+// not send a DDATA, the next is measured from what the host has — and a metric carries the
+// time its value was measured (the telegram's arrival) as its timestamp.
 TEST_F(Sparkplug, DdataHoldsBackMovesWithinTheDeadbandAndIsTimedWhenMeasured) {
   config.extra += "report: { deadband: { D1.engine_speed: 5 } }\n";
   const auto t = tap();
@@ -290,7 +291,7 @@ TEST_F(Sparkplug, DdataHoldsBackMovesWithinTheDeadbandAndIsTimedWhenMeasured) {
   auto feed = feed_client();
   ASSERT_TRUE(d1_born_at_1234(feed, *t)) << daemon->log();
   feed_and_wait(feed, R"({"addr":5,"slot":0,"offset":1,"values":[1238]})", 0x0012, 1238);
-  std::this_thread::sleep_for(100ms);  // longer than the node's pacing: 1238 would go alone
+  std::this_thread::sleep_for(150ms);  // longer than min_interval (100 ms): 1238 would go alone
   const auto ms = [] {
     return static_cast<std::uint64_t>(std::chrono::duration_cast<std::chrono::milliseconds>(
         std::chrono::system_clock::now().time_since_epoch()).count());
@@ -306,6 +307,140 @@ TEST_F(Sparkplug, DdataHoldsBackMovesWithinTheDeadbandAndIsTimedWhenMeasured) {
   EXPECT_LE(speed["timestamp"].get<std::uint64_t>(), after);
   EXPECT_GE(data->payload["timestamp"].get<std::uint64_t>(), speed["timestamp"].get<std::uint64_t>())
       << "the message goes after its value was measured";
+}
+
+/// The DDATA of device `name` that `holds`, in the order they came.
+std::vector<Message> ddata_of(const std::vector<Message>& all, const std::string& name,
+                              const std::function<bool(const json&)>& holds = [](const json&) { return true; }) {
+  std::vector<Message> found;
+  for (const auto& m : all)
+    if (m.topic == device("DDATA", name) && holds(m.payload)) found.push_back(m);
+  return found;
+}
+
+std::uint64_t sent_at(const Message& message) { return message.payload["timestamp"].get<std::uint64_t>(); }
+
+// SPEC §21, report.min_interval for Sparkplug: a burst of changes into D1 after a quiet
+// while — its first goes at once and alone, the rest go together when min_interval is up,
+// the latest values each time (never a backlog): D1's messages are min_interval apart at
+// least by their own timestamps (whole ms of the bridge's clock when each went).
+TEST_F(Sparkplug, DdataOfADeviceIsMinIntervalApartOnTheLeadingEdge) {
+  config.extra += "report: { min_interval: 300ms }\n";
+  const auto t = tap();
+  start_with();
+  ASSERT_TRUE(wait_for(*t, nbirth)) << daemon->log();
+  auto feed = feed_client();
+  ASSERT_TRUE(d1_born_at_1234(feed, *t)) << daemon->log();
+  std::this_thread::sleep_for(500ms);  // quiet: D1's birth is older than min_interval
+
+  const auto began = std::chrono::steady_clock::now();
+  constexpr int first = 2001, last = 2020;
+  for (int speed = first; speed <= last; ++speed)
+    feed_and_wait(feed, R"({"addr":5,"slot":0,"offset":1,"values":[)" + std::to_string(speed) + "]}", 0x0012,
+                  static_cast<std::uint16_t>(speed));
+  const auto speed_at_least = [](int from) {
+    return [from](const json& p) {
+      const auto* speed = metric(p, "engine_speed");
+      return speed && (*speed)["value"].is_number() && (*speed)["value"].get<int>() >= from;
+    };
+  };
+  ASSERT_TRUE(wait_for(*t, device("DDATA", "D1"), [](const json& p) {
+    const auto* speed = metric(p, "engine_speed");
+    return speed && (*speed)["value"] == last;
+  })) << daemon->log();
+  const auto seen = std::chrono::steady_clock::now();
+  std::this_thread::sleep_for(500ms);  // room for a DDATA that should not come
+  const auto all = messages(*t);
+  const auto data = ddata_of(all, "D1", speed_at_least(first));
+  ASSERT_FALSE(data.empty());
+  EXPECT_EQ((*metric(data.front().payload, "engine_speed"))["value"], first) << "the leading edge: the first change at once";
+  EXPECT_EQ((*metric(data.back().payload, "engine_speed"))["value"], last) << "the latest value once min_interval is up";
+  EXPECT_LT(data.size(), static_cast<std::size_t>(last - first + 1)) << "together, not one per change";
+  EXPECT_LE(data.size() - 1, static_cast<std::size_t>((seen - began) / 300ms)) << "300 ms at least between two";
+  // Every message of D1 from its birth on, by the bridge's own timestamps.
+  std::vector<Message> d1;
+  for (const auto& m : all)
+    if (m.topic == device("DBIRTH", "D1") || m.topic == device("DDATA", "D1")) d1.push_back(m);
+  // 300 ms by the steady clock; the timestamps are whole ms of the system clock, read just
+  // after it: 50 ms of slack for a busy machine, far from the 0 ms of no pacing.
+  for (std::size_t i = 1; i < d1.size(); ++i) EXPECT_GE(sent_at(d1[i]), sent_at(d1[i - 1]) + 250) << i;
+  for (std::size_t i = 1; i < data.size(); ++i)
+    EXPECT_GT((*metric(data[i].payload, "engine_speed"))["value"], (*metric(data[i - 1].payload, "engine_speed"))["value"])
+        << "in order, never a backlog";
+}
+
+// SPEC §21, report.max_interval for Sparkplug: with nothing new, D1 gets a DDATA of all
+// its metrics every max_interval after its last message, each metric still carrying the
+// time its value was measured (the telegram's arrival), not when it went again.
+TEST_F(Sparkplug, AFullDdataEveryMaxIntervalKeepsTheMetricsTimeOfMeasurement) {
+  config.unimabus_extra = "  offline_after: 60s\n";
+  config.extra += "report: { max_interval: 1s }\n";
+  const auto t = tap();
+  start_with();
+  ASSERT_TRUE(wait_for(*t, nbirth)) << daemon->log();
+  auto feed = feed_client();
+  const auto ms = [] {
+    return static_cast<std::uint64_t>(
+        std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::system_clock::now().time_since_epoch()).count());
+  };
+  const auto before = ms();
+  ASSERT_TRUE(d1_born_at_1234(feed, *t)) << daemon->log();
+  const auto began = std::chrono::steady_clock::now();
+  ASSERT_TRUE(eventually([&] { return ddata_of(messages(*t), "D1").size() >= 2; }, 8000ms)) << daemon->log();
+  EXPECT_GE(std::chrono::steady_clock::now() - began, 1s) << "the second a max_interval after the first";
+  const auto all = messages(*t);
+  const auto birth = wait_for(*t, device("DBIRTH", "D1"), [](const json& p) {
+    const auto* speed = metric(p, "engine_speed");
+    return speed && (*speed)["value"] == 1234;
+  });
+  ASSERT_TRUE(birth);
+  const auto measured = (*metric(birth->payload, "engine_speed"))["timestamp"].get<std::uint64_t>();
+  EXPECT_GE(measured, before) << "the telegram's arrival";
+  auto previous = sent_at(*birth);
+  for (const auto& data : ddata_of(all, "D1")) {
+    EXPECT_EQ(data.payload["metrics"].size(), birth->payload["metrics"].size()) << "every metric: " << data.payload.dump();
+    const auto* speed = metric(data.payload, "engine_speed");
+    ASSERT_TRUE(speed) << data.payload.dump();
+    EXPECT_EQ((*speed)["value"], 1234);
+    for (const auto& m : data.payload["metrics"]) EXPECT_EQ(m["timestamp"], measured) << m["name"] << ": the old time";
+    EXPECT_GE(sent_at(data), previous + 950) << "a max_interval after D1's last message (the slack as above)";
+    EXPECT_GT(sent_at(data), measured);
+    previous = sent_at(data);
+  }
+}
+
+// A reload that changes `report` takes effect on the same connection: with the births it
+// sends, D1's full DDATA comes every new max_interval, its metrics still timed when measured.
+TEST_F(Sparkplug, AReloadThatChangesReportTakesEffect) {
+  config.unimabus_extra = "  offline_after: 60s\n";
+  config.extra += "report: { max_interval: 60s }\n";
+  const auto t = tap();
+  start_with();
+  ASSERT_TRUE(wait_for(*t, nbirth)) << daemon->log();
+  auto feed = feed_client();
+  ASSERT_TRUE(d1_born_at_1234(feed, *t)) << daemon->log();
+  std::this_thread::sleep_for(1500ms);
+  EXPECT_TRUE(ddata_of(messages(*t), "D1").empty()) << "nothing new, and max_interval 60 s";
+
+  const auto at = config.extra.find("max_interval: 60s");
+  ASSERT_NE(at, std::string::npos);
+  config.extra.replace(at, 17, "max_interval: 1s");
+  daemon->rewrite_config(config.yaml());
+  daemon->signal(SIGHUP);
+  ASSERT_TRUE(eventually([&] { return count_of(*t, nbirth) == 2; }, 6000ms)) << daemon->log();
+  ASSERT_TRUE(eventually([&] { return !ddata_of(messages(*t), "D1").empty(); }, 6000ms)) << daemon->log();
+  EXPECT_EQ(status()["connections"], 1) << "the same connection";
+  const auto all = messages(*t);
+  std::optional<Message> reborn;  // D1's birth of the reload
+  for (const auto& m : all)
+    if (m.topic == device("DBIRTH", "D1")) reborn = m;
+  ASSERT_TRUE(reborn);
+  const auto data = ddata_of(all, "D1").front();
+  EXPECT_GE(sent_at(data), sent_at(*reborn) + 950) << "a max_interval after the birth (the slack as above)";
+  const auto* speed = metric(data.payload, "engine_speed");
+  ASSERT_TRUE(speed) << data.payload.dump();
+  EXPECT_EQ((*speed)["value"], 1234);
+  EXPECT_EQ((*speed)["timestamp"], (*metric(reborn->payload, "engine_speed"))["timestamp"]) << "no new measurement, the same time";
 }
 
 // Every host must read a metric as the bridge means it. Eclipse Tahu's JavaScript codec

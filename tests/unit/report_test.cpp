@@ -232,6 +232,28 @@ TEST(ReportSchedule, ANullAndTheOnLineStateAlwaysCount) {
   EXPECT_EQ(schedule.due(changes, t0 + 3s, bank_now).size(), 1u) << "from null, and on line again";
 }
 
+// republish(): a bank goes again, changed or not, when its min_interval allows (Sparkplug
+// tells the host a value a refused command left as it was); went_in_full() tells a
+// max_interval's document from a change's.
+TEST(ReportSchedule, ARepublishedBankGoesWhenItsMinIntervalAllowsAndFullIsTold) {
+  ReportSchedule schedule(2, {.min_interval = 250ms, .max_interval = 10s, .on_change = true});
+  ScheduledBanks banks{{{number(1)}, {number(2)}}, {0, 0}};
+  const auto t0 = ReportSchedule::Clock::now();
+  banks.due(schedule, t0);
+  EXPECT_TRUE(schedule.went_in_full(0)) << "its first document";
+  schedule.republish(1);
+  EXPECT_TRUE(banks.due(schedule, t0 + 100ms).empty());
+  EXPECT_EQ(schedule.next_due(), t0 + 250ms);
+  EXPECT_EQ(banks.due(schedule, t0 + 250ms), (std::vector<std::size_t>{1})) << "unchanged, but asked for";
+  EXPECT_FALSE(schedule.went_in_full(1));
+  EXPECT_TRUE(banks.due(schedule, t0 + 600ms).empty()) << "once";
+  banks.set(0, 5);
+  EXPECT_EQ(banks.due(schedule, t0 + 1s), (std::vector<std::size_t>{0}));
+  EXPECT_FALSE(schedule.went_in_full(0)) << "for a change";
+  EXPECT_EQ(banks.due(schedule, t0 + 10250ms), (std::vector<std::size_t>{1}));
+  EXPECT_TRUE(schedule.went_in_full(1)) << "its max_interval";
+}
+
 TEST(ReportMeasurementTimes, ABankKeepsTheTimeOfItsLastChange) {
   MeasurementTimes times;
   const auto t0 = std::chrono::system_clock::time_point{} + 1000h;
