@@ -149,6 +149,35 @@ TEST_F(MqttHistory, AnOutageGivesOrderedHistoryWithOriginalTimesAfterTheLiveDocu
   })) << status().dump();
 }
 
+// The history holds what the live stream would have carried under `report` (SPEC §21):
+// with a deadband of 5 rpm, the moves within it made no document during the outage either.
+TEST_F(MqttHistory, TheHistoryHoldsOnlyWhatTheDeadbandWouldHavePublished) {
+  config.extra += "report: { deadband: { D1.engine_speed: 5 } }\n";
+  start();
+  wait_online();
+  auto feed = feed_client();
+  set_speed(feed, 1000);
+  ASSERT_TRUE(eventually([&] { return broker->subscribe(live_topic, 1).find("\"engine_speed\":1000") != std::string::npos; }))
+      << daemon->log();
+  DurableReader reader(*broker, dir.path() / "reader");
+  broker->stop();
+  ASSERT_TRUE(daemon->wait_for_log("mqtt: the connection to"));
+  for (const int speed : {1002, 1010, 1013, 1020, 1016}) {
+    set_speed(feed, speed);
+    std::this_thread::sleep_for(150ms);
+  }
+  ASSERT_TRUE(broker->start());
+  std::vector<int> speeds;
+  ASSERT_TRUE(eventually([&] {
+    set_speed(feed, 1016);  // no change: D1 stays on-line, and nothing more is made
+    speeds.clear();
+    for (const auto& document : documents(reader.lines(), history_topic)) speeds.push_back(speed_of(document));
+    return !speeds.empty() && speeds.back() == 1020;
+  }, 60000ms)) << reader.lines() << daemon->log();
+  EXPECT_EQ(speeds, (std::vector<int>{1010, 1020})) << "1002, 1013 and 1016 are within 5 of the value published before them\n"
+                                                   << reader.lines();
+}
+
 // kill -9 in the outage: what was made up to a second before the kill comes after the
 // restart and the reconnect.
 TEST_F(MqttHistory, AKillDuringTheOutageLosesAtMostTheLastSecond) {
