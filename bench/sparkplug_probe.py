@@ -10,7 +10,9 @@
         timestamp (when the bridge looked). {"telegrams", "probes", "seen", "p50_ms",
         "p99_ms", "max_ms", "bridge_p50_ms", "bridge_p99_ms", "ddata"}
     sparkplug_probe.py births --broker B --group G --node N [--rounds 5]
-        Sends NCMD Node Control/Rebirth --rounds times, a second apart, and measures each
+        Sends NCMD Node Control/Rebirth --rounds times, --spacing seconds apart (5.5 by
+        default: the bridge carries out one rebirth per 5 s, sparkplug/rebirth_pacing, and
+        one asked sooner goes when the 5 s are up), and measures each
         round's births: the bytes of NBIRTH + every DBIRTH, the devices born, and the time from
         the NCMD leaving this process to the last DBIRTH reaching the subscriber.
 
@@ -175,7 +177,7 @@ def births(args):
     for _ in range(args.rounds):
         requests.append(time.time())
         mqtt_publish(publisher, f"spBv1.0/{args.group}/NCMD/{args.node}", rebirth_payload())
-        time.sleep(1)
+        time.sleep(args.spacing)
     publisher.close()
     messages = list(received(listener))
     rounds = []
@@ -218,6 +220,7 @@ def main():
     birth.add_argument("--group", required=True)
     birth.add_argument("--node", required=True)
     birth.add_argument("--rounds", type=int, default=5)
+    birth.add_argument("--spacing", type=float, default=5.5)
     args = parser.parse_args()
     latency(args) if args.mode == "latency" else births(args)
 
