@@ -15,7 +15,8 @@
 //                address without pause) beside a master line (field, 115200 baud): the
 //                SCADA's latency p99 while field only polls its slave every 100 ms (idle),
 //                is saturated by 8 gateway clients besides, and is unplugged (its simulator
-//                gone, the pty with it: each poll a failed write, logged). A master line
+//                gone, the pty with it: each poll a failed write, logged; the count of
+//                those warnings is printed, to show the line did fail). A master line
 //                whose device is missing at start stops the daemon, so it goes after start.
 //   tcp slave    unima-bench-load on bank C (function 4) of that daemon with both lines
 //                idle against a daemon without `modbus.lines` (only modbus.tcp)
@@ -37,6 +38,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <thread>
@@ -314,9 +316,12 @@ int run_lines(const Options& options) {
         const auto run = poll_scada(site, options.seconds, field == Field::saturated);
         if (field == Field::unplugged) {
           const auto log = site.daemon().log();
+          // A warning line naming the field line's device and a failed write: "…ttySIM: write failed…",
+          // or where the daemon reopens a lost device, "…ttySIM lost: write failed…".
           std::size_t failures = 0;
-          for (auto at = log.find("ttySIM: write failed"); at != std::string::npos; at = log.find("ttySIM: write failed", at + 1))
-            ++failures;
+          std::istringstream lines(log);
+          for (std::string line; std::getline(lines, line);)
+            if (line.find("ttySIM") != std::string::npos && line.find("write failed") != std::string::npos) ++failures;
           unplugged_failures.push_back(static_cast<double>(failures));
         }
         daemon_cpu[field].push_back((site.daemon().cpu_us() - cpu_before) / 1e4 / (options.seconds + busy_warmup_s));
