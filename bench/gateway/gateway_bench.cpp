@@ -21,11 +21,15 @@
 //              host, the gateway process's CPU time per forwarded transaction
 //   mbusd      with --mbusd PATH, the line-use and fairness runs through mbusd too
 //
+// With --lines, the runs of several lines from one daemon instead (lines_bench.cpp).
+//
 // Beside them, how late this host wakes a sleeping thread: the latencies' tails are that.
 //
 // Every load loop is bounded by time and by count. Exit 0 when every run worked and every
 // answer was right, 1 otherwise, 2 when it could not start; no time is asserted — each
 // target is printed as met or missed beside its figure (docs/performance.md, Gateway).
+
+#include "bench/gateway/gateway_bench.hpp"
 
 #include <arpa/inet.h>
 #include <netinet/in.h>
@@ -38,6 +42,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstdarg>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -54,26 +59,38 @@
 #include "modbus/rtu/rtu_timing.hpp"
 #include "tests/support/child_process.hpp"
 
-namespace {
+namespace gateway_bench {
 
-using namespace std::chrono_literals;
 namespace fs = std::filesystem;
 using unima::test_support::ChildProcess;
-using Bytes = std::vector<std::uint8_t>;
+
+namespace {
 
 constexpr std::uint8_t unit = 5;
-constexpr std::size_t query_bytes = 8, answer_bytes = 5 + 2 * 10;
-constexpr int answer_delay_ms = 1;
-constexpr std::size_t busy_clients = 8;
 const char* const priority_address = "127.0.0.2";
 
-struct Options {
-  bool quick = false;
-  int rounds = 5;
-  double seconds = 4;
-  std::string mbusd, load, report;
-  std::string frames;  // a directory to keep every run's frame log in
-};
+int connect_to(std::uint16_t port, const char* from = nullptr) {
+  const int fd = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
+  const int one = 1;
+  ::setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
+  const timeval timeout{3, 0};  // bounded: a lost answer ends the client, not the bench
+  ::setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &timeout, sizeof timeout);
+  sockaddr_in addr{};
+  addr.sin_family = AF_INET;
+  if (from) {
+    ::inet_pton(AF_INET, from, &addr.sin_addr);
+    ::bind(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr);
+  }
+  addr.sin_port = htons(port);
+  addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  if (::connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0) {
+    ::close(fd);
+    return -1;
+  }
+  return fd;
+}
+
+}  // namespace
 
 std::int64_t now_us() {
   return std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::steady_clock::now().time_since_epoch()).count();
@@ -98,27 +115,6 @@ std::uint16_t free_port() {
   return ntohs(addr.sin_port);
 }
 
-int connect_to(std::uint16_t port, const char* from = nullptr) {
-  const int fd = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
-  const int one = 1;
-  ::setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
-  const timeval timeout{3, 0};  // bounded: a lost answer ends the client, not the bench
-  ::setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &timeout, sizeof timeout);
-  sockaddr_in addr{};
-  addr.sin_family = AF_INET;
-  if (from) {
-    ::inet_pton(AF_INET, from, &addr.sin_addr);
-    ::bind(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr);
-  }
-  addr.sin_port = htons(port);
-  addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  if (::connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0) {
-    ::close(fd);
-    return -1;
-  }
-  return fd;
-}
-
 bool wait_for_port(std::uint16_t port, std::chrono::milliseconds timeout) {
   const auto deadline = std::chrono::steady_clock::now() + timeout;
   while (std::chrono::steady_clock::now() < deadline) {
@@ -139,14 +135,19 @@ double percentile(std::vector<double> v, double p) {
 
 double median(std::vector<double> v) { return percentile(std::move(v), 0.5); }
 
-// The line's physical limit for one read of D0..D9: both frames on the wire, t3.5 after
-// each, and the slave's answer delay.
-struct LineLimit {
-  unsigned baud;
-  double transaction_us;
-  double per_second() const { return 1e6 / transaction_us; }
-};
+// /proc/PID/task/*/schedstat counts ns; /proc/PID/stat counts 10 ms ticks, too coarse here.
+double process_cpu_us(pid_t pid) {
+  double ns = 0;
+  std::error_code ec;
+  for (const auto& task : fs::directory_iterator("/proc/" + std::to_string(pid) + "/task", ec)) {
+    std::istringstream fields(slurp(task.path() / "schedstat"));
+    double run = 0;
+    if (fields >> run) ns += run;
+  }
+  return ns / 1000;
+}
 
+// Both frames on the wire, t3.5 after each, and the slave's answer delay.
 LineLimit line_limit(unsigned baud) {
   const auto t = unima::modbus::rtu_timing(baud, false, 1);
   const double wire = static_cast<double>((query_bytes + answer_bytes) * 10) * 1e6 / baud;
@@ -155,19 +156,8 @@ LineLimit line_limit(unsigned baud) {
 
 // --- a client --------------------------------------------------------------------------
 
-struct Request {
-  std::int64_t sent_us, answered_us;
-};
-
-struct ClientResult {
-  std::vector<Request> requests;
-  std::string error;  // empty while every answer was right
-};
-
-// Asks for D0..D9 until `until_us` or `max_requests`, pausing `pause_us(i)` after answer i.
-template <typename Pause>
-ClientResult run_client(std::uint16_t port, const char* from, std::int64_t until_us, std::size_t max_requests,
-                        Pause pause_us) {
+ClientResult run_client(std::uint16_t port, std::uint8_t unit, const char* from, std::int64_t until_us,
+                        std::size_t max_requests, const std::function<int(std::size_t)>& pause_us) {
   ClientResult result;
   const int fd = connect_to(port, from);
   if (fd < 0) {
@@ -199,10 +189,8 @@ ClientResult run_client(std::uint16_t port, const char* from, std::int64_t until
     const auto answered = now_us();
     if (got != sizeof answer || answer[0] != query[0] || answer[1] != query[1] || answer[6] != unit ||
         answer[7] != 0x03 || answer[8] != 20) {
-      char text[96];
-      std::snprintf(text, sizeof text, "request %u: a wrong answer (%zu bytes, function %02X, %02X)", id, got,
-                    got > 7 ? answer[7] : 0, got > 8 ? answer[8] : 0);
-      result.error = text;
+      result.error = format("unit %u, request %u: a wrong answer (%zu bytes, function %02X, %02X)", unit, id, got,
+                            got > 7 ? answer[7] : 0, got > 8 ? answer[8] : 0);
       break;
     }
     result.requests.push_back({sent, answered});
@@ -212,151 +200,156 @@ ClientResult run_client(std::uint16_t port, const char* from, std::int64_t until
   return result;
 }
 
+namespace {
+
 std::size_t answered_within(const ClientResult& c, std::int64_t from, std::int64_t until) {
   return static_cast<std::size_t>(std::count_if(c.requests.begin(), c.requests.end(), [&](const Request& r) {
     return r.answered_us >= from && r.answered_us < until;
   }));
 }
 
-// --- a line: the simulator and a gateway in front of it -------------------------------------
+}  // namespace
+
+// --- the simulated wire, the daemon, a line: the simulator and a gateway in front of it ---
+
+SimulatedWire::SimulatedWire(unsigned baud, std::uint8_t unit, const Options& options, const std::string& label)
+    : baud_(baud), unit_(unit) {
+  if (!options.frames.empty()) {
+    static int runs = 0;
+    keep_as_ = fs::path(options.frames) / (std::to_string(++runs) + "-" + label + "-" + std::to_string(baud) + ".log");
+  }
+  char pattern[] = "/tmp/unima-gateway-bench-XXXXXX";
+  if (!::mkdtemp(pattern)) throw std::runtime_error("mkdtemp failed");
+  dir_ = pattern;
+  const auto sim_out = dir_ / "sim.out";
+  sim_ = std::make_unique<ChildProcess>(
+      std::vector<std::string>{UNIMA_SLAVE_SIM, "--pty", pty().string(), "--baud", std::to_string(baud), "--frames",
+                               frames_path().string(), "--slave",
+                               std::to_string(unit) + "=wecon-lx5v,slow=" + std::to_string(answer_delay_ms)},
+      unima::test_support::writing_to(sim_out));
+  for (int i = 0; i < 250 && slurp(sim_out).find("ready") == std::string::npos; ++i) std::this_thread::sleep_for(20ms);
+  if (slurp(sim_out).find("ready") == std::string::npos) throw std::runtime_error("the simulator did not start: " + slurp(sim_out));
+}
+
+SimulatedWire::~SimulatedWire() {
+  sim_->stop(SIGTERM, 5s);
+  std::error_code ec;
+  if (!keep_as_.empty()) fs::copy_file(frames_path(), keep_as_, fs::copy_options::overwrite_existing, ec);
+  fs::remove_all(dir_, ec);
+}
+
+std::vector<Frame> SimulatedWire::frames() const {
+  std::vector<Frame> out;
+  std::istringstream in(slurp(frames_path()));
+  for (std::string line; std::getline(in, line);) {
+    std::istringstream fields(line);
+    Frame f{};
+    std::string direction;
+    if (fields >> f.us >> direction) out.push_back({f.us, direction == "rx"});
+  }
+  return out;
+}
+
+Daemon::Daemon(const fs::path& dir, const std::string& yaml) : dir_(dir), port_(free_port()) {
+  auto text = yaml;
+  for (auto at = text.find("@PORT@"); at != std::string::npos; at = text.find("@PORT@"))
+    text.replace(at, 6, std::to_string(port_));
+  std::ofstream(dir_ / "bridge.yaml") << text;
+  process_ = std::make_unique<ChildProcess>(std::vector<std::string>{UNIMA_BRIDGED, "--config", (dir_ / "bridge.yaml").string()},
+                                            unima::test_support::writing_to(dir_ / "bridged.log"));
+  if (!wait_for_port(port_, 10s)) throw std::runtime_error("unima-bridged did not listen: " + log());
+}
+
+Daemon::~Daemon() { process_->stop(SIGTERM, 5s); }
+
+std::string single_line_yaml(const SimulatedWire& wire) {
+  return format("unimabus: { address: 5, transport: sim }\n"
+                "modbus:\n"
+                "  mode: master\n"
+                "  address: 1\n"
+                "  tcp: { listen: 127.0.0.1, port: @PORT@, max_clients: 64 }\n"
+                "  rtu: { device: %s, baud: %u }\n"
+                "  master: { response_timeout: 1s }\n"
+                "  gateway: { units: [%u], timeout: 1s, wait: 5s, priority: [%s] }\n"
+                "log: { level: warn }\n"
+                "status: { socket: %s }\n",
+                wire.pty().c_str(), wire.baud(), unsigned{wire.unit()}, priority_address,
+                (wire.dir() / "control.sock").c_str());
+}
+
+namespace {
 
 enum class Gateway { bridge, mbusd };
 
 const char* name(Gateway g) { return g == Gateway::bridge ? "unima-bridged" : "mbusd"; }
 
-struct Frame {
-  std::int64_t us;
-  bool rx;
-};
-
 class Line {
  public:
-  Line(Gateway gateway, unsigned baud, const Options& options) : baud_(baud) {
-    if (!options.frames.empty()) {
-      static int runs = 0;
-      keep_as_ = fs::path(options.frames) / (std::to_string(++runs) + "-" + name(gateway) + "-" + std::to_string(baud) + ".log");
-    }
-    char pattern[] = "/tmp/unima-gateway-bench-XXXXXX";
-    if (!::mkdtemp(pattern)) throw std::runtime_error("mkdtemp failed");
-    dir_ = pattern;
-    const auto pty = dir_ / "ttySIM", sim_out = dir_ / "sim.out";
-    sim_ = std::make_unique<ChildProcess>(
-        std::vector<std::string>{UNIMA_SLAVE_SIM, "--pty", pty.string(), "--baud", std::to_string(baud), "--frames",
-                                 frames_path().string(), "--slave",
-                                 std::to_string(unit) + "=wecon-lx5v,slow=" + std::to_string(answer_delay_ms)},
-        unima::test_support::writing_to(sim_out));
-    for (int i = 0; i < 250 && slurp(sim_out).find("ready") == std::string::npos; ++i) std::this_thread::sleep_for(20ms);
-    if (slurp(sim_out).find("ready") == std::string::npos) throw std::runtime_error("the simulator did not start: " + slurp(sim_out));
-    port_ = free_port();
-    std::vector<std::string> command;
+  Line(Gateway gateway, unsigned baud, const Options& options) : wire_(baud, unit, options, name(gateway)) {
+    const auto pty = wire_.pty().string();
     if (gateway == Gateway::bridge) {
-      std::ofstream(dir_ / "bridge.yaml")
-          << "unimabus: { address: 5, transport: sim }\n"
-             "modbus:\n"
-             "  mode: master\n"
-             "  address: 1\n"
-             "  tcp: { listen: 127.0.0.1, port: " << port_ << ", max_clients: 64 }\n"
-             "  rtu: { device: " << pty.string() << ", baud: " << baud << " }\n"
-             "  master: { response_timeout: 1s }\n"
-             "  gateway: { units: [5], timeout: 1s, wait: 5s, priority: [" << priority_address << "] }\n"
-             "log: { level: warn }\n"
-             "status: { socket: " << (dir_ / "control.sock").string() << " }\n";
-      command = {UNIMA_BRIDGED, "--config", (dir_ / "bridge.yaml").string()};
-    } else {
-      // -R 2: its pause between requests, the least whole millisecond not under t3.5 at
-      // 19200 baud; -N 1: one try, as the bridge; -L -: no log file. Both wait 1 s for an
-      // answer: on a loaded machine the simulator may not run for a few hundred ms, and a
-      // time-out then would be the host's, not the gateway's.
-      command = {options.mbusd, "-d", "-L", "-", "-p", pty.string(), "-s", std::to_string(baud), "-A", "127.0.0.1",
-                 "-P", std::to_string(port_), "-N", "1", "-R", "2", "-W", "1000", "-T", "0"};
+      bridge_ = std::make_unique<Daemon>(wire_.dir(), single_line_yaml(wire_));
+      return;
     }
-    server_ = std::make_unique<ChildProcess>(command, unima::test_support::writing_to(dir_ / "server.log"));
-    if (!wait_for_port(port_, 10s)) throw std::runtime_error(std::string(name(gateway)) + " did not listen: " + slurp(dir_ / "server.log"));
+    // -R 2: its pause between requests, the least whole millisecond not under t3.5 at
+    // 19200 baud; -N 1: one try, as the bridge; -L -: no log file. Both wait 1 s for an
+    // answer: on a loaded machine the simulator may not run for a few hundred ms, and a
+    // time-out then would be the host's, not the gateway's.
+    mbusd_port_ = free_port();
+    mbusd_ = std::make_unique<ChildProcess>(
+        std::vector<std::string>{options.mbusd, "-d", "-L", "-", "-p", pty, "-s", std::to_string(baud), "-A", "127.0.0.1",
+                                 "-P", std::to_string(mbusd_port_), "-N", "1", "-R", "2", "-W", "1000", "-T", "0"},
+        unima::test_support::writing_to(wire_.dir() / "server.log"));
+    if (!wait_for_port(mbusd_port_, 10s)) throw std::runtime_error("mbusd did not listen: " + slurp(wire_.dir() / "server.log"));
   }
   ~Line() {
-    server_->stop(SIGTERM, 5s);
-    sim_->stop(SIGTERM, 5s);
-    std::error_code ec;
-    if (!keep_as_.empty()) fs::copy_file(frames_path(), keep_as_, fs::copy_options::overwrite_existing, ec);
-    fs::remove_all(dir_, ec);
+    if (mbusd_) mbusd_->stop(SIGTERM, 5s);
   }
   Line(const Line&) = delete;
   Line& operator=(const Line&) = delete;
 
-  std::uint16_t port() const { return port_; }
-  /// The gateway's CPU time so far, in µs: the scheduler's run time of each of its threads
-  /// (/proc/PID/task/*/schedstat, in ns; /proc/PID/stat counts 10 ms ticks).
-  double cpu_us() const {
-    double ns = 0;
-    std::error_code ec;
-    for (const auto& task : fs::directory_iterator("/proc/" + std::to_string(server_->pid()) + "/task", ec)) {
-      std::istringstream fields(slurp(task.path() / "schedstat"));
-      double run = 0;
-      if (fields >> run) ns += run;
-    }
-    return ns / 1000;
-  }
-  unsigned baud() const { return baud_; }
-  fs::path frames_path() const { return dir_ / "frames.log"; }
-  std::vector<Frame> frames() const {
-    std::vector<Frame> out;
-    std::istringstream in(slurp(frames_path()));
-    for (std::string line; std::getline(in, line);) {
-      std::istringstream fields(line);
-      Frame f{};
-      std::string direction;
-      if (fields >> f.us >> direction) out.push_back({f.us, direction == "rx"});
-    }
-    return out;
-  }
+  std::uint16_t port() const { return bridge_ ? bridge_->port() : mbusd_port_; }
+  /// The gateway's CPU time so far, in µs.
+  double cpu_us() const { return bridge_ ? bridge_->cpu_us() : process_cpu_us(mbusd_->pid()); }
+  const SimulatedWire& wire() const { return wire_; }
 
  private:
-  fs::path dir_, keep_as_;
-  unsigned baud_;
-  std::uint16_t port_ = 0;
-  std::unique_ptr<ChildProcess> sim_, server_;
+  SimulatedWire wire_;  // first made, last gone: the gateway goes before its line
+  std::unique_ptr<Daemon> bridge_;
+  std::unique_ptr<ChildProcess> mbusd_;
+  std::uint16_t mbusd_port_ = 0;
 };
 
-// 8 clients asking without pause for `seconds` after a short warm-up; with `priority`, a
-// priority peer beside them pausing a pseudo-random 0..2 transactions between its requests.
-struct BusyRun {
-  double seconds = 0;
-  std::vector<std::size_t> counts;  // answered within the window, per busy client
-  std::vector<double> priority_latency_us;
-  // For each of the priority peer's requests, the requests that went on the line between its
-  // sending and its answer, its own included: 1 when it went next, 2 when another client's
-  // had just gone. Host delays stretch the latency, not this count.
-  std::vector<double> priority_line_turns;
-  std::vector<double> slave_us, gap_us;  // from the frame log: request to answer, answer to next request
-  std::string error;
-  double rate() const {
-    std::size_t all = 0;
-    for (const auto c : counts) all += c;
-    return static_cast<double>(all) / seconds;
-  }
-  double worst_fairness_percent() const {  // the largest distance from the mean, in % of it
-    const double mean = rate() * seconds / static_cast<double>(counts.size());
-    double worst = 0;
-    for (const auto c : counts) worst = std::max(worst, std::abs(static_cast<double>(c) - mean) / mean * 100.0);
-    return worst;
-  }
-};
+}  // namespace
 
-BusyRun busy(const Line& line, double seconds, bool priority) {
-  constexpr double warmup = 0.3;
+double BusyRun::rate() const {
+  std::size_t all = 0;
+  for (const auto c : counts) all += c;
+  return static_cast<double>(all) / seconds;
+}
+
+double BusyRun::worst_fairness_percent() const {
+  const double mean = rate() * seconds / static_cast<double>(counts.size());
+  double worst = 0;
+  for (const auto c : counts) worst = std::max(worst, std::abs(static_cast<double>(c) - mean) / mean * 100.0);
+  return worst;
+}
+
+// The priority peer pauses a pseudo-random 0..2 transactions between its requests.
+BusyRun busy(std::uint16_t port, const SimulatedWire& wire, double seconds, bool priority) {
   const auto start = now_us();
-  const auto from = start + static_cast<std::int64_t>(warmup * 1e6);
+  const auto from = start + static_cast<std::int64_t>(busy_warmup_s * 1e6);
   const auto until = from + static_cast<std::int64_t>(seconds * 1e6);
-  const auto most = static_cast<std::size_t>((warmup + seconds) * line_limit(line.baud()).per_second() * 2) + 100;
+  const auto most = static_cast<std::size_t>((busy_warmup_s + seconds) * line_limit(wire.baud()).per_second() * 2) + 100;
   std::vector<ClientResult> results(busy_clients + (priority ? 1 : 0));
   std::vector<std::thread> threads;
   for (std::size_t i = 0; i < busy_clients; ++i)
-    threads.emplace_back([&, i] { results[i] = run_client(line.port(), nullptr, until, most, [](std::size_t) { return 0; }); });
+    threads.emplace_back([&, i] { results[i] = run_client(port, wire.unit(), nullptr, until, most, [](std::size_t) { return 0; }); });
   if (priority) {
-    const auto transaction = static_cast<std::uint32_t>(line_limit(line.baud()).transaction_us);
+    const auto transaction = static_cast<std::uint32_t>(line_limit(wire.baud()).transaction_us);
     threads.emplace_back([&, transaction] {
       std::uint32_t lcg = 2463534242u;
-      results.back() = run_client(line.port(), priority_address, until, most, [&](std::size_t) {
+      results.back() = run_client(port, wire.unit(), priority_address, until, most, [&](std::size_t) {
         lcg = lcg * 1664525u + 1013904223u;
         return static_cast<int>((lcg >> 8) % (2 * transaction));
       });
@@ -371,7 +364,7 @@ BusyRun busy(const Line& line, double seconds, bool priority) {
       if (r.answered_us >= from && r.answered_us < until) run.priority_latency_us.push_back(static_cast<double>(r.answered_us - r.sent_us));
   for (const auto& r : results)
     if (!r.error.empty()) run.error = r.error;
-  const auto frames = line.frames();
+  const auto frames = wire.frames();
   if (priority)
     for (const auto& r : results.back().requests) {
       if (r.answered_us < from || r.answered_us >= until) continue;
@@ -388,12 +381,16 @@ BusyRun busy(const Line& line, double seconds, bool priority) {
   return run;
 }
 
+namespace {
+
+BusyRun busy(const Line& line, double seconds, bool priority) { return busy(line.port(), line.wire(), seconds, priority); }
+
 // One client on an idle line: its latency minus the line time of its transaction, in µs.
 std::vector<double> overhead(const Line& line, std::size_t requests) {
-  const auto pause = static_cast<int>(line_limit(line.baud()).transaction_us);  // the line idle before each
-  const auto result = run_client(line.port(), nullptr, now_us() + 30'000'000, requests, [&](std::size_t) { return pause; });
+  const auto pause = static_cast<int>(line_limit(line.wire().baud()).transaction_us);  // the line idle before each
+  const auto result = run_client(line.port(), unit, nullptr, now_us() + 30'000'000, requests, [&](std::size_t) { return pause; });
   if (!result.error.empty()) throw std::runtime_error("overhead client: " + result.error);
-  const auto frames = line.frames();
+  const auto frames = line.wire().frames();
   std::vector<double> out;
   std::size_t f = 0;
   for (const auto& r : result.requests) {
@@ -405,11 +402,12 @@ std::vector<double> overhead(const Line& line, std::size_t requests) {
   return out;
 }
 
-// unima-bench-load on the daemon's own bank C (function 4, unit 1): requests per second.
+}  // namespace
+
 // 8 connections with 8 requests in flight each keep the daemon's loop busy, so what the
 // gateway's work costs the loop shows (at depth 1 a run measures wake-ups, not the loop).
-double bank_rate(const Options& options, const Line& line, double seconds) {
-  const std::string command = options.load + " --port " + std::to_string(line.port()) +
+double bank_rate(const Options& options, std::uint16_t port, double seconds) {
+  const std::string command = options.load + " --port " + std::to_string(port) +
                               " --connections 8 --depth 8 --function 4 --unit 1 --address 0x1020 --quantity 8"
                               " --duration " + std::to_string(seconds) + " --warmup 0.2 --json";
   std::FILE* pipe = ::popen(command.c_str(), "r");
@@ -423,35 +421,48 @@ double bank_rate(const Options& options, const Line& line, double seconds) {
   return std::stod(out.substr(at + 6));
 }
 
-// While the bench runs, how late this host wakes a sleeping thread (a 5 ms grid): the daemon,
-// mbusd and the simulator wait for their timers the same way, so on a loaded machine a late
-// answer or a long gap on the line is this, not the gateway.
-class HostLatency {
- public:
-  HostLatency()
-      : thread_([this] {
-          for (auto next = std::chrono::steady_clock::now() + 5ms; !stop_; next += 5ms) {
-            std::this_thread::sleep_until(next);
-            late_us_.push_back(static_cast<double>(
-                std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::steady_clock::now() - next).count()));
-            next = std::max(next, std::chrono::steady_clock::now());  // a late wake-up is counted once
-          }
-        }) {}
-  std::vector<double> stop() {
-    stop_ = true;
-    thread_.join();
-    return late_us_;
-  }
-
- private:
-  std::atomic<bool> stop_{false};
-  std::vector<double> late_us_;
-  std::thread thread_;
+// The daemon, mbusd and the simulator wait for their timers the same way, so on a loaded
+// machine a late answer or a long gap on the line is this, not the gateway.
+struct HostLatency::State {
+  std::atomic<bool> stop{false};
+  std::vector<double> late_us;
+  std::thread thread;
 };
 
-std::string format(const char* f, auto... args) {
-  char text[512];
-  std::snprintf(text, sizeof text, f, args...);
+HostLatency::HostLatency() : state_(std::make_unique<State>()) {
+  state_->thread = std::thread([state = state_.get()] {
+    for (auto next = std::chrono::steady_clock::now() + 5ms; !state->stop; next += 5ms) {
+      std::this_thread::sleep_until(next);
+      state->late_us.push_back(static_cast<double>(
+          std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::steady_clock::now() - next).count()));
+      next = std::max(next, std::chrono::steady_clock::now());  // a late wake-up is counted once
+    }
+  });
+}
+
+HostLatency::~HostLatency() { stop(); }
+
+std::vector<double> HostLatency::stop() {
+  state_->stop = true;
+  if (state_->thread.joinable()) state_->thread.join();
+  return state_->late_us;
+}
+
+std::string host_latency_line(const std::vector<double>& late) {
+  const auto over_1ms = std::count_if(late.begin(), late.end(), [](double us) { return us > 1000; });
+  return format("Host wake-up latency during the bench (a thread on a 5 ms grid, %zu wake-ups): p50 %.2f ms, p99 "
+                "%.2f ms, max %.2f ms, %.1f %% later than 1 ms; load average at the end: %s",
+                late.size(), percentile(late, 0.5) / 1000, percentile(late, 0.99) / 1000, percentile(late, 1.0) / 1000,
+                100.0 * static_cast<double>(over_1ms) / static_cast<double>(std::max<std::size_t>(late.size(), 1)),
+                slurp("/proc/loadavg").c_str());
+}
+
+std::string format(const char* f, ...) {
+  char text[1024];
+  va_list args;
+  va_start(args, f);
+  std::vsnprintf(text, sizeof text, f, args);
+  va_end(args);
   return text;
 }
 
@@ -461,9 +472,9 @@ std::string each_round(const std::vector<double>& values, double scale) {
   return out;
 }
 
-const char* verdict(bool met) { return met ? "met" : "MISSED"; }
+}  // namespace gateway_bench
 
-}  // namespace
+using namespace gateway_bench;
 
 int main(int argc, char** argv) {
   Options options;
@@ -471,6 +482,7 @@ int main(int argc, char** argv) {
     const std::string arg = argv[i];
     const auto value = [&]() -> std::string { return i + 1 < argc ? argv[++i] : ""; };
     if (arg == "--quick") options.quick = true;
+    else if (arg == "--lines") options.lines = true;
     else if (arg == "--rounds") options.rounds = std::atoi(value().c_str());
     else if (arg == "--seconds") options.seconds = std::atof(value().c_str());
     else if (arg == "--mbusd") options.mbusd = value();
@@ -479,7 +491,7 @@ int main(int argc, char** argv) {
     else if (arg == "--frames") options.frames = value();
     else {
       std::fprintf(stderr,
-                   "usage: gateway_bench [--quick] [--rounds 1..15] [--seconds 0.5..20] [--load unima-bench-load]\n"
+                   "usage: gateway_bench [--lines] [--quick] [--rounds 1..15] [--seconds 0.5..20] [--load unima-bench-load]\n"
                    "                     [--mbusd PATH] [--report FILE] [--frames DIR]\n");
       return 2;
     }
@@ -490,8 +502,9 @@ int main(int argc, char** argv) {
   }
   options.rounds = std::clamp(options.rounds, 1, 15);  // bounded: at most a few minutes
   options.seconds = std::clamp(options.seconds, 0.5, 20.0);
-  const std::size_t overhead_requests = options.quick ? 50 : 400;
   ::signal(SIGPIPE, SIG_IGN);
+  if (options.lines) return run_lines(options);
+  const std::size_t overhead_requests = options.quick ? 50 : 400;
 
   std::vector<Gateway> gateways{Gateway::bridge};
   if (!options.mbusd.empty()) gateways.push_back(Gateway::mbusd);
@@ -540,10 +553,10 @@ int main(int argc, char** argv) {
         overhead_p90.push_back(percentile(o, 0.9));
         if (!options.load.empty()) {
           // Idle and busy in turn within the round, the order swapped every other round.
-          const auto idle_rate = [&] { return bank_rate(options, line, options.seconds); };
+          const auto idle_rate = [&] { return bank_rate(options, line.port(), options.seconds); };
           const auto busy_rate = [&] {
             double rate = 0;
-            std::thread load([&] { rate = bank_rate(options, line, options.seconds); });
+            std::thread load([&] { rate = bank_rate(options, line.port(), options.seconds); });
             const auto run = busy(line, options.seconds, false);
             load.join();
             failed("banks beside the gateway", run.error);
@@ -612,12 +625,7 @@ int main(int argc, char** argv) {
                      verdict(std::abs(median(bank_ratio) - 1) <= 0.03), rounds.c_str());
   }
   if (options.mbusd.empty()) report += "mbusd: not run (no --mbusd PATH)\n";
-  const auto over_1ms = std::count_if(late.begin(), late.end(), [](double us) { return us > 1000; });
-  report += format("\nHost wake-up latency during the bench (a thread on a 5 ms grid, %zu wake-ups): p50 %.2f ms, p99 "
-                   "%.2f ms, max %.2f ms, %.1f %% later than 1 ms; load average at the end: %s",
-                   late.size(), percentile(late, 0.5) / 1000, percentile(late, 0.99) / 1000, percentile(late, 1.0) / 1000,
-                   100.0 * static_cast<double>(over_1ms) / static_cast<double>(std::max<std::size_t>(late.size(), 1)),
-                   slurp("/proc/loadavg").c_str());
+  report += "\n" + host_latency_line(late);
   if (!errors.empty()) report += "\nERRORS:\n" + errors;
   std::fputs(report.c_str(), stdout);
   if (!options.report.empty()) std::ofstream(options.report) << report;

@@ -3,7 +3,8 @@
 # runs, a few minutes. A release build in its own build directory (BUILD_DIR, default
 # build-bench; BUILD_TYPE, default Release). MBUSD=/path/to/mbusd runs mbusd beside it
 # (built from https://github.com/3cky/mbusd for the bench only: docs/performance.md).
-# Arguments go to gateway_bench, e.g. --rounds 9, --seconds 8, --report FILE.
+# Arguments go to gateway_bench, e.g. --rounds 9, --seconds 8, --report FILE; --lines runs
+# the several-lines bench (one daemon, two RS-485 lines) instead.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 build="${BUILD_DIR:-build-bench}"
