@@ -10,8 +10,9 @@
 # (bench/mqtt_outage.sh), Sparkplug B's latency, cost and births (bench/sparkplug.sh),
 # Modbus latency while a peer guesses HTTP
 # passwords (bench/auth_guess.sh), the gateway's use of an RTU line (bench/gateway;
-# MBUSD=/path/to/mbusd runs mbusd beside it), how fast the monitor log becomes a pcap
-# (bench/pcap.sh), every feature at once beside the minimal config with the page's and
+# MBUSD=/path/to/mbusd runs mbusd beside it) and of two lines at once (its --lines), how
+# fast the monitor log becomes a pcap (bench/pcap.sh), what a deadband saves the north
+# (bench/deadband.py), every feature at once beside the minimal config with the page's and
 # Sparkplug's shares (bench/all_features.py), and this tree's daemon in paired rounds at
 # 1, 8 and 64 connections against its parent commit's and against bf83827's, the fixed
 # older reference of the plain path (bench/against_commit.sh; SKIP_COMMITS=1 skips both).
@@ -32,7 +33,9 @@ bench/auth_guess.sh "${BUILD_DIR:-build-release}"
 gateway_args=(--load "${BUILD_DIR:-build-release}/bench/unima-bench-load")
 if [[ -n "${MBUSD:-}" ]]; then gateway_args+=(--mbusd "$MBUSD"); fi
 "${BUILD_DIR:-build-release}/bench/gateway/gateway_bench" "${gateway_args[@]}"
+"${BUILD_DIR:-build-release}/bench/gateway/gateway_bench" --lines --load "${BUILD_DIR:-build-release}/bench/unima-bench-load"
 bench/pcap.sh "${BUILD_DIR:-build-release}"
+python3 bench/deadband.py --bridged "${BUILD_DIR:-build-release}/bin/unima-bridged" --load "${BUILD_DIR:-build-release}/bench/unima-bench-load"
 python3 bench/all_features.py --build-dir "${BUILD_DIR:-build-release}"
 if [[ -z "${SKIP_COMMITS:-}" ]]; then
   bench/against_commit.sh HEAD~1 "${BUILD_DIR:-build-release}"
