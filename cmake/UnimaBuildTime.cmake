@@ -3,6 +3,16 @@
 # cache the translation units that use them. CMAKE_DISABLE_PRECOMPILE_HEADERS=ON builds
 # without them (clang-tidy, include-what-you-use).
 
+# RelWithDebInfo, the build of the developers and of scripts/test.sh, keeps line tables
+# only (-g1, after CMake's -g: the last level counts): backtraces, sanitizer reports and
+# perf keep their files and lines, and the whole tree builds in a quarter less time (the
+# full DWARF of -g is most of the assembler's work; docs/performance.md, "Build time").
+# -DUNIMA_FULL_DEBUG_INFO=ON keeps -g, for gdb's local variables.
+option(UNIMA_FULL_DEBUG_INFO "RelWithDebInfo with full debug info (-g) instead of line tables (-g1)" OFF)
+if(NOT UNIMA_FULL_DEBUG_INFO)
+  add_compile_options($<$<CONFIG:RelWithDebInfo>:-g1>)
+endif()
+
 # The Asio side (io/, app/): Asio comes first through platform/asio.hpp, which includes
 # <utility> before it (Boost 1.74 with GCC 12 in C++20). unima_io precompiles them; the
 # other Asio targets reuse its header (REUSE_FROM), so it is compiled once.
