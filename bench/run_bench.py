@@ -171,15 +171,24 @@ class Server:
                 return int(line.split()[1])
         raise BenchError(f"no {key} in /proc/{self.pid}/status")
 
-    def stop(self, timeout: float = 60) -> None:
+    def stop(self, timeout: float = 20) -> None:
+        """SIGTERM, and the exit awaited; a server that has not stopped within `timeout` is
+        killed and reported: a stop that hangs is a fault to see, not a time to wait out."""
+        overran = False
         if self.process.poll() is None:
             try:
                 os.kill(getattr(self, "pid", self.process.pid), signal.SIGTERM)
                 self.process.wait(timeout=timeout)
-            except (ProcessLookupError, subprocess.TimeoutExpired):
+            except ProcessLookupError:
+                pass
+            except subprocess.TimeoutExpired:
+                overran = True
                 self.process.kill()
                 self.process.wait()
         self.log.close()
+        if overran:
+            raise BenchError(f"{self.kind.name} did not stop within {timeout} s of SIGTERM (killed); "
+                             f"its output:\n{self.output()}")
 
 
 @dataclass
@@ -262,6 +271,7 @@ def throughput(kinds: list[ServerKind], tools: Tools, workdir: Path, settings: S
                     progress(f"depth {depth}, {connections} connections, round {round_number + 1}/{settings.rounds}: "
                              + ", ".join(f"{s.kind.name} {cells[(depth, connections, s.kind.name)].runs[-1]['rps']:.0f}/s"
                                          for s in servers))
+        progress("idle check")
         for server in servers:
             resources[server.kind.name] = idle_check(server, settings.idle_seconds, max(settings.connections))
             resources[server.kind.name]["peak_rss_kib"] = server.status("VmHWM")
@@ -356,7 +366,7 @@ def exact_run(kind: ServerKind, tools: Tools, workdir: Path, settings: Settings,
     try:
         run_load(tools, server.modbus_port, settings.exact_connections, 1, requests=requests)
     finally:
-        server.stop(timeout=120)
+        server.stop(timeout=60)
     if server.process.returncode != 0:
         raise BenchError(f"{kind.name} under {tool} exited with {server.process.returncode}:\n{server.output()}")
     return out
@@ -419,6 +429,8 @@ def exact_counts(kinds: list[ServerKind], tools: Tools, workdir: Path, settings:
     results: dict[str, dict] = {}
     use_perf = settings.strace and perf_usable()
     for kind in kinds:
+        progress(f"exact counts of {kind.name} ({'perf, ' if use_perf else ''}"
+                 f"{'strace, ' if settings.strace else ''}{'callgrind' if settings.callgrind else ''})")
         entry: dict = {}
         if use_perf:
             server = Server(kind, tools, workdir)
