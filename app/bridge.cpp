@@ -79,6 +79,12 @@ void Bridge::reload(config::Config config) {
   spdlog::info("bridge: reloaded {}", runtime_.config().file);
 }
 
+remote::ProbeFacts Bridge::probe_facts() const {
+  remote::ProbeFacts facts;
+  for (const auto& service : services_) service->probe(facts);
+  return facts;
+}
+
 // What the seed's front panel and monitor LEDs show (seed 004 §8, SPEC §8) plus the
 // counters: the bridge's own part here, each service's from it.
 status::Document Bridge::status() const {
@@ -96,6 +102,7 @@ status::Document Bridge::status() const {
       (online_bits >> banks::c_bank::modbus_error_bit & 1) != 0,
       online_bits};
   for (const auto& service : services_) service->describe(doc);
+  if (runtime_.config_changes) doc.config_in_force = runtime_.config_changes->status();
   return doc;
 }
 

@@ -28,9 +28,13 @@ class Bridge {
   void reload(config::Config config);
 
   const config::Config& config() const { return runtime_.config(); }
+  /// The flow of configs from afar, for the channels (io::Runtime::config_changes).
+  void take_config_changes(io::ConfigChanges* changes) { runtime_.config_changes = changes; }
   /// The front panel and counters as one document (`unima-bridge status`, /api/status,
   /// /metrics, the page).
   status::Document status() const;
+  /// What the probe of a config from afar looks at, from every service (SPEC §19).
+  remote::ProbeFacts probe_facts() const;
 
  private:
   io::Runtime runtime_;

@@ -1,8 +1,5 @@
 #include "cli/cli_status.hpp"
 
-#include <poll.h>
-#include <sys/socket.h>
-#include <sys/un.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -18,6 +15,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "cli/control_client.hpp"
 #include "config/config.hpp"
 #include "status/document.hpp"
 
@@ -39,44 +37,6 @@ constexpr const char* usage =
 
 constexpr auto answer_timeout = std::chrono::seconds(3);
 constexpr auto watch_interval = std::chrono::seconds(1);
-
-struct Answer {
-  std::optional<std::string> text;
-  std::string error;
-};
-
-// One document per connection: connect, read to EOF.
-Answer ask(const std::string& path) {
-  Answer answer;
-  const int fd = ::socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
-  sockaddr_un address{};
-  address.sun_family = AF_UNIX;
-  std::strncpy(address.sun_path, path.c_str(), sizeof address.sun_path - 1);
-  if (::connect(fd, reinterpret_cast<sockaddr*>(&address), sizeof address) != 0) {
-    answer.error = fmt::format("cannot reach the daemon on {}: {}", path, std::strerror(errno));
-    ::close(fd);
-    return answer;
-  }
-  std::string text;
-  const auto deadline = std::chrono::steady_clock::now() + answer_timeout;
-  while (true) {
-    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
-    pollfd p{fd, POLLIN, 0};
-    if (left.count() <= 0 || ::poll(&p, 1, static_cast<int>(left.count())) <= 0) {
-      answer.error = fmt::format("the daemon on {} did not answer within {} s", path, answer_timeout.count());
-      ::close(fd);
-      return answer;
-    }
-    char buffer[8192];
-    const auto n = ::read(fd, buffer, sizeof buffer);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) break;
-    text.append(buffer, static_cast<std::size_t>(n));
-  }
-  ::close(fd);
-  answer.text = std::move(text);
-  return answer;
-}
 
 enum class Paint { none, lit, problem, warning };
 
@@ -172,6 +132,28 @@ std::string render_lines(const std::vector<status::LineStatus>& lines, PanelStyl
 
 }  // namespace
 
+namespace {
+
+// Where the running config came from, once a config was sent from afar (SPEC §19); a
+// bridge that only ever ran its operator's file shows nothing more than before.
+std::string config_in_force_lines(const std::optional<remote::ConfigStatus>& config, PanelStyle style) {
+  if (!config || (config->source == "file" && !config->last)) return {};
+  std::string out;
+  if (config->source == "file")
+    out += fmt::format("  Config    the operator's file {} (sha256 {:.12}…)\n", config->file, config->sha256);
+  else
+    out += fmt::format("  Config    remote config {} from {} by {} at {} (sha256 {:.12}…)\n", config->number.value_or(0),
+                       config->source, config->by.value_or("?"), config->applied_at.value_or("?"), config->sha256);
+  if (const auto& last = config->last) {
+    const auto line = fmt::format("            last change: {} ({} by {} at {}){}{}", last->result, last->source, last->by,
+                                  last->at, last->reason.empty() ? "" : ": ", last->reason);
+    out += (last->result == "applied" ? line : painted(line, Paint::warning, style)) + "\n";
+  }
+  return out;
+}
+
+}  // namespace
+
 std::string render_status_panel(const status::Document& s, PanelStyle style) {
   const auto& bridge = required(s.bridge, "pid");
   const auto& modbus = required(s.modbus, "modbus");
@@ -185,6 +167,7 @@ std::string render_status_panel(const status::Document& s, PanelStyle style) {
   out += fmt::format("  Error     {}  {}\n", led(bridge.error, style, Paint::problem),
                      bridge.error ? painted("Modbus fault (C+0x13 bit 15; clears 2 s after the last one)", Paint::problem, style)
                                   : "no fault in the last 2 s");
+  out += config_in_force_lines(s.config_in_force, style);
   out += " ";
   for (const auto& d : required(s.devices, "devices")) {
     if (!d.type) out += fmt::format(" {} -  ", d.bank);
@@ -318,22 +301,17 @@ int status_command(const std::vector<std::string>& args) {
     std::fprintf(stderr, "unima-bridge status: give --socket or --config, not both\n%s", usage);
     return 2;
   }
-  if (socket.empty()) {
-    socket = config::StatusConfig{}.socket;
-    if (!config_path.empty()) {
-      try {
-        socket = config::load_file(config_path).status.socket;
-      } catch (const std::exception& e) {
-        std::fprintf(stderr, "unima-bridge status: %s\n", e.what());
-        return 1;
-      }
-    }
+  try {
+    socket = control_socket_path(socket, config_path);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "unima-bridge status: %s\n", e.what());
+    return 1;
   }
 
   const bool terminal = ::isatty(STDOUT_FILENO) != 0;
   for (bool first = true;; first = false) {
     if (!first) std::this_thread::sleep_for(watch_interval);
-    const auto answer = ask(socket);
+    const auto answer = ask_control(socket, std::nullopt, answer_timeout);
     std::string out;
     int code = 0;
     if (!answer.text) {

@@ -8,15 +8,13 @@
 #include <fmt/format.h>
 
 #include "banks/table_reference.hpp"
+#include "check/check_config.hpp"
 #include "config/config.hpp"
 #include "config/register_map.hpp"
-#include "report/deadbands.hpp"
-#include "tls/server_credentials.hpp"
-#include "values/value_model.hpp"
-#include "web/basic_auth.hpp"
 #include "cli/master_format.hpp"
 #include "cli/register_map_format.hpp"
 #include "cli/cli_monitor.hpp"
+#include "cli/cli_config.hpp"
 #include "cli/cli_status.hpp"
 
 namespace {
@@ -48,6 +46,10 @@ constexpr Command commands[] = {
     {"monitor", "[-f|--follow] [-n|--lines N] [--filter EXPR] [--json | --pcap OUT] [--config FILE] [LOG]",
      "read, filter and follow the monitor log (one line per Modbus transaction),\n"
      "or turn it into a pcap file for Wireshark"},
+    {"config", "apply FILE | show | history | revert [--json] [--timeout S] [--socket PATH | --config FILE]",
+     "change the running daemon's config: apply FILE checks it, reloads and keeps it\n"
+     "once its probe passed (else goes back); show, history; revert to the operator's\n"
+     "file. The operator's file is never written"},
     {"profiles", "[ID]", "the device profiles of foreign slaves for master mode; with ID, its points"},
 };
 
@@ -67,7 +69,7 @@ std::string usage_text() {
   text += "       unima-bridge --version | -h|--help\n\n";
   for (const auto& command : commands) text += about_text(command);
   return text +
-         "\nunima-bridge status --help and monitor --help describe their options; man unima-bridge(1)\n"
+         "\nunima-bridge status --help, monitor --help and config --help describe their options; man unima-bridge(1)\n"
          "describes them all.\n";
 }
 
@@ -89,25 +91,9 @@ bool asks_for_help(const std::vector<std::string>& args) {
 int check(const std::string& path) {
   try {
     const auto config = unima::config::load_file(path);
+    // What the daemon meets at start, checked as its remote changes are checked (check/).
+    unima::check::check_config(config);
     const auto map = unima::config::address_map(config);
-    // The daemon checks these at start: a deadband that names no value is an error here too.
-    (void)unima::report::Deadbands(config.report, unima::values::ValueModel(config));
-    // The daemon loads these at start: a file it cannot use is an error here too.
-    if (const auto& tls = config.modbus.tls) {
-      try {
-        (void)unima::tls::load_server_credentials({tls->certificate, tls->key, tls->ca});
-      } catch (const std::exception& e) {
-        throw std::runtime_error(fmt::format("{}: {}", tls->origin, e.what()));
-      }
-    }
-    if (const auto& http = config.http) {
-      try {
-        if (http->tls) (void)unima::tls::load_server_credentials({http->tls->certificate, http->tls->key, {}}, "http.tls");
-      } catch (const std::exception& e) {
-        throw std::runtime_error(fmt::format("{}: {}", http->origin, e.what()));
-      }
-      if (!http->users.empty()) (void)unima::web::BasicAuth::load(http->users, http->users_origin);
-    }
     for (const auto& warning : unima::config::warnings(config)) fmt::print(stderr, "{}\n", warning);
     fmt::print("{}: OK\n", path);
     for (const auto& window : map.windows())
@@ -192,7 +178,7 @@ int main(int argc, char** argv) {
   }
   // status and monitor explain their own options (cli_status, cli_monitor).
   if (const auto* command = command_named(args[0]); command && asks_for_help(args) && args[0] != "status" &&
-                                                    args[0] != "monitor") {
+                                                    args[0] != "monitor" && args[0] != "config") {
     fmt::print("{}", command_help(*command));
     return 0;
   }
@@ -219,6 +205,7 @@ int main(int argc, char** argv) {
     return 0;
   }
   if (args[0] == "status") return unima::cli::status_command({args.begin() + 1, args.end()});
+  if (args[0] == "config") return unima::cli::config_command({args.begin() + 1, args.end()});
   if (args[0] == "monitor") return unima::cli::monitor_command({args.begin() + 1, args.end()});
   std::fprintf(stderr, "unima-bridge: unknown command '%s'\n%s", args[0].c_str(), usage.c_str());
   return 2;

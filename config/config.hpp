@@ -404,6 +404,19 @@ struct ReportConfig {
   bool operator==(const ReportConfig&) const = default;
 };
 
+/// remote_config (SPEC §19): who may change the config in force from afar. The CLI over the
+/// control socket may always (it is local root); MQTT and HTTP only as this section says.
+struct RemoteConfig {
+  bool mqtt = false;               // configs are taken on <prefix>/config/set
+  std::vector<std::string> http;   // users of http.users who may PUT /api/config; empty: none
+  Duration probe{30'000};          // how long a new config must prove itself, 1 s .. 10 min
+  unsigned keep = 10;              // applied configs kept in the state directory, 1..1000
+  std::string origin;              // "file:line:col" of remote_config
+  std::string http_origin;         // "file:line:col" of remote_config.http, else of the section:
+                                   //   named when a user is not in the users file (check/)
+  bool operator==(const RemoteConfig&) const = default;
+};
+
 /// A path the config names on this machine: the parse only notes it, check_on_host looks
 /// at what is there.
 struct HostPath {
@@ -442,6 +455,8 @@ struct Config {
   std::optional<MqttConfig> mqtt;  // absent: no MQTT
   std::optional<SparkplugConfig> sparkplug;  // absent: no Sparkplug B
   ReportConfig report;
+  /// absent: remote changes come only by the CLI (`unima-bridge config`), always on for local root
+  std::optional<RemoteConfig> remote_config;
   std::vector<HostPath> host_paths;  // in the order the file names them
   /// Warnings the parse and check_on_host found (a PLC-style register number, a serial
   /// device not there, an expired certificate), as warning_text writes them; config::warnings
@@ -484,8 +499,18 @@ Config parse_text(const std::string& text, const std::string& origin, const Host
 /// log files are no symbolic links. A ConfigError names the key's file:line:column.
 void check_on_host(Config& config);
 
+/// The text parsed in the place of the file `in_place_of`: errors name `origin` (where the
+/// text is kept), while what the config puts "beside the config" by default (the state
+/// file, the MQTT buffer) goes beside `in_place_of`. A remote config kept in the state
+/// directory (io/remote_config_store) so means what it would in the operator's file; its
+/// relative paths need nothing: they are from the daemon's working directory for both.
+Config parse_text(const std::string& text, const std::string& origin, const Host& host, const std::string& in_place_of);
+
 /// parse_text, then check_on_host.
 Config load_text(const std::string& text, const std::string& origin, const Host& host = Host::this_machine());
+Config load_text(const std::string& text, const std::string& origin, const Host& host, const std::string& in_place_of);
+/// The file's bytes, or a ConfigError "path: cannot open the config file: …".
+std::string read_config_file(const std::string& path);
 /// The file read, then load_text: what the daemon and `unima-bridge check` load.
 Config load_file(const std::string& path, const Host& host = Host::this_machine());
 

@@ -214,7 +214,7 @@ void parse_mqtt_buffer(ParseState& state, const YAML::Node& mqtt, MqttBufferConf
   if (node) yaml.expect_keys(node, "mqtt.buffer", {"file", "max_size"});
   if (node && node["max_size"]) buffer.max_size = yaml.byte_size(node["max_size"], 4096, 1ull << 40);
   if (!node || !node["file"]) {
-    buffer.file = default_state_path(state.config.file, state.host, "mqtt-buffer");
+    buffer.file = default_state_path(state.in_place_of, state.host, "mqtt-buffer");
     return note_host_path(state, HostPath::Use::state_file, node ? node : mqtt, "mqtt.buffer.file", buffer.file);
   }
   const auto written = yaml.text(node["file"]);

@@ -20,10 +20,16 @@ namespace unima::config::sections {
 
 /// What the section parsers share while one document is parsed.
 struct ParseState {
-  ParseState(const std::string& origin, const Host& host) : yaml(origin), host(host) { config.file = origin; }
+  ParseState(const std::string& origin, const Host& host, std::string in_place_of)
+      : yaml(origin), host(host), in_place_of(std::move(in_place_of)) {
+    config.file = origin;
+  }
 
   YamlReader yaml;
   const Host& host;
+  // The file the text stands for: defaults "beside the config" go beside it (the origin,
+  // unless the text is a remote config kept elsewhere in the operator's file's place).
+  std::string in_place_of;
   Config config;
   banks::BankShapes shapes{};  // once banks and devices are read: what mapping and blocks may name
   // modbus.tls.roles by name, resolved once the register map is known
@@ -71,6 +77,10 @@ void parse_sparkplug(ParseState& state, const YAML::Node& node);
 // report_section.cpp: deadbands and intervals (SPEC §21); after mqtt, whose period is
 // max_interval's default, and after the devices its deadbands name.
 void parse_report(ParseState& state, const YAML::Node& node);
+
+// remote_config_section.cpp: who may change the config from afar (SPEC §19); after http
+// and mqtt, which the channels it opens need.
+void parse_remote_config(ParseState& state, const YAML::Node& node);
 
 // layout_sections.cpp: where the banks are and what they hold.
 void parse_bank_bases(ParseState& state, const YAML::Node& node);

@@ -182,7 +182,7 @@ void parse_status(ParseState& state, const YAML::Node& node, const YAML::Node& r
 void parse_state(ParseState& state, const YAML::Node& node, const YAML::Node& root) {
   const auto& yaml = state.yaml;
   auto& file = state.config.state.file;
-  file = default_state_path(state.config.file, state.host, "state");
+  file = default_state_path(state.in_place_of, state.host, "state");
   if (node) yaml.expect_keys(node, "state", {"file"});
   if (!node || !node["file"]) return note_host_path(state, HostPath::Use::state_file, node ? node : root, "state.file", file);
   const auto written = yaml.text(node["file"]);

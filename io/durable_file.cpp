@@ -14,14 +14,6 @@ namespace {
 
 [[noreturn]] void throw_errno(const std::string& what) { throw std::system_error(errno, std::generic_category(), what); }
 
-// The rename itself is made durable by syncing the directory that holds the name.
-void sync_directory(const std::filesystem::path& file) {
-  const auto dir = file.parent_path().empty() ? std::filesystem::path(".") : file.parent_path();
-  const Descriptor fd(::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC));
-  if (fd.get() < 0) throw_errno("open " + dir.string());
-  if (::fsync(fd.get()) != 0) throw_errno("fsync " + dir.string());
-}
-
 std::string utc_stamp() {
   const std::time_t now = std::time(nullptr);
   std::tm utc{};
@@ -32,6 +24,14 @@ std::string utc_stamp() {
 }
 
 }  // namespace
+
+// The rename itself is made durable by syncing the directory that holds the name.
+void sync_directory(const std::filesystem::path& file) {
+  const auto dir = file.parent_path().empty() ? std::filesystem::path(".") : file.parent_path();
+  const Descriptor fd(::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC));
+  if (fd.get() < 0) throw_errno("open " + dir.string());
+  if (::fsync(fd.get()) != 0) throw_errno("fsync " + dir.string());
+}
 
 Descriptor& Descriptor::operator=(Descriptor&& other) noexcept {
   if (this != &other) {
@@ -84,11 +84,11 @@ void sync_data(int fd) {
 
 // A temporary that could not be written is removed: on a full disk it would only hold the
 // room the next try needs.
-Descriptor replace_file(const std::filesystem::path& path, std::string_view content) {
-  return replace_file(path, [content](int fd) { write_all(fd, content); });
+Descriptor replace_file(const std::filesystem::path& path, std::string_view content, FileAccess access) {
+  return replace_file(path, [content](int fd) { write_all(fd, content); }, access);
 }
 
-Descriptor replace_file(const std::filesystem::path& path, const std::function<void(int fd)>& write) {
+Descriptor replace_file(const std::filesystem::path& path, const std::function<void(int fd)>& write, FileAccess access) {
   // A directory that is not there yet is made, as for the monitor's file: `check` and the
   // start's log warn of it (config/host_check), in case its path was mistyped.
   if (const auto directory = path.parent_path(); !directory.empty()) {
@@ -98,9 +98,13 @@ Descriptor replace_file(const std::filesystem::path& path, const std::function<v
   }
   auto temporary = path;
   temporary += ".tmp";
-  Descriptor fd(::open(temporary.c_str(), O_RDWR | O_CREAT | O_TRUNC | O_APPEND | O_NOFOLLOW | O_CLOEXEC, 0640));
+  const bool owner_only = access == FileAccess::owner_only;
+  Descriptor fd(::open(temporary.c_str(), O_RDWR | O_CREAT | O_TRUNC | O_APPEND | O_NOFOLLOW | O_CLOEXEC,
+                       owner_only ? 0600 : 0640));
   if (fd.get() < 0) throw_errno("create " + temporary.string());
   try {
+    // A temporary left by a crash keeps the mode it was made with: owner_only holds anyway.
+    if (owner_only && ::fchmod(fd.get(), 0600) != 0) throw_errno("chmod " + temporary.string());
     write(fd.get());
     sync_data(fd.get());
     if (::rename(temporary.c_str(), path.c_str()) != 0) throw_errno("rename " + temporary.string());

@@ -39,13 +39,22 @@ std::optional<std::string> read_if_present(const std::filesystem::path& path);
 void write_all(int fd, std::string_view bytes);
 /// fdatasync; throws std::system_error.
 void sync_data(int fd);
+/// Who may read a file the daemon keeps: its group too (0640 less the umask), or its owner
+/// alone (0600 whatever the umask: a remote config holds passwords).
+enum class FileAccess { owner_and_group, owner_only };
+
 /// Atomic replace: `content` is on the disk under a temporary name before it takes the
 /// file's name, so a crash leaves the old file or the new one, never a part of either.
 /// Returns the new file, open for appending (and reading). Throws std::system_error.
-Descriptor replace_file(const std::filesystem::path& path, std::string_view content);
+Descriptor replace_file(const std::filesystem::path& path, std::string_view content,
+                        FileAccess access = FileAccess::owner_and_group);
 /// The same, the new content written by `write` to the descriptor it is given (a copy too
 /// large to hold in memory at once).
-Descriptor replace_file(const std::filesystem::path& path, const std::function<void(int fd)>& write);
+Descriptor replace_file(const std::filesystem::path& path, const std::function<void(int fd)>& write,
+                        FileAccess access = FileAccess::owner_and_group);
+/// fsync of the directory that holds `file`: what makes a rename or an unlink there durable.
+/// Throws std::system_error.
+void sync_directory(const std::filesystem::path& file);
 /// Renames `path` to `<path>.corrupt-<UTC time>` and returns that name (SPEC §10: a file
 /// that cannot be trusted is kept for a human, not read and not overwritten). Throws
 /// std::system_error when it cannot.

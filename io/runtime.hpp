@@ -17,6 +17,7 @@
 #include "banks/write_path.hpp"
 #include "config/config.hpp"
 #include "config/register_map.hpp"
+#include "io/config_changes.hpp"
 #include "io/error_hold.hpp"
 #include "io/gateway_line.hpp"
 #include "io/state_file.hpp"
@@ -76,6 +77,9 @@ struct Runtime {
   /// The TCP and TLS ports' way to the running master's line (modbus.gateway, SPEC §14);
   /// the master service attaches its master.
   GatewayLine gateway_line{io};
+  /// The one flow of configs from afar (SPEC §19), for the channels that carry them; the
+  /// daemon's coordinator sets it, and a bridge without one takes no changes.
+  ConfigChanges* config_changes = nullptr;
 
   const config::Config& config() const { return banks->config; }
 };

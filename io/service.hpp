@@ -10,6 +10,7 @@
 // which cannot fail.
 
 #include "io/runtime.hpp"
+#include "remote/change_flow.hpp"
 #include "status/document.hpp"
 
 namespace unima::io {
@@ -32,6 +33,10 @@ class Service {
 
   /// Fills this service's part of the status document.
   virtual void describe(status::Document& status) const { (void)status; }
+
+  /// What the probe of a config from afar (SPEC §19) needs of this service: its listener
+  /// bound, its broker connected, its server answering. A service with none adds nothing.
+  virtual void probe(remote::ProbeFacts& facts) const { (void)facts; }
 };
 
 }  // namespace unima::io

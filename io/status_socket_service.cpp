@@ -3,6 +3,7 @@
 #include <spdlog/spdlog.h>
 
 #include "config/socket_path.hpp"
+#include "io/control_commands.hpp"
 
 namespace unima::io {
 
@@ -11,9 +12,12 @@ StatusSocketService::StatusSocketService(Runtime& runtime)
 
 std::unique_ptr<ControlSocket> StatusSocketService::open(const std::string& path) {
   try {
-    return std::make_unique<ControlSocket>(runtime_.io, path, [this] {
-      return nlohmann::json(runtime_.status()).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
-    });
+    return std::make_unique<ControlSocket>(
+        runtime_.io, path,
+        [this] { return nlohmann::json(runtime_.status()).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace); },
+        [this](const ControlRequest& request, const ControlSocket::Reply& reply) {
+          answer_control_request(runtime_.config_changes, request, reply);
+        });
   } catch (const config::PathRefused&) {
     throw;
   } catch (const std::exception& e) {

@@ -129,6 +129,7 @@ const std::vector<Part>& registry() {
       part<mqtt::BufferStatus>(mqtt_buffer, mqtt::buffer_statistics(), true),
       part<sparkplug::EdgeStatus>([](const Document& s) { return one(s.sparkplug); }, sparkplug::edge_statistics(), true),
       part<web::LoginStatus>([](const Document& s) { return one(s.http.logins); }, web::login_statistics(), true),
+      part<remote::ConfigStatus>([](const Document& s) { return one(s.config_in_force); }, remote::config_statistics(), true),
   };
   return all;
 }

@@ -34,6 +34,7 @@ struct MqttStatus {
   std::uint64_t session_takeovers = 0;
   std::uint64_t retained_commands_dropped = 0;  // set/… messages from the broker's store
   std::uint64_t response_topics_refused = 0;    // answered on set/result instead (mqtt/response_topic)
+  std::uint64_t retained_configs_dropped = 0;   // config/set messages from the broker's store, cleared
   std::string since;                         // UTC: connected since, or not connected since
   std::optional<std::string> last_takeover;  // UTC; none yet: null
   std::optional<std::string> last_error;
@@ -42,7 +43,8 @@ struct MqttStatus {
 
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(BufferStatus, file, bytes, messages, dropped, history_sent, syncs, failures)
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(MqttStatus, broker, client_id, topic, connected, connections, drops, published,
-                                                session_takeovers, retained_commands_dropped, response_topics_refused, since,
+                                                session_takeovers, retained_commands_dropped, response_topics_refused,
+                                                retained_configs_dropped, since,
                                                 last_takeover, last_error, buffer)
 
 const std::vector<status::Statistic<MqttStatus>>& mqtt_statistics();

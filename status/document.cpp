@@ -36,6 +36,7 @@ void to_json(nlohmann::json& j, const Document& d) {
     put(http, "handshakes", d.http.handshakes);
     put(http, "logins", d.http.logins);
   }
+  put(j, "config_in_force", d.config_in_force);
 }
 
 void from_json(const nlohmann::json& j, Document& d) {
@@ -61,6 +62,7 @@ void from_json(const nlohmann::json& j, Document& d) {
     take(*http, "handshakes", d.http.handshakes);
     take(*http, "logins", d.http.logins);
   }
+  take(j, "config_in_force", d.config_in_force);
 }
 
 }  // namespace unima::status

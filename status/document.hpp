@@ -19,6 +19,7 @@
 #include "master/gateway_status.hpp"
 #include "monitor/monitor_status.hpp"
 #include "mqtt/mqtt_status.hpp"
+#include "remote/config_status.hpp"
 #include "sparkplug/edge_status.hpp"
 #include "state/state_status.hpp"
 #include "status/activity.hpp"
@@ -52,6 +53,7 @@ struct Document {
   std::optional<mqtt::MqttStatus> mqtt;
   std::optional<sparkplug::EdgeStatus> sparkplug;
   HttpStatus http;  // "http" only when it holds a part
+  std::optional<remote::ConfigStatus> config_in_force;  // "config_in_force": where the running config came from
 };
 
 void to_json(nlohmann::json& j, const Document& d);

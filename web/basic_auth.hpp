@@ -70,6 +70,8 @@ class BasicAuth {
   void remember(const PasswordCheck& passed);
 
   std::size_t users() const { return hashes_.size(); }
+  /// Whether the file lists `name` (remote_config.http names users of it: check/).
+  bool has_user(std::string_view name) const { return hashes_.find(name) != hashes_.end(); }
 
  private:
   std::map<std::string, std::string, std::less<>> hashes_;  // name -> crypt(3) hash

@@ -240,6 +240,13 @@ void HttpService::commit(const Banks&) {
   next_tls_.reset();
 }
 
+void HttpService::probe(remote::ProbeFacts& facts) const {
+  const auto& http = runtime_.config().http;
+  if (!http) return;
+  facts.listeners.emplace_back(fmt::format("http {}:{}", http->listen, http->port), static_cast<bool>(server_));
+  facts.http = static_cast<bool>(server_);
+}
+
 void HttpService::describe(status::Document& status) const {
   if (server_ && server_->tls()) status.http.handshakes = handshake_counters(*handshakes_);
   if (!users_) return;

@@ -36,6 +36,7 @@ class HttpService final : public Service {
   void abandon() override;
   void commit(const Banks& previous) override;
   void describe(status::Document& status) const override;
+  void probe(remote::ProbeFacts& facts) const override;
 
  private:
   struct PendingCheck;

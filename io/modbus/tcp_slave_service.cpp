@@ -100,6 +100,15 @@ void TcpSlaveService::commit(const Banks&) {
   server_->set_context(slave_context(runtime_));
 }
 
+// A configured port is bound from its stage on (a bind that fails refuses the reload); the
+// probe still asks, so that a listener that could not be kept is seen.
+void TcpSlaveService::probe(remote::ProbeFacts& facts) const {
+  const auto* c = settings(runtime_.config());
+  if (!c) return;
+  facts.listeners.emplace_back(fmt::format("modbus.{} {}:{}", security_ == Security::tls ? "tls" : "tcp", c->listen, c->port),
+                               static_cast<bool>(server_));
+}
+
 // A port is listed while it is configured or has seen traffic.
 void TcpSlaveService::describe(status::Document& status) const {
   const auto kind = security_ == Security::tls ? modbus::PortKind::tls : modbus::PortKind::tcp;

@@ -27,6 +27,7 @@ class TcpSlaveService final : public Service {
   void abandon() override;
   void commit(const Banks& previous) override;
   void describe(status::Document& status) const override;
+  void probe(remote::ProbeFacts& facts) const override;
 
  private:
   /// `config`'s slave on this port, or null when it has none; throws when it cannot listen.

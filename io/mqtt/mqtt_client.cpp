@@ -28,8 +28,8 @@ std::string reason(int rc) {
   return mosquitto_strerror(rc);
 }
 
-// MQTT 5's Response Topic and Correlation Data of a message, when it carries them.
-void read_response_request(const mosquitto_property* properties, MqttMessage& message) {
+// MQTT 5's Response Topic, Correlation Data and User Properties of a message, when it carries them.
+void read_request_properties(const mosquitto_property* properties, MqttMessage& message) {
   char* topic = nullptr;
   if (mosquitto_property_read_string(properties, MQTT_PROP_RESPONSE_TOPIC, &topic, false) != nullptr && topic != nullptr) {
     message.response_topic = topic;
@@ -40,6 +40,17 @@ void read_response_request(const mosquitto_property* properties, MqttMessage& me
   if (mosquitto_property_read_binary(properties, MQTT_PROP_CORRELATION_DATA, &data, &length, false) != nullptr && data != nullptr) {
     message.correlation_data.assign(static_cast<const char*>(data), length);
     std::free(data);
+  }
+  // Each call finds the next one after `property` (skip_first after the first).
+  const mosquitto_property* property = properties;
+  for (bool skip = false;; skip = true) {
+    char* name = nullptr;
+    char* value = nullptr;
+    property = mosquitto_property_read_string_pair(property, MQTT_PROP_USER_PROPERTY, &name, &value, skip);
+    if (property == nullptr) break;
+    message.user_properties.emplace_back(name != nullptr ? name : "", value != nullptr ? value : "");
+    std::free(name);
+    std::free(value);
   }
 }
 
@@ -94,8 +105,8 @@ mosquitto* MqttClient::make_handle() {
     if (message->topic == nullptr) return;
     MqttMessage received{message->topic, std::string_view(static_cast<const char*>(message->payload),
                                                           static_cast<std::size_t>(std::max(message->payloadlen, 0))),
-                         message->retain, {}, {}};
-    read_response_request(properties, received);
+                         message->retain, {}, {}, {}};
+    read_request_properties(properties, received);
     for (const auto& subscription : client.subscriptions_) {
       bool matches = false;
       mosquitto_topic_matches_sub(subscription.pattern.c_str(), message->topic, &matches);
@@ -348,13 +359,31 @@ void MqttClient::handle_connack(int rc) {
   if (birth_ && !options_.birth_topic.empty()) send(options_.birth_topic, birth_(), true);
   if (!options_.status_topic.empty()) send(options_.status_topic, "online", true);
   connected_ = true;
-  for (const auto& subscription : subscriptions_) {
-    if (options_.version == 5 && subscription.retained == Retained::dropped)
-      mosquitto_subscribe_v5(mosq_, nullptr, subscription.pattern.c_str(), 1, MQTT_SUB_OPT_SEND_RETAIN_NEVER, nullptr);
-    else
-      mosquitto_subscribe(mosq_, nullptr, subscription.pattern.c_str(), 1);
-  }
+  for (const auto& subscription : subscriptions_) send_subscribe(subscription);
   if (on_connected_) on_connected_();
+}
+
+void MqttClient::send_subscribe(const Subscription& subscription) {
+  if (options_.version == 5 && subscription.retained == Retained::dropped)
+    mosquitto_subscribe_v5(mosq_, nullptr, subscription.pattern.c_str(), 1, MQTT_SUB_OPT_SEND_RETAIN_NEVER, nullptr);
+  else if (options_.version == 5 && subscription.retained == Retained::flagged)
+    mosquitto_subscribe_v5(mosq_, nullptr, subscription.pattern.c_str(), 1, MQTT_SUB_OPT_RETAIN_AS_PUBLISHED, nullptr);
+  else
+    mosquitto_subscribe(mosq_, nullptr, subscription.pattern.c_str(), 1);
+}
+
+void MqttClient::subscribe(std::string pattern, std::function<void(const MqttMessage&)> handler, Retained retained) {
+  subscriptions_.push_back({std::move(pattern), std::move(handler), retained});
+  if (!connected_) return;  // handle_connack subscribes it
+  send_subscribe(subscriptions_.back());
+  watch();
+}
+
+void MqttClient::unsubscribe(const std::string& pattern) {
+  const auto erased = std::erase_if(subscriptions_, [&](const Subscription& s) { return s.pattern == pattern; });
+  if (erased == 0 || !connected_) return;
+  mosquitto_unsubscribe(mosq_, nullptr, pattern.c_str());
+  watch();
 }
 
 // `rc` is libmosquitto's error, or with MQTT 5 the reason code of the broker's DISCONNECT.

@@ -24,6 +24,7 @@
 #include <string>
 #include <string_view>
 #include <unordered_set>
+#include <utility>
 #include <vector>
 
 #include "mqtt/session_takeover.hpp"
@@ -50,13 +51,15 @@ struct MqttClientOptions {
   std::string broker() const;
 };
 
-/// A message that came; MQTT 5's Response Topic and Correlation Data when it carried them.
+/// A message that came; MQTT 5's Response Topic, Correlation Data and User Properties when
+/// it carried them.
 struct MqttMessage {
   std::string_view topic;
   std::string_view payload;
   bool retained = false;  // from the broker's store, not published while subscribed
   std::string response_topic;    // empty: none (always with MQTT 3.1.1)
   std::string correlation_data;  // bytes, given back as they came
+  std::vector<std::pair<std::string, std::string>> user_properties;  // name, value; in the order they came
 };
 
 class MqttClient {
@@ -101,13 +104,18 @@ class MqttClient {
   /// retained command would be carried out again at every start and reconnection, over
   /// what a Modbus master wrote since (SPEC §15; Sparkplug 3.0 forbids retained commands).
   /// With MQTT 5 the broker is asked not to send them (Retain Handling 2); any that comes
-  /// anyway (MQTT 3.1.1) is dropped here, counted and warned about.
-  enum class Retained { taken, dropped };
-  /// Subscribes `pattern` (QoS 1) on each connection, beside the patterns subscribed
-  /// before; a message goes to the handler of each pattern it matches.
-  void subscribe(std::string pattern, std::function<void(const MqttMessage&)> handler, Retained retained = Retained::taken) {
-    subscriptions_.push_back({std::move(pattern), std::move(handler), retained});
-  }
+  /// anyway (MQTT 3.1.1) is dropped here, counted and warned about. `flagged` hands them
+  /// to the handler with their flag (MqttMessage::retained), and with MQTT 5 asks the
+  /// broker to keep the flag of a retained message published while subscribed too (Retain
+  /// As Published), which MQTT 3.1.1 brokers clear: config/set clears such messages.
+  enum class Retained { taken, dropped, flagged };
+  /// Subscribes `pattern` (QoS 1) on each connection — at once too when connected —
+  /// beside the patterns subscribed before; a message goes to the handler of each pattern
+  /// it matches.
+  void subscribe(std::string pattern, std::function<void(const MqttMessage&)> handler, Retained retained = Retained::taken);
+  /// Takes `pattern` back (at once when connected); a message that matches it no more
+  /// reaches its handler.
+  void unsubscribe(const std::string& pattern);
   /// A will for each CONNECT, asked for just before it (Sparkplug: the NDEATH of the coming
   /// session, whose bdSeq each CONNECT counts); it takes the place of the status topic's.
   /// `make` hands the will to the callback it is given, on the loop, when it is ready — the
@@ -152,6 +160,8 @@ class MqttClient {
   void after_io(int rc);
   void lost(const std::string& why);
   void drop_retained_command(std::string_view topic);
+  struct Subscription;
+  void send_subscribe(const Subscription& subscription);
   void retry_later();
   void release_socket();
   void handle_connack(int rc);

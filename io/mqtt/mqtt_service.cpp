@@ -5,12 +5,14 @@
 #include "io/mqtt/broker_options.hpp"
 #include "mqtt/birth.hpp"
 #include "mqtt/command.hpp"
+#include "mqtt/config_set.hpp"
 #include "mqtt/mqtt_status.hpp"
 #include "mqtt/response_topic.hpp"
 #include "platform/clock_sync.hpp"
 #include "platform/log_text.hpp"
 #include "platform/peer_warnings.hpp"
 #include "platform/utc_time.hpp"
+#include "remote/change_answer.hpp"
 
 namespace unima::io {
 
@@ -55,6 +57,7 @@ std::unique_ptr<MqttClient> MqttService::make_client(const config::Config& confi
     history_waits_ = history_ != nullptr;
     publish();
     send_answers();  // those that waited for a window the lost connection never freed
+    send_config_answer();
   });
   client->on_acknowledged([this](int mid) {
     if (history_) history_->acknowledged(mid);
@@ -63,6 +66,7 @@ std::unique_ptr<MqttClient> MqttService::make_client(const config::Config& confi
   if (m.commands)
     client->subscribe(m.topic + "/set/#", [this](const MqttMessage& message) { take_command(message); },
                       MqttClient::Retained::dropped);
+  if (mqtt::takes_configs(config)) subscribe_configs(*client, m.topic);
   if (m.discovery)
     client->subscribe(mqtt::home_assistant_status_topic(config), [this, announcing = client.get()](const MqttMessage& message) {
       if (message.payload == "online") discovery_.announce(*announcing);
@@ -115,7 +119,7 @@ void MqttService::carry_out(const MqttMessage& message) {
   const auto set = prefix + "/set/";
   if (!topic.starts_with(set) || topic == prefix + "/set/result") return;  // our own results come back too
   const auto result_topic = prefix + "/set/result";
-  const auto answer = [this, result_topic, topic = std::string(topic), response_topic = allowed_response_topic(message),
+  const auto answer = [this, result_topic, topic = std::string(topic), response_topic = allowed_response_topic(message, "command", result_topic),
                        correlation = message.correlation_data](const std::string& error) {
     answers_.push_back([this, result_topic, response_topic, correlation, result = mqtt::command_result(topic, error)] {
       if (!response_topic.empty() && client_->publish_response(response_topic, result, correlation)) return;
@@ -180,25 +184,95 @@ void MqttService::carry_out_later_commands() {
   for (std::size_t n = 0; n < slice && command_flow_.reading() && !later_commands_.empty(); ++n) {
     const auto command = std::move(later_commands_.front());
     later_commands_.pop_front();
-    carry_out({command.topic, command.payload, false, command.response_topic, command.correlation_data});
+    carry_out({command.topic, command.payload, false, command.response_topic, command.correlation_data, {}});
   }
   follow_command_flow();
 }
 
-// The command's Response Topic when the bridge may answer there, else empty (set/result):
-// a refusal is counted and warned about (the first from the broker in a period, then how
-// many more), with the topic cut short, for the log's sake.
-std::string MqttService::allowed_response_topic(const MqttMessage& message) {
+// The Response Topic of a command or config when the bridge may answer there, else empty
+// (`fallback_topic`): a refusal is counted and warned about (the first from the broker in a
+// period, then how many more), with the topic cut short, for the log's sake.
+std::string MqttService::allowed_response_topic(const MqttMessage& message, std::string_view what,
+                                               const std::string& fallback_topic) {
   if (message.response_topic.empty()) return {};
   const auto& mqtt = *runtime_.config().mqtt;
   const auto verdict = mqtt::judge_response_topic(message.response_topic, mqtt);
   if (verdict == mqtt::ResponseTopicVerdict::answer_there) return message.response_topic;
   ++response_topics_refused_;
   platform::warn_from_peer("mqtt: response topics refused", client_->options().broker(),
-                           "mqtt: the Response Topic {} of a command on {} is {}: answered on {}/set/result instead",
-                           platform::log_safe(std::string_view(message.response_topic).substr(0, 100)),
-                           platform::log_safe(message.topic), mqtt::verdict_text(verdict), platform::log_safe(mqtt.topic));
+                           "mqtt: the Response Topic {} of a {} on {} is {}: answered on {} instead",
+                           platform::log_safe(std::string_view(message.response_topic).substr(0, 100)), what,
+                           platform::log_safe(message.topic), mqtt::verdict_text(verdict), platform::log_safe(fallback_topic));
   return {};
+}
+
+// A config on config/set goes to the one flow (io/config_changes), which checks its size,
+// its text and the lock-out rule itself. A retained one would be applied again at every
+// connection, over whatever came since: it is cleared on the broker (an empty retained
+// message, which comes back here as a clearing), counted and warned about, never applied.
+void MqttService::take_config(const MqttMessage& message) {
+  // One that a reload turning remote_config.mqtt off found on its way.
+  if (!mqtt::takes_configs(runtime_.config())) return;
+  const auto& prefix = runtime_.config().mqtt->topic;
+  const auto topic = mqtt::config_set_topic(prefix);
+  switch (mqtt::judge_config_message(message.payload, message.retained)) {
+    case mqtt::ConfigMessage::clearing:
+      return;
+    case mqtt::ConfigMessage::retained:
+      ++retained_configs_dropped_;
+      client_->publish(topic, "", true);
+      platform::warn_from_peer("mqtt: retained configs", client_->options().broker(),
+                               "mqtt: a retained config on {} ({} bytes) not applied and cleared: a config is applied once, "
+                               "when it is published, never again from the broker's store",
+                               platform::log_safe(topic), message.payload.size());
+      return;
+    case mqtt::ConfigMessage::config:
+      break;
+  }
+  auto result_topic = mqtt::config_result_topic(prefix);
+  ConfigAnswer reply{{}, allowed_response_topic(message, "config", result_topic), message.correlation_data, std::move(result_topic)};
+  // On the loop, not in libmosquitto's callback: the flow reloads the bridge, which may stop
+  // and destroy the very client whose read brought the message.
+  asio::post(runtime_.io, [this, token = guard_.token(), text = std::string(message.payload),
+                           by = mqtt::config_author(message.user_properties), reply = std::move(reply)]() mutable {
+    if (!HandlerGuard::alive(token)) return;
+    const auto answered = [this, token, reply](const remote::ChangeAnswer& answer) {
+      if (!HandlerGuard::alive(token)) return;
+      config_answer_ = reply;
+      config_answer_->payload = remote::answer_json(answer);
+      send_config_answer();  // on the client there is now
+    };
+    if (runtime_.config_changes == nullptr)
+      return answered({.id = remote::change_id(text), .result = remote::Result::refused, .errors = {},
+                       .reason = "this bridge takes no config from afar", .source = remote::Source::mqtt, .by = by});
+    runtime_.config_changes->apply(std::move(text), remote::Source::mqtt, std::move(by), answered);
+  });
+}
+
+void MqttService::send_config_answer() {
+  if (!config_answer_ || !client_ || !client_->connected()) return;
+  const auto& a = *config_answer_;
+  // A Response Topic the new connection cannot take (MQTT 3.1.1 now) falls back too.
+  if (!a.response_topic.empty() && client_->publish_response(a.response_topic, a.payload, a.correlation_data))
+    return config_answer_.reset();
+  if (client_->publish(a.result_topic, a.payload, false)) config_answer_.reset();
+}
+
+// Flagged, not dropped by the client: a retained config must reach take_config to be cleared.
+void MqttService::subscribe_configs(MqttClient& client, const std::string& prefix) {
+  client.subscribe(mqtt::config_set_topic(prefix), [this](const MqttMessage& message) { take_config(message); },
+                   MqttClient::Retained::flagged);
+}
+
+// A reload that keeps the client may still turn remote_config.mqtt on or off.
+void MqttService::follow_remote_config(const config::Config& previous) {
+  const auto& now = runtime_.config();
+  const bool was = mqtt::takes_configs(previous), is = mqtt::takes_configs(now);
+  if (was == is || !client_) return;
+  if (is)
+    subscribe_configs(*client_, now.mqtt->topic);
+  else
+    client_->unsubscribe(mqtt::config_set_topic(previous.mqtt->topic));
 }
 
 // Armed only when nothing sooner is: a change that may go at once does not wait for it,
@@ -298,10 +372,17 @@ void MqttService::commit(const Banks& previous) {
     new_client_ = false;
     follow_command_flow();  // the commands answered since it was staged
     if (client_ && started_) client_->start();
+  } else {
+    follow_remote_config(previous.config);
   }
   lay_out();
   if (client_) discovery_.announce(*client_);  // a new client announces when it connects
   if (started_) publish();  // the new layout's documents, all of them
+}
+
+void MqttService::probe(remote::ProbeFacts& facts) const {
+  if (!runtime_.config().mqtt) return;
+  facts.broker = facts.broker.value_or(true) && client_ && client_->connected();
 }
 
 void MqttService::describe(status::Document& status) const {
@@ -318,6 +399,7 @@ void MqttService::describe(status::Document& status) const {
                         .session_takeovers = c.session_takeovers,
                         .retained_commands_dropped = c.retained_commands_dropped,
                         .response_topics_refused = response_topics_refused_,
+                        .retained_configs_dropped = retained_configs_dropped_,
                         .since = {},
                         .last_takeover = {},
                         .last_error = {},

@@ -16,9 +16,11 @@
 // each connection, the birth (`<prefix>/birth`, mqtt/birth.hpp); with `discovery`, Home
 // Assistant's configs (io/mqtt/discovery_announcer). While the broker is unreachable the
 // same documents go to the history buffer (`buffer`, SPEC §15: io/mqtt/history_buffer),
-// sent as history once the live ones are out again (io/mqtt/history_sender). A reload
-// keeps the client (and its session) when the broker settings did not change; a reload to
-// another config file says so in a new birth.
+// sent as history once the live ones are out again (io/mqtt/history_sender). With
+// `remote_config.mqtt`, configs from afar on `<prefix>/config/set` (mqtt/config_set), handed
+// to the one flow of SPEC §19 (io/config_changes) and answered on `<prefix>/config/result`
+// or an allowed Response Topic. A reload keeps the client (and its session) when the broker
+// settings did not change; a reload to another config file says so in a new birth.
 
 #include <cstdint>
 #include <deque>
@@ -52,6 +54,7 @@ class MqttService final : public Service {
   void abandon() override;
   void commit(const Banks& previous) override;
   void describe(status::Document& status) const override;
+  void probe(remote::ProbeFacts& facts) const override;
 
  private:
   std::unique_ptr<MqttClient> make_client(const config::Config& config);
@@ -72,7 +75,18 @@ class MqttService final : public Service {
   /// waits inside libmosquitto, whose every read takes as many packets as it holds
   /// messages (a burst's answers there made one read carry out thousands of commands).
   void send_answers();
-  std::string allowed_response_topic(const MqttMessage& message);
+  /// The Response Topic of a message (`what`: "command", "config") when the bridge may
+  /// answer there, else empty: the answer goes to `fallback_topic`, as the warning says.
+  std::string allowed_response_topic(const MqttMessage& message, std::string_view what, const std::string& fallback_topic);
+  /// A message on `<prefix>/config/set`: a config to the flow, or a retained one cleared.
+  void take_config(const MqttMessage& message);
+  void subscribe_configs(MqttClient& client, const std::string& prefix);
+  /// Subscribes or lets go of `<prefix>/config/set` as the running config says, for a
+  /// client kept by a reload.
+  void follow_remote_config(const config::Config& previous);
+  /// The answer to a config, on the client there is now (a reload by the config itself may
+  /// have replaced the one it came by), or kept for the next connection.
+  void send_config_answer();
   std::string birth() const;
   /// Documents go to the history buffer instead of the broker.
   bool buffering() const;
@@ -100,6 +114,18 @@ class MqttService final : public Service {
   std::deque<LaterCommand> later_commands_;
   bool carrying_out_later_ = false;  // a slice of them is posted
   std::deque<std::function<void()>> answers_;  // in the order the commands were answered
+  std::uint64_t retained_configs_dropped_ = 0;  // of every client this service had
+  // The answer to a config from config/set that no connection has taken yet: the flow's end
+  // may come while the client it came by is gone and the next not connected yet (a rollback
+  // to another broker). One is enough: the flow takes one change at a time, and each new
+  // change came over a connection that takes its answer at once.
+  struct ConfigAnswer {
+    std::string payload;           // remote::answer_json
+    std::string response_topic;    // allowed when the config came; empty: result_topic
+    std::string correlation_data;
+    std::string result_topic;      // <prefix>/config/result of the prefix the config came by
+  };
+  std::optional<ConfigAnswer> config_answer_;
   HandlerGuard guard_;  // last: the posted slices see it expired as soon as the service is torn down
   // Staged by a reload:
   bool new_client_ = false;

@@ -354,6 +354,11 @@ void SparkplugService::commit(const Banks&) {
   }
 }
 
+void SparkplugService::probe(remote::ProbeFacts& facts) const {
+  if (!runtime_.config().sparkplug) return;
+  facts.broker = facts.broker.value_or(true) && client_ && client_->connected();
+}
+
 void SparkplugService::describe(status::Document& status) const {
   if (!client_ || !session_) return;
   const auto& config = *runtime_.config().sparkplug;

@@ -41,6 +41,7 @@ class SparkplugService final : public Service {
   void abandon() override;
   void commit(const Banks& previous) override;
   void describe(status::Document& status) const override;
+  void probe(remote::ProbeFacts& facts) const override;
 
  private:
   std::unique_ptr<MqttClient> make_client(const config::Config& config);

@@ -202,6 +202,35 @@ TEST_F(ConfigMessages, ASerialDeviceThatIsNotThereIsAWarningNamingTheRetry) {
       << result.output;
 }
 
+// Issue 40: a user remote_config.http lets PUT a config must be in the users file, or the
+// name is a typo that would lock that user out; `check` refuses it at remote_config.http,
+// naming the user and the file, as the daemon's remote changes do (check/).
+TEST_F(ConfigMessages, CheckRefusesARemoteHttpUserWhoIsNotInTheUsersFile) {
+  const auto users = (dir.path() / "http.users").string();
+  // openssl passwd -6 -salt salzsalz secret
+  test_support::write_file(users, "alice:$6$salzsalz$T6JPgc5oSlQmLkWq.mzSbtz8riZYp5RKogAdkAMphpHutqbzTWM.R2hHZXzRwqaHTGP"
+                                  "bckcwMimHDhrrzvUs40\n");
+  const auto with_remote_users = [&](const std::string& listed) {
+    config.extra = "http:\n  listen: 127.0.0.1\n  port: " + std::to_string(free_port()) + "\n  users: " + users +
+                   "\nremote_config:\n  http: " + listed + "\n";
+    return with_modbus("");
+  };
+  auto yaml = with_remote_users("[alice, alcie]");
+  const auto line = std::count(yaml.begin(), yaml.begin() + static_cast<long>(yaml.find("  http: [")), '\n') + 1;
+  auto result = check(yaml);
+  EXPECT_EQ(result.status, 1) << result.output;
+  EXPECT_NE(result.output.find(fmt::format("{}:{}:9: remote_config.http: 'alcie' is not a user of http.users ({}): add "
+                                           "the user to that file, or take the name out of the list",
+                                           file(), line, users)),
+            std::string::npos)
+      << result.output;
+  EXPECT_EQ(result.output.find(": OK"), std::string::npos) << result.output;
+
+  result = check(with_remote_users("[alice]"));
+  EXPECT_EQ(result.status, 0) << result.output;
+  EXPECT_NE(result.output.find(file() + ": OK"), std::string::npos) << result.output;
+}
+
 // Another program holds the port: the error names the key, its line and the address.
 TEST_F(ConfigMessages, APortInUseAtStartNamesTheKeyAndTheAddress) {
   asio::io_context io;

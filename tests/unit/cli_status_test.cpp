@@ -42,7 +42,8 @@ TEST(CliStatus, ThePanelShowsTheFrontPanelIndicatorsAndPortsOfTheDocument) {
   EXPECT_TRUE(has_line(text, "  1  Ad=1   Reg=0x0100  0x7FFF (32767)  read   " + indicator_time)) << text;
   EXPECT_TRUE(has_line(text, "  tcp             1       1       0       0       0       0       0        0        1  " + tcp_listen))
       << text;
-  EXPECT_TRUE(has_line(text, fmt::format("            {} lines written, {} dropped", document["monitor"]["written"].get<int>(),
+  const auto written = document["monitor"]["written"].get<int>();  // the writer thread's count when the golden was taken
+  EXPECT_TRUE(has_line(text, fmt::format("            {} {} written, {} dropped", written, written == 1 ? "line" : "lines",
                                          document["monitor"]["dropped"].get<int>())))
       << text;
 }
@@ -58,6 +59,24 @@ TEST(CliStatus, OneOfAThingIsSaidInTheSingular) {
   EXPECT_TRUE(has_line(text, "            1 line written, 0 dropped")) << text;
   document["state"]["records"] = 2;
   EXPECT_NE(render_status_panel(document.get<status::Document>()).find(": 2 values recorded in 1 sync"), std::string::npos);
+}
+
+// Which config runs is shown once a config came from afar; a bridge that only ever ran its
+// operator's file shows what it always showed.
+TEST(CliStatus, AConfigFromAfarIsShownWithHowTheLastChangeEnded) {
+  auto document = golden_slave();
+  EXPECT_EQ(render_status_panel(document.get<status::Document>()).find("  Config"), std::string::npos);
+  document["config_in_force"] = {{"source", "mqtt"}, {"file", "/var/lib/unima-bridge/remote-config/000003.yaml"},
+                                 {"sha256", "696a4156a99ae4122c62793e8e518508a2fa791020f9c86475701dee260aa309"},
+                                 {"number", 3}, {"by", "fleet"}, {"applied_at", "2026-11-29T22:57:55.433190Z"},
+                                 {"last", {{"id", "ab"}, {"result", "rolled_back"}, {"reason", "the MQTT broker has not accepted the bridge"},
+                                           {"source", "cli"}, {"by", "root"}, {"at", "2026-11-29T23:01:00.000000Z"}}}};
+  const auto text = render_status_panel(document.get<status::Document>());
+  EXPECT_TRUE(has_line(text, "  Config    remote config 3 from mqtt by fleet at 2026-11-29T22:57:55.433190Z (sha256 696a4156a99a…)"))
+      << text;
+  EXPECT_TRUE(has_line(text, "            last change: rolled_back (cli by root at 2026-11-29T23:01:00.000000Z): the MQTT broker "
+                             "has not accepted the bridge"))
+      << text;
 }
 
 // On a terminal: a lit LED green, the Error LED and what needs looking at red; into a

@@ -30,7 +30,7 @@ std::string feed(const std::string& listen) {
 std::string tcp_listen(const std::string& address) { return "modbus:\n  tcp: { listen: " + address + " }\n"; }
 std::string master_tcp(const std::string& target) { return "modbus:\n  mode: master\n  master: { tcp: " + target + " }\n"; }
 
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+bool mentions(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
 TEST(IpAddress, IsWhatTheSocketLayerTakes) {
   EXPECT_TRUE(is_ip_address("127.0.0.1"));
@@ -119,7 +119,7 @@ TEST(ConfigEndpoints, NamesAndBadAddressesAreRefusedWithTheirPosition) {
             "bridge.yaml:2:18: 'localhost' is a name; the daemon listens on an IP address of this machine (0.0.0.0 "
             "every IPv4 interface, :: every IPv6 one, 127.0.0.1 this machine only)");
   // `*` is the feed's way of saying every interface; modbus.tcp.listen takes an address.
-  EXPECT_TRUE(contains(error_of(tcp_listen("'*'")), "bridge.yaml:2:18: '*' is not an IP address")) << error_of(tcp_listen("'*'"));
+  EXPECT_TRUE(mentions(error_of(tcp_listen("'*'")), "bridge.yaml:2:18: '*' is not an IP address")) << error_of(tcp_listen("'*'"));
   EXPECT_EQ(error_of(master_tcp("999.1.1.1:502")),
             "bridge.yaml:3:18: '999.1.1.1:502': '999.1.1.1' is not an IP address (IPv4 is four numbers 0..255: "
             "192.168.1.10)");
@@ -196,8 +196,8 @@ TEST(SocketPath, OnlyASocketIsEverRemoved) {
 
   EXPECT_EQ(socket_path_conflict(file.string()),
             file.string() + " names a regular file, not a socket; the daemon never removes it to listen there");
-  EXPECT_TRUE(contains(*socket_path_conflict(link.string()), "names a symbolic link, not a socket"));
-  EXPECT_TRUE(contains(*socket_path_conflict(directory.string()), "names a directory, not a socket"));
+  EXPECT_TRUE(mentions(*socket_path_conflict(link.string()), "names a symbolic link, not a socket"));
+  EXPECT_TRUE(mentions(*socket_path_conflict(directory.string()), "names a directory, not a socket"));
   EXPECT_FALSE(socket_path_conflict(stale.string()));
   EXPECT_FALSE(socket_path_conflict((dir.path() / "nothing").string()));
 

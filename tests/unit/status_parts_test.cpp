@@ -12,6 +12,7 @@
 #include "master/gateway_status.hpp"
 #include "monitor/monitor_status.hpp"
 #include "mqtt/mqtt_status.hpp"
+#include "remote/config_status.hpp"
 #include "sparkplug/edge_status.hpp"
 #include "state/state_status.hpp"
 #include "status/activity.hpp"
@@ -42,7 +43,7 @@ void expect_round_trip(const nlohmann::json& part) {
 void expect_bridge_round_trip(const nlohmann::json& document) {
   auto own = document;
   for (const auto* service_key : {"ports", "devices", "modules", "unimabus", "modbus", "indicators", "monitor", "state", "mqtt",
-                                  "sparkplug", "http", "master", "gateway", "lines"})
+                                  "sparkplug", "http", "master", "gateway", "lines", "config_in_force"})
     own.erase(service_key);
   ASSERT_TRUE(own.contains("uptime_s"));
   EXPECT_EQ(nlohmann::json(document.get<status::BridgeStatus>()), own);
@@ -51,6 +52,7 @@ void expect_bridge_round_trip(const nlohmann::json& document) {
 // The parts every document holds, whatever the mode: the bridge's own, the UnimaBUS side, the monitor's.
 void expect_common_round_trips(const nlohmann::json& s) {
   expect_bridge_round_trip(s);
+  expect_round_trip<remote::ConfigStatus>(s["config_in_force"]);
   expect_round_trip<unimabus::UnimabusStatus>(s["unimabus"]);
   ASSERT_EQ(s["devices"].size(), 4u);
   for (const auto& device : s["devices"]) expect_round_trip<unimabus::DeviceStatus>(device);

@@ -1,0 +1,240 @@
+#include "app/remote_config_coordinator.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include "check/check_config.hpp"
+#include "platform/logging.hpp"
+#include "platform/utc_time.hpp"
+#include "remote/yaml_budget.hpp"
+
+namespace unima::app {
+
+namespace {
+
+std::string now_utc() { return platform::utc_time_text(std::chrono::system_clock::now()); }
+
+// The lock-out rule: a config may come by a channel only if it leaves that channel on.
+std::optional<std::string> locks_out(const config::Config& next, remote::Source source, const std::string& by) {
+  const auto& remote = next.remote_config;
+  switch (source) {
+    case remote::Source::cli:
+      return std::nullopt;  // the control socket is always there for root and the daemon's user
+    case remote::Source::mqtt:
+      if (!next.mqtt || !remote || !remote->mqtt)
+        return "it turns off remote_config.mqtt, the channel it came by: the fleet could not reach this bridge again";
+      return std::nullopt;
+    case remote::Source::http:
+      if (!next.http || !remote || std::find(remote->http.begin(), remote->http.end(), by) == remote->http.end())
+        return "it takes " + by + " out of remote_config.http, the channel it came by: the fleet could not reach this bridge again";
+      return std::nullopt;
+  }
+  return std::nullopt;
+}
+
+std::chrono::milliseconds probe_of(const config::Config& config) {
+  return config.remote_config ? config.remote_config->probe : config::RemoteConfig{}.probe;
+}
+
+}  // namespace
+
+RemoteConfigCoordinator::RemoteConfigCoordinator(asio::io_context& io, Bridge& bridge, ConfigInForce& in_force)
+    : io_(io), bridge_(bridge), in_force_(in_force), probe_timer_(io) {
+  if (!in_force_.store_directory.empty()) {
+    const auto& remote = in_force_.config.remote_config;
+    store_.emplace(in_force_.store_directory, remote ? remote->keep : io::RemoteConfigStore::default_keep);
+  }
+  reloaded();
+  bridge_.take_config_changes(this);
+}
+
+RemoteConfigCoordinator::~RemoteConfigCoordinator() { bridge_.take_config_changes(nullptr); }
+
+void RemoteConfigCoordinator::apply(std::string text, remote::Source source, std::string by, Done done) {
+  const auto id = remote::change_id(text);
+  if (auto busy = flow_.begin({id, source, by})) {
+    spdlog::warn("remote config: {} by {} refused: {}", remote::source_name(source), by, busy->reason);
+    ++status_.changes_busy;
+    return done(*busy);
+  }
+  change_ = Change{std::move(done), std::nullopt, std::move(text), source, std::move(by)};
+  spdlog::info("remote config: {} by {}: {} bytes (sha256 {})", remote::source_name(source), change_->by,
+               change_->text->size(), id);
+  if (auto over = remote::over_budget(*change_->text)) return finish(flow_.refuse(*over));
+  const auto origin = fmt::format("config from {} by {}", remote::source_name(source), change_->by);
+  config::Config next;
+  try {
+    // As if it stood in the operator's file: what goes "beside the config" goes beside that.
+    next = config::load_text(*change_->text, origin, config::Host::this_machine(), in_force_.operator_file);
+    check::check_config(next);
+  } catch (const std::exception& e) {
+    return finish(flow_.refuse("the config has errors", remote::errors_at(e.what(), origin)));
+  }
+  apply_config(std::move(next));
+}
+
+void RemoteConfigCoordinator::revert(remote::Source source, std::string by, Done done) {
+  std::string text;
+  try {
+    text = config::read_config_file(in_force_.operator_file);
+  } catch (const std::exception& e) {
+    spdlog::warn("remote config: {} by {}: {}", remote::source_name(source), by, e.what());
+  }
+  if (auto busy = flow_.begin({remote::change_id(text), source, by})) {
+    ++status_.changes_busy;
+    return done(*busy);
+  }
+  change_ = Change{std::move(done), std::nullopt, std::nullopt, source, std::move(by)};
+  spdlog::info("remote config: {} by {}: back to the operator's file {}", remote::source_name(source), change_->by,
+               in_force_.operator_file);
+  config::Config next;
+  try {
+    next = config::load_text(text, in_force_.operator_file);
+    check::check_config(next);
+  } catch (const std::exception& e) {
+    return finish(flow_.refuse("the operator's file has errors", remote::errors_at(e.what(), in_force_.operator_file)));
+  }
+  apply_config(std::move(next));
+}
+
+void RemoteConfigCoordinator::apply_config(config::Config next) {
+  if (config::writes_frozen(bridge_.config()))
+    return finish(flow_.refuse("read_only is on: the bridge takes no change of its config from afar"));
+  if (!store_) return finish(flow_.refuse("state.file is none: a config from afar could not be kept across a restart"));
+  if (auto reason = locks_out(next, change_->source, change_->by)) return finish(flow_.refuse("refused: " + *reason));
+  const auto proving_time = probe_of(next);
+  change_->previous = bridge_.config();
+  try {
+    const auto level = next.log.level;
+    bridge_.reload(std::move(next));
+    platform::set_log_level(level);
+  } catch (const std::exception& e) {
+    change_->previous.reset();
+    return finish(flow_.refuse(std::string("the config cannot be applied: ") + e.what()));
+  }
+  flow_.committed(std::chrono::steady_clock::now(), proving_time);
+  probe();
+}
+
+void RemoteConfigCoordinator::probe() {
+  auto answer = flow_.probe(bridge_.probe_facts(), std::chrono::steady_clock::now());
+  if (!answer) {
+    probe_timer_.expires_after(probe_interval);
+    probe_timer_.async_wait([this](const boost::system::error_code& ec) {
+      if (!ec) probe();
+    });
+    return;
+  }
+  if (answer->result == remote::Result::applied) {
+    try {
+      if (change_->text) {
+        in_force_.remote = store_->keep(*change_->text, change_->source, change_->by, in_force_.operator_file,
+                                        in_force_.operator_sha256, std::chrono::system_clock::now());
+      } else {
+        store_->put_file_in_force();
+        in_force_.remote.reset();
+        in_force_.operator_sha256 = bridge_.config().file_sha256;
+      }
+      in_force_.config = bridge_.config();
+    } catch (const std::exception& e) {
+      answer->result = remote::Result::rolled_back;
+      answer->reason = std::string("the config could not be kept: ") + e.what();
+    }
+  }
+  if (answer->result == remote::Result::rolled_back) {
+    try {
+      const auto level = change_->previous->log.level;
+      bridge_.reload(std::move(*change_->previous));
+      platform::set_log_level(level);
+    } catch (const std::exception& e) {
+      // The previous config ran a moment ago; what it needs may have been taken since.
+      spdlog::critical("remote config: going back to the previous config failed, the new one stays: {}", e.what());
+      answer->reason += std::string("; going back failed, the new config runs: ") + e.what();
+    }
+  }
+  finish(*answer);
+}
+
+void RemoteConfigCoordinator::finish(const remote::ChangeAnswer& answer) {
+  const auto done = std::move(change_->done);
+  change_.reset();
+  switch (answer.result) {
+    case remote::Result::applied: ++status_.changes_applied; break;
+    case remote::Result::refused: ++status_.changes_refused; break;
+    case remote::Result::rolled_back: ++status_.changes_rolled_back; break;
+    case remote::Result::busy: ++status_.changes_busy; break;
+  }
+  status_.last = remote::LastChange{answer.id, std::string(remote::result_name(answer.result)), answer.reason,
+                                    std::string(remote::source_name(answer.source)), answer.by, now_utc()};
+  const auto level = answer.result == remote::Result::applied ? spdlog::level::info : spdlog::level::warn;
+  const auto kept = answer.result == remote::Result::applied
+                        ? (in_force_.remote ? fmt::format(", kept as {}", in_force_.remote->text_path.string())
+                                            : fmt::format(", the operator's file {} in force", in_force_.operator_file))
+                        : std::string{};
+  spdlog::log(level, "remote config: {} by {}: {}{}{}{} (sha256 {})", remote::source_name(answer.source), answer.by,
+              remote::result_name(answer.result), kept, answer.reason.empty() ? "" : ": ", answer.reason, answer.id);
+  for (const auto& error : answer.errors) spdlog::log(level, "  line {}, column {}: {}", error.line, error.column, error.message);
+  reloaded();
+  done(answer);
+  if (after_change_) {
+    auto task = std::move(*after_change_);
+    after_change_.reset();
+    task();
+  }
+}
+
+void RemoteConfigCoordinator::run_when_free(std::function<void()> task) {
+  if (!flow_.busy()) return task();
+  spdlog::info("remote config: a change is under way; the reload follows its end");
+  after_change_ = std::move(task);
+}
+
+void RemoteConfigCoordinator::reloaded() {
+  if (store_ && in_force_.config.remote_config) store_->set_keep(in_force_.config.remote_config->keep);
+  status_.sha256 = in_force_.config.file_sha256;
+  status_.file = in_force_.remote ? in_force_.remote->text_path.string() : in_force_.operator_file;
+  if (const auto& remote = in_force_.remote) {
+    status_.source = std::string(remote::source_name(remote->source));
+    status_.number = remote->number;
+    status_.by = remote->by;
+    status_.applied_at = remote->applied_at;
+  } else {
+    status_.source = "file";
+    status_.number.reset();
+    status_.by.reset();
+    status_.applied_at.reset();
+  }
+}
+
+remote::ConfigStatus RemoteConfigCoordinator::status() const { return status_; }
+
+nlohmann::json RemoteConfigCoordinator::in_force(bool with_text) const {
+  nlohmann::json j = status_;
+  if (with_text) {
+    try {
+      j["text"] = in_force_.remote && store_ ? store_->text(*in_force_.remote) : config::read_config_file(in_force_.operator_file);
+    } catch (const std::exception& e) {
+      j["text"] = nullptr;
+      j["text_error"] = e.what();
+    }
+  }
+  return j;
+}
+
+nlohmann::json RemoteConfigCoordinator::history() const {
+  auto entries = nlohmann::json::array();
+  if (store_) {
+    const auto in_force = in_force_.remote ? in_force_.remote->number : 0;
+    for (const auto& stored : store_->history())
+      entries.push_back({{"number", stored.number},
+                         {"id", stored.id},
+                         {"source", remote::source_name(stored.source)},
+                         {"by", stored.by},
+                         {"applied_at", stored.applied_at},
+                         {"replaced_file", stored.replaced_file},
+                         {"replaced_sha256", stored.replaced_sha256},
+                         {"in_force", stored.number == in_force}});
+  }
+  return {{"in_force", status_}, {"history", std::move(entries)}};
+}
+
+}  // namespace unima::app
