@@ -20,7 +20,7 @@ namespace {
 constexpr auto json_type = "application/json";
 constexpr auto text_type = "text/plain; charset=utf-8";
 HttpResponse not_found() {
-  return {404, text_type, "not found: /, /metrics, /healthz, /api/status, /api/registers, /api/events\n", {}, {}};
+  return {404, text_type, "not found: /, /metrics, /healthz, /api/status, /api/registers, /api/events, /api/config\n", {}, {}, {}};
 }
 
 // The page runs only its own files: no inline script, nothing from elsewhere.
@@ -203,17 +203,21 @@ HttpResponse HttpAnswers::registers() const {
     j["values"] = row_values(row, running.config, running.value_model, values_now);
     registers.push_back(std::move(j));
   }
-  return {200, json_type, registers.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) + "\n", {}, {}};
+  return {200, json_type, registers.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) + "\n", {}, {}, {}};
 }
 
-HttpResponse HttpAnswers::answer(std::string_view target) {
+HttpResponse HttpAnswers::answer(const HttpRequest& request) {
+  const auto target = request.target;
   const auto path = target.substr(0, target.find('?'));
+  if (path == HttpConfigAnswers::path || path == HttpConfigAnswers::revert_path) return config_.answer(request, path);
+  if (request.method != "GET" && request.method != "HEAD")
+    return {405, text_type, "read only: GET or HEAD\n", {{"Allow", "GET, HEAD"}}, {}, {}};
   if (path == "/api/events") {
     monitor::CommandFilter filter;
     try {
       filter = page_filter(target);
     } catch (const monitor::FilterSyntaxError& e) {
-      return {400, text_type, fmt::format("{}\n", e.what()), {}, {}};
+      return {400, text_type, fmt::format("{}\n", e.what()), {}, {}, {}};
     }
     HttpResponse response;
     response.stream = [this, filter](std::shared_ptr<web::EventSink> sink) {
@@ -222,15 +226,15 @@ HttpResponse HttpAnswers::answer(std::string_view target) {
     return response;
   }
   if (const auto file = web::served_file(path))
-    return {200, std::string(file->content_type), std::string(file->text), page_headers, {}};
+    return {200, std::string(file->content_type), std::string(file->text), page_headers, {}, {}};
   // Answered on the loop: after a stall this is the first thing to run, and says so.
   if (path == "/healthz") {
-    if (const auto stall = health_.stall(LoopHealth::Clock::now())) return {503, text_type, "stalled: " + *stall + "\n", {}, {}};
-    return {200, text_type, "ok\n", {}, {}};
+    if (const auto stall = health_.stall(LoopHealth::Clock::now())) return {503, text_type, "stalled: " + *stall + "\n", {}, {}, {}};
+    return {200, text_type, "ok\n", {}, {}, {}};
   }
-  if (path == "/metrics") return {200, metrics::prometheus_content_type, metrics::prometheus_text(runtime_.status()), {}, {}};
+  if (path == "/metrics") return {200, metrics::prometheus_content_type, metrics::prometheus_text(runtime_.status()), {}, {}, {}};
   if (path == "/api/status")
-    return {200, json_type, nlohmann::json(runtime_.status()).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) + "\n", {}, {}};
+    return {200, json_type, nlohmann::json(runtime_.status()).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) + "\n", {}, {}, {}};
   if (path == "/api/registers") return registers();
   return not_found();
 }

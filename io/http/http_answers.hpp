@@ -2,12 +2,13 @@
 // What each path of the HTTP server answers (SPEC §13): the page's files, /healthz,
 // /metrics and /api/status from the status document (so they never disagree with
 // `unima-bridge status`), /api/registers with each register's raw value and the value
-// model's values, /api/events the page's live feed.
+// model's values, /api/events the page's live feed; /api/config is HttpConfigAnswers'.
 
 #include <map>
 #include <memory>
 #include <string_view>
 
+#include "io/http/config_answers.hpp"
 #include "io/http/http_server.hpp"
 #include "io/http/loop_health.hpp"
 #include "io/runtime.hpp"
@@ -20,7 +21,7 @@ class HttpAnswers {
   HttpAnswers(Runtime& runtime, web::LiveView& live, const LoopHealth& health)
       : runtime_(runtime), live_(live), health_(health) {}
 
-  HttpResponse answer(std::string_view target);
+  HttpResponse answer(const HttpRequest& request);
   /// What the front page shows now.
   web::LiveSnapshot live_snapshot() const;
   /// The same without the panel (which costs the status document): the registers and values.
@@ -36,6 +37,7 @@ class HttpAnswers {
   Runtime& runtime_;
   web::LiveView& live_;
   const LoopHealth& health_;
+  HttpConfigAnswers config_{runtime_};
   struct RenderedBank {
     std::uint64_t at = 0;  // the store's changes() of the bank when rendered
     std::shared_ptr<const web::NamedValues> values;

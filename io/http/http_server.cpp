@@ -116,74 +116,114 @@ class HttpServer::Connection : public HttpServer::ConnectionBase, public std::en
  private:
   tcp::socket& socket_() { return beast::get_lowest_layer(stream_).socket(); }
 
+  // The header first: a body only a PUT or POST may have, and a Content-Length over
+  // max_body is refused (413) before any of it is read.
   void read() {
     parser_.emplace();
     parser_->header_limit(max_header_bytes);
-    parser_->body_limit(0);  // GET and HEAD carry none
+    parser_->body_limit(server_.options_.max_body);
     beast::get_lowest_layer(stream_).expires_after(server_.options_.request_timeout);
-    http::async_read(stream_, buffer_, *parser_,
-                     [this, self = this->shared_from_this()](const boost::system::error_code& ec, std::size_t) {
-                       if (closed_) return;
-                       if (ec == http::error::end_of_stream || ec == asio::error::eof) return finish();
-                       if (ec == beast::error::timeout || ec == asio::ssl::error::stream_truncated) return finish();
-                       last_activity_ = Clock::now();
-                       request_in_progress_ = true;
-                       if (ec) return refuse(ec);
-                       answer(parser_->get());
-                     });
+    http::async_read_header(stream_, buffer_, *parser_,
+                            [this, self = this->shared_from_this()](const boost::system::error_code& ec, std::size_t) {
+                              if (closed_) return;
+                              if (ec == http::error::end_of_stream || ec == asio::error::eof) return finish();
+                              if (ec == beast::error::timeout || ec == asio::ssl::error::stream_truncated) return finish();
+                              last_activity_ = Clock::now();
+                              request_in_progress_ = true;
+                              if (ec) return refuse(ec);
+                              const auto method = parser_->get().method();
+                              const bool may_have_body = method == http::verb::put || method == http::verb::post;
+                              if (!may_have_body && (parser_->chunked() || parser_->content_length().value_or(0) > 0))
+                                return refuse(http::error::unexpected_body);
+                              if (parser_->is_done()) return answer(parser_->get());
+                              continue_then_read_body();
+                            });
   }
 
-  // A request the parser refused (headers over 8 KiB, a body, garbage) gets 400 or 431,
-  // once, and the connection closes: the stream cannot be trusted after it.
+  // A client that asked to be told to go on (curl does for a body over 1 KiB) is, and then
+  // the body is read, under the same deadline.
+  void continue_then_read_body() {
+    const auto expect = parser_->get()[http::field::expect];
+    if (!beast::iequals(expect, "100-continue")) return read_body();
+    static constexpr std::string_view go_on = "HTTP/1.1 100 Continue\r\n\r\n";
+    asio::async_write(stream_, asio::buffer(go_on.data(), go_on.size()),
+                      [this, self = this->shared_from_this()](const boost::system::error_code& ec, std::size_t) {
+                        if (closed_) return;
+                        if (ec) return finish();
+                        read_body();
+                      });
+  }
+
+  void read_body() {
+    http::async_read(stream_, buffer_, *parser_, [this, self = this->shared_from_this()](const boost::system::error_code& ec, std::size_t) {
+      if (closed_) return;
+      if (ec == beast::error::timeout || ec == asio::ssl::error::stream_truncated || ec == asio::error::eof) return finish();
+      if (ec) return refuse(ec);
+      last_activity_ = Clock::now();
+      answer(parser_->get());
+    });
+  }
+
+  // A request the parser refused (headers over 8 KiB, a body too large or where none may
+  // be, garbage) gets 400, 413 or 431, once, and the connection closes: the stream cannot
+  // be trusted after it.
   void refuse(const boost::system::error_code& ec) {
     platform::warn_from_peer("http: bad requests", peer_, "http: {} sent a bad request: {}", peer_, ec.message());
-    const bool too_large = ec == http::error::header_limit;
-    respond(http::response<http::string_body>{too_large ? http::status::request_header_fields_too_large
-                                                        : http::status::bad_request,
-                                              11},
-            "", false);
+    const auto status = ec == http::error::header_limit ? http::status::request_header_fields_too_large
+                        : ec == http::error::body_limit ? http::status::payload_too_large
+                                                        : http::status::bad_request;
+    respond(http::response<http::string_body>{status, 11}, "", false);
   }
 
   void answer(const http::request<http::string_body>& request) {
     http::response<http::string_body> response{http::status::ok, request.version()};
     const bool keep_alive = request.keep_alive();
-    if (request.method() != http::verb::get && request.method() != http::verb::head) {
+    const auto method = request.method();
+    if (method != http::verb::get && method != http::verb::head && method != http::verb::put && method != http::verb::post) {
       response.result(http::status::method_not_allowed);
       response.set(http::field::allow, "GET, HEAD");
       return respond(std::move(response), "read only: GET or HEAD\n", keep_alive);
     }
-    if (!server_.gate_) return serve(request, std::nullopt);
+    if (!server_.gate_) return serve(request, std::nullopt, {});
     // The request stays in parser_ while the gate decides: nothing is read until it has.
     const auto authorization = request[http::field::authorization];
     leave_gate_ = server_.gate_(std::string_view(authorization.data(), authorization.size()), peer_,
-                                [this, self = this->shared_from_this()](std::optional<HttpResponse> refusal) {
+                                [this, self = this->shared_from_this()](std::optional<HttpResponse> refusal, std::string user) {
                                   leave_gate_ = nullptr;
                                   // Closed meanwhile (the server stopped): nothing to answer, and
                                   // server_ may be gone.
                                   if (closed_) return;
                                   boost::system::error_code ec;
                                   socket_().cancel(ec);  // the watch for the client's leaving
-                                  serve(parser_->get(), std::move(refusal));
+                                  serve(parser_->get(), std::move(refusal), std::move(user));
                                 });
-    if (leave_gate_) watch_while_gated();
+    if (leave_gate_) watch_while_waiting();
   }
 
-  // While the gate decides nothing is read, but a client that leaves is seen, and what the
-  // gate kept for it let go (issue 43, finding 7: the check of a client long gone kept its
-  // host's place). Bytes that come meanwhile (a next request, a TLS record) stay in the
-  // socket for the stream to read after the answer; its end behind them is seen only if it
-  // came with them, else the wait ends with the verdict, as it always did.
-  void watch_while_gated() {
+  // While the gate decides, or a deferred answer is awaited, nothing is read, but a client
+  // that leaves is seen, and what the gate kept for it let go (issue 43, finding 7: the
+  // check of a client long gone kept its host's place). Bytes that come meanwhile (a next
+  // request, a TLS record) stay in the socket for the stream to read after the answer; its
+  // end behind them is seen only if it came with them, else the wait ends with the
+  // verdict or the answer, as it always did.
+  void watch_while_waiting() {
     socket_().async_wait(tcp::socket::wait_read, [this, self = this->shared_from_this()](const boost::system::error_code& ec) {
-      if (closed_ || !leave_gate_ || ec == asio::error::operation_aborted) return;
+      if (closed_ || !(leave_gate_ || awaiting_answer_) || ec == asio::error::operation_aborted) return;
       if (ec || client_left(socket_())) finish();
     });
   }
 
-  void serve(const http::request<http::string_body>& request, std::optional<HttpResponse> result) {
+  void serve(const http::request<http::string_body>& request, std::optional<HttpResponse> result, std::string user) {
     http::response<http::string_body> response{http::status::ok, request.version()};
     const bool keep_alive = request.keep_alive();
-    if (!result) result = server_.handler_(std::string_view(request.target().data(), request.target().size()));
+    if (!result) {
+      const auto method = request.method_string();
+      const auto target = request.target();
+      result = server_.handler_(HttpRequest{std::string_view(method.data(), method.size()),
+                                            std::string_view(target.data(), target.size()), request.body(), std::move(user),
+                                            peer_, std::is_same_v<Stream, TlsStream>});
+    }
+    if (result->later) return await_answer(std::move(result->later));
     if (result->stream && result->status == 200) return open_stream(std::move(result->stream), request.method() == http::verb::head);
     response.result(result->status);
     response.set(http::field::content_type, result->content_type);
@@ -193,6 +233,22 @@ class HttpServer::Connection : public HttpServer::ConnectionBase, public std::en
       return respond(std::move(response), std::nullopt, keep_alive);
     }
     respond(std::move(response), std::move(result->body), keep_alive);
+  }
+
+  // The answer comes when the task ends (a config's probe: up to minutes), so no deadline
+  // runs meanwhile; the request stays in parser_. A reply after the connection closed (its
+  // client went, the server stopped) finds closed_ and touches nothing else: the server
+  // may be gone.
+  void await_answer(std::function<void(HttpReply)> later) {
+    beast::get_lowest_layer(stream_).expires_never();
+    awaiting_answer_ = true;
+    later([this, self = this->shared_from_this()](HttpResponse answer) {
+      if (closed_ || !std::exchange(awaiting_answer_, false)) return;
+      boost::system::error_code ec;
+      socket_().cancel(ec);  // the watch for the client's leaving
+      serve(parser_->get(), std::move(answer), {});
+    });
+    if (awaiting_answer_) watch_while_waiting();
   }
 
   void respond(http::response<http::string_body> response, std::optional<std::string> body, bool keep_alive) {
@@ -292,6 +348,7 @@ class HttpServer::Connection : public HttpServer::ConnectionBase, public std::en
   bool closed_ = false;
   bool handshaken_ = false;
   bool streaming_ = false;  // the event stream's header went out
+  bool awaiting_answer_ = false;  // a deferred answer (HttpResponse::later) has not come yet
   bool writing_ = false;
   std::string queued_;
   std::string in_flight_;
@@ -316,7 +373,7 @@ std::uint16_t HttpServer::port() const {
 }
 
 void HttpServer::start() {
-  spdlog::info("http: serving /, /metrics, /healthz, /api/status, /api/registers, /api/events on {}://{}:{}",
+  spdlog::info("http: serving /, /metrics, /healthz, /api/status, /api/registers, /api/events, /api/config on {}://{}:{}",
                options_.tls ? "https" : "http", options_.listen, port());
   accepting_.start();
 }

@@ -1,9 +1,10 @@
 #pragma once
-// The read-only HTTP/1.1 server of SPEC §13 (/, /metrics, /healthz, /api/…) on Boost.Beast,
-// on the daemon's event loop, plain or over TLS (Asio's SSL stream). What a path answers,
-// and who may ask, is the Bridge's (a handler, a gate); this owns the sockets and the
-// limits a technician's browser or a scraper must live with: request headers up to 8 KiB
-// and no body, a deadline for each request (and for the TLS handshake; an idle keep-alive
+// The HTTP/1.1 server of SPEC §13 (/, /metrics, /healthz, /api/…) on Boost.Beast, on the
+// daemon's event loop, plain or over TLS (Asio's SSL stream). What a path answers, and who
+// may ask, is the Bridge's (a handler, a gate); this owns the sockets and the limits a
+// technician's browser or a scraper must live with: request headers up to 8 KiB, no body
+// but a PUT's or POST's up to `max_body` (a config sent to /api/config, SPEC §19; 413
+// beyond, before it is read), a deadline for each request (and for the TLS handshake; an idle keep-alive
 // connection is closed by it too), and at most `max_clients` connections — one more
 // closes one that web::connection_to_evict chooses (never one with a request in
 // progress; one of the host holding the most), or is closed itself when each has a
@@ -37,7 +38,13 @@ struct HttpOptions {
   // HTTPS: the handshakes a host may start (io/handshake_admission), the service's across reloads.
   std::shared_ptr<tls::HandshakeLimiter> handshakes;
   std::string port_origin;  // the config's "file:line:col" of http.port, named when the port is taken
+  std::size_t max_body = 0;  // a PUT's or POST's body at most (413 beyond); GET and HEAD carry none
 };
+
+struct HttpResponse;
+/// Gives a deferred answer (HttpResponse::later); called once, from the loop. After the
+/// client went (or the server stopped) it does nothing.
+using HttpReply = std::function<void(HttpResponse)>;
 
 struct HttpResponse {
   unsigned status = 200;
@@ -48,14 +55,28 @@ struct HttpResponse {
   /// Set for an event stream: after the header (200, text/event-stream) the connection
   /// stays open and this is called with its sink; `body` is ignored. A HEAD gets the header only.
   std::function<void(std::shared_ptr<web::EventSink>)> stream;
+  /// Set for an answer that comes when a long task ends (a config's probe, up to minutes):
+  /// called at once with how to reply; the connection waits for it with no deadline, and is
+  /// closed when its client goes meanwhile. The other fields are ignored.
+  std::function<void(HttpReply)> later;
 };
 
-/// Answers a GET (or HEAD) of `target` (the path and query as sent).
-using HttpHandler = std::function<HttpResponse(std::string_view target)>;
+/// A request as the handler sees it, once the gate let it through.
+struct HttpRequest {
+  std::string_view method;  // "GET", "HEAD", "PUT" or "POST"
+  std::string_view target;  // the path and query as sent
+  std::string_view body;    // a PUT's or POST's
+  std::string user;         // the user of http.users who sent it; empty when the server asks no one
+  std::string peer;         // "address:port"
+  bool tls = false;         // it came over HTTPS
+};
 
-/// The gate's verdict on a request: nullopt lets it through, a response (401, 429, 503)
-/// goes instead.
-using HttpGateDone = std::function<void(std::optional<HttpResponse> refusal)>;
+/// Answers a request.
+using HttpHandler = std::function<HttpResponse(const HttpRequest& request)>;
+
+/// The gate's verdict on a request: nullopt lets it through, as `user` (empty when the
+/// server asks no one); a response (401, 429, 503) goes instead.
+using HttpGateDone = std::function<void(std::optional<HttpResponse> refusal, std::string user)>;
 /// Called when a connection goes while the gate has its `done` (the client left, the
 /// server stopped, closed): `done` must then never run, and what it waited for is let go.
 using HttpGateLeave = std::function<void()>;

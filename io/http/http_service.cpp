@@ -5,6 +5,7 @@
 #include <spdlog/spdlog.h>
 
 #include "io/handshake_admission.hpp"
+#include "io/http/config_answers.hpp"
 #include "io/listen_error.hpp"
 #include "io/tls_context.hpp"
 #include "platform/peer_warnings.hpp"
@@ -38,6 +39,7 @@ std::unique_ptr<HttpServer> HttpService::make_server(const config::Config& confi
   options.port = config.http->port;
   options.max_clients = config.http->max_clients;
   options.port_origin = config.http->port_origin;
+  options.max_body = HttpConfigAnswers::max_body;
   if (const auto& tls = config.http->tls) {
     options.tls = make_server_tls_context({tls->certificate, tls->key, {}}, "http.tls");
     options.handshakes = handshakes_;
@@ -47,7 +49,7 @@ std::unique_ptr<HttpServer> HttpService::make_server(const config::Config& confi
 
 std::unique_ptr<HttpServer> HttpService::serve(const HttpOptions& options) {
   try {
-    auto server = std::make_unique<HttpServer>(runtime_.io, options, [this](std::string_view target) { return answers_.answer(target); });
+    auto server = std::make_unique<HttpServer>(runtime_.io, options, [this](const HttpRequest& request) { return answers_.answer(request); });
     server->set_gate([this](std::string_view authorization, const std::string& peer, HttpGateDone done) {
       return gate(authorization, peer, std::move(done));
     });
@@ -76,15 +78,15 @@ std::optional<web::BasicAuth> HttpService::read_users(const config::Config& conf
 // the request answered when it is back (checked()). web::LoginLimits decides who may start one.
 HttpGateLeave HttpService::gate(std::string_view authorization, const std::string& peer, HttpGateDone done) {
   // Answered here and now: the connection has nothing to leave.
-  const auto answer = [&done](std::optional<HttpResponse> refusal) -> HttpGateLeave {
-    done(std::move(refusal));
+  const auto answer = [&done](std::optional<HttpResponse> refusal, std::string user = {}) -> HttpGateLeave {
+    done(std::move(refusal), std::move(user));
     return nullptr;
   };
   if (!users_) return answer(std::nullopt);
   auto judgement = users_->judge(authorization);
   switch (judgement.verdict) {
     case web::BasicAuth::Verdict::allowed:
-      return answer(std::nullopt);
+      return answer(std::nullopt, judgement.user);
     case web::BasicAuth::Verdict::refused:
       return answer(unauthorized(peer, !authorization.empty()));
     case web::BasicAuth::Verdict::check:
@@ -106,14 +108,14 @@ HttpGateLeave HttpService::gate(std::string_view authorization, const std::strin
                                "http: {} asks for more password checks than {} at once and {} a second: told to wait", peer,
                                login_limits_.options().checks_per_host, login_limits_.options().host_rate);
       return answer(HttpResponse{429, text_type, "too many logins from your address: try again in a second\n",
-                                 {{"Retry-After", retry_after}}, {}});
+                                 {{"Retry-After", retry_after}}, {}, {}});
     case web::LoginLimits::Admission::busy:
       ++login_counters_.busy;
       web::forget_password(judgement.check->password);
       platform::warn_from_peer("http: logins refused as too many at once", peer,
                                "http: {} password checks are waiting already: {} told to come back", login_limits_.options().checks,
                                peer);
-      return answer(HttpResponse{503, text_type, "too many logins at once: try again in a second\n", {{"Retry-After", retry_after}}, {}});
+      return answer(HttpResponse{503, text_type, "too many logins at once: try again in a second\n", {{"Retry-After", retry_after}}, {}, {}});
   }
   ++login_counters_.checked;
   auto& pending = checks_[std::string(authorization)];
@@ -157,7 +159,8 @@ void HttpService::checked(const std::string& authorization, bool hash_matched) {
   // A check begun before a reload answers its requests, but the users read since decide
   // whether the header is remembered: it may name a user they no longer hold.
   if (passed && users_ && pending.users_generation == users_generation_) users_->remember(pending.check);
-  for (auto& waiter : pending.waiting) waiter.done(passed ? std::nullopt : std::optional(unauthorized(waiter.peer, true)));
+  for (auto& waiter : pending.waiting)
+    waiter.done(passed ? std::nullopt : std::optional(unauthorized(waiter.peer, true)), passed ? pending.check.user : std::string{});
 }
 
 HttpResponse HttpService::unauthorized(const std::string& peer, bool gave_credentials) {
@@ -166,7 +169,7 @@ HttpResponse HttpService::unauthorized(const std::string& peer, bool gave_creden
     platform::warn_from_peer("http: logins refused", peer, "http: {} gave a name and password that http.users does not hold", peer);
   }
   return HttpResponse{401, text_type, "log in: a name and password of http.users\n",
-                      {{"WWW-Authenticate", "Basic realm=\"unima-bridge\", charset=\"UTF-8\""}}, {}};
+                      {{"WWW-Authenticate", "Basic realm=\"unima-bridge\", charset=\"UTF-8\""}}, {}, {}};
 }
 
 void HttpService::values_changed() {

@@ -1,0 +1,187 @@
+// A config from afar over HTTP (SPEC §19, issue 40): PUT /api/config, GET /api/config and
+// POST /api/config/revert against the real daemon with curl — over HTTPS, and over plain
+// HTTP from this machine. Only a user of http.users that the running config's
+// remote_config.http lists may change the config; the answer comes when the flow ends,
+// with its HTTP status (200 applied, 422 refused); the config's text is shown only to such
+// a user; a config that would lock its sender out is refused.
+
+#include <fstream>
+#include <sstream>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "tests/integration/certificate_fixture.hpp"
+
+namespace unima::test {
+namespace {
+
+struct CurlReply {
+  int status = 0;  // 0: curl failed
+  std::string body;
+  std::string output;  // all curl said, for a failure's message
+  nlohmann::json json() const { return nlohmann::json::parse(body, nullptr, false); }
+};
+
+class HttpRemoteConfig : public CertificateTest {
+ protected:
+  void SetUp() override {
+    CertificateTest::SetUp();
+    config.log_level = "info";
+    users = dir.path() / "http-users";
+    add_http_user("fleet", "fleet pass");
+    add_http_user("technician", "tech pass");
+    http_port = free_port();
+  }
+
+  void add_http_user(const std::string& name, const std::string& password) {
+    const auto hashed = run("openssl passwd -6 '" + password + "'");
+    ASSERT_EQ(hashed.status, 0) << hashed.output;
+    std::ofstream(users, std::ios::app) << name << ":" << hashed.output;
+  }
+
+  /// The daemon with `http` (HTTPS when `tls`) and remote_config.http listing `listed`.
+  void start_http(bool with_tls, const std::string& listed = "[fleet]") {
+    tls = with_tls;
+    config.extra += "http: { listen: 127.0.0.1, port: " + std::to_string(http_port) + ", users: " + users.string();
+    if (tls)
+      config.extra += ", tls: { certificate: " + (certs / "server.pem").string() + ", key: " + (certs / "server.key").string() + " }";
+    config.extra += " }\nremote_config: { http: " + listed + " }\n";
+    start();
+    ASSERT_TRUE(wait_for_port(http_port)) << daemon->log();
+  }
+
+  BridgeConfig moved_to(std::uint16_t port) const {
+    auto next = config;
+    next.modbus_port = port;
+    return next;
+  }
+
+  /// curl's `method` of `path` as `credentials` ("name:password"; empty: none), with `body`.
+  CurlReply curl(const std::string& method, const std::string& path, const std::string& credentials = "",
+                 const std::optional<std::string>& body = std::nullopt) const {
+    std::string command = "curl -sS --max-time 120 -X " + method + " -w '\\n%{http_code}'";
+    if (tls) command += " --cacert " + (certs / "ca.pem").string();
+    if (!credentials.empty()) command += " -u '" + credentials + "'";
+    if (body) {
+      const auto file = dir.path() / ("body-" + std::to_string(bodies_++) + ".yaml");
+      std::ofstream(file) << *body;
+      command += " -H 'Content-Type: application/yaml' --data-binary @" + file.string();
+    }
+    command += std::string(" ") + (tls ? "https" : "http") + "://127.0.0.1:" + std::to_string(http_port) + path + " 2>&1";
+    CurlReply reply;
+    reply.output = run(command).output;
+    const auto last = reply.output.rfind('\n');
+    if (last == std::string::npos) return reply;
+    reply.body = reply.output.substr(0, last);
+    reply.status = std::atoi(reply.output.c_str() + last + 1);
+    return reply;
+  }
+
+  CurlReply put_config(const std::string& yaml, const std::string& credentials = "fleet:fleet pass") const {
+    return curl("PUT", "/api/config", credentials, yaml);
+  }
+
+  bool serves_on(std::uint16_t port) const {
+    ModbusClient client(port);
+    return client.read_holding(0x0100, 1).has_value();
+  }
+
+  nlohmann::json in_force(const std::string& credentials = "technician:tech pass") const {
+    return curl("GET", "/api/config", credentials).json()["in_force"];
+  }
+
+  std::filesystem::path users;
+  std::uint16_t http_port = 0;
+  bool tls = false;
+  mutable int bodies_ = 0;
+};
+
+TEST_F(HttpRemoteConfig, AListedUserMovesTheModbusPortOverHttpsSeesItInForceAndRevertsToTheFile) {
+  start_http(true);
+  const auto moved = free_port();
+  const auto sent = moved_to(moved).yaml();
+  const auto put = put_config(sent);
+  ASSERT_EQ(put.status, 200) << put.output << daemon->log();
+  EXPECT_EQ(put.json()["result"], "applied") << put.body;
+  EXPECT_EQ(put.json()["source"], "http") << put.body;
+  EXPECT_EQ(put.json()["by"], "fleet") << put.body;
+  EXPECT_TRUE(serves_on(moved));
+  EXPECT_FALSE(serves_on(config.modbus_port));
+  EXPECT_TRUE(daemon->wait_for_log("remote config: http by fleet")) << daemon->log();
+
+  // Any user the page lets in sees which config is in force, but not its text.
+  const auto shown = curl("GET", "/api/config", "technician:tech pass");
+  ASSERT_EQ(shown.status, 200) << shown.output;
+  EXPECT_EQ(shown.json()["in_force"]["source"], "http") << shown.body;
+  EXPECT_EQ(shown.json()["in_force"]["by"], "fleet") << shown.body;
+  EXPECT_FALSE(shown.json()["in_force"].contains("text")) << shown.body;
+  ASSERT_EQ(shown.json()["history"].size(), 1u) << shown.body;
+  EXPECT_EQ(shown.json()["history"][0]["source"], "http") << shown.body;
+  EXPECT_EQ(in_force("fleet:fleet pass")["text"], sent);
+
+  const auto reverted = curl("POST", "/api/config/revert", "fleet:fleet pass");
+  ASSERT_EQ(reverted.status, 200) << reverted.output << daemon->log();
+  EXPECT_EQ(reverted.json()["result"], "applied") << reverted.body;
+  EXPECT_TRUE(serves_on(config.modbus_port));
+  EXPECT_EQ(in_force()["source"], "file");
+}
+
+TEST_F(HttpRemoteConfig, AnUnlistedUserIsForbiddenNoCredentialsAreAskedForAndNothingChanges) {
+  start_http(true);
+  const auto sent = moved_to(free_port()).yaml();
+  const auto unlisted = put_config(sent, "technician:tech pass");
+  EXPECT_EQ(unlisted.status, 403) << unlisted.output;
+  EXPECT_NE(unlisted.json().value("error", "").find("remote_config.http does not list"), std::string::npos) << unlisted.body;
+  EXPECT_EQ(curl("POST", "/api/config/revert", "technician:tech pass").status, 403);
+  const auto anonymous = put_config(sent, "");
+  EXPECT_EQ(anonymous.status, 401) << anonymous.output;
+  EXPECT_EQ(curl("GET", "/api/config").status, 401);
+  // A body over what a config may be is refused before it is read.
+  EXPECT_EQ(put_config(std::string(400 * 1024, '#')).status, 413);
+  EXPECT_TRUE(serves_on(config.modbus_port));
+  const auto after = in_force();
+  EXPECT_EQ(after["source"], "file") << after.dump();
+  EXPECT_TRUE(after["last"].is_null()) << "no change reached the flow: " << after.dump();
+}
+
+TEST_F(HttpRemoteConfig, AConfigWithErrorsIsRefusedWithTheirLinesAndColumns) {
+  start_http(true);
+  auto broken = moved_to(free_port());
+  broken.extra += "no_such_section: 1\n";
+  const auto yaml = broken.yaml();
+  const auto line = std::count(yaml.begin(), yaml.begin() + static_cast<long>(yaml.find("no_such_section")), '\n') + 1;
+  const auto put = put_config(yaml);
+  ASSERT_EQ(put.status, 422) << put.output;
+  EXPECT_EQ(put.json()["result"], "refused") << put.body;
+  ASSERT_FALSE(put.json()["errors"].empty()) << put.body;
+  EXPECT_EQ(put.json()["errors"][0]["line"], line) << put.body;
+  EXPECT_GT(put.json()["errors"][0]["column"], 0) << put.body;
+  EXPECT_TRUE(serves_on(config.modbus_port));
+  EXPECT_EQ(in_force()["source"], "file");
+}
+
+TEST_F(HttpRemoteConfig, AConfigThatTakesItsSenderOutOfRemoteConfigHttpIsRefused) {
+  start_http(true);
+  auto locking_out = moved_to(free_port());
+  const auto listed = locking_out.extra.find("http: [fleet]");
+  ASSERT_NE(listed, std::string::npos) << locking_out.extra;
+  locking_out.extra.replace(listed, 13, "http: [technician]");
+  const auto put = put_config(locking_out.yaml());
+  ASSERT_EQ(put.status, 422) << put.output << daemon->log();
+  EXPECT_NE(put.json()["reason"].get<std::string>().find("takes fleet out of remote_config.http"), std::string::npos) << put.body;
+  EXPECT_TRUE(serves_on(config.modbus_port));
+}
+
+TEST_F(HttpRemoteConfig, OverPlainHttpAChangeFromThisMachineIsTaken) {
+  start_http(false);
+  const auto moved = free_port();
+  const auto put = put_config(moved_to(moved).yaml());
+  ASSERT_EQ(put.status, 200) << put.output << daemon->log();
+  EXPECT_EQ(put.json()["result"], "applied") << put.body;
+  EXPECT_TRUE(serves_on(moved));
+  EXPECT_EQ(in_force()["source"], "http");
+}
+
+}  // namespace
+}  // namespace unima::test
