@@ -18,6 +18,8 @@ packages=(
   # Home Assistant's command templates rendered by Jinja itself (tests/integration/mqtt_discovery_test)
   python3-jinja2
   mbpoll socat
+  # HTTP clients of the tests: PUT /api/config (tests/integration/http_remote_config_test), the ARM smoke's /metrics
+  curl
   # the monitor's pcap read back by Wireshark's own dissectors (SPEC §20)
   tshark
   # packaging tests: systemd-analyze, systemd-sysusers/-tmpfiles, man, dpkg-shlibdeps, shellcheck
