@@ -38,7 +38,7 @@ std::chrono::milliseconds probe_of(const config::Config& config) {
 }  // namespace
 
 RemoteConfigCoordinator::RemoteConfigCoordinator(asio::io_context& io, Bridge& bridge, ConfigInForce& in_force)
-    : io_(io), bridge_(bridge), in_force_(in_force), probe_timer_(io) {
+    : bridge_(bridge), in_force_(in_force), probe_timer_(io) {
   if (!in_force_.store_directory.empty()) {
     const auto& remote = in_force_.config.remote_config;
     store_.emplace(in_force_.store_directory, remote ? remote->keep : io::RemoteConfigStore::default_keep);

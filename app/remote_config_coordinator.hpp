@@ -50,7 +50,6 @@ class RemoteConfigCoordinator final : public io::ConfigChanges {
   void probe();
   void finish(const remote::ChangeAnswer& answer);
 
-  asio::io_context& io_;
   Bridge& bridge_;
   ConfigInForce& in_force_;
   remote::ChangeFlow flow_;
