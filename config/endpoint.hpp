@@ -46,7 +46,8 @@ bool is_ip_address(std::string_view text);
 /// not, for the message of the key that holds it.
 std::optional<std::string> listen_address_error(std::string_view text, HostRule rule);
 
-/// True for an address of 127.0.0.0/8 or ::1: reachable from this machine only.
+/// True for an address of 127.0.0.0/8 or ::1 (or 127.0.0.0/8 mapped into IPv6): reachable
+/// from this machine only. For a listen address and a peer's alike.
 bool is_loopback_address(std::string_view text);
 
 /// "host:port", "[v6]:port", or an IPv6 address and port split at the last colon

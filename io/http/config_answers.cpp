@@ -5,7 +5,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include "platform/asio.hpp"
+#include "config/endpoint.hpp"
 #include "platform/peer_warnings.hpp"
 
 namespace unima::io {
@@ -24,14 +24,7 @@ HttpResponse config_method_not_allowed(std::string allowed) {
 }
 
 // "127.0.0.1:5000", "::1:5000", "::ffff:127.0.0.1:5000": the peer is this machine.
-bool from_loopback(const std::string& peer) {
-  boost::system::error_code ec;
-  const auto address = asio::ip::make_address(std::string(platform::peer_host(peer)), ec);
-  if (ec) return false;
-  if (address.is_v6() && address.to_v6().is_v4_mapped())
-    return asio::ip::make_address_v4(asio::ip::v4_mapped, address.to_v6()).is_loopback();
-  return address.is_loopback();
-}
+bool from_loopback(const std::string& peer) { return config::is_loopback_address(platform::peer_host(peer)); }
 
 HttpResponse change_response(const remote::ChangeAnswer& answer) {
   return {http_status_of(answer.result), config_json_type, remote::answer_json(answer) + "\n", {}, {}, {}};

@@ -49,6 +49,14 @@ TEST(IpAddress, IsWhatTheSocketLayerTakes) {
   EXPECT_FALSE(is_ip_address(" 127.0.0.1"));
 }
 
+// Reachable from this machine only: a listen address, or a peer as a dual-stack socket names it.
+TEST(LoopbackAddress, IsThisMachineOnlyWhateverTheFamily) {
+  for (const char* loopback : {"127.0.0.1", "127.3.2.1", "::1", "::ffff:127.0.0.1"})
+    EXPECT_TRUE(config::is_loopback_address(loopback)) << loopback;
+  for (const char* other : {"0.0.0.0", "10.0.0.1", "::", "::ffff:10.0.0.1", "fe80::1", "localhost", ""})
+    EXPECT_FALSE(config::is_loopback_address(other)) << other;
+}
+
 TEST(HostPort, SplitsAtTheLastColonOrAfterBrackets) {
   using Result = std::variant<HostPort, std::string>;
   EXPECT_EQ(parse_host_port("127.0.0.1:502", HostRule::listen_address, PortRule::nonzero),
