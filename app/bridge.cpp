@@ -79,6 +79,10 @@ void Bridge::reload(config::Config config) {
   spdlog::info("bridge: reloaded {}", runtime_.config().file);
 }
 
+void Bridge::config_in_force_changed() {
+  for (auto& service : services_) service->config_in_force_changed();
+}
+
 remote::ProbeFacts Bridge::probe_facts() const {
   remote::ProbeFacts facts;
   for (const auto& service : services_) service->probe(facts);

@@ -35,6 +35,8 @@ class Bridge {
   status::Document status() const;
   /// What the probe of a config from afar looks at, from every service (SPEC §19).
   remote::ProbeFacts probe_facts() const;
+  /// Tells every service that the config in force, or the last change, is other than it was.
+  void config_in_force_changed();
 
  private:
   io::Runtime runtime_;

@@ -203,6 +203,7 @@ void RemoteConfigCoordinator::reloaded() {
     status_.by.reset();
     status_.applied_at.reset();
   }
+  bridge_.config_in_force_changed();
 }
 
 remote::ConfigStatus RemoteConfigCoordinator::status() const { return status_; }

@@ -40,7 +40,8 @@ class RemoteConfigCoordinator final : public io::ConfigChanges {
 
   /// Runs `task` now, or when the change under way has ended (a SIGHUP's reload).
   void run_when_free(std::function<void()> task);
-  /// The config in force changed by another way (a SIGHUP's reload): shown from now on.
+  /// The config in force changed by another way (a SIGHUP's reload): shown from now on,
+  /// and told to the services (the MQTT birth).
   void reloaded();
 
  private:

@@ -37,6 +37,10 @@ class Service {
   /// What the probe of a config from afar (SPEC §19) needs of this service: its listener
   /// bound, its broker connected, its server answering. A service with none adds nothing.
   virtual void probe(remote::ProbeFacts& facts) const { (void)facts; }
+
+  /// The config in force or the last change from afar is other than it was (a change from
+  /// afar ended, a SIGHUP reloaded): what this service tells others of it is told anew.
+  virtual void config_in_force_changed() {}
 };
 
 }  // namespace unima::io

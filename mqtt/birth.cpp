@@ -6,6 +6,15 @@
 
 namespace unima::mqtt {
 
+namespace {
+
+template <typename T>
+nlohmann::ordered_json or_null(const std::optional<T>& value) {
+  return value ? nlohmann::ordered_json(*value) : nlohmann::ordered_json(nullptr);
+}
+
+}  // namespace
+
 std::string birth_document(const BirthFacts& facts) {
   std::string started;
   platform::append_utc_time(started, facts.started);
@@ -16,6 +25,10 @@ std::string birth_document(const BirthFacts& facts) {
   document["hostname"] = facts.hostname;
   document["machine_id"] = facts.machine_id.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(facts.machine_id);
   document["clock_synced"] = facts.clock_synced;
+  const auto& config = facts.config;
+  document["config"] = {{"source", config.source},           {"number", or_null(config.number)},
+                        {"by", or_null(config.by)},           {"applied_at", or_null(config.applied_at)},
+                        {"last_result", or_null(config.last_result)}, {"last_reason", or_null(config.last_reason)}};
   return document.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 }
 

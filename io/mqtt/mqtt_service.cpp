@@ -47,7 +47,7 @@ std::unique_ptr<MqttClient> MqttService::make_client(const config::Config& confi
   options.birth_topic = m.topic + "/birth";
   auto client = std::make_unique<MqttClient>(runtime_.io, options);
   client->hold_reading(!command_flow_.reading());  // commands of the client before it may still wait
-  client->birth([this] { return birth(); });
+  client->birth([this] { return last_birth_ = birth(); });
   client->on_connected([this, announcing = client.get()] {
     // Home Assistant's configs before the documents their entities read.
     discovery_.announce(*announcing);
@@ -77,12 +77,33 @@ std::unique_ptr<MqttClient> MqttService::make_client(const config::Config& confi
 // Of the running config: a reload that keeps the client still changes config_sha256.
 std::string MqttService::birth() const {
   const auto& config = runtime_.config();
+  mqtt::BirthConfig in_force;
+  if (runtime_.config_changes) {
+    const auto status = runtime_.config_changes->status();
+    in_force = {.source = status.source, .number = status.number, .by = status.by, .applied_at = status.applied_at,
+                .last_result = {}, .last_reason = {}};
+    if (status.last) {
+      in_force.last_result = status.last->result;
+      in_force.last_reason = status.last->reason;
+    }
+  }
   return mqtt::birth_document({.version = UNIMA_VERSION,
                                .config_sha256 = config.file_sha256,
                                .started = runtime_.started_utc,
                                .hostname = config.mqtt->host_name,
                                .machine_id = config.mqtt->machine_id,
-                               .clock_synced = platform::clock_synchronized()});
+                               .clock_synced = platform::clock_synchronized(),
+                               .config = std::move(in_force)});
+}
+
+// After a reload (commit) and after a change from afar ended, whichever way it ended: the
+// retained birth always names the config in force — a client kept by the reload republishes
+// it, a new one published it when it connected, and nothing is published when nothing changed.
+void MqttService::config_in_force_changed() {
+  if (!client_ || !client_->connected() || !runtime_.config().mqtt) return;
+  auto now = birth();
+  if (now == last_birth_) return;
+  if (client_->publish(client_->options().birth_topic, now, true)) last_birth_ = std::move(now);
 }
 
 void MqttService::lay_out() {
@@ -362,9 +383,6 @@ void MqttService::abandon() {
 }
 
 void MqttService::commit(const Banks& previous) {
-  // The same client after a reload: the retained birth tells of the config now running.
-  if (!new_client_ && client_ && client_->connected() && previous.config.file_sha256 != runtime_.config().file_sha256)
-    client_->publish(client_->options().birth_topic, birth(), true);
   if (new_client_) {
     if (client_) client_->stop();  // `offline`, a clean goodbye, before the new client says `online`
     if (history_) history_->end();

@@ -55,6 +55,8 @@ class MqttService final : public Service {
   void commit(const Banks& previous) override;
   void describe(status::Document& status) const override;
   void probe(remote::ProbeFacts& facts) const override;
+  /// A new birth when what it says changed (the config in force, the last change).
+  void config_in_force_changed() override;
 
  private:
   std::unique_ptr<MqttClient> make_client(const config::Config& config);
@@ -88,6 +90,8 @@ class MqttService final : public Service {
   /// have replaced the one it came by), or kept for the next connection.
   void send_config_answer();
   std::string birth() const;
+  /// The birth as the connection has it now: handed to it at connection or published since.
+  std::string last_birth_;
   /// Documents go to the history buffer instead of the broker.
   bool buffering() const;
 

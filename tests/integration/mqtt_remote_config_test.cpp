@@ -137,6 +137,43 @@ TEST_F(MqttRemoteConfig, AConfigWithErrorsIsRefusedWithTheirLineAndColumn) {
   EXPECT_FALSE(serves_on(broken.modbus_port));
 }
 
+// The retained birth names the config in force and how the last change ended, so a
+// fleet's inventory learns both without asking each bridge — a refused change too.
+TEST_F(MqttRemoteConfig, TheRetainedBirthNamesTheConfigInForceAndTheLastChange) {
+  constexpr auto birth_topic = "fleet/site-17/birth";
+  const auto retained_birth = [&] {
+    const auto text = broker->subscribe(birth_topic, 1);
+    const auto at = text.find('{');
+    return at == std::string::npos ? nlohmann::json() : nlohmann::json::parse(text.substr(at), nullptr, false);
+  };
+  start_taking();
+  ASSERT_TRUE(eventually([&] { return retained_birth().is_object(); })) << daemon->log();
+  auto birth = retained_birth();
+  EXPECT_EQ(birth["config"]["source"], "file") << birth.dump();
+  EXPECT_TRUE(birth["config"]["last_result"].is_null()) << birth.dump();
+
+  auto next = config;
+  next.modbus_port = free_port();
+  std::filesystem::path file;
+  ASSERT_EQ(answer_after([&] { file = send(next.yaml(), "moved.yaml"); })["result"], "applied") << daemon->log();
+  EXPECT_TRUE(eventually([&] { return retained_birth()["config"]["last_result"] == "applied"; })) << retained_birth().dump();
+  birth = retained_birth();
+  EXPECT_EQ(birth["config_sha256"], sha256_of_file(file)) << birth.dump();
+  EXPECT_EQ(birth["config"]["source"], "mqtt") << birth.dump();
+  EXPECT_EQ(birth["config"]["by"], "mqtt") << birth.dump();
+  EXPECT_EQ(birth["config"]["number"], 1) << birth.dump();
+  EXPECT_TRUE(birth["config"]["applied_at"].is_string()) << birth.dump();
+
+  auto broken = next;
+  broken.extra += "no_such_section: 1\n";
+  ASSERT_EQ(answer_after([&] { send(broken.yaml(), "broken.yaml"); })["result"], "refused") << daemon->log();
+  EXPECT_TRUE(eventually([&] { return retained_birth()["config"]["last_result"] == "refused"; })) << retained_birth().dump();
+  birth = retained_birth();
+  EXPECT_EQ(birth["config"]["source"], "mqtt") << "a refused change leaves the config in force: " << birth.dump();
+  EXPECT_EQ(birth["config_sha256"], sha256_of_file(file)) << birth.dump();
+  EXPECT_TRUE(birth["config"]["last_reason"].is_string()) << birth.dump();
+}
+
 // A config that turns remote_config.mqtt off would leave the fleet no way back to this bridge.
 TEST_F(MqttRemoteConfig, AConfigThatTurnsOffItsOwnChannelIsRefused) {
   start_taking();

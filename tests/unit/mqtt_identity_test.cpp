@@ -58,9 +58,22 @@ TEST(Birth, TheDocumentOfSpec15) {
                                           .started = started,
                                           .hostname = "plc-7",
                                           .machine_id = "3d1219c7",
-                                          .clock_synced = true});
+                                          .clock_synced = true,
+                                          .config = {}});
   EXPECT_EQ(text, R"({"version":"1.4.0","config_sha256":")" + std::string(64, 'a') +
-                      R"(","started":"2026-11-27T09:36:00.000000Z","hostname":"plc-7","machine_id":"3d1219c7","clock_synced":true})");
+                      R"(","started":"2026-11-27T09:36:00.000000Z","hostname":"plc-7","machine_id":"3d1219c7","clock_synced":true,)"
+                      R"("config":{"source":"file","number":null,"by":null,"applied_at":null,"last_result":null,"last_reason":null}})");
+}
+
+TEST(Birth, AConfigFromAfarIsNamedWithItsNumberAuthorTimeAndTheLastChange) {
+  mqtt::BirthFacts facts;
+  facts.config = {.source = "http", .number = 7, .by = "fleet", .applied_at = "2026-11-30T01:02:03.000000Z",
+                  .last_result = "rolled_back", .last_reason = "mqtt broker not connected within 30 s"};
+  const auto birth = nlohmann::json::parse(mqtt::birth_document(facts));
+  EXPECT_EQ(birth["config"], nlohmann::json::parse(R"({"source":"http","number":7,"by":"fleet",)"
+                                                   R"("applied_at":"2026-11-30T01:02:03.000000Z","last_result":"rolled_back",)"
+                                                   R"("last_reason":"mqtt broker not connected within 30 s"})"))
+      << birth.dump();
 }
 
 TEST(Birth, NoMachineIdIsNull) {
