@@ -2,7 +2,8 @@
 // POST /api/config/revert against the real daemon with curl — over HTTPS, and over plain
 // HTTP from this machine. Only a user of http.users that the running config's
 // remote_config.http lists may change the config; the answer comes when the flow ends,
-// with its HTTP status (200 applied, 422 refused); the config's text is shown only to such
+// with its HTTP status (200 applied, 409 busy, 422 refused, 502 rolled back), and a sender
+// that stops waiting changes nothing of the flow; the config's text is shown only to such
 // a user; a config that would lock its sender out is refused.
 
 #include <fstream>
@@ -15,6 +16,8 @@
 
 namespace unima::test {
 namespace {
+
+using namespace std::chrono_literals;
 
 struct CurlReply {
   int status = 0;  // 0: curl failed
@@ -59,8 +62,8 @@ class HttpRemoteConfig : public CertificateTest {
 
   /// curl's `method` of `path` as `credentials` ("name:password"; empty: none), with `body`.
   CurlReply curl(const std::string& method, const std::string& path, const std::string& credentials = "",
-                 const std::optional<std::string>& body = std::nullopt) const {
-    std::string command = "curl -sS --max-time 120 -X " + method + " -w '\\n%{http_code}'";
+                 const std::optional<std::string>& body = std::nullopt, int max_seconds = 120) const {
+    std::string command = "curl -sS --max-time " + std::to_string(max_seconds) + " -X " + method + " -w '\\n%{http_code}'";
     if (tls) command += " --cacert " + (certs / "ca.pem").string();
     if (!credentials.empty()) command += " -u '" + credentials + "'";
     if (body) {
@@ -78,8 +81,19 @@ class HttpRemoteConfig : public CertificateTest {
     return reply;
   }
 
-  CurlReply put_config(const std::string& yaml, const std::string& credentials = "fleet:fleet pass") const {
-    return curl("PUT", "/api/config", credentials, yaml);
+  CurlReply put_config(const std::string& yaml, const std::string& credentials = "fleet:fleet pass",
+                       int max_seconds = 120) const {
+    return curl("PUT", "/api/config", credentials, yaml, max_seconds);
+  }
+
+  /// Moved to `port`, with an MQTT broker no one answers at and a probe of `probe`.
+  BridgeConfig never_connecting(std::uint16_t port, const std::string& probe) const {
+    auto next = moved_to(port);
+    const auto section = next.extra.find("remote_config: { http: [fleet] }");
+    EXPECT_NE(section, std::string::npos) << next.extra;
+    next.extra.replace(section, 32, "remote_config: { http: [fleet], probe: " + probe + " }");
+    next.extra += "mqtt: { broker: mqtt://127.0.0.1:" + std::to_string(free_port()) + ", client_id: probe-test }\n";
+    return next;
   }
 
   bool serves_on(std::uint16_t port) const {
@@ -87,8 +101,13 @@ class HttpRemoteConfig : public CertificateTest {
     return client.read_holding(0x0100, 1).has_value();
   }
 
+  /// GET /api/config's `in_force`; null (and a failure naming what came) when it gave none.
   nlohmann::json in_force(const std::string& credentials = "technician:tech pass") const {
-    return curl("GET", "/api/config", credentials).json()["in_force"];
+    const auto shown = curl("GET", "/api/config", credentials);
+    const auto json = shown.json();
+    if (json.is_object() && json.contains("in_force")) return json["in_force"];
+    ADD_FAILURE() << "GET /api/config: " << shown.output;
+    return nullptr;
   }
 
   std::filesystem::path users;
@@ -171,6 +190,36 @@ TEST_F(HttpRemoteConfig, AConfigThatTakesItsSenderOutOfRemoteConfigHttpIsRefused
   ASSERT_EQ(put.status, 422) << put.output << daemon->log();
   EXPECT_NE(put.json()["reason"].get<std::string>().find("takes fleet out of remote_config.http"), std::string::npos) << put.body;
   EXPECT_TRUE(serves_on(config.modbus_port));
+}
+
+// The broker the new config names never answers. A sender that stops waiting changes
+// nothing: the flow goes on and rolls back at the probe's end; a second PUT meanwhile is
+// told 409 busy; one that waits is answered 502 rolled_back, with the reason.
+TEST_F(HttpRemoteConfig, ABrokerThatNeverAnswersIsRolledBack502ASecondPutMeanwhileIsBusy409AndASenderMayLeave) {
+  start_http(true);
+  const auto moved = free_port();
+  const auto left = put_config(never_connecting(moved, "5s").yaml(), "fleet:fleet pass", 2);
+  EXPECT_EQ(left.status, 0) << "curl gave up after 2 s, during the probe: " << left.output;
+  ASSERT_TRUE(eventually([&] { return serves_on(moved); })) << "the change goes on without its sender: " << daemon->log();
+
+  const auto second = put_config(moved_to(free_port()).yaml());
+  EXPECT_EQ(second.status, 409) << second.output;
+  ASSERT_TRUE(second.json().is_object()) << second.output;
+  EXPECT_EQ(second.json()["result"], "busy") << second.body;
+
+  // The log, not GET in a loop: HTTPS takes at most 10 handshakes a second from one host.
+  ASSERT_TRUE(daemon->wait_for_log("remote config: http by fleet: rolled_back", 20s)) << daemon->log();
+  EXPECT_EQ(in_force()["last"]["result"], "rolled_back");
+  EXPECT_TRUE(serves_on(config.modbus_port));
+  EXPECT_FALSE(serves_on(moved));
+  EXPECT_EQ(in_force()["source"], "file");
+
+  const auto waited = put_config(never_connecting(free_port(), "2s").yaml());
+  ASSERT_EQ(waited.status, 502) << waited.output << daemon->log();
+  EXPECT_EQ(waited.json()["result"], "rolled_back") << waited.body;
+  EXPECT_NE(waited.json()["reason"].get<std::string>().find("MQTT broker"), std::string::npos) << waited.body;
+  EXPECT_TRUE(serves_on(config.modbus_port));
+  EXPECT_EQ(in_force()["source"], "file");
 }
 
 TEST_F(HttpRemoteConfig, OverPlainHttpAChangeFromThisMachineIsTaken) {
