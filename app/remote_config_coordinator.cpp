@@ -127,10 +127,13 @@ void RemoteConfigCoordinator::probe() {
   if (answer->result == remote::Result::applied) {
     try {
       if (change_->text) {
+        const auto replaced = in_force_.remote ? std::optional<unsigned>(in_force_.remote->number) : std::nullopt;
         in_force_.remote = store_->keep(*change_->text, change_->source, change_->by, in_force_.operator_file,
-                                        in_force_.operator_sha256, std::chrono::system_clock::now());
+                                        in_force_.operator_sha256, replaced, std::chrono::system_clock::now());
+        reverted_from_.reset();
       } else {
         store_->put_file_in_force();
+        reverted_from_ = in_force_.remote;
         in_force_.remote.reset();
         in_force_.operator_sha256 = bridge_.config().file_sha256;
       }
@@ -219,6 +222,38 @@ nlohmann::json RemoteConfigCoordinator::in_force(bool with_text) const {
     }
   }
   return j;
+}
+
+// What the last change replaced, for the page's diff: the remote config in force before
+// (its number), or the operator's file (number null) as long as it is still the file it was.
+nlohmann::json RemoteConfigCoordinator::replaced() const {
+  if (!store_) return nullptr;
+  std::optional<unsigned> number;
+  if (in_force_.remote) {
+    if (!in_force_.remote->replaced_known)
+      return {{"number", nullptr}, {"text", nullptr}, {"text_error", "its record does not say what it replaced"}};
+    number = in_force_.remote->replaced_number;
+  } else if (reverted_from_) {
+    number = reverted_from_->number;
+  } else {
+    return nullptr;  // the operator's file, and no revert since the start: nothing to compare with
+  }
+  nlohmann::json replaced{{"number", number ? nlohmann::json(*number) : nlohmann::json(nullptr)}, {"text", nullptr}};
+  try {
+    if (number) {
+      const auto stored = store_->entry(*number);
+      if (!stored) throw std::runtime_error(fmt::format("remote config {} is no longer kept", *number));
+      replaced["text"] = store_->text(*stored);
+    } else {
+      auto text = config::read_config_file(in_force_.operator_file);
+      if (remote::change_id(text) != in_force_.remote->replaced_sha256)
+        throw std::runtime_error(fmt::format("{} has changed since", in_force_.operator_file));
+      replaced["text"] = std::move(text);
+    }
+  } catch (const std::exception& e) {
+    replaced["text_error"] = e.what();
+  }
+  return replaced;
 }
 
 nlohmann::json RemoteConfigCoordinator::history() const {

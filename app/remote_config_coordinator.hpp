@@ -36,6 +36,7 @@ class RemoteConfigCoordinator final : public io::ConfigChanges {
   void revert(remote::Source source, std::string by, Done done) override;
   nlohmann::json in_force(bool with_text) const override;
   nlohmann::json history() const override;
+  nlohmann::json replaced() const override;
   remote::ConfigStatus status() const override;
 
   /// Runs `task` now, or when the change under way has ended (a SIGHUP's reload).
@@ -66,6 +67,8 @@ class RemoteConfigCoordinator final : public io::ConfigChanges {
   };
   std::optional<Change> change_;
   std::optional<std::function<void()>> after_change_;
+  // The remote config the last revert (since the start) put out of force: the diff's old side.
+  std::optional<io::StoredConfig> reverted_from_;
   remote::ConfigStatus status_;
 };
 

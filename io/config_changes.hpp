@@ -27,6 +27,10 @@ class ConfigChanges {
   /// The config in force: source, sha256, file, applied time, last result; with its text
   /// when `with_text` (it may hold passwords: only for who may change it).
   virtual nlohmann::json in_force(bool with_text) const = 0;
+  /// The config the last change put out of force, for the page's diff (its text: as
+  /// in_force's): {"number" (null: the operator's file), "text"}, the text null with a
+  /// "text_error" when it cannot be had; null when there is nothing to compare with.
+  virtual nlohmann::json replaced() const = 0;
   /// The remote configs kept, newest first.
   virtual nlohmann::json history() const = 0;
   /// The status document's "config_in_force".

@@ -154,6 +154,9 @@ std::optional<StoredConfig> RemoteConfigStore::read_entry(unsigned number) const
     stored.applied_at = text_field(record, "applied_at");
     stored.replaced_file = text_field(record, "replaced_file");
     stored.replaced_sha256 = text_field(record, "replaced_sha256");
+    stored.replaced_known = record.contains("replaced_number");
+    if (stored.replaced_known && !record.at("replaced_number").is_null())
+      stored.replaced_number = record.at("replaced_number").get<unsigned>();
     stored.text_path = text_path(number);
     std::error_code error;
     if (!std::filesystem::is_regular_file(std::filesystem::symlink_status(stored.text_path, error)))
@@ -168,7 +171,7 @@ std::optional<StoredConfig> RemoteConfigStore::read_entry(unsigned number) const
 
 StoredConfig RemoteConfigStore::keep(std::string_view text, remote::Source source, std::string by,
                                      std::string replaced_file, std::string replaced_sha256,
-                                     std::chrono::system_clock::time_point when) {
+                                     std::optional<unsigned> replaced_number, std::chrono::system_clock::time_point when) {
   make_directory();
   const auto numbers = numbers_in(directory_);
   const auto last = std::max(read_in_force().last_number, numbers.empty() ? 0u : numbers.front());
@@ -179,6 +182,8 @@ StoredConfig RemoteConfigStore::keep(std::string_view text, remote::Source sourc
                       platform::utc_time_text(when),
                       std::move(replaced_file),
                       std::move(replaced_sha256),
+                      replaced_number,
+                      true,
                       text_path(last + 1)};
   // The text, then its record, then the record that puts it in force: a crash between two
   // leaves an entry nothing names, never a record in force without its text.
@@ -189,7 +194,8 @@ StoredConfig RemoteConfigStore::keep(std::string_view text, remote::Source sourc
                     {"by", stored.by},
                     {"applied_at", stored.applied_at},
                     {"replaced_file", stored.replaced_file},
-                    {"replaced_sha256", stored.replaced_sha256}};
+                    {"replaced_sha256", stored.replaced_sha256},
+                    {"replaced_number", stored.replaced_number ? json(*stored.replaced_number) : json(nullptr)}};
   replace_owner_only(record_path(stored.number), record.dump(2) + "\n");
   write_in_force({stored.number, stored.number});
   forget_beyond_keep(stored.number);

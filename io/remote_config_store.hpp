@@ -9,7 +9,9 @@
 // The directory, made 0700 when the first config is kept (never at start):
 //   000001.yaml   the text exactly as it was sent, 0600 (configs hold passwords)
 //   000001.json   its record: {"number":1,"id":…,"source":…,"by":…,"applied_at":…,
-//                              "replaced_file":…,"replaced_sha256":…}
+//                              "replaced_file":…,"replaced_sha256":…,"replaced_number":…}
+//                 replaced_number: the remote config it replaced, null for the operator's
+//                 file (a record written before it was kept has none: not known)
 //   in-force.json {"number": 1 | null, "last_number": N}: the config in force (null: the
 //                 operator's file) and the highest number ever given, so none is reused
 // Each is written by atomic replace (io/durable_file). A record that cannot be read is
@@ -37,6 +39,8 @@ struct StoredConfig {
   std::string applied_at;          // UTC, "2026-11-29T22:30:05.000000Z" (platform/utc_time)
   std::string replaced_file;       // the operator's file (path)
   std::string replaced_sha256;     // its sha256 when this was applied
+  std::optional<unsigned> replaced_number;  // the remote config this replaced; none: the operator's file
+  bool replaced_known = true;      // false: an older record, which does not say what it replaced
   std::filesystem::path text_path; // where the text is kept
   bool operator==(const StoredConfig&) const = default;
 };
@@ -55,13 +59,17 @@ class RemoteConfigStore {
   /// Keeps `text` as the next number and puts it in force, durably (file fsync'ed, atomic
   /// rename, directory fsync'ed) before it returns; forgets the oldest beyond `keep`,
   /// never the one in force. Throws std::system_error / std::runtime_error naming the path.
+  /// `replaced_number`: the remote config in force until now; none when the operator's file was.
   StoredConfig keep(std::string_view text, remote::Source source, std::string by, std::string replaced_file,
-                    std::string replaced_sha256, std::chrono::system_clock::time_point when);
+                    std::string replaced_sha256, std::optional<unsigned> replaced_number,
+                    std::chrono::system_clock::time_point when);
   /// The operator's file is in force again (a revert, or the file changed). Nothing to do,
   /// and nothing made, when no config was ever kept.
   void put_file_in_force();
   std::optional<StoredConfig> in_force() const;
   std::vector<StoredConfig> history() const;  // newest first
+  /// The entry `number`, while it is kept and readable.
+  std::optional<StoredConfig> entry(unsigned number) const { return read_entry(number); }
   /// The text as it was sent. Throws std::runtime_error naming the path when it is gone.
   std::string text(const StoredConfig& stored) const;
   /// Takes effect at the next keep(), which forgets what is beyond it then.

@@ -14,6 +14,12 @@ const element = (tag, attributes = {}, text) => {
   return e;
 };
 
+// A path of the daemon's API, as a whole URL of the page's origin: a page opened as
+// https://name:password@host/ has its name and password in its own URL, and fetch() refuses
+// a URL resolved against it ("cannot be constructed from a URL that includes credentials");
+// the browser sends the name and password it was given to the same origin all the same.
+const api = path => new URL(path, location.origin).href;
+
 const hex = (number, digits = 4) => '0x' + number.toString(16).toUpperCase().padStart(digits, '0');
 
 // A number as the reader's browser writes one: thousands grouped, every decimal the scale
@@ -273,6 +279,217 @@ function showNorth(panel) {
   box.replaceChildren(element('h3', {}, 'Northbound'), ...sections);
 }
 
+// The Config box (docs/fleet.md, "On the page"): the config in force and how the last change
+// ended, the configs kept, a diff of the last change (for who may see the text: it may hold
+// passwords), and for a user whom remote_config.http lists a form to apply a file or go back
+// to the operator's file. /api/config says all of it, for the user who asks; the panel says
+// when to ask again (its "config" changes with every change, by whatever channel).
+const DIFF_CONTEXT = 3;              // unchanged lines around a change, as `diff -u`
+const DIFF_MAX_CELLS = 1000 * 1000;  // the LCS table beyond the common start and end: 2 MB, some ms
+let configKey = null;                // the panel's "config" last asked about
+let configChanging = false;          // a PUT or POST is waiting for its answer
+let configAnswers = 0;               // answers shown: the answer box's data-seq
+
+const short = sha => (sha || '').slice(0, 12);
+const resultClass = result => ({ applied: 'good', refused: 'bad', rolled_back: 'bad', busy: 'wait' })[result] || '';
+
+// A text's lines, a final line end not making an empty last line.
+const linesOf = text => text === '' ? [] : (text.endsWith('\n') ? text.slice(0, -1) : text).split('\n');
+
+// The lines of `after` against `before`: [{kind: ' '|'-'|'+', text, old, new}], the line
+// numbers 1-based (0 where the line is not on that side); null when the part that differs
+// needs more than DIFF_MAX_CELLS to compare (a longest common subsequence, bounded work).
+function lineDiff(before, after) {
+  const a = linesOf(before), b = linesOf(after);
+  let start = 0;
+  while (start < a.length && start < b.length && a[start] === b[start]) start++;
+  let endA = a.length, endB = b.length;
+  while (endA > start && endB > start && a[endA - 1] === b[endB - 1]) { endA--; endB--; }
+  const n = endA - start, m = endB - start;
+  if (n * m > DIFF_MAX_CELLS) return null;
+  const width = m + 1;
+  const lcs = new Uint16Array((n + 1) * width);  // n·m ≤ 10^6: the shorter side, so the length, ≤ 1000
+  for (let i = n - 1; i >= 0; i--)
+    for (let j = m - 1; j >= 0; j--)
+      lcs[i * width + j] = a[start + i] === b[start + j] ? lcs[(i + 1) * width + j + 1] + 1
+                                                         : Math.max(lcs[(i + 1) * width + j], lcs[i * width + j + 1]);
+  const ops = [];
+  for (let k = 0; k < start; k++) ops.push({ kind: ' ', text: a[k], old: k + 1, new: k + 1 });
+  let i = 0, j = 0;
+  while (i < n || j < m) {
+    if (i < n && j < m && a[start + i] === b[start + j]) {
+      ops.push({ kind: ' ', text: a[start + i], old: start + i + 1, new: start + j + 1 }); i++; j++;
+    } else if (i < n && (j === m || lcs[(i + 1) * width + j] >= lcs[i * width + j + 1])) {
+      ops.push({ kind: '-', text: a[start + i], old: start + i + 1, new: 0 }); i++;  // removed before added, as diff -u
+    } else {
+      ops.push({ kind: '+', text: b[start + j], old: 0, new: start + j + 1 }); j++;
+    }
+  }
+  for (let k = 0; endA + k < a.length; k++) ops.push({ kind: ' ', text: a[endA + k], old: endA + k + 1, new: endB + k + 1 });
+  return ops;
+}
+
+// The changed lines with DIFF_CONTEXT lines around them, in hunks headed "@@ -3,7 +3,7 @@".
+function unifiedHunks(ops) {
+  const keep = ops.map(() => false);
+  ops.forEach((op, k) => {
+    if (op.kind === ' ') return;
+    for (let c = Math.max(0, k - DIFF_CONTEXT); c <= Math.min(ops.length - 1, k + DIFF_CONTEXT); c++) keep[c] = true;
+  });
+  const lines = [];
+  for (let k = 0; k < ops.length;) {
+    if (!keep[k]) { k++; continue; }
+    let end = k;
+    while (end < ops.length && keep[end]) end++;
+    const hunk = ops.slice(k, end);
+    const olds = hunk.filter(op => op.kind !== '+'), news = hunk.filter(op => op.kind !== '-');
+    const from = (side, key) => side.length ? side[0][key] : Math.max(0, (hunk.find(op => op[key]) || { [key]: 1 })[key] - 1);
+    lines.push({ kind: '@', text: `@@ -${from(olds, 'old')},${olds.length} +${from(news, 'new')},${news.length} @@` });
+    for (const op of hunk) lines.push({ kind: op.kind, text: op.kind + op.text });
+    k = end;
+  }
+  return lines;
+}
+
+function configLine(text, attributes = {}) { return element('p', attributes, text); }
+
+function inForceLines(c) {
+  const sha = element('span', { class: 'sha', title: c.sha256 }, short(c.sha256));
+  const what = configLine(`${c.source === 'file' ? "the operator's file" : `from ${c.source}`} ${c.file}, sha256 `, { 'data-field': 'in-force' });
+  what.append(sha);
+  if (c.number !== null && c.number !== undefined) what.append(`, remote config ${c.number} by ${c.by}, applied ${when(c.applied_at)}`);
+  const lines = [what];
+  const last = c.last;
+  lines.push(last
+    ? configLine(`last change: ${last.result}${last.reason ? ` — ${last.reason}` : ''} (${last.source} by ${last.by}, ${when(last.at)})`,
+                 { 'data-field': 'last', 'data-result': last.result, class: resultClass(last.result) })
+    : configLine('last change: none since the start', { 'data-field': 'last' }));
+  return lines;
+}
+
+function historyTable(history) {
+  if (!history.length) return [configLine('history: no config from afar is kept')];
+  const table = element('table', { class: 'history' });
+  const head = element('tr');
+  for (const name of ['number', 'source', 'by', 'applied', '']) head.append(element('th', {}, name));
+  table.append(head);
+  for (const h of history) {
+    const tr = element('tr', { 'data-number': String(h.number), 'data-in-force': String(h.in_force) });
+    tr.append(element('td', { class: 'count' }, String(h.number)), element('td', {}, h.source), element('td', {}, h.by),
+              element('td', {}, when(h.applied_at)), element('td', {}, h.in_force ? 'in force' : ''));
+    table.append(tr);
+  }
+  return [element('h3', {}, `History (the last ${history.length} kept)`), table];
+}
+
+// The diff of the last change: what it replaced (a kept config, or the operator's file)
+// against what is in force.
+function diffBox(inForce) {
+  const replaced = inForce.replaced;
+  const title = element('h3', {}, 'Last change');
+  if (!replaced) return [title, configLine('nothing to compare: no change since the start', { 'data-field': 'diff-none' })];
+  const before = replaced.number === null ? "the operator's file" : `remote config ${replaced.number}`;
+  title.textContent = `Last change: ${before} → the config in force`;
+  if (typeof replaced.text !== 'string' || typeof inForce.text !== 'string')
+    return [title, configLine(`cannot compare: ${replaced.text_error || inForce.text_error || 'a text is missing'}`, { 'data-field': 'diff-none' })];
+  const ops = lineDiff(replaced.text, inForce.text);
+  if (!ops) return [title, configLine('too many changes to show', { 'data-field': 'diff-none' })];
+  const hunks = unifiedHunks(ops);
+  if (!hunks.length) return [title, configLine('the texts are the same', { 'data-field': 'diff-none' })];
+  const pre = element('pre', { class: 'diff' });
+  for (const line of hunks) pre.append(element('span', { class: 'diff-line', 'data-kind': line.kind }, line.text + '\n'));
+  return [title, pre];
+}
+
+function showConfig(shown) {
+  const box = document.getElementById('config');
+  const c = shown.in_force;
+  // A bridge that takes no config from afar and never did has nothing to show here.
+  box.hidden = !(shown.takes_changes_from_afar || c.source !== 'file' || shown.history.length > 0 || c.last);
+  box.dataset.source = c.source;
+  box.dataset.mayChange = String(shown.may_change);
+  document.getElementById('config-in-force').replaceChildren(...inForceLines(c));
+  document.getElementById('config-history').replaceChildren(...historyTable(shown.history));
+  const diff = document.getElementById('config-diff');
+  diff.hidden = !shown.may_change;  // the texts: only for who may change them
+  diff.replaceChildren(...(shown.may_change ? diffBox(c) : []));
+  document.getElementById('config-form').hidden = !shown.may_change;
+  box.dataset.loaded = String(Number(box.dataset.loaded || 0) + 1);
+}
+
+async function loadConfig() {
+  const answer = await fetch(api('/api/config'));
+  if (!answer.ok) {  // 503: this daemon takes no config changes
+    document.getElementById('config').hidden = true;
+    return;
+  }
+  showConfig(await answer.json());
+}
+
+function showConfigChanged(panelConfig) {
+  const key = JSON.stringify(panelConfig || null);
+  if (key === configKey || configChanging) return;
+  configKey = key;
+  loadConfig().catch(() => {});
+}
+
+// The answer of PUT /api/config or POST /api/config/revert: its result and reason, every
+// error at its line and column; or why the server would not (403, 401, 413).
+function showAnswer(what, status, body) {
+  const box = document.getElementById('config-answer');
+  box.hidden = false;
+  box.dataset.state = 'answered';
+  box.dataset.result = body.result || 'not done';
+  box.className = resultClass(body.result) || 'bad';
+  const lines = [configLine(`${what}: ` + (body.result ? `${body.result}${body.reason ? ' — ' + body.reason : ''}` : `not done (HTTP ${status}): ${body.error || ''}`),
+                            { 'data-field': 'result' })];
+  if (body.errors && body.errors.length) {
+    const list = element('ul', { class: 'errors' });
+    for (const e of body.errors) list.append(element('li', {}, `${e.line}:${e.column}: ${e.message}`));
+    lines.push(list);
+  }
+  box.replaceChildren(...lines);
+}
+
+async function changeConfig(what, request) {
+  const form = document.getElementById('config-form');
+  const box = document.getElementById('config-answer');
+  for (const button of form.querySelectorAll('button')) button.disabled = true;
+  configChanging = true;
+  const seq = String(++configAnswers);
+  box.dataset.seq = seq;
+  box.hidden = false;
+  box.dataset.state = 'waiting';
+  delete box.dataset.result;
+  box.className = 'wait';
+  box.replaceChildren(configLine(`${what}: waiting for the answer — it comes once the new config has passed its probe (remote_config.probe) or failed`));
+  try {
+    const answer = await request();
+    const body = await answer.json().catch(() => ({}));
+    showAnswer(what, answer.status, body);
+  } catch (error) {
+    showAnswer(what, 0, { error: String(error) });
+  } finally {
+    for (const button of form.querySelectorAll('button')) button.disabled = false;
+    configChanging = false;
+    await loadConfig().catch(() => {});
+    box.dataset.refreshed = seq;  // the box shows what the answer left in force
+  }
+}
+
+document.getElementById('config-form').addEventListener('submit', async e => {
+  e.preventDefault();
+  const file = e.target.elements.file.files[0];
+  if (!file) return showAnswer('apply', 0, { error: 'choose a config file first' });
+  const text = await file.text();
+  changeConfig(`applying ${file.name}`, () => fetch(api('/api/config'), { method: 'PUT', body: text, headers: { 'Content-Type': 'application/yaml' } }));
+});
+
+document.querySelector('#config-form [data-action="revert"]').addEventListener('click', () => {
+  if (!confirm("Go back to the operator's file? The config from afar in force stops, and stays kept in the history.")) return;
+  changeConfig("going back to the operator's file", () => fetch(api('/api/config/revert'), { method: 'POST' }));
+});
+
 function showPanel(panel) {
   document.getElementById('mode').textContent = `${panel.mode} mode`;
   showLed('led-modbus', panel.modbus);
@@ -284,6 +501,7 @@ function showPanel(panel) {
   showSerialLines(panel.serial_lines);
   showGateway(panel.gateway);
   showNorth(panel);
+  showConfigChanged(panel.config);
 }
 
 // A monitor line by its transaction's state (Done, Not4Me, Err01…Err04, Timeout, Cached),
@@ -318,7 +536,7 @@ function setFeed(state, text) {
 function connect() {
   if (source) source.close();
   document.getElementById('lines').replaceChildren();
-  source = new EventSource('/api/events?' + filterQuery());
+  source = new EventSource(api('/api/events?' + filterQuery()));
   let lost = false;
   source.onopen = () => {
     // Back after a restart or a reload of the daemon: its register map may differ.
@@ -342,13 +560,13 @@ function connect() {
 }
 
 async function checkFilter() {
-  const answer = await fetch('/api/events?' + filterQuery(), { method: 'HEAD' });
+  const answer = await fetch(api('/api/events?' + filterQuery()), { method: 'HEAD' });
   document.getElementById('filter-error').textContent = answer.ok ? '' : 'not a filter: ad and fn are xx or 0..255, from and to 0x0000..0xFFFF';
   return answer.ok;
 }
 
 async function loadLayout() {
-  const answer = await fetch('/api/registers');
+  const answer = await fetch(api('/api/registers'));
   buildBanks(await answer.json());
 }
 

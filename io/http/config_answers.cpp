@@ -93,7 +93,15 @@ HttpResponse HttpConfigAnswers::show(const HttpRequest& request) const {
   const auto* changes = runtime_.config_changes;
   if (!changes) return config_error(503, "this daemon takes no config changes");
   auto shown = changes->history();
-  if (listed(request) && (request.tls || from_loopback(request.peer))) shown["in_force"] = changes->in_force(true);
+  const bool may_change = listed(request) && (request.tls || from_loopback(request.peer));
+  if (may_change) {
+    shown["in_force"] = changes->in_force(true);
+    shown["in_force"]["replaced"] = changes->replaced();
+  }
+  // For the page: whether to offer this user the form, and whether the box is worth showing.
+  shown["may_change"] = may_change;
+  const auto& remote = runtime_.config().remote_config;
+  shown["takes_changes_from_afar"] = remote && (remote->mqtt || !remote->http.empty());
   return {200, config_json_type, shown.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) + "\n", {}, {}, {}};
 }
 

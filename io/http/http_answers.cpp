@@ -114,6 +114,8 @@ nlohmann::json panel_of(const status::Document& document) {
   if (document.gateway) panel["gateway"] = gateway_panel(*document.gateway);
   if (document.mqtt) panel["mqtt"] = mqtt_panel(*document.mqtt);
   if (document.sparkplug) panel["sparkplug"] = sparkplug_panel(*document.sparkplug);
+  // The config in force: the page's Config box asks /api/config again when this changes.
+  if (document.config_in_force) panel["config"] = *document.config_in_force;
   return panel;
 }
 

@@ -43,7 +43,7 @@ class ConfigInForce : public BridgeTest {
   io::StoredConfig keep_remote(const std::string& operator_yaml) const {
     io::RemoteConfigStore store(dir.path() / "remote-config", io::RemoteConfigStore::default_keep);
     return store.keep(remote.yaml(), remote::Source::cli, "integrator", (dir.path() / "bridge.yaml").string(),
-                      remote::change_id(operator_yaml), std::chrono::system_clock::now());
+                      remote::change_id(operator_yaml), std::nullopt, std::chrono::system_clock::now());
   }
   /// The remote config serves: its port, its layout; the operator's port does not.
   void expect_remote_serves() const {

@@ -137,13 +137,24 @@ TEST_F(HttpRemoteConfig, AListedUserMovesTheModbusPortOverHttpsSeesItInForceAndR
   EXPECT_FALSE(shown.json()["in_force"].contains("text")) << shown.body;
   ASSERT_EQ(shown.json()["history"].size(), 1u) << shown.body;
   EXPECT_EQ(shown.json()["history"][0]["source"], "http") << shown.body;
-  EXPECT_EQ(in_force("fleet:fleet pass")["text"], sent);
+  EXPECT_EQ(shown.json()["may_change"], false) << shown.body;
+  EXPECT_EQ(shown.json()["takes_changes_from_afar"], true) << shown.body;
+  const auto listed = curl("GET", "/api/config", "fleet:fleet pass").json();
+  EXPECT_EQ(listed["may_change"], true) << listed.dump();
+  EXPECT_EQ(listed["in_force"]["text"], sent);
+  // What it replaced, for the page's diff: the operator's file, as it is.
+  EXPECT_TRUE(listed["in_force"]["replaced"]["number"].is_null()) << listed.dump();
+  EXPECT_EQ(listed["in_force"]["replaced"]["text"], config.yaml()) << listed.dump();
 
   const auto reverted = curl("POST", "/api/config/revert", "fleet:fleet pass");
   ASSERT_EQ(reverted.status, 200) << reverted.output << daemon->log();
   EXPECT_EQ(reverted.json()["result"], "applied") << reverted.body;
   EXPECT_TRUE(serves_on(config.modbus_port));
   EXPECT_EQ(in_force()["source"], "file");
+  // The revert replaced remote config 1.
+  const auto after = in_force("fleet:fleet pass");
+  EXPECT_EQ(after["replaced"]["number"], 1) << after.dump();
+  EXPECT_EQ(after["replaced"]["text"], sent) << after.dump();
 }
 
 TEST_F(HttpRemoteConfig, AnUnlistedUserIsForbiddenNoCredentialsAreAskedForAndNothingChanges) {

@@ -156,7 +156,9 @@ TEST_F(Http, ThePageAndItsFilesComeFromTheBinaryAndNothingElse) {
   const auto script = http_get(http_port, "/panel.js");
   EXPECT_EQ(script.status, 200);
   EXPECT_NE(script.head.find("Content-Type: text/javascript"), std::string::npos) << script.head;
-  EXPECT_NE(script.body.find("new EventSource('/api/events?'"), std::string::npos);
+  EXPECT_NE(script.body.find("new EventSource(api('/api/events?'"), std::string::npos);
+  // Its paths on its own origin, whatever name and password the page's address holds.
+  EXPECT_NE(script.body.find("new URL(path, location.origin)"), std::string::npos);
   EXPECT_EQ(http_get(http_port, "/panel.css").status, 200);
   EXPECT_EQ(http_get(http_port, "/index.html").status, 200);
   for (const auto* path : {"/../index.html", "/web/panel.js", "/panel.js/", "//panel.js", "/CMakeLists.txt"})

@@ -44,21 +44,24 @@ class PageNorth : public BridgeTest {
   }
   std::string broker_url() const { return "mqtt://127.0.0.1:" + std::to_string(broker->port()); }
 
-  /// Opens the page until each `section=text` shows; its northbound sections as the page showed them.
-  nlohmann::json page_north(const std::vector<std::string>& expected) const {
+  /// Opens the page until each `section=text` shows (and its Config box has loaded); its
+  /// northbound sections as the page showed them, the Config box in `config_box`.
+  nlohmann::json page_north(const std::vector<std::string>& expected) {
     auto command = std::string(UNIMA_SOURCE_DIR) + "/tests/integration/browser/page_in_chromium.py --url http://127.0.0.1:" +
-                   std::to_string(http_port) + "/ --timeout 30";
+                   std::to_string(http_port) + "/ --timeout 30 --config-box";
     for (const auto& e : expected) command += " --north '" + e + "'";
     const auto result = run(command + " 2>&1");
     EXPECT_EQ(result.status, 0) << result.output << daemon->log();
     const auto at = result.output.rfind("{\"ok\"");
     if (at == std::string::npos) return {};
     const auto shown = nlohmann::json::parse(result.output.substr(at), nullptr, false);
+    if (shown.contains("config")) config_box = shown["config"];
     return shown.contains("north") ? shown["north"] : nlohmann::json();
   }
 
   std::unique_ptr<Broker> broker;
   std::uint16_t http_port = 0;
+  nlohmann::json config_box;
 };
 
 /// The line of `section` that starts with `start`; empty when none does.
@@ -83,6 +86,9 @@ TEST_F(PageNorth, TheBoxShowsMqttConnectedWithItsClientId) {
   const auto dropped = line_of(mqtt, "0 dropped");
   ASSERT_TRUE(dropped.is_object()) << mqtt;
   EXPECT_NE(dropped["colour"], error_colour) << mqtt;
+  // No remote_config, and no config from afar ever: the Config box stays hidden.
+  EXPECT_GE(config_box.value("loaded", 0), 1) << config_box;
+  EXPECT_EQ(config_box.value("hidden", false), true) << config_box;
 }
 
 // The broker stopped: not connected since the drop, in red, and what the history buffer

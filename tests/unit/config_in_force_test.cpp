@@ -43,7 +43,7 @@ class ConfigInForceTest : public ::testing::Test {
   io::StoredConfig keep_in_force(const std::string& text) const {
     auto kept = store();
     return kept.keep(text, remote::Source::mqtt, "bridge-fleet-1", operator_path,
-                     remote::change_id(test_support::read_file(operator_path)),
+                     remote::change_id(test_support::read_file(operator_path)), std::nullopt,
                      std::chrono::system_clock::time_point(std::chrono::seconds(1'795'991'405)));
   }
   std::string log() const { return log_.str(); }

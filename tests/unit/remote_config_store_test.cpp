@@ -25,8 +25,10 @@ namespace fs = std::filesystem;
 // 2026-11-29T22:30:05.000000Z
 const auto stored_at = std::chrono::system_clock::time_point(std::chrono::seconds(1'795'991'405));
 
-StoredConfig keep_text(RemoteConfigStore& store, const std::string& text, const std::string& by = "alice") {
-  return store.keep(text, remote::Source::http, by, "/etc/unima-bridge/bridge.yaml", std::string(64, 'a'), stored_at);
+StoredConfig keep_text(RemoteConfigStore& store, const std::string& text, const std::string& by = "alice",
+                       std::optional<unsigned> replaced_number = std::nullopt) {
+  return store.keep(text, remote::Source::http, by, "/etc/unima-bridge/bridge.yaml", std::string(64, 'a'), replaced_number,
+                    stored_at);
 }
 
 std::vector<unsigned> numbers_of(const std::vector<StoredConfig>& entries) {
@@ -67,6 +69,36 @@ TEST(RemoteConfigStore, KeepsTheTextAsSentWithItsRecordAndPutsItInForce) {
   EXPECT_EQ(store.in_force(), stored);
   EXPECT_EQ(store.history(), std::vector<StoredConfig>{stored});
   EXPECT_TRUE(fs::is_regular_file(dir.path() / "remote-config" / "000001.json"));
+}
+
+TEST(RemoteConfigStore, EachRecordSaysWhatItReplacedTheFileOrANumber) {
+  TempDir dir;
+  RemoteConfigStore store(dir.path(), 10);
+  const auto first = keep_text(store, "modbus: { address: 7 }\n");
+  const auto second = keep_text(store, "modbus: { address: 8 }\n", "bob", first.number);
+  EXPECT_EQ(first.replaced_number, std::nullopt);  // the operator's file
+  EXPECT_TRUE(first.replaced_known);
+  EXPECT_EQ(second.replaced_number, 1u);
+  // As read back by another instance: the page's diff compares a config with the one it replaced.
+  RemoteConfigStore again(dir.path(), 10);
+  EXPECT_EQ(again.entry(2), second);
+  EXPECT_EQ(again.entry(1), first);
+  EXPECT_EQ(again.entry(3), std::nullopt);
+  EXPECT_NE(test_support::read_file(dir.path() / "000001.json").find("\"replaced_number\": null"), std::string::npos);
+}
+
+TEST(RemoteConfigStore, ARecordFromBeforeReplacedNumberIsReadAndSaysItIsNotKnown) {
+  TempDir dir;
+  RemoteConfigStore store(dir.path(), 10);
+  test_support::write_file(dir.path() / "000001.yaml", "modbus: { address: 7 }\n");
+  test_support::write_file(dir.path() / "000001.json",
+                           R"({"number": 1, "id": "ab", "source": "mqtt", "by": "fleet", "applied_at": "2026-11-29T22:30:05.000000Z",
+                               "replaced_file": "/etc/unima-bridge/bridge.yaml", "replaced_sha256": "cd"})");
+  const auto read = store.entry(1);
+  ASSERT_TRUE(read.has_value());
+  EXPECT_EQ(read->by, "fleet");
+  EXPECT_FALSE(read->replaced_known);
+  EXPECT_EQ(read->replaced_number, std::nullopt);
 }
 
 TEST(RemoteConfigStore, TheTextsAreTheOwnersAloneAndTheDirectoryToo) {

@@ -22,6 +22,16 @@ JSON line then holds every section (its text, and each line's text and colour).
 --serial-line NAME=TEXT: the RS-485 line NAME's box shows TEXT; the JSON line then holds
 every line's box (text, open, each paragraph's text and colour).
 
+--config-box: also awaits the Config box, loaded (and holding every --config-expect TEXT);
+the JSON line then holds it as "config": shown or hidden, its source, whether the user may
+change it, each line (text, colour), the history rows, the diff's lines (kind, text,
+colour) and the form. --apply-file FILE (repeatable, in order) then chooses FILE in the
+box's form and presses Apply, --revert (after them) presses "Revert to the operator's file"
+and accepts its confirmation; each waits for the answer and the box refreshed, and the JSON
+line's "steps" holds, per step, the states the answer went through (each with whether the
+buttons were off), the answer, and the box then.
+--ignore-certificate-errors: for HTTPS with the test's own CA (--url https://name:pw@…/).
+
 --ready-file: written once the first expectations hold; the --then expectations are
 awaited after it (the test feeds them a moment after the page showed the first ones).
 --line STATE: with --ready-file, also awaited after it: the monitor box shows a line of
@@ -90,6 +100,47 @@ result.width = document.documentElement.clientWidth;
 return result;
 """
 
+READ_CONFIG = """
+const box = document.getElementById('config');
+const colour = e => getComputedStyle(e).color;
+const answer = document.getElementById('config-answer');
+const diff = document.getElementById('config-diff');
+const form = document.getElementById('config-form');
+return {
+  hidden: box.hidden, loaded: Number(box.dataset.loaded || 0), source: box.dataset.source || null,
+  may_change: box.dataset.mayChange === 'true', text: box.textContent,
+  lines: [...box.querySelectorAll('#config-in-force p')].map(p => ({ field: p.dataset.field, result: p.dataset.result || null,
+                                                                    text: p.textContent, colour: colour(p), title: (p.querySelector('.sha') || {}).title || null })),
+  history: [...box.querySelectorAll('#config-history tr[data-number]')].map(tr => ({
+    number: Number(tr.dataset.number), in_force: tr.dataset.inForce === 'true', text: tr.textContent })),
+  diff: { shown: !diff.hidden, text: diff.textContent,
+          lines: [...diff.querySelectorAll('.diff-line')].map(l => ({ kind: l.dataset.kind, text: l.textContent.replace(/\\n$/, ''), colour: colour(l) })) },
+  form: { shown: !form.hidden, disabled: [...form.querySelectorAll('button')].some(b => b.disabled) },
+  answer: { shown: !answer.hidden, state: answer.dataset.state, result: answer.dataset.result || null, text: answer.textContent,
+            seq: Number(answer.dataset.seq || 0), refreshed: Number(answer.dataset.refreshed || 0),
+            colour: colour(answer), errors: [...answer.querySelectorAll('li')].map(li => li.textContent) },
+};
+"""
+
+
+# Records each state the answer box goes through, and whether the buttons were off then:
+# the answer may come before the next look (a probe passes as soon as everything holds).
+WATCH_ANSWER = """
+const answer = document.getElementById('config-answer');
+const form = document.getElementById('config-form');
+window.configStates = [];
+if (!window.configWatch) {
+  window.configWatch = new MutationObserver(() => window.configStates.push({
+    state: answer.dataset.state, text: answer.textContent, disabled: [...form.querySelectorAll('button')].every(b => b.disabled) }));
+  window.configWatch.observe(answer, { attributes: true, attributeFilter: ['data-state'] });
+}
+"""
+
+
+def element_id(found):
+    """The id of an element WebDriver found (W3C's web element identifier)."""
+    return found["element-6066-11e4-a52e-4f735466cecf"]
+
 
 def free_port():
     with socket.socket() as s:
@@ -148,6 +199,11 @@ def main():
     parser.add_argument("--serial-line", action="append", default=[])
     parser.add_argument("--line", action="append", default=[])
     parser.add_argument("--every-value", action="store_true")
+    parser.add_argument("--config-box", action="store_true")
+    parser.add_argument("--config-expect", action="append", default=[])
+    parser.add_argument("--apply-file", action="append", default=[])
+    parser.add_argument("--revert", action="store_true")
+    parser.add_argument("--ignore-certificate-errors", action="store_true")
     parser.add_argument("--screenshot")
     parser.add_argument("--window", default="1200,1500", help="width,height of the window")
     parser.add_argument("--timeout", type=float, default=20)
@@ -169,7 +225,8 @@ def main():
                 if time.monotonic() > deadline:
                     raise
                 time.sleep(0.05)
-        options = {"binary": "/usr/bin/chromium", "args": CHROMIUM_FLAGS + [f"--window-size={args.window}", f"--user-data-dir={profile}"]}
+        flags = CHROMIUM_FLAGS + (["--ignore-certificate-errors"] if args.ignore_certificate_errors else [])
+        options = {"binary": "/usr/bin/chromium", "args": flags + [f"--window-size={args.window}", f"--user-data-dir={profile}"]}
         width, height = (int(n) for n in args.window.split(","))
         if width < 500:  # headless Chromium's window is never narrower: a phone's width is emulated
             options["mobileEmulation"] = {"deviceMetrics": {"width": width, "height": height, "pixelRatio": 3}}
@@ -191,6 +248,63 @@ def main():
         ok = wait_for(parse_expectations(args.expect), args.online, parse_indicators(args.indicator),
                       parse_gateway(args.gateway), [tuple(item.split("=", 1)) for item in args.north],
                       serial_lines=[tuple(item.split("=", 1)) for item in args.serial_line])
+        config = {}
+        first = {}
+        steps = []
+
+        def read_config():
+            return call(base, "POST", f"/session/{session}/execute/sync", {"script": READ_CONFIG, "args": []})
+
+        def wait_for_config(check):
+            nonlocal config
+            deadline = time.monotonic() + args.timeout
+            while True:
+                config = read_config()
+                if check(config):
+                    return True
+                if time.monotonic() > deadline:
+                    return False
+                time.sleep(0.1)
+
+        def click(selector):
+            found = call(base, "POST", f"/session/{session}/element", {"using": "css selector", "value": selector})
+            call(base, "POST", f"/session/{session}/element/{element_id(found)}/click", {})
+
+        def change(action, what, start):
+            seq = config["answer"]["seq"]
+            call(base, "POST", f"/session/{session}/execute/sync", {"script": WATCH_ANSWER, "args": []})
+            start()
+            if action == "revert":  # its confirmation: nothing else runs while it is open
+                deadline = time.monotonic() + args.timeout
+                while True:
+                    try:
+                        call(base, "POST", f"/session/{session}/alert/accept", {})
+                        break
+                    except OSError:
+                        if time.monotonic() > deadline:
+                            raise
+                        time.sleep(0.05)
+            done = wait_for_config(lambda c: c["answer"]["seq"] > seq and c["answer"]["refreshed"] == c["answer"]["seq"])
+            states = call(base, "POST", f"/session/{session}/execute/sync", {"script": "return window.configStates", "args": []})
+            steps.append({"action": action, "what": what, "done": done, "states": states, "answer": config["answer"], "config": config})
+            return done
+
+        if ok and args.config_box:
+            ok = wait_for_config(lambda c: c["loaded"] > 0 and all(t in c["text"] for t in args.config_expect))
+            first = config
+            for path in args.apply_file:
+                if not ok:
+                    break
+
+                def choose_and_apply(path=path):
+                    found = call(base, "POST", f"/session/{session}/element",
+                                 {"using": "css selector", "value": "#config-form input[type=file]"})
+                    call(base, "POST", f"/session/{session}/element/{element_id(found)}/value", {"text": os.path.abspath(path)})
+                    click('#config-form button[data-action="apply"]')
+
+                ok = change("apply", path, choose_and_apply)
+            if ok and args.revert:
+                ok = change("revert", "revert", lambda: click('#config-form button[data-action="revert"]'))
         if ok and args.ready_file:
             with open(args.ready_file, "w") as f:
                 f.write("ready\n")
@@ -213,6 +327,8 @@ def main():
         if args.line:
             report.update(monitor=page.get("monitor", []), monitor_cut=page.get("monitor_cut"), labels=page.get("labels"),
                           width=page.get("width"))
+        if args.config_box:
+            report.update(first=first, config=config, steps=steps)
         if args.every_value:
             report.update(keys=page.get("keys", {}), indicators=page.get("indicators", []),
                           addresses=sorted(page.get("values", {})))
