@@ -70,6 +70,13 @@ std::optional<HttpResponse> HttpConfigAnswers::refusal(const HttpRequest& reques
                              request.peer, what);
     return config_error(403, fmt::format("{} needs HTTPS", what));
   }
+  if (request.from_another_site) {
+    platform::warn_from_peer("http: config changes refused", request.peer,
+                             "http: {} ({}) sent {} from another site's page: refused", request.user, request.peer, what);
+    return config_error(403, fmt::format("{} must come from this bridge's own page or from a client that is not a browser, "
+                                         "not from another site's page",
+                                         what));
+  }
   if (request.user.empty())
     return config_error(403, fmt::format("{} needs a user of http.users that remote_config.http lists; this server asks no one's "
                                          "name (http.users is not set)",

@@ -14,6 +14,7 @@
 #include "platform/beast.hpp"
 #include "platform/peer_warnings.hpp"
 #include "web/connection_eviction.hpp"
+#include "web/request_origin.hpp"
 
 namespace unima::io {
 
@@ -219,9 +220,18 @@ class HttpServer::Connection : public HttpServer::ConnectionBase, public std::en
     if (!result) {
       const auto method = request.method_string();
       const auto target = request.target();
+      constexpr bool tls = std::is_same_v<Stream, TlsStream>;
+      const auto header = [&](auto field) {
+        const auto value = request[field];
+        return std::string_view(value.data(), value.size());
+      };
+      const bool another_site = web::from_another_site({.sec_fetch_site = header("Sec-Fetch-Site"),
+                                                        .origin = header(http::field::origin),
+                                                        .host = header(http::field::host),
+                                                        .tls = tls});
       result = server_.handler_(HttpRequest{std::string_view(method.data(), method.size()),
                                             std::string_view(target.data(), target.size()), request.body(), std::move(user),
-                                            peer_, std::is_same_v<Stream, TlsStream>});
+                                            peer_, tls, another_site});
     }
     if (result->later) return await_answer(std::move(result->later));
     if (result->stream && result->status == 200) return open_stream(std::move(result->stream), request.method() == http::verb::head);

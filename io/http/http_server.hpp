@@ -69,6 +69,7 @@ struct HttpRequest {
   std::string user;         // the user of http.users who sent it; empty when the server asks no one
   std::string peer;         // "address:port"
   bool tls = false;         // it came over HTTPS
+  bool from_another_site = false;  // a browser made it for another site's page (web/request_origin)
 };
 
 /// Answers a request.

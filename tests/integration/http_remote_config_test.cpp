@@ -8,6 +8,7 @@
 
 #include <fstream>
 #include <sstream>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -62,8 +63,10 @@ class HttpRemoteConfig : public CertificateTest {
 
   /// curl's `method` of `path` as `credentials` ("name:password"; empty: none), with `body`.
   CurlReply curl(const std::string& method, const std::string& path, const std::string& credentials = "",
-                 const std::optional<std::string>& body = std::nullopt, int max_seconds = 120) const {
+                 const std::optional<std::string>& body = std::nullopt, int max_seconds = 120,
+                 const std::vector<std::string>& headers = {}) const {
     std::string command = "curl -sS --max-time " + std::to_string(max_seconds) + " -X " + method + " -w '\\n%{http_code}'";
+    for (const auto& header : headers) command += " -H '" + header + "'";
     if (tls) command += " --cacert " + (certs / "ca.pem").string();
     if (!credentials.empty()) command += " -u '" + credentials + "'";
     if (body) {
@@ -230,6 +233,29 @@ TEST_F(HttpRemoteConfig, ABrokerThatNeverAnswersIsRolledBack502ASecondPutMeanwhi
   EXPECT_EQ(waited.json()["result"], "rolled_back") << waited.body;
   EXPECT_NE(waited.json()["reason"].get<std::string>().find("MQTT broker"), std::string::npos) << waited.body;
   EXPECT_TRUE(serves_on(config.modbus_port));
+  EXPECT_EQ(in_force()["source"], "file");
+}
+
+// A listed user's browser sends the Basic credentials with any request to the bridge,
+// whichever page makes it: a change that another site's page makes (cross-site request
+// forgery: a form posted to /api/config/revert) is refused; the bridge's own page's is taken.
+TEST_F(HttpRemoteConfig, AChangeAnotherSitesPageMakesInTheUsersBrowserIsRefused) {
+  start_http(true);
+  const auto moved = free_port();
+  ASSERT_EQ(put_config(moved_to(moved).yaml()).status, 200) << daemon->log();
+  const auto forged = curl("POST", "/api/config/revert", "fleet:fleet pass", std::nullopt, 120,
+                           {"Origin: https://evil.example", "Sec-Fetch-Site: cross-site"});
+  EXPECT_EQ(forged.status, 403) << forged.output;
+  EXPECT_NE(forged.json().value("error", "").find("another site"), std::string::npos) << forged.body;
+  const auto old_browser = curl("PUT", "/api/config", "fleet:fleet pass", config.yaml(), 120, {"Origin: https://evil.example"});
+  EXPECT_EQ(old_browser.status, 403) << old_browser.output;
+  EXPECT_EQ(in_force()["source"], "http") << "nothing changed";
+  EXPECT_TRUE(serves_on(moved));
+
+  const auto own = "https://127.0.0.1:" + std::to_string(http_port);
+  const auto from_page = curl("POST", "/api/config/revert", "fleet:fleet pass", std::nullopt, 120,
+                              {"Origin: " + own, "Sec-Fetch-Site: same-origin"});
+  ASSERT_EQ(from_page.status, 200) << from_page.output << daemon->log();
   EXPECT_EQ(in_force()["source"], "file");
 }
 
