@@ -8,7 +8,7 @@ Q1 and broker 1, config B the TLS port on Q2 and broker 2; both keep P. Two prob
 on its own connection to P, read every 5 ms (FC3 of W, FC4 of D1) and time each answer; a
 connection that breaks (reset, EOF) is a disconnect, a read unanswered for --limit seconds
 a stall (each is counted, and the prober connects again).
-Each round has four windows, in an order that turns every round (paired rounds):
+Each round has five windows, in an order that turns every round (paired rounds):
   idle     --idle seconds of the probers alone;
   apply    `unima-bridge config apply` of the config not in force (A -> B, then B -> A the
            next round: every round moves the broker and the TLS port), timed from the CLI's
@@ -16,14 +16,17 @@ Each round has four windows, in an order that turns every round (paired rounds):
            until --tail seconds after the answer (the old connections' close, the birth);
   errors   --refused configs with an error (`max_clients: lots`), refused by the check;
   taken    --refused configs like the other one but whose TLS port is held by this bench
-           (listening): the check passes and the stage fails to bind (refused).
-Per round the p50 / p99 / max of each window, the ratios to idle's p99, the answer's time,
+           (listening): the check passes and the stage fails to bind (refused);
+  spawns   --refused runs of `unima-bridge config --help`, which asks the daemon nothing:
+           the control, what the bench's own processes cost the probers on a small box.
+Per round the p50 / p99 / max of each window, the ratios to idle's p99 (and the refused
+windows' to the control's), the answer's time,
 disconnects and stalls, the host's load average (the box is shared: say it). Then the
 medians of the ratios and their range. The issue's targets: apply p99 <= 2 x idle, the
 answer within probe + 1 s, refused configs within the noise, no disconnect on P.
 Exits 1 when the behaviour fails: a disconnect or stall on P, an apply not `applied`, a
 refusal not `refused`, the daemon gone; never for a time.
-Usage: bench/remote_config.py [--build-dir build] [--rounds 5] [--idle 3] [--refused 20]
+Usage: bench/remote_config.py [--build-dir build] [--rounds 5] [--idle 3] [--refused 100]
        [--probe 10] [--tail 1] [--limit 5] [--json FILE]
 """
 import argparse
@@ -47,6 +50,7 @@ from soak import ModbusClient  # noqa: E402 (scripts/ is not a package)
 PROBE_EVERY = 0.005
 W_AT, D1_AT = 0x0100, 0x1100
 TOPIC = "rcbench/site"
+WINDOWS = ("idle", "apply", "errors", "taken", "spawns")
 
 
 class Prober(threading.Thread):
@@ -259,6 +263,12 @@ class Bench(all_features.Bench):
                 "others": sorted({r for r, _ in results if r != "refused"}),
                 "answer_s_median": round(statistics.median(s for _, s in results), 3)}
 
+    def spawns_window(self):
+        start = time.perf_counter()
+        for _ in range(self.args.refused):
+            subprocess.run([str(self.cli), "config", "--help"], stdout=subprocess.DEVNULL, check=True, timeout=10)
+        return self.measured(start, time.perf_counter())
+
     def round(self, number):
         log_before = self.log.read_text().count("\n")
         windows = {
@@ -266,15 +276,20 @@ class Bench(all_features.Bench):
             "apply": self.apply_window,
             "errors": lambda: self.refused_window(self.errors_config),
             "taken": lambda: self.refused_window(self.taken_config),
+            "spawns": self.spawns_window,
         }
         order = list(windows) if number % 2 == 0 else list(reversed(windows))
         result = {"round": number + 1, "order": order}
         for name in order:
             result[name] = windows[name]()
         idle_p99 = result["idle"].get("p99_ms")
-        for name in ("apply", "errors", "taken"):
+        for name in ("apply", "errors", "taken", "spawns"):
             p99 = result[name].get("p99_ms")
             result[f"{name}_p99_ratio"] = round(p99 / idle_p99, 2) if p99 and idle_p99 else None
+        spawns_p99 = result["spawns"].get("p99_ms")
+        for name in ("errors", "taken"):
+            p99 = result[name].get("p99_ms")
+            result[f"{name}_p99_to_spawns"] = round(p99 / spawns_p99, 2) if p99 and spawns_p99 else None
         result["log_lines"] = self.log.read_text().count("\n") - log_before
         result["load"] = [round(x, 2) for x in os.getloadavg()]
         return result
@@ -288,6 +303,9 @@ def summary(rounds, args):
         "apply_p99_ratio": spread([r["apply_p99_ratio"] for r in rounds]),
         "errors_p99_ratio": spread([r["errors_p99_ratio"] for r in rounds]),
         "taken_p99_ratio": spread([r["taken_p99_ratio"] for r in rounds]),
+        "spawns_p99_ratio": spread([r["spawns_p99_ratio"] for r in rounds]),
+        "errors_p99_to_spawns": spread([r["errors_p99_to_spawns"] for r in rounds]),
+        "taken_p99_to_spawns": spread([r["taken_p99_to_spawns"] for r in rounds]),
         "idle_p99_ms": spread([r["idle"].get("p99_ms") for r in rounds]),
         "apply_max_ms": spread([a.get("max_ms") for a in applies]),
         "answer_s": spread([a["answer_s"] for a in applies]),
@@ -295,8 +313,8 @@ def summary(rounds, args):
         "applied": sum(1 for a in applies if a["result"] == "applied"),
         "refused": sum(r[w]["refused"] for r in rounds for w in ("errors", "taken")),
         "refusals_sent": sum(r[w]["sent"] for r in rounds for w in ("errors", "taken")),
-        "disconnects": sum(r[w]["disconnects"] for r in rounds for w in ("idle", "apply", "errors", "taken")),
-        "stalls": sum(r[w]["stalls"] for r in rounds for w in ("idle", "apply", "errors", "taken")),
+        "disconnects": sum(r[w]["disconnects"] for r in rounds for w in WINDOWS),
+        "stalls": sum(r[w]["stalls"] for r in rounds for w in WINDOWS),
         "load_1min": spread([r["load"][0] for r in rounds]),
     }
 
@@ -314,7 +332,7 @@ def failures(bench, rounds, total):
     if total["disconnects"] or total["stalls"]:
         errors = [e for p in bench.probers for e in p.errors]
         found.append(f"{total['disconnects']} disconnect(s) and {total['stalls']} stall(s) on the unchanged port: {errors[:5]}")
-    if any(r[w].get("reads", 0) < 2 for r in rounds for w in ("idle", "apply", "errors", "taken")):
+    if any(r[w].get("reads", 0) < 2 for r in rounds for w in WINDOWS):
         found.append("a window without reads")
     if bench.daemon.poll() is not None:
         found.append(f"the daemon exited ({bench.daemon.returncode})")
@@ -326,7 +344,7 @@ def main():
     parser.add_argument("--build-dir", default="build")
     parser.add_argument("--rounds", type=int, default=5)
     parser.add_argument("--idle", type=float, default=3, help="seconds of the idle window")
-    parser.add_argument("--refused", type=int, default=20, help="refused configs per refused window (each kind)")
+    parser.add_argument("--refused", type=int, default=100, help="refused configs per refused window (each kind)")
     parser.add_argument("--probe", type=int, default=10, help="remote_config.probe of both configs, seconds")
     parser.add_argument("--tail", type=float, default=1, help="seconds the apply window runs on after the answer")
     parser.add_argument("--limit", type=float, default=5, help="seconds a read may wait before it counts as a stall")
