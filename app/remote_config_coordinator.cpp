@@ -1,5 +1,7 @@
 #include "app/remote_config_coordinator.hpp"
 
+#include <memory>
+
 #include <spdlog/spdlog.h>
 
 #include "check/check_config.hpp"
@@ -38,7 +40,7 @@ std::chrono::milliseconds probe_of(const config::Config& config) {
 }  // namespace
 
 RemoteConfigCoordinator::RemoteConfigCoordinator(asio::io_context& io, Bridge& bridge, ConfigInForce& in_force)
-    : bridge_(bridge), in_force_(in_force), probe_timer_(io) {
+    : bridge_(bridge), in_force_(in_force), probe_timer_(io), keeper_(io, 1) {
   if (!in_force_.store_directory.empty()) {
     const auto& remote = in_force_.config.remote_config;
     store_.emplace(in_force_.store_directory, remote ? remote->keep : io::RemoteConfigStore::default_keep);
@@ -116,7 +118,9 @@ void RemoteConfigCoordinator::apply_config(config::Config next) {
 }
 
 void RemoteConfigCoordinator::probe() {
-  auto answer = flow_.probe(bridge_.probe_facts(), std::chrono::steady_clock::now());
+  auto facts = bridge_.probe_facts();
+  if (flow_.probing() && remote::probe_shortfall(facts).empty()) return keep_then_answer(std::move(facts));
+  auto answer = flow_.probe(facts, std::chrono::steady_clock::now());
   if (!answer) {
     probe_timer_.expires_after(probe_interval);
     probe_timer_.async_wait([this](const boost::system::error_code& ec) {
@@ -124,26 +128,61 @@ void RemoteConfigCoordinator::probe() {
     });
     return;
   }
-  if (answer->result == remote::Result::applied) {
+  conclude(std::move(*answer));
+}
+
+// Keeping the config writes and fdatasyncs its text, its record, the record in force and
+// their directory: on the loop that was a stall of 17-38 ms of every Modbus client at the
+// moment of `applied` (bench/remote_config.py, docs/performance.md). So it runs on the
+// worker; the flow is still probing meanwhile (another change is `busy`, a SIGHUP waits),
+// and it answers, `applied` by the facts that passed, once the files are on the disk.
+// The loop may read the store meanwhile (GET /api/config, `config history`): the store
+// holds no state in memory, each file is replaced atomically, and a listing that meets an
+// entry half written skips it.
+void RemoteConfigCoordinator::keep_then_answer(remote::ProbeFacts passed) {
+  struct Kept {
+    std::optional<io::StoredConfig> stored;  // none for a revert: the operator's file is in force
+    std::optional<std::string> error;
+  };
+  auto kept = std::make_shared<Kept>();
+  // The remote config in force until now (none: the operator's file), which this one replaces.
+  const auto replaced = in_force_.remote ? std::optional<unsigned>(in_force_.remote->number) : std::nullopt;
+  auto keep = [store = &*store_, text = change_->text, source = change_->source, by = change_->by,
+               file = in_force_.operator_file, sha256 = in_force_.operator_sha256, replaced, kept] {
     try {
-      if (change_->text) {
-        const auto replaced = in_force_.remote ? std::optional<unsigned>(in_force_.remote->number) : std::nullopt;
-        in_force_.remote = store_->keep(*change_->text, change_->source, change_->by, in_force_.operator_file,
-                                        in_force_.operator_sha256, replaced, std::chrono::system_clock::now());
+      if (text) kept->stored = store->keep(*text, source, by, file, sha256, replaced, std::chrono::system_clock::now());
+      else store->put_file_in_force();
+    } catch (const std::exception& e) {
+      kept->error = e.what();
+    }
+  };
+  auto answer = [this, passed = std::move(passed), kept] {
+    auto applied = flow_.probe(passed, std::chrono::steady_clock::now());
+    if (kept->error) {
+      applied->result = remote::Result::rolled_back;
+      applied->reason = "the config could not be kept: " + *kept->error;
+    } else {
+      if (kept->stored) {
+        in_force_.remote = std::move(kept->stored);
         reverted_from_.reset();
       } else {
-        store_->put_file_in_force();
         reverted_from_ = in_force_.remote;
         in_force_.remote.reset();
         in_force_.operator_sha256 = bridge_.config().file_sha256;
       }
       in_force_.config = bridge_.config();
-    } catch (const std::exception& e) {
-      answer->result = remote::Result::rolled_back;
-      answer->reason = std::string("the config could not be kept: ") + e.what();
     }
+    conclude(std::move(*applied));
+  };
+  if (!keeper_.submit(keep, answer)) {
+    // One change at a time: the worker is never full. Were it, the files are written here.
+    keep();
+    answer();
   }
-  if (answer->result == remote::Result::rolled_back) {
+}
+
+void RemoteConfigCoordinator::conclude(remote::ChangeAnswer answer) {
+  if (answer.result == remote::Result::rolled_back) {
     try {
       const auto level = change_->previous->log.level;
       bridge_.reload(std::move(*change_->previous));
@@ -151,10 +190,10 @@ void RemoteConfigCoordinator::probe() {
     } catch (const std::exception& e) {
       // The previous config ran a moment ago; what it needs may have been taken since.
       spdlog::critical("remote config: going back to the previous config failed, the new one stays: {}", e.what());
-      answer->reason += std::string("; going back failed, the new config runs: ") + e.what();
+      answer.reason += std::string("; going back failed, the new config runs: ") + e.what();
     }
   }
-  finish(*answer);
+  finish(answer);
 }
 
 void RemoteConfigCoordinator::finish(const remote::ChangeAnswer& answer) {

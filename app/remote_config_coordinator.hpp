@@ -6,8 +6,11 @@
 // applied in the state directory (io::RemoteConfigStore) and says in the status
 // document which config is in force.
 //
-// Everything runs on the loop. A reload is the same as SIGHUP's (app::Bridge::reload);
-// a SIGHUP that comes while a change is under way waits for its end (run_when_free).
+// Everything runs on the loop but the writes that keep an applied config (a few files
+// written and fdatasync'ed: tens of milliseconds on a slow disk, that every Modbus client
+// would wait), which run on a worker thread while the flow stays busy. A reload is the
+// same as SIGHUP's (app::Bridge::reload); a SIGHUP that comes while a change is under way
+// waits for its end (run_when_free).
 
 #include <chrono>
 #include <functional>
@@ -17,6 +20,7 @@
 #include "app/bridge.hpp"
 #include "app/config_in_force.hpp"
 #include "io/config_changes.hpp"
+#include "io/cpu_worker.hpp"
 #include "io/remote_config_store.hpp"
 #include "platform/asio.hpp"
 #include "remote/change_flow.hpp"
@@ -50,6 +54,10 @@ class RemoteConfigCoordinator final : public io::ConfigChanges {
   // reload and the probe.
   void apply_config(config::Config next);
   void probe();
+  // The probe passed with `passed`: the config is kept (on keeper_), then answered.
+  void keep_then_answer(remote::ProbeFacts passed);
+  // The flow's answer: back to the previous config when rolled back, then finish.
+  void conclude(remote::ChangeAnswer answer);
   void finish(const remote::ChangeAnswer& answer);
 
   Bridge& bridge_;
@@ -70,6 +78,8 @@ class RemoteConfigCoordinator final : public io::ConfigChanges {
   // The remote config the last revert (since the start) put out of force: the diff's old side.
   std::optional<io::StoredConfig> reverted_from_;
   remote::ConfigStatus status_;
+  // Last: destroyed first, so that the keep it runs ends before store_ goes.
+  io::CpuWorker keeper_;
 };
 
 }  // namespace unima::app

@@ -13,9 +13,11 @@
 # MBUSD=/path/to/mbusd runs mbusd beside it) and of two lines at once (its --lines), how
 # fast the monitor log becomes a pcap (bench/pcap.sh), what a deadband saves the north
 # (bench/deadband.py), every feature at once beside the minimal config with the page's and
-# Sparkplug's shares (bench/all_features.py), and this tree's daemon in paired rounds at
-# 1, 8 and 64 connections against its parent commit's and against bf83827's, the fixed
-# older reference of the plain path (bench/against_commit.sh; SKIP_COMMITS=1 skips both).
+# Sparkplug's shares (bench/all_features.py), what a change of config from afar costs the
+# Modbus clients of a port it keeps (bench/remote_config.py), and this tree's daemon in
+# paired rounds at 1, 8 and 64 connections against its parent commit's and against
+# bf83827's, the fixed older reference of the plain path (bench/against_commit.sh;
+# SKIP_COMMITS=1 skips both).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh
@@ -37,6 +39,7 @@ if [[ -n "${MBUSD:-}" ]]; then gateway_args+=(--mbusd "$MBUSD"); fi
 bench/pcap.sh "${BUILD_DIR:-build-release}"
 python3 bench/deadband.py --bridged "${BUILD_DIR:-build-release}/bin/unima-bridged" --load "${BUILD_DIR:-build-release}/bench/unima-bench-load"
 python3 bench/all_features.py --build-dir "${BUILD_DIR:-build-release}"
+python3 bench/remote_config.py --build-dir "${BUILD_DIR:-build-release}"
 if [[ -z "${SKIP_COMMITS:-}" ]]; then
   bench/against_commit.sh HEAD~1 "${BUILD_DIR:-build-release}"
   bench/against_commit.sh bf83827 "${BUILD_DIR:-build-release}"
