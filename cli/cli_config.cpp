@@ -15,7 +15,7 @@ namespace unima::cli {
 
 namespace {
 
-constexpr const char* usage =
+constexpr const char* config_usage =
     "usage: unima-bridge config apply FILE | show | history | revert [--json] [--timeout S] [--socket PATH | --config FILE]\n"
     "\n"
     "  apply FILE   check FILE as `check` does, apply it as a reload, and keep it once its\n"
@@ -100,7 +100,7 @@ int config_command(const std::vector<std::string>& args) {
     const auto& arg = args[i];
     const bool has_value = i + 1 < args.size();
     if (arg == "--help" || arg == "-h") {
-      std::fputs(usage, stdout);
+      std::fputs(config_usage, stdout);
       return 0;
     }
     if (arg == "--json") json = true;
@@ -110,26 +110,26 @@ int config_command(const std::vector<std::string>& args) {
       try {
         timeout = std::chrono::milliseconds(static_cast<long long>(std::stod(args[++i]) * 1000));
       } catch (const std::exception&) {
-        std::fprintf(stderr, "unima-bridge config: --timeout takes seconds\n%s", usage);
+        std::fprintf(stderr, "unima-bridge config: --timeout takes seconds\n%s", config_usage);
         return 2;
       }
     } else if (action.empty() && !arg.starts_with("-")) action = arg;
     else if (action == "apply" && file.empty() && !arg.starts_with("-")) file = arg;
     else {
-      std::fprintf(stderr, "unima-bridge config: unknown argument '%s'\n%s", arg.c_str(), usage);
+      std::fprintf(stderr, "unima-bridge config: unknown argument '%s'\n%s", arg.c_str(), config_usage);
       return 2;
     }
   }
   if (action != "apply" && action != "show" && action != "history" && action != "revert") {
-    std::fprintf(stderr, "unima-bridge config: say apply FILE, show, history or revert\n%s", usage);
+    std::fprintf(stderr, "unima-bridge config: say apply FILE, show, history or revert\n%s", config_usage);
     return 2;
   }
   if ((action == "apply") != !file.empty()) {
-    std::fprintf(stderr, "unima-bridge config: apply takes one FILE, the others none\n%s", usage);
+    std::fprintf(stderr, "unima-bridge config: apply takes one FILE, the others none\n%s", config_usage);
     return 2;
   }
   if (!socket.empty() && !config_path.empty()) {
-    std::fprintf(stderr, "unima-bridge config: give --socket or --config, not both\n%s", usage);
+    std::fprintf(stderr, "unima-bridge config: give --socket or --config, not both\n%s", config_usage);
     return 2;
   }
   try {

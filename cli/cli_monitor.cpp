@@ -22,7 +22,7 @@ namespace unima::cli {
 namespace {
 
 constexpr const char* default_log = "/var/log/unima-bridge/monitor.log";
-constexpr const char* usage =
+constexpr const char* monitor_usage =
     "usage: unima-bridge monitor [-f|--follow] [-n|--lines N] [--filter EXPR] [--json | --pcap OUT] [--config FILE] [LOG]\n"
     "\n"
     "  LOG            the monitor log (default: the config's monitor.file, else\n"
@@ -143,12 +143,12 @@ int monitor_command(const std::vector<std::string>& args) {
       } else if (arg.starts_with("--config=")) {
         options.config = arg.substr(9);
       } else if (arg == "--help" || arg == "-h") {
-        std::fputs(usage, stdout);
+        std::fputs(monitor_usage, stdout);
         return 0;
       } else if (!arg.starts_with("-") && options.log.empty()) {
         options.log = arg;
       } else {
-        std::fprintf(stderr, "unima-bridge monitor: unknown argument '%s'\n%s", arg.c_str(), usage);
+        std::fprintf(stderr, "unima-bridge monitor: unknown argument '%s'\n%s", arg.c_str(), monitor_usage);
         return 2;
       }
     } catch (const monitor::FilterSyntaxError& e) {
@@ -160,7 +160,7 @@ int monitor_command(const std::vector<std::string>& args) {
     }
   }
   if (options.json && !options.pcap.empty()) {
-    std::fprintf(stderr, "unima-bridge monitor: --json and --pcap exclude each other\n%s", usage);
+    std::fprintf(stderr, "unima-bridge monitor: --json and --pcap exclude each other\n%s", monitor_usage);
     return 2;
   }
   // Why this path was read: an operator who gets "No such file" needs to know which key to set.

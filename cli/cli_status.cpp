@@ -23,7 +23,7 @@ namespace unima::cli {
 
 namespace {
 
-constexpr const char* usage =
+constexpr const char* status_usage =
     "usage: unima-bridge status [-w|--watch] [--json] [--socket PATH | --config FILE]\n"
     "\n"
     "  shows what the Bridge's front panel shows: mode, Modbus and UnimaBUS activity, Error,\n"
@@ -290,15 +290,15 @@ int status_command(const std::vector<std::string>& args) {
     else if (arg == "--config" && has_value) config_path = args[++i];
     else if (arg.starts_with("--config=")) config_path = arg.substr(9);
     else if (arg == "--help" || arg == "-h") {
-      std::fputs(usage, stdout);
+      std::fputs(status_usage, stdout);
       return 0;
     } else {
-      std::fprintf(stderr, "unima-bridge status: unknown argument '%s'\n%s", arg.c_str(), usage);
+      std::fprintf(stderr, "unima-bridge status: unknown argument '%s'\n%s", arg.c_str(), status_usage);
       return 2;
     }
   }
   if (!socket.empty() && !config_path.empty()) {
-    std::fprintf(stderr, "unima-bridge status: give --socket or --config, not both\n%s", usage);
+    std::fprintf(stderr, "unima-bridge status: give --socket or --config, not both\n%s", status_usage);
     return 2;
   }
   try {

@@ -13,6 +13,17 @@ if(NOT UNIMA_FULL_DEBUG_INFO)
   add_compile_options($<$<CONFIG:RelWithDebInfo>:-g1>)
 endif()
 
+# Unity builds: each library and program compiles its sources in batches, so the headers
+# every file of a folder includes (the STL, fmt, JSON, yaml-cpp) are parsed once a batch,
+# not once a file. A file-local name (anonymous namespace, static) must then be unique
+# within its library; a clash shows as a redefinition error. The test programs choose their
+# own batches (tests/CMakeLists.txt). -DUNIMA_UNITY_BUILD=OFF compiles file by file.
+option(UNIMA_UNITY_BUILD "Compile each library's sources in batches (unity build)" ON)
+if(UNIMA_UNITY_BUILD)
+  set(CMAKE_UNITY_BUILD ON)
+  set(CMAKE_UNITY_BUILD_BATCH_SIZE 8)
+endif()
+
 # The Asio side (io/, app/): Asio comes first through platform/asio.hpp, which includes
 # <utility> before it (Boost 1.74 with GCC 12 in C++20). unima_io precompiles them; the
 # other Asio targets reuse its header (REUSE_FROM), so it is compiled once.

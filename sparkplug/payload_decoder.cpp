@@ -8,13 +8,13 @@
 #include <fmt/format.h>
 
 #include "sparkplug/payload_codec.hpp"
+#include "sparkplug/wire_type.hpp"
 
 namespace unima::sparkplug {
 
 namespace {
 
-// Protobuf's wire types ("Encoding" guide); 6 and 7 are undefined.
-enum WireType : std::uint8_t { varint = 0, fixed64 = 1, length_delimited = 2, start_group = 3, end_group = 4, fixed32 = 5 };
+using enum WireType;
 
 struct Field {
   std::uint32_t number = 0;
@@ -80,7 +80,7 @@ class Decoder {
     // A tag is a uint32: field numbers go to 2^29 - 1 (the "Language Guide", field numbers).
     if (tag > 0xFFFFFFFFu || (tag >> 3) == 0) return fail(DecodeProblem::bad_tag, field.at);
     const auto type = static_cast<std::uint8_t>(tag & 7);
-    if (type > fixed32) return fail(DecodeProblem::bad_wire_type, field.at);
+    if (type > static_cast<std::uint8_t>(fixed32)) return fail(DecodeProblem::bad_wire_type, field.at);
     field.number = static_cast<std::uint32_t>(tag >> 3);
     field.type = static_cast<WireType>(type);
     field_ = field.number;

@@ -4,13 +4,11 @@
 #include <bit>
 
 #include "sparkplug/payload_codec.hpp"
+#include "sparkplug/wire_type.hpp"
 
 namespace unima::sparkplug {
 
 namespace {
-
-// Protobuf's wire types ("Encoding" guide, "Message Structure").
-enum class WireType : std::uint8_t { varint = 0, fixed64 = 1, length_delimited = 2, fixed32 = 5 };
 
 using Buffer = std::vector<std::uint8_t>;
 

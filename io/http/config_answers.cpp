@@ -20,7 +20,7 @@ HttpResponse config_error(unsigned status, const std::string& message) {
 }
 
 HttpResponse config_method_not_allowed(std::string allowed) {
-  return {405, "text/plain; charset=utf-8", "allowed here: " + allowed + "\n", {{"Allow", allowed}}, {}, {}};
+  return {405, plain_text_type, "allowed here: " + allowed + "\n", {{"Allow", allowed}}, {}, {}};
 }
 
 // "127.0.0.1:5000", "::1:5000", "::ffff:127.0.0.1:5000": the peer is this machine.

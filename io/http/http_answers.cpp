@@ -18,9 +18,8 @@ namespace unima::io {
 namespace {
 
 constexpr auto json_type = "application/json";
-constexpr auto text_type = "text/plain; charset=utf-8";
 HttpResponse not_found() {
-  return {404, text_type, "not found: /, /metrics, /healthz, /api/status, /api/registers, /api/events, /api/config\n", {}, {}, {}};
+  return {404, plain_text_type, "not found: /, /metrics, /healthz, /api/status, /api/registers, /api/events, /api/config\n", {}, {}, {}};
 }
 
 // The page runs only its own files: no inline script, nothing from elsewhere.
@@ -213,13 +212,13 @@ HttpResponse HttpAnswers::answer(const HttpRequest& request) {
   const auto path = target.substr(0, target.find('?'));
   if (path == HttpConfigAnswers::path || path == HttpConfigAnswers::revert_path) return config_.answer(request, path);
   if (request.method != "GET" && request.method != "HEAD")
-    return {405, text_type, "read only: GET or HEAD\n", {{"Allow", "GET, HEAD"}}, {}, {}};
+    return {405, plain_text_type, "read only: GET or HEAD\n", {{"Allow", "GET, HEAD"}}, {}, {}};
   if (path == "/api/events") {
     monitor::CommandFilter filter;
     try {
       filter = page_filter(target);
     } catch (const monitor::FilterSyntaxError& e) {
-      return {400, text_type, fmt::format("{}\n", e.what()), {}, {}, {}};
+      return {400, plain_text_type, fmt::format("{}\n", e.what()), {}, {}, {}};
     }
     HttpResponse response;
     response.stream = [this, filter](std::shared_ptr<web::EventSink> sink) {
@@ -231,8 +230,8 @@ HttpResponse HttpAnswers::answer(const HttpRequest& request) {
     return {200, std::string(file->content_type), std::string(file->text), page_headers, {}, {}};
   // Answered on the loop: after a stall this is the first thing to run, and says so.
   if (path == "/healthz") {
-    if (const auto stall = health_.stall(LoopHealth::Clock::now())) return {503, text_type, "stalled: " + *stall + "\n", {}, {}, {}};
-    return {200, text_type, "ok\n", {}, {}, {}};
+    if (const auto stall = health_.stall(LoopHealth::Clock::now())) return {503, plain_text_type, "stalled: " + *stall + "\n", {}, {}, {}};
+    return {200, plain_text_type, "ok\n", {}, {}, {}};
   }
   if (path == "/metrics") return {200, metrics::prometheus_content_type, metrics::prometheus_text(runtime_.status()), {}, {}, {}};
   if (path == "/api/status")

@@ -41,6 +41,9 @@ struct HttpOptions {
   std::size_t max_body = 0;  // a PUT's or POST's body at most (413 beyond); GET and HEAD carry none
 };
 
+/// The content type of every plain-text answer (errors, refusals, /healthz).
+inline constexpr const char* plain_text_type = "text/plain; charset=utf-8";
+
 struct HttpResponse;
 /// Gives a deferred answer (HttpResponse::later); called once, from the loop. After the
 /// client went (or the server stopped) it does nothing.
@@ -48,7 +51,7 @@ using HttpReply = std::function<void(HttpResponse)>;
 
 struct HttpResponse {
   unsigned status = 200;
-  std::string content_type = "text/plain; charset=utf-8";
+  std::string content_type = plain_text_type;
   std::string body;
   /// Extra header fields, e.g. Content-Security-Policy for the page.
   std::vector<std::pair<std::string, std::string>> headers;

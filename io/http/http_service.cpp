@@ -15,7 +15,6 @@ namespace unima::io {
 
 namespace {
 
-constexpr auto text_type = "text/plain; charset=utf-8";
 
 std::optional<std::tuple<std::string, std::uint16_t, bool>> endpoint(const config::Config& c) {
   if (!c.http) return std::nullopt;
@@ -107,7 +106,7 @@ HttpGateLeave HttpService::gate(std::string_view authorization, const std::strin
       platform::warn_from_peer("http: logins refused as too many from one host", peer,
                                "http: {} asks for more password checks than {} at once and {} a second: told to wait", peer,
                                login_limits_.options().checks_per_host, login_limits_.options().host_rate);
-      return answer(HttpResponse{429, text_type, "too many logins from your address: try again in a second\n",
+      return answer(HttpResponse{429, plain_text_type, "too many logins from your address: try again in a second\n",
                                  {{"Retry-After", retry_after}}, {}, {}});
     case web::LoginLimits::Admission::busy:
       ++login_counters_.busy;
@@ -115,7 +114,7 @@ HttpGateLeave HttpService::gate(std::string_view authorization, const std::strin
       platform::warn_from_peer("http: logins refused as too many at once", peer,
                                "http: {} password checks are waiting already: {} told to come back", login_limits_.options().checks,
                                peer);
-      return answer(HttpResponse{503, text_type, "too many logins at once: try again in a second\n", {{"Retry-After", retry_after}}, {}, {}});
+      return answer(HttpResponse{503, plain_text_type, "too many logins at once: try again in a second\n", {{"Retry-After", retry_after}}, {}, {}});
   }
   ++login_counters_.checked;
   auto& pending = checks_[std::string(authorization)];
@@ -168,7 +167,7 @@ HttpResponse HttpService::unauthorized(const std::string& peer, bool gave_creden
     ++login_counters_.wrong;
     platform::warn_from_peer("http: logins refused", peer, "http: {} gave a name and password that http.users does not hold", peer);
   }
-  return HttpResponse{401, text_type, "log in: a name and password of http.users\n",
+  return HttpResponse{401, plain_text_type, "log in: a name and password of http.users\n",
                       {{"WWW-Authenticate", "Basic realm=\"unima-bridge\", charset=\"UTF-8\""}}, {}, {}};
 }
 

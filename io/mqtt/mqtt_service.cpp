@@ -19,9 +19,9 @@ namespace unima::io {
 namespace {
 
 // How soon a broker that does not keep up, or the buffer's start, is looked at again.
-constexpr std::chrono::milliseconds retry_after{100};
+constexpr std::chrono::milliseconds document_retry_after{100};
 
-bool same_client(const config::Config& a, const config::Config& b) {
+bool same_mqtt_client(const config::Config& a, const config::Config& b) {
   return a.mqtt.has_value() == b.mqtt.has_value() && (!a.mqtt || a.mqtt->same_client(*b.mqtt));
 }
 
@@ -323,7 +323,7 @@ void MqttService::publish() {
   measured_.note(changes, runtime_.changes.changed_at());
   const bool live = client_->connected();
   // A broker that does not keep up gets the latest state once it does, not a queue of states.
-  const auto retry_at = report::ReportSchedule::Clock::now() + std::max(schedule_->intervals().min_interval, retry_after);
+  const auto retry_at = report::ReportSchedule::Clock::now() + std::max(schedule_->intervals().min_interval, document_retry_after);
   if (live && client_->backlogged()) return wake_at(retry_at);
   if (!live && !buffering()) {
     // The connection publishes everything when it comes; until then, only the buffer's
@@ -373,7 +373,7 @@ void MqttService::stage(const Banks& next) {
   if (next.config.mqtt && buffer_of(next.config) != (buffer_ ? buffer_->path().string() : std::string()))
     spdlog::warn("{}: mqtt.buffer changes at the next start; until then the history goes to {}", next.config.file,
                  buffer_ ? buffer_->path().string() : "no file");
-  new_client_ = !same_client(runtime_.config(), next.config);
+  new_client_ = !same_mqtt_client(runtime_.config(), next.config);
   if (new_client_) next_client_ = make_client(next.config);
 }
 

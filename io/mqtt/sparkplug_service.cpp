@@ -19,13 +19,13 @@ namespace unima::io {
 namespace {
 
 // How soon a broker that does not keep up is looked at again (or min_interval, if longer).
-constexpr std::chrono::milliseconds retry_after{10};
+constexpr std::chrono::milliseconds sparkplug_retry_after{10};
 
 // Writes of the bdSeq file waiting for the worker: one per CONNECT, and CONNECTs are a
 // second apart at least (MqttClient's back-off).
 constexpr std::size_t bd_seq_writes_queued = 4;
 
-bool same_client(const config::Config& a, const config::Config& b) {
+bool same_sparkplug_client(const config::Config& a, const config::Config& b) {
   return a.sparkplug.has_value() == b.sparkplug.has_value() && (!a.sparkplug || a.sparkplug->same_client(*b.sparkplug));
 }
 
@@ -248,7 +248,7 @@ void SparkplugService::publish_due() {
   const auto now = sparkplug::EdgeSession::Clock::now();
   // A broker that does not keep up gets the latest values once it does, not a queue.
   if (client_->backlogged())
-    return wake_at(now + std::max<std::chrono::steady_clock::duration>(runtime_.config().report.min_interval, retry_after));
+    return wake_at(now + std::max<std::chrono::steady_clock::duration>(runtime_.config().report.min_interval, sparkplug_retry_after));
   const auto& running = *runtime_.banks;
   auto& current = *running.values;
   const auto& layouts = running.value_model.banks();
@@ -320,7 +320,7 @@ void SparkplugService::rebirth_asked() {
 }
 
 void SparkplugService::stage(const Banks& next) {
-  new_client_ = !same_client(runtime_.config(), next.config);
+  new_client_ = !same_sparkplug_client(runtime_.config(), next.config);
   if (new_client_) next_client_ = make_client(next.config);
 }
 
