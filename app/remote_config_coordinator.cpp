@@ -40,7 +40,9 @@ std::chrono::milliseconds probe_of(const config::Config& config) {
 }  // namespace
 
 RemoteConfigCoordinator::RemoteConfigCoordinator(asio::io_context& io, Bridge& bridge, ConfigInForce& in_force)
-    : bridge_(bridge), in_force_(in_force), probe_timer_(io), keeper_(io, 1) {
+    : bridge_(bridge), in_force_(in_force), probe_timer_(io),
+      // A client waits for the answer: beside the loop, not behind every other program.
+      worker_(io, 1, io::CpuWorker::Priority::beside_the_loop) {
   if (!in_force_.store_directory.empty()) {
     const auto& remote = in_force_.config.remote_config;
     store_.emplace(in_force_.store_directory, remote ? remote->keep : io::RemoteConfigStore::default_keep);
@@ -63,15 +65,11 @@ void RemoteConfigCoordinator::apply(std::string text, remote::Source source, std
                change_->text->size(), id);
   if (auto over = remote::over_budget(*change_->text)) return finish(flow_.refuse(*over));
   const auto origin = fmt::format("config from {} by {}", remote::source_name(source), change_->by);
-  config::Config next;
-  try {
-    // As if it stood in the operator's file: what goes "beside the config" goes beside that.
-    next = config::load_text(*change_->text, origin, config::Host::this_machine(), in_force_.operator_file);
-    check::check_config(next);
-  } catch (const std::exception& e) {
-    return finish(flow_.refuse("the config has errors", remote::errors_at(e.what(), origin)));
-  }
-  apply_config(std::move(next));
+  // As if it stood in the operator's file: what goes "beside the config" goes beside that.
+  auto load = [text = *change_->text, origin, operator_file = in_force_.operator_file] {
+    return config::load_text(text, origin, config::Host::this_machine(), operator_file);
+  };
+  load_then_apply(std::move(load), origin, "the config has errors");
 }
 
 void RemoteConfigCoordinator::revert(remote::Source source, std::string by, Done done) {
@@ -88,14 +86,38 @@ void RemoteConfigCoordinator::revert(remote::Source source, std::string by, Done
   change_ = Change{std::move(done), std::nullopt, std::nullopt, source, std::move(by)};
   spdlog::info("remote config: {} by {}: back to the operator's file {}", remote::source_name(source), change_->by,
                in_force_.operator_file);
-  config::Config next;
-  try {
-    next = config::load_text(text, in_force_.operator_file);
-    check::check_config(next);
-  } catch (const std::exception& e) {
-    return finish(flow_.refuse("the operator's file has errors", remote::errors_at(e.what(), in_force_.operator_file)));
+  load_then_apply([text = std::move(text), file = in_force_.operator_file] { return config::load_text(text, file); },
+                  in_force_.operator_file, "the operator's file has errors");
+}
+
+// The load and check of a config took some 5 ms of the loop with TLS credentials (OpenSSL
+// reads them for the host check and again for check_config's context;
+// bench/remote_config.py), and more with many device tables: every Modbus client waited.
+// They touch nothing of the running bridge, so they run on the worker.
+void RemoteConfigCoordinator::load_then_apply(std::function<config::Config()> load, std::string origin, std::string refusal) {
+  struct Loaded {
+    std::optional<config::Config> config;
+    std::string error;
+  };
+  auto loaded = std::make_shared<Loaded>();
+  auto job = [load = std::move(load), loaded] {
+    try {
+      auto next = load();
+      check::check_config(next);
+      loaded->config = std::move(next);
+    } catch (const std::exception& e) {
+      loaded->error = e.what();
+    }
+  };
+  auto done = [this, loaded, origin = std::move(origin), refusal = std::move(refusal)] {
+    if (!loaded->config) return finish(flow_.refuse(refusal, remote::errors_at(loaded->error, origin)));
+    apply_config(std::move(*loaded->config));
+  };
+  if (!worker_.submit(job, done)) {
+    // One change at a time: the worker is never full. Were it, the config is loaded here.
+    job();
+    done();
   }
-  apply_config(std::move(next));
 }
 
 void RemoteConfigCoordinator::apply_config(config::Config next) {
@@ -174,7 +196,7 @@ void RemoteConfigCoordinator::keep_then_answer(remote::ProbeFacts passed) {
     }
     conclude(std::move(*applied));
   };
-  if (!keeper_.submit(keep, answer)) {
+  if (!worker_.submit(keep, answer)) {
     // One change at a time: the worker is never full. Were it, the files are written here.
     keep();
     answer();

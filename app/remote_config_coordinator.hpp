@@ -6,11 +6,13 @@
 // applied in the state directory (io::RemoteConfigStore) and says in the status
 // document which config is in force.
 //
-// Everything runs on the loop but the writes that keep an applied config (a few files
-// written and fdatasync'ed: tens of milliseconds on a slow disk, that every Modbus client
-// would wait), which run on a worker thread while the flow stays busy. A reload is the
-// same as SIGHUP's (app::Bridge::reload); a SIGHUP that comes while a change is under way
-// waits for its end (run_when_free).
+// Everything runs on the loop but two steps that every Modbus client would otherwise wait
+// for, which run on a worker thread while the flow stays busy: the load and check of the
+// config (it reads every file the config names, and OpenSSL parses its certificates and
+// keys: milliseconds), and the writes that keep an applied config (a few files written and
+// fdatasync'ed: tens of milliseconds on a slow disk). A reload is the same as SIGHUP's
+// (app::Bridge::reload); a SIGHUP that comes while a change is under way waits for its end
+// (run_when_free).
 
 #include <chrono>
 #include <functional>
@@ -50,11 +52,15 @@ class RemoteConfigCoordinator final : public io::ConfigChanges {
   void reloaded();
 
  private:
+  // `load` (a parse of the text) and the check of what it gives, on worker_; then
+  // apply_config on the loop, or the change refused with `refusal` and the errors' lines
+  // and columns in `origin`.
+  void load_then_apply(std::function<config::Config()> load, std::string origin, std::string refusal);
   // A change whose config has loaded and passed the check: the rules of admission, the
   // reload and the probe.
   void apply_config(config::Config next);
   void probe();
-  // The probe passed with `passed`: the config is kept (on keeper_), then answered.
+  // The probe passed with `passed`: the config is kept (on worker_), then answered.
   void keep_then_answer(remote::ProbeFacts passed);
   // The flow's answer: back to the previous config when rolled back, then finish.
   void conclude(remote::ChangeAnswer answer);
@@ -78,8 +84,8 @@ class RemoteConfigCoordinator final : public io::ConfigChanges {
   // The remote config the last revert (since the start) put out of force: the diff's old side.
   std::optional<io::StoredConfig> reverted_from_;
   remote::ConfigStatus status_;
-  // Last: destroyed first, so that the keep it runs ends before store_ goes.
-  io::CpuWorker keeper_;
+  // Last: destroyed first, so that the load or keep it runs ends before store_ goes.
+  io::CpuWorker worker_;
 };
 
 }  // namespace unima::app

@@ -3,8 +3,9 @@
 // event loop that serves Modbus. The loop hands a job over and goes on; the job's
 // completion comes back to the loop as a posted handler. Its users: the password checks of
 // `http.users` (io/http/password_worker), the TLS handshakes of the Modbus/TCP Security
-// port (io/modbus/tls_connection), and the Sparkplug bdSeq file's write and fdatasync
-// before each CONNECT (io/mqtt/sparkplug_service), each with an instance of its own.
+// port (io/modbus/tls_connection), the Sparkplug bdSeq file's write and fdatasync before
+// each CONNECT (io/mqtt/sparkplug_service), and a config from afar's load, check and keep
+// (app/remote_config_coordinator), each with an instance of its own.
 //
 // One thread, not a pool: the gateways have two cores and the loop needs one of them; a
 // second worker thread would only let a flood of logins or handshakes take the loop's core

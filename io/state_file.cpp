@@ -64,12 +64,6 @@ state::PersistedValue persisted(const banks::WrittenValue& written) {
           written.value};
 }
 
-// A record as the loop queues it: `continued` while more of its write follow.
-struct QueuedRecord {
-  PersistedValue value;
-  bool continued = false;
-};
-
 }  // namespace
 
 // Two threads share the work of a write (io/journal_thread). The loop hands the write's
@@ -106,6 +100,13 @@ struct StateFile::Shared {
   Outcome outcome;
   monitor::WriteOutage outage;
   Counters counters;
+
+  // A record as the loop queues it: `continued` while more of its write follow. (A member
+  // type, not a file-local one: Shared has external linkage.)
+  struct QueuedRecord {
+    PersistedValue value;
+    bool continued = false;
+  };
 
   // Under the thread's lock.
   std::vector<QueuedRecord> queued;  // kept, not yet taken by the thread

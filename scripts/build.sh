@@ -5,6 +5,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 . scripts/phases.sh
+. scripts/generator.sh
 build_dir=${BUILD_DIR:-build}
 targets=()
 for target in ${BUILD_TARGETS:-}; do targets+=(--target "$target"); done

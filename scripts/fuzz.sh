@@ -12,6 +12,7 @@ fi
 build_dir=${FUZZ_BUILD_DIR:-build-fuzz}
 jobs=${FUZZ_JOBS:-$(nproc)}
 . scripts/phases.sh
+. scripts/generator.sh
 phase "fuzz configure" cmake -S . -B "$build_dir" -DCMAKE_CXX_COMPILER=clang++ -DUNIMA_FUZZ=ON \
   -DUNIMA_FUZZ_SECONDS="${FUZZ_SECONDS:-10}" >/dev/null
 phase "fuzz build" cmake --build "$build_dir" -j "$jobs"

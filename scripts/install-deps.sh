@@ -4,7 +4,7 @@
 set -euo pipefail
 
 packages=(
-  build-essential cmake pkg-config
+  build-essential cmake ninja-build pkg-config
   libmodbus-dev libboost-dev libyaml-cpp-dev libspdlog-dev libfmt-dev libsystemd-dev
   nlohmann-json3-dev googletest libgtest-dev
   # Modbus/TCP Security: OpenSSL for the daemon; the command line makes the tests' certificates

@@ -11,7 +11,7 @@ sudo=""
 if [ "$(id -u)" -ne 0 ]; then sudo="sudo"; fi
 
 # What builds and checks the package on the host, whatever its architecture.
-host_packages=(build-essential cmake pkg-config dpkg-dev file nlohmann-json3-dev libyaml-cpp-dev
+host_packages=(build-essential cmake ninja-build pkg-config dpkg-dev file nlohmann-json3-dev libyaml-cpp-dev
                mbpoll curl
                # pymodbus from Debian, with the serial module it imports (a Recommends); run by /usr/bin/python3
                python3-pymodbus python3-serial-asyncio)

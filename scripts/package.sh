@@ -14,6 +14,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 . scripts/phases.sh
+. scripts/generator.sh
 host=$(dpkg --print-architecture)
 arch=$host
 run_tests=""

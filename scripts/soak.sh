@@ -8,6 +8,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build=${SOAK_BUILD_DIR:-build-release}
+. scripts/generator.sh
 cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build "$build" -j "$(nproc)" --target unima-bridged unima-bench-load >/dev/null
 exec python3 scripts/soak.py --build "$build" "$@"

@@ -7,6 +7,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <array>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -32,8 +33,13 @@ struct KeyDeleter {
 using X509Ptr = std::unique_ptr<X509, X509Deleter>;
 using KeyPtr = std::unique_ptr<EVP_PKEY, KeyDeleter>;
 
+// The reentrant form: a config from afar is checked on a worker thread while the loop may
+// look up a control socket's peer.
 std::string this_user() {
-  if (const auto* entry = ::getpwuid(::geteuid())) return entry->pw_name;
+  passwd entry{};
+  passwd* found = nullptr;
+  std::array<char, 4096> buffer{};
+  if (::getpwuid_r(::geteuid(), &entry, buffer.data(), buffer.size(), &found) == 0 && found) return found->pw_name;
   return fmt::format("uid {}", ::geteuid());
 }
 
