@@ -217,6 +217,29 @@ TEST_F(MqttRemoteConfig, WithMqtt5ARetainedConfigPublishedWhileConnectedIsNotApp
   EXPECT_FALSE(serves_on(next.modbus_port));
 }
 
+// The fleet's application as paho-mqtt makes it (MQTT 5, tests/integration/mqtt/
+// mqtt5_request.py): the answer comes on its Response Topic, with its Correlation Data.
+TEST_F(MqttRemoteConfig, APahoClientsConfigIsAnsweredOnItsResponseTopicWithItsCorrelationData) {
+  version = "5";
+  config.extra = taking_configs();
+  start_taking();
+  auto next = config;
+  next.modbus_port = free_port();
+  const auto file = dir.path() / "paho.yaml";
+  std::ofstream(file) << next.yaml();
+  const auto asked = test_support::run(std::string(UNIMA_SOURCE_DIR) + "/tests/integration/mqtt/mqtt5_request.py " +
+                                       std::to_string(broker->port()) + " " + config_set + " @" + file.string() +
+                                       " fleet/site-17/reply/paho 5eed01 2>&1");
+  const std::string head = "answer: ";
+  ASSERT_TRUE(asked.output.starts_with(head)) << asked.output << daemon->log();
+  const auto end = asked.output.find('\n');
+  const auto answer = nlohmann::json::parse(asked.output.substr(head.size(), end - head.size()), nullptr, false);
+  EXPECT_EQ(answer["result"], "applied") << asked.output;
+  EXPECT_EQ(answer["id"], sha256_of_file(file)) << asked.output;
+  EXPECT_NE(asked.output.find("\ncorrelation: 5eed01\n"), std::string::npos) << asked.output;
+  EXPECT_TRUE(serves_on(next.modbus_port));
+}
+
 TEST_F(MqttRemoteConfig, AnMqtt5ConfigIsAnsweredOnItsResponseTopicWithItsCorrelationDataAndAuthor) {
   version = "5";
   config.extra = taking_configs();

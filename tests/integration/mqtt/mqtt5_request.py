@@ -6,6 +6,8 @@ TOPIC with Response Topic and Correlation Data, wait for the answer.
   mqtt5_request.py PORT TOPIC PAYLOAD RESPONSE_TOPIC CORRELATION_HEX [--no-properties]
                    [--answer-on TOPIC]
 
+PAYLOAD "@FILE" publishes FILE's bytes (a whole config on config/set).
+
 Prints "answer: <payload>" and "correlation: <hex of its Correlation Data, or none>" of
 the first message on RESPONSE_TOPIC, or "error: <reason>" after 5 s. --no-properties
 publishes the command without either property (a plain command answered on set/result;
@@ -27,6 +29,9 @@ from paho.mqtt.properties import Properties
 
 def main():
     port, topic, payload, response_topic, correlation_hex = sys.argv[1:6]
+    if payload.startswith("@"):
+        with open(payload[1:], "rb") as sent:
+            payload = sent.read()
     options = sys.argv[6:]
     with_properties = "--no-properties" not in options
     answer_topic = options[options.index("--answer-on") + 1] if "--answer-on" in options else response_topic
