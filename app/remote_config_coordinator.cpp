@@ -113,11 +113,7 @@ void RemoteConfigCoordinator::load_then_apply(std::function<config::Config()> lo
     if (!loaded->config) return finish(flow_.refuse(refusal, remote::errors_at(loaded->error, origin)));
     apply_config(std::move(*loaded->config));
   };
-  if (!worker_.submit(job, done)) {
-    // One change at a time: the worker is never full. Were it, the config is loaded here.
-    job();
-    done();
-  }
+  off_loop(std::move(job), std::move(done));
 }
 
 void RemoteConfigCoordinator::apply_config(config::Config next) {
@@ -196,11 +192,15 @@ void RemoteConfigCoordinator::keep_then_answer(remote::ProbeFacts passed) {
     }
     conclude(std::move(*applied));
   };
-  if (!worker_.submit(keep, answer)) {
-    // One change at a time: the worker is never full. Were it, the files are written here.
-    keep();
-    answer();
-  }
+  off_loop(std::move(keep), std::move(answer));
+}
+
+void RemoteConfigCoordinator::off_loop(io::CpuWorker::Job job, io::CpuWorker::Done done) {
+  // One change at a time, and one step of it on the worker: it is never full. Were it, the
+  // step runs here.
+  if (worker_.submit(job, done)) return;
+  job();
+  done();
 }
 
 void RemoteConfigCoordinator::conclude(remote::ChangeAnswer answer) {

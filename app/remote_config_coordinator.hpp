@@ -62,6 +62,8 @@ class RemoteConfigCoordinator final : public io::ConfigChanges {
   void probe();
   // The probe passed with `passed`: the config is kept (on worker_), then answered.
   void keep_then_answer(remote::ProbeFacts passed);
+  // `job` on worker_, then `done` on the loop.
+  void off_loop(io::CpuWorker::Job job, io::CpuWorker::Done done);
   // The flow's answer: back to the previous config when rolled back, then finish.
   void conclude(remote::ChangeAnswer answer);
   void finish(const remote::ChangeAnswer& answer);

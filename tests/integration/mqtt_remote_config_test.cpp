@@ -56,6 +56,20 @@ class MqttRemoteConfig : public BridgeTest {
     ASSERT_TRUE(eventually([&] { return broker->subscriptions_to(config_set) > 0; })) << daemon->log();
   }
 
+  /// The same, the bridge connected with MQTT 5.
+  void start_taking_over_mqtt5() {
+    version = "5";
+    config.extra = taking_configs();
+    start_taking();
+  }
+
+  /// The running config with the Modbus TCP port moved to a free one.
+  BridgeConfig moved() const {
+    auto next = config;
+    next.modbus_port = free_port();
+    return next;
+  }
+
   /// mosquitto_pub of `yaml` (its file kept as `name`) to config/set, QoS 1, with `options`.
   std::filesystem::path send(const std::string& yaml, const std::string& name, const std::string& options = "") const {
     const auto file = dir.path() / name;
@@ -152,8 +166,7 @@ TEST_F(MqttRemoteConfig, TheRetainedBirthNamesTheConfigInForceAndTheLastChange) 
   EXPECT_EQ(birth["config"]["source"], "file") << birth.dump();
   EXPECT_TRUE(birth["config"]["last_result"].is_null()) << birth.dump();
 
-  auto next = config;
-  next.modbus_port = free_port();
+  const auto next = moved();
   std::filesystem::path file;
   ASSERT_EQ(answer_after([&] { file = send(next.yaml(), "moved.yaml"); })["result"], "applied") << daemon->log();
   EXPECT_TRUE(eventually([&] { return retained_birth()["config"]["last_result"] == "applied"; })) << retained_birth().dump();
@@ -190,8 +203,7 @@ TEST_F(MqttRemoteConfig, AConfigThatTurnsOffItsOwnChannelIsRefused) {
 
 // Retained before the bridge came: it reaches the bridge from the broker's store, flagged.
 TEST_F(MqttRemoteConfig, ARetainedConfigIsNotAppliedButClearedAndCounted) {
-  auto next = config;
-  next.modbus_port = free_port();
+  const auto next = moved();
   send(next.yaml(), "retained.yaml", "-r");
   start();
   ASSERT_TRUE(eventually([&] { return status_json()["mqtt"]["retained_configs_dropped"] == 1; })) << daemon->log();
@@ -205,11 +217,8 @@ TEST_F(MqttRemoteConfig, ARetainedConfigIsNotAppliedButClearedAndCounted) {
 // With MQTT 5 the bridge asks for Retain As Published: a retained config published while it
 // is connected is seen as retained too (MQTT 3.1.1 brokers clear the flag on the way).
 TEST_F(MqttRemoteConfig, WithMqtt5ARetainedConfigPublishedWhileConnectedIsNotAppliedButCleared) {
-  version = "5";
-  config.extra = taking_configs();
-  start_taking();
-  auto next = config;
-  next.modbus_port = free_port();
+  start_taking_over_mqtt5();
+  const auto next = moved();
   send(next.yaml(), "retained.yaml", "-V 5 -r");
   ASSERT_TRUE(eventually([&] { return status_json()["mqtt"]["retained_configs_dropped"] == 1; })) << daemon->log();
   EXPECT_TRUE(eventually([&] { return nothing_retained(); }, 10'000ms));
@@ -220,11 +229,8 @@ TEST_F(MqttRemoteConfig, WithMqtt5ARetainedConfigPublishedWhileConnectedIsNotApp
 // The fleet's application as paho-mqtt makes it (MQTT 5, tests/integration/mqtt/
 // mqtt5_request.py): the answer comes on its Response Topic, with its Correlation Data.
 TEST_F(MqttRemoteConfig, APahoClientsConfigIsAnsweredOnItsResponseTopicWithItsCorrelationData) {
-  version = "5";
-  config.extra = taking_configs();
-  start_taking();
-  auto next = config;
-  next.modbus_port = free_port();
+  start_taking_over_mqtt5();
+  const auto next = moved();
   const auto file = dir.path() / "paho.yaml";
   std::ofstream(file) << next.yaml();
   const auto asked = test_support::run(std::string(UNIMA_SOURCE_DIR) + "/tests/integration/mqtt/mqtt5_request.py " +
@@ -241,9 +247,7 @@ TEST_F(MqttRemoteConfig, APahoClientsConfigIsAnsweredOnItsResponseTopicWithItsCo
 }
 
 TEST_F(MqttRemoteConfig, AnMqtt5ConfigIsAnsweredOnItsResponseTopicWithItsCorrelationDataAndAuthor) {
-  version = "5";
-  config.extra = taking_configs();
-  start_taking();
+  start_taking_over_mqtt5();
   const std::string reply = "fleet/site-17/reply/ops/42";
   const auto subscribed = broker->subscriptions_to(reply);
   auto on_reply = std::async(std::launch::async, [&] {
@@ -253,8 +257,7 @@ TEST_F(MqttRemoteConfig, AnMqtt5ConfigIsAnsweredOnItsResponseTopicWithItsCorrela
   });
   ASSERT_TRUE(eventually([&] { return broker->subscriptions_to(reply) > subscribed; }));
   Subscription results(*broker, dir.path() / "results", config_result);
-  auto next = config;
-  next.modbus_port = free_port();
+  const auto next = moved();
   send(next.yaml(), "moved.yaml",
        "-V 5 -D publish response-topic " + reply + " -D publish correlation-data c0ffee01 -D publish user-property by alice");
   const auto line = on_reply.get();
@@ -318,8 +321,7 @@ TEST_F(MqttRemoteConfig, AReloadThatTurnsRemoteConfigMqttOnSubscribesWithoutANew
   daemon->signal(SIGHUP);
   ASSERT_TRUE(eventually([&] { return broker->subscriptions_to(config_set) > 0; })) << daemon->log();
   EXPECT_EQ(status_json()["mqtt"]["connections"], 1) << "the same connection";
-  auto next = config;
-  next.modbus_port = free_port();
+  const auto next = moved();
   const auto answer = answer_after([&] { send(next.yaml(), "moved.yaml"); });
   ASSERT_TRUE(answer.is_object()) << daemon->log();
   EXPECT_EQ(answer["result"], "applied") << answer.dump() << daemon->log();
