@@ -15,6 +15,7 @@
 #include <spdlog/spdlog.h>
 
 #include "io/durable_file.hpp"
+#include "io/loop_turn.hpp"
 #include "platform/journal_thread.hpp"
 #include "monitor/write_outage.hpp"
 #include "state/state_journal.hpp"
@@ -97,6 +98,7 @@ struct StateFile::Shared {
   };
   std::deque<Synced> finished_batches;
   bool finishing = false;
+  SliceSize slice{writes_per_slice};  // how many writes the next slice takes
   Outcome outcome;
   monitor::WriteOutage outage;
   Counters counters;
@@ -157,6 +159,9 @@ void StateFile::Shared::synced(std::uint64_t sequence, std::string error, const 
 void StateFile::Shared::finish_slice(const std::weak_ptr<Shared>& self) {
   finishing = false;
   if (finished_batches.empty()) return;
+  const auto alive = self.lock();  // an answer may let go of the StateFile: slice is measured after
+  const auto began = TurnDeadline::Clock::now();
+  std::size_t taken = 0;
   auto& batch = finished_batches.front();
   const bool ok = batch.error.empty();
   const auto now = monitor::WriteOutage::Clock::now();
@@ -176,8 +181,7 @@ void StateFile::Shared::finish_slice(const std::weak_ptr<Shared>& self) {
   // Committed in the order kept, all of a slice before any of its answers: an answer may
   // be followed at once by a read that must see its write.
   std::uint64_t done_up_to = 0;
-  for (std::size_t n = 0; n < writes_per_slice && !uncommitted.empty() && uncommitted.front().sequence <= batch.sequence;
-       ++n) {
+  for (; taken < slice.next() && !uncommitted.empty() && uncommitted.front().sequence <= batch.sequence; ++taken) {
     done_up_to = uncommitted.front().sequence;
     if (ok && outcome.commit) outcome.commit(uncommitted.front().values);
     if (!ok && outage.failed(now))
@@ -204,6 +208,7 @@ void StateFile::Shared::finish_slice(const std::weak_ptr<Shared>& self) {
     });
   }
   for (auto& done : ready) done(ok);
+  slice.took(taken, TurnDeadline::Clock::now() - began);
 }
 
 // `next`: what the file holds once `records` are on it.

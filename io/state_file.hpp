@@ -64,8 +64,9 @@ class StateFile final : public banks::WriteJournal {
   StateFile(const StateFile&) = delete;
   StateFile& operator=(const StateFile&) = delete;
 
-  /// Writes committed and answered in one turn of the loop: some 64 × a few µs, well under
-  /// a millisecond, between two chances for a Modbus request.
+  /// Writes committed and answered in one turn of the loop at most; fewer when their answers
+  /// cost more than the turn's budget (io/loop_turn.hpp: an MQTT command's answer is a
+  /// publish), so that a Modbus request waits for one slice between two of its chances.
   static constexpr std::size_t writes_per_slice = 64;
 
   /// What the file held at the start.

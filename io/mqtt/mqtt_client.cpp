@@ -97,6 +97,7 @@ mosquitto* MqttClient::make_handle() {
     auto& client = *static_cast<MqttClient*>(self);
     client.unacknowledged_.erase(mid);
     if (client.on_acknowledged_) client.on_acknowledged_(mid);
+    client.end_read_when_spent();
   });
   // The v5 callback serves 3.1.1 too (without properties).
   mosquitto_message_v5_callback_set(mosq, [](mosquitto*, void* self, const mosquitto_message* message,
@@ -117,6 +118,7 @@ mosquitto* MqttClient::make_handle() {
       }
       subscription.handler(received);
     }
+    client.end_read_when_spent();
   });
   return mosq;
 }
@@ -269,7 +271,7 @@ void MqttClient::watch() {
       reading_ = false;
       // Held after the wait began: the read waits for hold_reading(false), which watches again.
       if (ec || !socket_ || held_) return;
-      after_io(mosquitto_loop_read(mosq_, 1));
+      read();
     });
   }
   if (!writing_ && mosquitto_want_write(mosq_)) {
@@ -279,8 +281,25 @@ void MqttClient::watch() {
       writing_ = false;
       if (ec || !socket_) return;
       after_io(mosquitto_loop_write(mosq_, 1));
+      if (socket_ && !mosquitto_want_write(mosq_) && on_drained_) on_drained_();
     });
   }
+}
+
+void MqttClient::read() {
+  read_turn_.begin();
+  after_io(mosquitto_loop_read(mosq_, 1));
+}
+
+// libmosquitto reads as many packets as it has QoS 1 messages in flight (up to
+// in_flight_window), or until the socket is empty, and calls back for each: in a burst
+// of commands that kept the loop for milliseconds. Its read loop (lib/loop.c,
+// mosquitto_loop_read) ends after a packet when errno is EAGAIN, as after a read that found
+// nothing; set here, after a callback, it ends the read once the turn's budget is spent
+// (io/loop_turn.hpp). What is left in the socket is read at the next turn: watch()'s wait
+// re-arms the descriptor (EPOLL_CTL_MOD), which reports it readable at once.
+void MqttClient::end_read_when_spent() const {
+  if (read_turn_.spent()) errno = EAGAIN;
 }
 
 void MqttClient::after_io(int rc) {

@@ -27,6 +27,7 @@
 #include <utility>
 #include <vector>
 
+#include "io/loop_turn.hpp"
 #include "mqtt/session_takeover.hpp"
 #include "platform/asio.hpp"
 
@@ -80,6 +81,9 @@ class MqttClient {
   /// queued) while not connected. Ids are of this connection only.
   std::optional<int> publish_acknowledged(const std::string& topic, std::string_view payload);
   void on_acknowledged(std::function<void(int mid)> handler) { on_acknowledged_ = std::move(handler); }
+  /// Called once everything published has gone to the socket after a write had to wait:
+  /// a caller that stopped at backlogged() goes on.
+  void on_drained(std::function<void()> handler) { on_drained_ = std::move(handler); }
   /// QoS 1 messages sent and not acknowledged yet, at most; more wait inside libmosquitto.
   static constexpr std::size_t in_flight_window = 256;
   /// A full window of QoS 1 messages waits for the broker's acknowledgement.
@@ -168,6 +172,8 @@ class MqttClient {
   void handle_disconnect(int rc);
   /// A QoS 1 publish, connected_ or not: only handle_connack sends before connected_.
   bool send(const std::string& topic, std::string_view payload, bool retain);
+  void read();
+  void end_read_when_spent() const;
 
   asio::io_context& io_;
   MqttClientOptions options_;
@@ -176,6 +182,7 @@ class MqttClient {
   std::optional<asio::posix::stream_descriptor> socket_;
   bool reading_ = false;
   bool held_ = false;  // hold_reading
+  TurnDeadline read_turn_;  // of the read under way
   std::unordered_set<int> unacknowledged_;  // message ids of QoS 1 publishes on this handle
   bool writing_ = false;
   asio::steady_timer misc_timer_;   // keep-alive pings, once a second
@@ -195,6 +202,7 @@ class MqttClient {
   std::function<std::string()> birth_;
   std::function<void()> on_connected_;
   std::function<void(int mid)> on_acknowledged_;
+  std::function<void()> on_drained_;
   struct Subscription {
     std::string pattern;
     std::function<void(const MqttMessage&)> handler;

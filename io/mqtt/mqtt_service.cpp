@@ -2,6 +2,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include "io/loop_turn.hpp"
 #include "io/mqtt/broker_options.hpp"
 #include "mqtt/birth.hpp"
 #include "mqtt/command.hpp"
@@ -63,6 +64,7 @@ std::unique_ptr<MqttClient> MqttService::make_client(const config::Config& confi
     if (history_) history_->acknowledged(mid);
     send_answers();
   });
+  client->on_drained([this] { send_answers(); });
   if (m.commands)
     client->subscribe(m.topic + "/set/#", [this](const MqttMessage& message) { take_command(message); },
                       MqttClient::Retained::dropped);
@@ -174,12 +176,30 @@ void MqttService::carry_out(const MqttMessage& message) {
   });
 }
 
+// Handed to libmosquitto one at a time, while nothing it holds waits for the socket: it
+// writes everything it holds in one go (lib/packet_mosq.c, packet__write), and hundreds of
+// answers queued behind a full socket kept the loop for milliseconds. What the window, the
+// socket or the turn's budget holds back goes when the broker acknowledges, the socket
+// drains (on_drained) or the loop comes back to it.
 void MqttService::send_answers() {
   if (!client_) return answers_.clear();
-  while (!answers_.empty() && !client_->window_full()) {
+  TurnDeadline turn;
+  turn.begin();
+  while (!answers_.empty() && !client_->backlogged()) {
     const auto send = std::move(answers_.front());
     answers_.pop_front();
     send();
+    if (turn.spent() && !answers_.empty()) {
+      if (!sending_later_) {
+        sending_later_ = true;
+        asio::post(runtime_.io, [this, token = guard_.token()] {
+          if (!HandlerGuard::alive(token)) return;
+          sending_later_ = false;
+          send_answers();
+        });
+      }
+      return;
+    }
   }
 }
 
@@ -194,18 +214,21 @@ void MqttService::follow_command_flow() {
   }
 }
 
-// As many as the flow allows, at most a slice: a Modbus request waits for no more.
+// As many as the flow allows, for at most a turn's budget (io/loop_turn.hpp): a Modbus
+// request waits for no more.
 void MqttService::carry_out_later_commands() {
   carrying_out_later_ = false;
   if (!client_ || !runtime_.config().mqtt || !runtime_.config().mqtt->commands) {
     later_commands_.clear();  // a reload turned commands off: nobody is there to answer them
     return;
   }
-  constexpr std::size_t slice = 64;
-  for (std::size_t n = 0; n < slice && command_flow_.reading() && !later_commands_.empty(); ++n) {
+  TurnDeadline turn;
+  turn.begin();
+  while (command_flow_.reading() && !later_commands_.empty()) {
     const auto command = std::move(later_commands_.front());
     later_commands_.pop_front();
     carry_out({command.topic, command.payload, false, command.response_topic, command.correlation_data, {}});
+    if (turn.spent()) break;
   }
   follow_command_flow();
 }

@@ -118,6 +118,7 @@ class MqttService final : public Service {
   std::deque<LaterCommand> later_commands_;
   bool carrying_out_later_ = false;  // a slice of them is posted
   std::deque<std::function<void()>> answers_;  // in the order the commands were answered
+  bool sending_later_ = false;                  // send_answers is posted
   std::uint64_t retained_configs_dropped_ = 0;  // of every client this service had
   // The answer to a config from config/set that no connection has taken yet: the flow's end
   // may come while the client it came by is gone and the next not connected yet (a rollback
