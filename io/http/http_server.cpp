@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <array>
+#include <memory>
 #include <optional>
 
 #include <spdlog/spdlog.h>
@@ -25,6 +26,9 @@ using Clock = std::chrono::steady_clock;
 namespace {
 
 constexpr std::uint32_t max_header_bytes = 8 * 1024;
+// What is read and dropped of a refused body before the close, at most (linger()).
+constexpr std::size_t max_lingering_bytes = 1024 * 1024;
+constexpr auto max_lingering_time = std::chrono::seconds(1);
 
 using PlainStream = beast::tcp_stream;
 using TlsStream = beast::ssl_stream<beast::tcp_stream>;
@@ -173,6 +177,7 @@ class HttpServer::Connection : public HttpServer::ConnectionBase, public std::en
     const auto status = ec == http::error::header_limit ? http::status::request_header_fields_too_large
                         : ec == http::error::body_limit ? http::status::payload_too_large
                                                         : http::status::bad_request;
+    body_left_unread_ = ec == http::error::body_limit;
     respond(http::response<http::string_body>{status, 11}, "", false);
   }
 
@@ -338,6 +343,7 @@ class HttpServer::Connection : public HttpServer::ConnectionBase, public std::en
   // shutdown then waits for the client's close_notify, at most a second; whatever comes
   // (its alert, its TCP close, the deadline), the connection closes.
   void say_goodbye() {
+    if (std::exchange(body_left_unread_, false)) return linger();
     if constexpr (std::is_same_v<Stream, TlsStream>) {
       if (handshaken_) {
         beast::get_lowest_layer(stream_).expires_after(std::chrono::seconds(1));
@@ -349,6 +355,28 @@ class HttpServer::Connection : public HttpServer::ConnectionBase, public std::en
     finish();
   }
 
+  // A body refused unread (413) may still be on its way: closing with it unread makes the
+  // kernel reset the connection, and the client can lose the answer before it reads it (curl
+  // then says "Connection reset by peer", not 413). So what still comes is read and dropped,
+  // at most max_lingering_bytes for at most max_lingering_time — until the client, having
+  // sent it and read the answer, closes — and then the connection closes as any other.
+  void linger() {
+    beast::get_lowest_layer(stream_).expires_after(max_lingering_time);
+    dropped_ = std::make_unique<std::array<char, 16 * 1024>>();
+    drop_what_comes(max_lingering_bytes);
+  }
+  void drop_what_comes(std::size_t left) {
+    stream_.async_read_some(asio::buffer(*dropped_),
+                            [this, self = this->shared_from_this(), left](const boost::system::error_code& ec, std::size_t n) {
+                              if (closed_) return;
+                              if (ec || n >= left) {
+                                dropped_.reset();
+                                return say_goodbye();
+                              }
+                              drop_what_comes(left - n);
+                            });
+  }
+
   HttpServer& server_;
   HttpGateLeave leave_gate_;  // while the gate has this request's `done`
   Stream stream_;
@@ -357,6 +385,8 @@ class HttpServer::Connection : public HttpServer::ConnectionBase, public std::en
   std::shared_ptr<http::response<http::string_body>> response_;
   bool closed_ = false;
   bool handshaken_ = false;
+  bool body_left_unread_ = false;                          // refused by its size: linger()
+  std::unique_ptr<std::array<char, 16 * 1024>> dropped_;  // what linger() reads
   bool streaming_ = false;  // the event stream's header went out
   bool awaiting_answer_ = false;  // a deferred answer (HttpResponse::later) has not come yet
   bool writing_ = false;
