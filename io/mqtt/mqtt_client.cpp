@@ -259,11 +259,22 @@ void MqttClient::connect_now(const std::string& host) {
   const int fd = mosquitto_socket(mosq_);
   if (rc != MOSQ_ERR_SUCCESS || fd < 0) return lost(reason(rc));
   socket_.emplace(io_, fd);
+  read_cut_short_ = false;
   watch();
 }
 
 void MqttClient::watch() {
   if (!socket_) return;
+  if (!reading_ && !held_ && read_cut_short_) {
+    // What the last read left may be in OpenSSL's buffer rather than in the socket, which
+    // would then never turn readable: read again at the loop's next turn, not on a wait.
+    reading_ = true;
+    asio::post(io_, [this, alive = alive_] {
+      if (!*alive) return;
+      reading_ = false;
+      if (socket_ && !held_) read();
+    });
+  }
   if (!reading_ && !held_) {
     reading_ = true;
     socket_->async_wait(asio::posix::stream_descriptor::wait_read, [this, alive = alive_](const boost::system::error_code& ec) {
@@ -288,6 +299,7 @@ void MqttClient::watch() {
 
 void MqttClient::read() {
   read_turn_.begin();
+  read_cut_short_ = false;
   after_io(mosquitto_loop_read(mosq_, 1));
 }
 
@@ -296,10 +308,11 @@ void MqttClient::read() {
 // of commands that kept the loop for milliseconds. Its read loop (lib/loop.c,
 // mosquitto_loop_read) ends after a packet when errno is EAGAIN, as after a read that found
 // nothing; set here, after a callback, it ends the read once the turn's budget is spent
-// (io/loop_turn.hpp). What is left in the socket is read at the next turn: watch()'s wait
-// re-arms the descriptor (EPOLL_CTL_MOD), which reports it readable at once.
-void MqttClient::end_read_when_spent() const {
-  if (read_turn_.spent()) errno = EAGAIN;
+// (io/loop_turn.hpp). What is left is read at the loop's next turn (watch()).
+void MqttClient::end_read_when_spent() {
+  if (!read_turn_.spent()) return;
+  errno = EAGAIN;
+  read_cut_short_ = true;
 }
 
 void MqttClient::after_io(int rc) {

@@ -173,7 +173,7 @@ class MqttClient {
   /// A QoS 1 publish, connected_ or not: only handle_connack sends before connected_.
   bool send(const std::string& topic, std::string_view payload, bool retain);
   void read();
-  void end_read_when_spent() const;
+  void end_read_when_spent();
 
   asio::io_context& io_;
   MqttClientOptions options_;
@@ -182,7 +182,8 @@ class MqttClient {
   std::optional<asio::posix::stream_descriptor> socket_;
   bool reading_ = false;
   bool held_ = false;  // hold_reading
-  TurnDeadline read_turn_;  // of the read under way
+  TurnDeadline read_turn_;       // of the read under way
+  bool read_cut_short_ = false;  // by its budget: more may be there, the socket readable or not
   std::unordered_set<int> unacknowledged_;  // message ids of QoS 1 publishes on this handle
   bool writing_ = false;
   asio::steady_timer misc_timer_;   // keep-alive pings, once a second

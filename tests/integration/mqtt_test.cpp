@@ -216,6 +216,37 @@ TEST_F(Mqtt, OverTlsWithTheBrokersCaAndAClientCertificate) {
   EXPECT_TRUE(eventually([&] { return run(subscribe).output == "online\n"; }, 8000ms)) << run(subscribe).output << daemon->log();
 }
 
+// Over mqtts a burst of commands is read a slice at a time too (io/loop_turn.hpp). A broker
+// that batches its writes (EMQX, HiveMQ) puts many packets in one TLS record: what a read cut
+// short by its budget leaves of the last record waits in OpenSSL's buffer, where the socket
+// does not show it, and a wait for the socket would never end. It is read at the loop's
+// next turn: every command is carried out, the last one included.
+TEST_F(Mqtt, OverTlsABurstBatchedInTlsRecordsIsCarriedOutToTheLast) {
+  broker.reset();
+  const auto certs = dir.path() / "certs";
+  const auto made = run(std::string(UNIMA_SOURCE_DIR) + "/tests/integration/tls/make_certificates.sh " + certs.string());
+  ASSERT_EQ(made.status, 0) << made.output;
+  const auto pem = [&](const std::string& name) { return (certs / name).string(); };
+  const auto port = free_port();
+  constexpr int commands = 2000;
+  const auto batching_log = dir.path() / "batching-broker.log";
+  auto options = test_support::writing_to(batching_log);
+  options.search_path = true;
+  test_support::ChildProcess batching({"python3", std::string(UNIMA_SOURCE_DIR) + "/tests/integration/mqtt/batching_broker.py",
+                                       std::to_string(port), pem("server.pem"), pem("server.key"), "fleet/site-17/set/W/3",
+                                       std::to_string(commands)},
+                                      options);
+  // It takes one connection, the bridge's: no probe of its port.
+  ASSERT_TRUE(eventually([&] { return read_file(batching_log).find("listening") != std::string::npos; })) << read_file(batching_log);
+  config.extra = "mqtt: { broker: 'mqtts://localhost:" + std::to_string(port) + "', client_id: site-17, topic: fleet/site-17, " +
+                 "commands: true, ca: " + pem("ca.pem") + " }\n";
+  start();
+  ModbusClient client(config.modbus_port);
+  EXPECT_TRUE(eventually([&] { return client.read_holding(0x0103, 1) == std::vector<std::uint16_t>{commands}; }, 10000ms))
+      << "W3 = " << client.read_holding(0x0103, 1).value_or(std::vector<std::uint16_t>{0}).front() << "\n"
+      << daemon->log() << read_file(batching_log);
+}
+
 // A broker whose certificate is not of the configured CA is refused, and said so once.
 TEST_F(Mqtt, ABrokerWithACertificateOfAnotherCaIsRefused) {
   broker.reset();
