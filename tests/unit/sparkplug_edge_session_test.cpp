@@ -323,7 +323,8 @@ TEST_F(SparkplugEdgeSession, AChangeToOrFromNullAlwaysCounts) {
   store.store_telegram(BankId::D1, 1, not_measured);
   const auto to_null = of_bank(step(session), BankId::D1);
   ASSERT_EQ(to_null.size(), 1u) << "to null";
-  const auto* speed = find(decoded(to_null[0]), "engine_speed");
+  const auto to_null_payload = decoded(to_null[0]);  // find() points into it
+  const auto* speed = find(to_null_payload, "engine_speed");
   ASSERT_NE(speed, nullptr);
   EXPECT_EQ(speed->is_null, true);
   const std::vector<std::uint16_t> speed_1501 = {1501};
