@@ -5,6 +5,7 @@
 #include <spdlog/spdlog.h>
 
 #include "check/check_config.hpp"
+#include "io/tls_context.hpp"
 #include "platform/logging.hpp"
 #include "platform/utc_time.hpp"
 #include "remote/yaml_budget.hpp"
@@ -104,6 +105,7 @@ void RemoteConfigCoordinator::load_then_apply(std::function<config::Config()> lo
     try {
       auto next = load();
       check::check_config(next);
+      io::prepare_server_tls_contexts(next);  // for the stage, which runs on the loop
       loaded->config = std::move(next);
     } catch (const std::exception& e) {
       loaded->error = e.what();

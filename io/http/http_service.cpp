@@ -40,7 +40,7 @@ std::unique_ptr<HttpServer> HttpService::make_server(const config::Config& confi
   options.port_origin = config.http->port_origin;
   options.max_body = HttpConfigAnswers::max_body;
   if (const auto& tls = config.http->tls) {
-    options.tls = make_server_tls_context({tls->certificate, tls->key, {}}, "http.tls");
+    options.tls = make_server_tls_context(http_tls_files(*tls), "http.tls");
     options.handshakes = handshakes_;
   }
   return serve(options);
@@ -219,7 +219,7 @@ void HttpService::stage(const Banks& next) {
   if (server_ && next.config.http->tls) {
     try {
       const auto& tls = *next.config.http->tls;
-      next_tls_ = make_server_tls_context({tls.certificate, tls.key, {}}, "http.tls");
+      next_tls_ = make_server_tls_context(http_tls_files(tls), "http.tls");
     } catch (const std::exception& e) {
       spdlog::error("http: {}; the running certificate keeps serving", e.what());
     }

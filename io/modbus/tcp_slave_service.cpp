@@ -24,8 +24,6 @@ TcpSlaveOptions slave_options(const config::TcpSlaveConfig& c) {
   return options;
 }
 
-tls::TlsFiles tls_files(const config::TlsSlaveConfig& tls) { return {tls.certificate, tls.key, tls.ca}; }
-
 bool same_endpoint(const config::TcpSlaveConfig* a, const config::TcpSlaveConfig* b) {
   if ((a == nullptr) != (b == nullptr)) return false;
   return !a || (a->listen == b->listen && a->port == b->port);
@@ -48,7 +46,7 @@ std::unique_ptr<TcpSlaveServer> TcpSlaveService::make_server(const config::Confi
   if (security_ == Security::tls) {
     const auto& tls = *config.modbus.tls;
     try {
-      options.tls = TlsSlaveSetup{make_server_tls_context(tls_files(tls)), tls.roles, handshakes_, handshake_worker_};
+      options.tls = TlsSlaveSetup{make_server_tls_context(modbus_tls_files(tls)), tls.roles, handshakes_, handshake_worker_};
     } catch (const std::exception& e) {
       throw std::runtime_error(fmt::format("{}: {}", tls.origin, e.what()));
     }
@@ -72,7 +70,7 @@ void TcpSlaveService::stage(const Banks& next) {
   // A renewal needs no restart; new files that do not load leave the running ones (SPEC §11).
   if (server_ && security_ == Security::tls) {
     try {
-      next_context_ = make_server_tls_context(tls_files(*next.config.modbus.tls));
+      next_context_ = make_server_tls_context(modbus_tls_files(*next.config.modbus.tls));
     } catch (const std::exception& e) {
       spdlog::error("modbus tls: {}; the running certificate keeps serving", e.what());
     }
