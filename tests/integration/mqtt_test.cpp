@@ -39,6 +39,14 @@ class Mqtt : public BridgeTest {
     ASSERT_TRUE(broker->start());
     config.extra += site_17_mqtt(*broker);
   }
+  /// openssl's CA and certificates (server, operator, viewer, another CA's) in certs/
+  /// (tests/integration/tls/make_certificates.sh).
+  void make_certificates() const {
+    const auto made = run(std::string(UNIMA_SOURCE_DIR) + "/tests/integration/tls/make_certificates.sh " +
+                          (dir.path() / "certs").string());
+    ASSERT_EQ(made.status, 0) << made.output;
+  }
+  std::string pem(const std::string& name) const { return (dir.path() / "certs" / name).string(); }
   /// The next document of `bank` that `holds` (subscribed before `action`, which makes it come).
   std::optional<nlohmann::ordered_json> document_after(const std::string& bank, const std::function<void()>& action,
                                                        const std::function<bool(const nlohmann::ordered_json&)>& holds) {
@@ -201,10 +209,7 @@ TEST_F(Mqtt, ABrokerThatGoesAndComesBackGetsEverythingAgainWhileModbusServesOn) 
 // certificate presented to a broker that requires one; certificates made by openssl.
 TEST_F(Mqtt, OverTlsWithTheBrokersCaAndAClientCertificate) {
   broker.reset();
-  const auto certs = dir.path() / "certs";
-  const auto made = run(std::string(UNIMA_SOURCE_DIR) + "/tests/integration/tls/make_certificates.sh " + certs.string());
-  ASSERT_EQ(made.status, 0) << made.output;
-  const auto pem = [&](const std::string& name) { return (certs / name).string(); };
+  ASSERT_NO_FATAL_FAILURE(make_certificates());
   broker = std::make_unique<Broker>(dir.path(), "cafile " + pem("ca.pem") + "\ncertfile " + pem("server.pem") + "\nkeyfile " +
                                                     pem("server.key") + "\nrequire_certificate true\n");
   ASSERT_TRUE(broker->start());
@@ -223,10 +228,7 @@ TEST_F(Mqtt, OverTlsWithTheBrokersCaAndAClientCertificate) {
 // next turn: every command is carried out, the last one included.
 TEST_F(Mqtt, OverTlsABurstBatchedInTlsRecordsIsCarriedOutToTheLast) {
   broker.reset();
-  const auto certs = dir.path() / "certs";
-  const auto made = run(std::string(UNIMA_SOURCE_DIR) + "/tests/integration/tls/make_certificates.sh " + certs.string());
-  ASSERT_EQ(made.status, 0) << made.output;
-  const auto pem = [&](const std::string& name) { return (certs / name).string(); };
+  ASSERT_NO_FATAL_FAILURE(make_certificates());
   const auto port = free_port();
   constexpr int commands = 2000;
   const auto batching_log = dir.path() / "batching-broker.log";
@@ -250,9 +252,7 @@ TEST_F(Mqtt, OverTlsABurstBatchedInTlsRecordsIsCarriedOutToTheLast) {
 // A broker whose certificate is not of the configured CA is refused, and said so once.
 TEST_F(Mqtt, ABrokerWithACertificateOfAnotherCaIsRefused) {
   broker.reset();
-  const auto certs = dir.path() / "certs";
-  ASSERT_EQ(run(std::string(UNIMA_SOURCE_DIR) + "/tests/integration/tls/make_certificates.sh " + certs.string()).status, 0);
-  const auto pem = [&](const std::string& name) { return (certs / name).string(); };
+  ASSERT_NO_FATAL_FAILURE(make_certificates());
   broker = std::make_unique<Broker>(dir.path(), "certfile " + pem("server.pem") + "\nkeyfile " + pem("server.key") + "\n");
   ASSERT_TRUE(broker->start());
   config.extra = "mqtt: { broker: 'mqtts://localhost:" + std::to_string(broker->port()) + "', client_id: site-17, " +
